@@ -1,0 +1,30 @@
+//! # texcore: a fixed-point procedural solid-texture unit
+//!
+//! `texcore` evaluates the parameterized solid texture model of Hart et al. (1999),
+//!
+//! ```text
+//! p(s) = c(f(s)),    f(s) = q(s) + sum_k a_k n_k(T_k s)
+//! ```
+//!
+//! (a quadric plus a fixed number of noise terms, looked up in a colour table), antialiased by
+//! box-filtering the colour table with a width taken from the analytic gradient of `f`.
+//!
+//! Guarantees:
+//! - `no_std`, no allocation, and no floating point anywhere in the pixel path: the host and the
+//!   device produce the same bits. The exact definition of every number is `docs/model.md`.
+//! - Capacities (noise terms, colour-table entries) are const generics, checked once at
+//!   construction; evaluation never panics.
+//!
+//! Raw kernels (hashes, noise bases, fades) live apart from the configured wrappers
+//! ([`model::TextureModel`], [`table::ColorTable`]).
+#![no_std]
+#![deny(missing_docs, unsafe_code)]
+
+pub mod color;
+pub mod filter;
+pub mod format;
+pub mod hash;
+pub mod noise;
+pub mod table;
+
+pub use format::*;
