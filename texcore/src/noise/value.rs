@@ -1,0 +1,150 @@
+//! Lattice value noise: exact interpolation of amplitude-scaled corner values.
+//!
+//! `P = sum_c v'_c * wx_c * wy_c * wz_c` (`docs/model.md` 4.2) is computed with wrapping i64
+//! arithmetic in lerp form, which is an exact integer identity with the sum form. The true value
+//! always fits in i64 (the model bounds `|v'|`), so the wrapping result is the exact value. The
+//! same functions evaluate the polynomial just outside the cell (fractions `< 0` or `>= 1`), which
+//! the forward-difference set-up uses; there the result is exact modulo 2^64, which is all the
+//! forward differences need.
+//!
+//! Corner order: index `c = cx | cy << 1 | cz << 2`.
+
+use crate::hash::{lattice_value, HashKind};
+
+/// Amplitude-scaled corner values of the cell at `cell`: `v'_c = (amp * v_c + 2^(30-fv)) >> (31-fv)`.
+///
+/// `amp_raw` is the raw I16F16 amplitude, `fv` (<= 16) the model's noise fraction bits.
+#[inline]
+pub fn scaled_corners(hash: HashKind, cell: [u16; 3], amp_raw: i32, fv: u32) -> [i32; 8] {
+    let shift = 31 - fv.min(16);
+    let round = 1i64 << (shift - 1);
+    let mut out = [0i32; 8];
+    for (c, o) in out.iter_mut().enumerate() {
+        let x = cell[0].wrapping_add((c & 1) as u16);
+        let y = cell[1].wrapping_add(((c >> 1) & 1) as u16);
+        let z = cell[2].wrapping_add(((c >> 2) & 1) as u16);
+        let v = i64::from(lattice_value(hash, x, y, z));
+        *o = ((i64::from(amp_raw) * v + round) >> shift) as i32;
+    }
+    out
+}
+
+#[inline(always)]
+fn lerp_exact(p: i64, q: i64, w: i64) -> i64 {
+    p.wrapping_mul(1 << 16)
+        .wrapping_add(q.wrapping_sub(p).wrapping_mul(w))
+}
+
+/// Exact interpolation of the eight corner values with weights `w` (the weight of corner 1 on each
+/// axis, `0..=65536` inside the cell). Result has `48 + fv` fraction bits.
+#[inline]
+pub fn interpolate(v: &[i32; 8], w: [i64; 3]) -> i64 {
+    let e = |i: usize| lerp_exact(i64::from(v[i]), i64::from(v[i + 1]), w[0]);
+    let f0 = lerp_exact(e(0), e(2), w[1]);
+    let f1 = lerp_exact(e(4), e(6), w[1]);
+    lerp_exact(f0, f1, w[2])
+}
+
+/// The partial derivatives `dP/dw_axis` (each in units of `P` per 2^-16 of weight), exact.
+#[inline]
+pub fn weight_partials(v: &[i32; 8], w: [i64; 3]) -> [i64; 3] {
+    let d = |i: usize, j: usize| i64::from(v[j]).wrapping_sub(i64::from(v[i]));
+    let bil = |p00: i64, p10: i64, p01: i64, p11: i64, x: i64, y: i64| {
+        let a = lerp_exact(p00, p10, x);
+        let b = lerp_exact(p01, p11, x);
+        lerp_exact(a, b, y)
+    };
+    // d/dwx: differences along x, interpolated in (y, z).
+    let px = bil(d(0, 1), d(2, 3), d(4, 5), d(6, 7), w[1], w[2]);
+    // d/dwy: differences along y, interpolated in (x, z).
+    let py = bil(d(0, 2), d(1, 3), d(4, 6), d(5, 7), w[0], w[2]);
+    // d/dwz: differences along z, interpolated in (x, y).
+    let pz = bil(d(0, 4), d(1, 5), d(2, 6), d(3, 7), w[0], w[1]);
+    [px, py, pz]
+}
+
+/// Directional derivative: `sum_axis dP/dw_axis * dw_axis`, with `dw` the change of each weight per
+/// pixel (raw 16.16). For the linear fade `dw` is the lattice step itself and the result is exact.
+#[inline]
+pub fn directional(v: &[i32; 8], w: [i64; 3], dw: [i64; 3]) -> i64 {
+    let p = weight_partials(v, w);
+    p[0].wrapping_mul(dw[0])
+        .wrapping_add(p[1].wrapping_mul(dw[1]))
+        .wrapping_add(p[2].wrapping_mul(dw[2]))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn corners() -> [i32; 8] {
+        [1000, -2000, 3000, 8191, -8192, 17, 0, -5000]
+    }
+
+    #[test]
+    fn interpolation_hits_corners() {
+        let v = corners();
+        for c in 0..8 {
+            let w = [
+                (c & 1) as i64 * 65536,
+                ((c >> 1) & 1) as i64 * 65536,
+                ((c >> 2) & 1) as i64 * 65536,
+            ];
+            assert_eq!(interpolate(&v, w), i64::from(v[c]) << 48);
+        }
+    }
+
+    #[test]
+    fn interpolation_equals_weighted_sum() {
+        let v = corners();
+        for &(a, b, c) in &[
+            (0i64, 0, 0),
+            (1, 2, 3),
+            (65535, 12345, 40000),
+            (32768, 32768, 32768),
+        ] {
+            let mut want: i128 = 0;
+            for (k, &vk) in v.iter().enumerate() {
+                let wx = if k & 1 == 1 { a } else { 65536 - a };
+                let wy = if k & 2 == 2 { b } else { 65536 - b };
+                let wz = if k & 4 == 4 { c } else { 65536 - c };
+                want += i128::from(vk) * i128::from(wx) * i128::from(wy) * i128::from(wz);
+            }
+            assert_eq!(i128::from(interpolate(&v, [a, b, c])), want);
+        }
+    }
+
+    #[test]
+    fn partials_match_differences() {
+        // P is multilinear in the weights, so dP/dw is exactly P(w + 1) - P(w) along that axis.
+        let v = corners();
+        let w = [1234i64, 54321, 999];
+        let p = weight_partials(&v, w);
+        for axis in 0..3 {
+            let mut w1 = w;
+            w1[axis] += 1;
+            assert_eq!(
+                p[axis],
+                interpolate(&v, w1) - interpolate(&v, w),
+                "axis {axis}"
+            );
+        }
+        let d = [7i64, -3, 11];
+        assert_eq!(directional(&v, w, d), p[0] * 7 - p[1] * 3 + p[2] * 11);
+    }
+
+    #[test]
+    fn scaled_values() {
+        // amplitude 1.0 with fv = 13: v' = v / 4 rounded.
+        let c = scaled_corners(HashKind::Integer, [5, 6, 7], 1 << 16, 13);
+        for (k, &vk) in c.iter().enumerate() {
+            let v = i64::from(lattice_value(
+                HashKind::Integer,
+                5 + (k & 1) as u16,
+                6 + ((k >> 1) & 1) as u16,
+                7 + ((k >> 2) & 1) as u16,
+            ));
+            assert_eq!(i64::from(vk), (v * 65536 + (1 << 17)) >> 18);
+        }
+    }
+}
