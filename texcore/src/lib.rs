@@ -25,6 +25,8 @@ pub mod filter;
 pub mod format;
 pub mod hash;
 pub mod noise;
+pub mod quadric;
 pub mod table;
+pub mod transform;
 
 pub use format::*;
