@@ -24,6 +24,7 @@ pub mod color;
 pub mod filter;
 pub mod format;
 pub mod hash;
+pub mod model;
 pub mod noise;
 pub mod quadric;
 pub mod table;

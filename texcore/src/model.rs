@@ -1,0 +1,351 @@
+//! The configured texture model `f(s) = q(s) + sum_k a_k n_k(T_k s)`.
+//!
+//! A [`TextureModel`] holds a [`Quadric`], up to `T` [`NoiseTerm`]s (a const generic capacity, at
+//! most 8 in practice) and the colour-table wrap flag, which decides the overflow policy of `f`:
+//! wrapping for `mod` tables (only `f mod 1` matters, so wrapped quadrics stay exact) and
+//! saturating for `clamp` tables.
+//!
+//! Invariants, checked once when terms are added or amplitudes change, never per pixel:
+//! - at most `T` terms;
+//! - `sum_k |a_k| <= 512`, from which the noise accumulator's fraction bits `fv` are derived
+//!   (`docs/model.md` 4.4) so that no noise sum or exact interpolation can overflow.
+//!
+//! Evaluation lives in [`crate::span`]; this module only configures.
+
+use heapless::Vec;
+
+use crate::format::{Amplitude, MatrixEntry};
+use crate::noise::NoiseBasis;
+use crate::quadric::Quadric;
+use crate::table::TableWrap;
+use crate::transform::{Affine3, OCTAVE_ROTATION};
+
+/// One noise term `a n(T s)`, optionally turbulent (`a |n(T s)|`).
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
+pub struct NoiseTerm {
+    /// Amplitude `a`.
+    pub amplitude: Amplitude,
+    /// Affine transform `T` (frequency, rotation, phase).
+    pub transform: Affine3,
+    /// Noise basis.
+    pub basis: NoiseBasis,
+    /// Absolute value of the noise (turbulence).
+    pub turbulence: bool,
+}
+
+impl NoiseTerm {
+    /// A term with amplitude `a`, transform `t` and basis `b`, not turbulent.
+    pub const fn new(amplitude: Amplitude, transform: Affine3, basis: NoiseBasis) -> Self {
+        NoiseTerm {
+            amplitude,
+            transform,
+            basis,
+            turbulence: false,
+        }
+    }
+}
+
+/// Why a model could not be built or changed.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
+pub enum ModelError {
+    /// More noise terms than the model's capacity `T`.
+    TooManyTerms {
+        /// The capacity.
+        capacity: usize,
+    },
+    /// `sum |a_k|` exceeds 512.
+    AmplitudeSumTooLarge,
+    /// A term index that does not exist.
+    NoSuchTerm {
+        /// The index asked for.
+        index: usize,
+    },
+}
+
+impl core::fmt::Display for ModelError {
+    fn fmt(&self, f: &mut core::fmt::Formatter<'_>) -> core::fmt::Result {
+        match self {
+            ModelError::TooManyTerms { capacity } => {
+                write!(
+                    f,
+                    "too many noise terms: the model holds at most {capacity}"
+                )
+            }
+            ModelError::AmplitudeSumTooLarge => {
+                write!(
+                    f,
+                    "the sum of |amplitude| over all noise terms must be at most 512"
+                )
+            }
+            ModelError::NoSuchTerm { index } => write!(f, "there is no noise term {index}"),
+        }
+    }
+}
+
+/// A sum of octaves `sum_i a g^i n(R^i 2^i B s)` (fBm; turbulence with `turbulence`).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct Octaves {
+    /// Number of octaves (1..).
+    pub count: u8,
+    /// Base transform `B` applied to `s` before the octave scaling.
+    pub base: Affine3,
+    /// Amplitude of the first octave.
+    pub amplitude: Amplitude,
+    /// Rotate each octave by [`OCTAVE_ROTATION`] relative to the previous one to hide the lattice
+    /// alignment (Miné & Neyret).
+    pub rotate: bool,
+    /// Basis of every octave.
+    pub basis: NoiseBasis,
+    /// `|n|` per octave.
+    pub turbulence: bool,
+}
+
+/// The parameterized texture model with capacity for `T` noise terms.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub struct TextureModel<const T: usize> {
+    quadric: Quadric,
+    terms: Vec<NoiseTerm, T>,
+    wrap: TableWrap,
+    fv: u8,
+}
+
+/// The largest `fv <= 16` with `sum_raw * 2^fv <= 2^29` (`sum |a| * 2^fv <= 2^13`).
+fn frac_bits_for(sum_raw: u64) -> Option<u8> {
+    let mut fv = 16u8;
+    while (sum_raw << fv) > (1u64 << 29) {
+        if fv == 4 {
+            return None;
+        }
+        fv -= 1;
+    }
+    Some(fv)
+}
+
+impl<const T: usize> TextureModel<T> {
+    /// A model with only a quadric.
+    pub const fn new(quadric: Quadric, wrap: TableWrap) -> Self {
+        TextureModel {
+            quadric,
+            terms: Vec::new(),
+            wrap,
+            fv: 16,
+        }
+    }
+
+    /// Adds a term (builder style).
+    pub fn with(mut self, term: NoiseTerm) -> Result<Self, ModelError> {
+        self.push(term)?;
+        Ok(self)
+    }
+
+    /// Adds octaves (builder style).
+    pub fn with_octaves(mut self, octaves: &Octaves) -> Result<Self, ModelError> {
+        self.push_octaves(octaves)?;
+        Ok(self)
+    }
+
+    /// Adds a term.
+    pub fn push(&mut self, term: NoiseTerm) -> Result<(), ModelError> {
+        let fv = self.frac_bits_with(Some(term), None)?;
+        self.terms
+            .push(term)
+            .map_err(|_| ModelError::TooManyTerms { capacity: T })?;
+        self.fv = fv;
+        Ok(())
+    }
+
+    /// Adds `octaves.count` terms: octave `i` has amplitude `a / 2^i` and transform
+    /// `R^i 2^i B` (R only with `rotate`).
+    pub fn push_octaves(&mut self, octaves: &Octaves) -> Result<(), ModelError> {
+        if self.terms.len() + usize::from(octaves.count) > T {
+            return Err(ModelError::TooManyTerms { capacity: T });
+        }
+        let mut transform = octaves.base;
+        for i in 0..octaves.count {
+            let amp = Amplitude::from_bits(octaves.amplitude.to_bits() >> i);
+            self.push(NoiseTerm {
+                amplitude: amp,
+                transform,
+                basis: octaves.basis,
+                turbulence: octaves.turbulence,
+            })?;
+            let mut next = transform.then(&Affine3::scale(MatrixEntry::from_num(2)));
+            if octaves.rotate {
+                next = next.then(&OCTAVE_ROTATION);
+            }
+            transform = next;
+        }
+        Ok(())
+    }
+
+    fn frac_bits_with(
+        &self,
+        extra: Option<NoiseTerm>,
+        replace: Option<(usize, Amplitude)>,
+    ) -> Result<u8, ModelError> {
+        let mut sum: u64 = 0;
+        for (k, t) in self.terms.iter().enumerate() {
+            let a = match replace {
+                Some((r, a)) if r == k => a,
+                _ => t.amplitude,
+            };
+            sum += u64::from(a.to_bits().unsigned_abs());
+        }
+        if let Some(t) = extra {
+            sum += u64::from(t.amplitude.to_bits().unsigned_abs());
+        }
+        frac_bits_for(sum).ok_or(ModelError::AmplitudeSumTooLarge)
+    }
+
+    /// Changes the amplitude of term `k` (animation of marble forming); re-derives `fv`.
+    pub fn set_amplitude(&mut self, k: usize, a: Amplitude) -> Result<(), ModelError> {
+        if k >= self.terms.len() {
+            return Err(ModelError::NoSuchTerm { index: k });
+        }
+        self.fv = self.frac_bits_with(None, Some((k, a)))?;
+        self.terms[k].amplitude = a;
+        Ok(())
+    }
+
+    /// Changes the translation (phase) of term `k` (animation of fire and clouds).
+    pub fn set_translation(&mut self, k: usize, t: [MatrixEntry; 3]) -> Result<(), ModelError> {
+        let term = self
+            .terms
+            .get_mut(k)
+            .ok_or(ModelError::NoSuchTerm { index: k })?;
+        term.transform = term.transform.with_translation(t);
+        Ok(())
+    }
+
+    /// Replaces the quadric.
+    pub fn set_quadric(&mut self, q: Quadric) {
+        self.quadric = q;
+    }
+
+    /// The quadric.
+    pub const fn quadric(&self) -> &Quadric {
+        &self.quadric
+    }
+
+    /// The noise terms.
+    pub fn terms(&self) -> &[NoiseTerm] {
+        &self.terms
+    }
+
+    /// The colour-table wrap flag (and so the overflow policy of `f`).
+    pub const fn wrap(&self) -> TableWrap {
+        self.wrap
+    }
+
+    /// The noise accumulator's fraction bits beyond 48 (`fv`, `docs/model.md` 4.4).
+    pub const fn noise_frac_bits(&self) -> u32 {
+        self.fv as u32
+    }
+
+    /// Whether any term needs per-pixel evaluation (not a cubic along spans).
+    pub fn all_terms_cubic(&self) -> bool {
+        self.terms.iter().all(|t| t.basis.is_cubic())
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::format::QuadricCoeff;
+    use crate::hash::HashKind;
+
+    fn term(a: f64) -> NoiseTerm {
+        NoiseTerm::new(
+            Amplitude::from_num(a),
+            Affine3::IDENTITY,
+            NoiseBasis::trilinear(HashKind::Integer),
+        )
+    }
+
+    #[test]
+    fn frac_bits_follow_amplitudes() {
+        let mut m: TextureModel<8> = TextureModel::new(Quadric::ZERO, TableWrap::Mod);
+        assert_eq!(m.noise_frac_bits(), 16);
+        m.push(term(1.0)).unwrap();
+        assert_eq!(m.noise_frac_bits(), 13);
+        m.push(term(-0.875)).unwrap();
+        assert_eq!(m.noise_frac_bits(), 12);
+        m.set_amplitude(1, Amplitude::from_num(300)).unwrap();
+        assert_eq!(m.noise_frac_bits(), 4);
+        assert_eq!(
+            m.set_amplitude(1, Amplitude::from_num(600)),
+            Err(ModelError::AmplitudeSumTooLarge)
+        );
+        // unchanged after the failed update
+        assert_eq!(m.terms()[1].amplitude, Amplitude::from_num(300));
+        assert_eq!(
+            m.set_amplitude(5, Amplitude::ONE),
+            Err(ModelError::NoSuchTerm { index: 5 })
+        );
+    }
+
+    #[test]
+    fn capacity_is_checked() {
+        let mut m: TextureModel<2> = TextureModel::new(Quadric::ZERO, TableWrap::Clamp);
+        m.push(term(0.5)).unwrap();
+        m.push(term(0.5)).unwrap();
+        assert_eq!(
+            m.push(term(0.5)),
+            Err(ModelError::TooManyTerms { capacity: 2 })
+        );
+        let oct = Octaves {
+            count: 3,
+            base: Affine3::IDENTITY,
+            amplitude: Amplitude::ONE,
+            rotate: false,
+            basis: NoiseBasis::default(),
+            turbulence: false,
+        };
+        let m2: TextureModel<2> = TextureModel::new(Quadric::ZERO, TableWrap::Clamp);
+        assert_eq!(
+            m2.with_octaves(&oct),
+            Err(ModelError::TooManyTerms { capacity: 2 })
+        );
+    }
+
+    #[test]
+    fn octaves_double_frequency_and_halve_amplitude() {
+        let oct = Octaves {
+            count: 4,
+            base: Affine3::scale(MatrixEntry::from_num(3)),
+            amplitude: Amplitude::ONE,
+            rotate: false,
+            basis: NoiseBasis::default(),
+            turbulence: true,
+        };
+        let m: TextureModel<8> = TextureModel::new(
+            Quadric::linear(
+                QuadricCoeff::ZERO,
+                QuadricCoeff::ZERO,
+                QuadricCoeff::ONE,
+                QuadricCoeff::ZERO,
+            ),
+            TableWrap::Mod,
+        )
+        .with_octaves(&oct)
+        .unwrap();
+        assert_eq!(m.terms().len(), 4);
+        for (i, t) in m.terms().iter().enumerate() {
+            assert_eq!(t.amplitude.to_bits(), 65536 >> i);
+            assert_eq!(t.transform.matrix()[0][0], MatrixEntry::from_num(3 << i));
+            assert!(t.turbulence);
+        }
+        let r: TextureModel<8> = TextureModel::new(Quadric::ZERO, TableWrap::Mod)
+            .with_octaves(&Octaves {
+                rotate: true,
+                ..oct
+            })
+            .unwrap();
+        assert_ne!(
+            r.terms()[1].transform.matrix(),
+            m.terms()[1].transform.matrix()
+        );
+    }
+}
