@@ -27,6 +27,7 @@ pub mod hash;
 pub mod model;
 pub mod noise;
 pub mod quadric;
+pub mod span;
 pub mod table;
 pub mod transform;
 
