@@ -24,6 +24,8 @@ pub mod color;
 pub mod filter;
 pub mod format;
 pub mod hash;
+#[cfg(feature = "perturb")]
+pub mod material;
 pub mod model;
 pub mod noise;
 pub mod quadric;

@@ -57,6 +57,11 @@ pub enum ModelError {
     },
     /// `sum |a_k|` exceeds 512.
     AmplitudeSumTooLarge,
+    /// A parameter outside its documented range.
+    OutOfRange {
+        /// Which parameter.
+        what: &'static str,
+    },
     /// A term index that does not exist.
     NoSuchTerm {
         /// The index asked for.
@@ -80,6 +85,7 @@ impl core::fmt::Display for ModelError {
                 )
             }
             ModelError::NoSuchTerm { index } => write!(f, "there is no noise term {index}"),
+            ModelError::OutOfRange { what } => write!(f, "{what} is out of range"),
         }
     }
 }

@@ -271,7 +271,7 @@ mod tests {
         let big = [i64::MAX / 4, i64::MIN / 4, i64::MAX / 4];
         let _ = qq.eval48(big);
         let _ = qq.along(big, big).at(65535);
-        assert!(qq.is_affine() == false);
+        assert!(!qq.is_affine());
         assert!(Quadric::linear(
             QuadricCoeff::ONE,
             QuadricCoeff::ZERO,

@@ -85,13 +85,13 @@ impl Affine3 {
     pub fn then(&self, other: &Affine3) -> Affine3 {
         let mut m = [[Z; 3]; 3];
         let mut t = [Z; 3];
-        for i in 0..3 {
-            for j in 0..3 {
+        for (i, row) in m.iter_mut().enumerate() {
+            for (j, e) in row.iter_mut().enumerate() {
                 let mut acc: i64 = 0;
                 for k in 0..3 {
                     acc += i64::from(other.m[i][k].to_bits()) * i64::from(self.m[k][j].to_bits());
                 }
-                m[i][j] = sat_entry(round_32_to_16(acc));
+                *e = sat_entry(round_32_to_16(acc));
             }
             let mut acc: i64 = i64::from(other.t[i].to_bits()) << 16;
             for k in 0..3 {

@@ -45,6 +45,7 @@ impl Fade {
 
     /// The derivative `dF/da` at fraction `a`, in U?F16 (`65536` = slope 1).
     #[inline]
+    #[cfg_attr(not(feature = "smooth-fade"), allow(unused_variables))]
     pub fn derivative(self, a: u32) -> i64 {
         #[cfg(feature = "smooth-fade")]
         let a = i64::from(a & 0xFFFF);

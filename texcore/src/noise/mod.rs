@@ -86,6 +86,7 @@ pub(crate) fn saturate_i64(x: i128) -> i64 {
     }
 }
 
+#[cfg(any(feature = "gradient-noise", feature = "mnoise"))]
 #[inline(always)]
 fn scale_n16(n16: i64, amp_raw: i32, fv: u32) -> i64 {
     (i64::from(amp_raw) * n16) << (16 + fv)
@@ -158,6 +159,10 @@ impl NoiseBasis {
 
     /// The term's contribution at fraction `frac` of a cell, with `48 + fv` fraction bits.
     #[inline]
+    #[cfg_attr(
+        not(any(feature = "gradient-noise", feature = "mnoise")),
+        allow(unused_variables)
+    )]
     pub fn sample(&self, data: &CellData, frac: [u32; 3], amp_raw: i32, fv: u32) -> i64 {
         match data {
             CellData::Value(v) => value::interpolate(v, self.weights(frac)),
@@ -173,6 +178,10 @@ impl NoiseBasis {
     /// lattice units per pixel), in the same units per pixel. For trilinear value noise it is the
     /// exact derivative of the cubic.
     #[inline]
+    #[cfg_attr(
+        not(any(feature = "gradient-noise", feature = "mnoise")),
+        allow(unused_variables)
+    )]
     pub fn derivative(
         &self,
         data: &CellData,
