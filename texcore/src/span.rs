@@ -18,6 +18,11 @@
 //! - [`EvalMode::Auto`]: per span and per term, forward differencing where cells span several
 //!   pixels, direct where they are shorter (set-up would cost more than it saves).
 //!
+//! Two cheaper, approximate modes trade accuracy for time: [`EvalMode::Fd32`] (32-bit
+//! accumulators) and [`EvalMode::Reanchored`] (piecewise cubic forward differencing of the
+//! higher-degree bases); their error bounds are documented on the variants and priced in the
+//! accuracy report.
+//!
 //! Octaves past the Nyquist limit (more than half a cell per pixel along either screen direction)
 //! are culled when [`EvalOptions::cull`] is set: they contribute nothing to `f` and `2 |a_k|` (in
 //! `f` units) to the span's extra filter width, [`SpanInfo::extra_width48`]. Nothing here panics,
@@ -55,6 +60,19 @@ pub enum EvalMode {
     /// Forward differencing where cells are long, direct where they are short.
     #[default]
     Auto,
+    /// Cheaper forward differencing of the cubic terms with 32-bit accumulators, re-anchored to
+    /// the exact polynomial every [`FD32_ANCHOR`] pixels: **not** bit-identical; the error of `f` is
+    /// at most `5489 * 2^-(16 + fv)` (one anchor interval's truncation drift, `1 + 32 + C(32,2) +
+    /// C(32,3)` units) plus one unit of the final floor, per cubic term. Other terms as `Fd`.
+    Fd32,
+    /// Terms that are not cubics along a span (smooth and quintic fades, gradient noise, mNoise:
+    /// degree 9 or more) forward-differenced as cubic Hermite segments through exact values and
+    /// exact derivatives at both ends of each segment (piecewise re-anchoring): approximate between
+    /// anchors, exact at them. A segment covers at most [`HERMITE_SEGMENT`] pixels and at most a
+    /// quarter of a cell along the span (the Hermite error grows with the fourth power of the
+    /// segment's length in cells), so it pays only where cells span many pixels. Cubic terms as
+    /// `Fd`.
+    Reanchored,
 }
 
 /// Options of the span evaluator.
@@ -197,7 +215,7 @@ struct Setup<const T: usize> {
     extra_width48: i64,
 }
 
-/// Forward-difference state of a cubic term inside one cell.
+/// Forward-difference state of a cubic term inside one cell (exact, 64-bit).
 #[derive(Clone, Copy, Debug, Default)]
 struct Cubic {
     p: [i64; 4],
@@ -205,15 +223,71 @@ struct Cubic {
     gy: [i64; 3],
 }
 
-#[derive(Clone, Copy, Debug)]
-enum TermState {
+/// Forward-difference state with 32-bit accumulators (the exact state's top 32 bits at the anchor).
+#[derive(Clone, Copy, Debug, Default)]
+struct Cubic32 {
+    p: [i32; 4],
+    gx: [i32; 3],
+    gy: [i32; 3],
+}
+
+/// A re-anchored cubic Hermite segment: value (cubic), x-gradient (its derivative, quadratic) and
+/// y-gradient (linear between the anchors).
+#[derive(Clone, Copy, Debug, Default)]
+struct Hermite {
+    p: [i64; 4],
+    gx: [i64; 3],
+    gy: [i64; 2],
+}
+
+/// How one term is evaluated along the current span.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+enum Strategy {
     Off,
-    /// Forward differencing inside the current cell.
-    Fd(Cubic),
-    /// Cached cell, per-pixel interpolation.
-    Cached(CellData),
     /// Per-pixel hashing and interpolation.
     Direct,
+    /// Cached cell, per-pixel interpolation (exact).
+    Cached,
+    /// Exact 64-bit forward differencing of the cubic.
+    Fd,
+    /// 32-bit forward differencing, re-anchored every [`FD32_ANCHOR`] pixels.
+    Fd32,
+    /// Cubic Hermite segments of at most [`HERMITE_SEGMENT`] pixels (approximate).
+    Hermite,
+}
+
+/// Re-anchoring interval of [`EvalMode::Fd32`], in pixels.
+pub const FD32_ANCHOR: u32 = 32;
+/// Longest Hermite segment of [`EvalMode::Reanchored`], in pixels.
+pub const HERMITE_SEGMENT: u32 = 16;
+
+#[derive(Clone, Copy, Debug)]
+struct TermRun {
+    strategy: Strategy,
+    data: CellData,
+    cell: [u16; 3],
+    cached: bool,
+    remaining: u32,
+    u: [i32; 3],
+    fd: Cubic,
+    fd32: Cubic32,
+    herm: Hermite,
+}
+
+impl Default for TermRun {
+    fn default() -> Self {
+        TermRun {
+            strategy: Strategy::Off,
+            data: CellData::Value([0; 8]),
+            cell: [0; 3],
+            cached: false,
+            remaining: 0,
+            u: [0; 3],
+            fd: Cubic::default(),
+            fd32: Cubic32::default(),
+            herm: Hermite::default(),
+        }
+    }
 }
 
 /// Evaluates spans of one model.
@@ -295,17 +369,6 @@ impl<'m, const T: usize> SpanEvaluator<'m, T> {
         }
     }
 
-    /// Amplitude used for the corner values and the sign applied afterwards (turbulence).
-    #[inline(always)]
-    fn amp_and_sign(term: &NoiseTerm) -> (i32, bool) {
-        let a = term.amplitude.to_bits();
-        if term.turbulence {
-            (a.wrapping_abs(), a < 0)
-        } else {
-            (a, false)
-        }
-    }
-
     /// Evaluates `span`, calling `emit` once per pixel in order. Returns the span's facts.
     pub fn eval<F: FnMut(Sample)>(&mut self, span: &Span, emit: F) -> SpanInfo {
         let setup = self.setup(span);
@@ -314,24 +377,53 @@ impl<'m, const T: usize> SpanEvaluator<'m, T> {
         let info = SpanInfo {
             extra_width48: setup.extra_width48,
         };
-        match self.opts.mode {
-            EvalMode::Direct => self.run(span.len, &setup, |_, _| false, emit),
-            EvalMode::Fd => self.run(span.len, &setup, |_, _| true, emit),
-            EvalMode::Auto => self.run(
-                span.len,
-                &setup,
-                // Forward differencing pays when a cell spans at least 4 pixels on every axis.
-                |ts: &TermSetup, _| ts.du.iter().all(|d| d.unsigned_abs() <= 1 << 14),
-                emit,
-            ),
-        }
+        let mode = self.opts.mode;
+        self.run(
+            span.len,
+            &setup,
+            |ts: &TermSetup, cubic: bool| match mode {
+                EvalMode::Direct => Strategy::Direct,
+                EvalMode::Fd => {
+                    if cubic {
+                        Strategy::Fd
+                    } else {
+                        Strategy::Cached
+                    }
+                }
+                EvalMode::Auto => {
+                    // Forward differencing pays when a cell spans at least 4 pixels on every axis.
+                    if ts.du.iter().any(|d| d.unsigned_abs() > 1 << 14) {
+                        Strategy::Direct
+                    } else if cubic {
+                        Strategy::Fd
+                    } else {
+                        Strategy::Cached
+                    }
+                }
+                EvalMode::Fd32 => {
+                    if cubic {
+                        Strategy::Fd32
+                    } else {
+                        Strategy::Cached
+                    }
+                }
+                EvalMode::Reanchored => {
+                    if cubic {
+                        Strategy::Fd
+                    } else {
+                        Strategy::Hermite
+                    }
+                }
+            },
+            emit,
+        );
         info
     }
 
-    /// The evaluation loop. `use_fd(term, k)` decides per term whether to forward-difference.
-    fn run<D, F>(&mut self, len: u16, setup: &Setup<T>, use_fd: D, mut emit: F)
+    /// The evaluation loop. `choose(term setup, is_cubic)` picks each term's strategy.
+    fn run<D, F>(&mut self, len: u16, setup: &Setup<T>, choose: D, mut emit: F)
     where
-        D: Fn(&TermSetup, usize) -> bool,
+        D: Fn(&TermSetup, bool) -> Strategy,
         F: FnMut(Sample),
     {
         let m = self.model;
@@ -341,22 +433,16 @@ impl<'m, const T: usize> SpanEvaluator<'m, T> {
         let terms = m.terms();
         let n = terms.len();
 
-        let mut state = [TermState::Off; T];
-        let mut remaining = [0u32; T];
-        let mut upoint = [[0i32; 3]; T];
-        for k in 0..n {
+        let mut runs = [TermRun::default(); T];
+        for (k, r) in runs.iter_mut().enumerate().take(n) {
             let ts = &setup.terms[k];
-            if !ts.active {
-                continue;
+            if ts.active {
+                r.strategy = choose(ts, terms[k].basis.is_cubic());
+                r.u = ts.u0;
+                if r.strategy == Strategy::Direct {
+                    r.remaining = u32::MAX;
+                }
             }
-            upoint[k] = ts.u0;
-            state[k] = if terms[k].basis.is_cubic() && use_fd(ts, k) {
-                TermState::Fd(Cubic::default())
-            } else if use_fd(ts, k) {
-                TermState::Cached(CellData::Value([0; 8]))
-            } else {
-                TermState::Direct
-            };
         }
 
         // Quadric forward differences (exact, wrapping i128).
@@ -370,30 +456,50 @@ impl<'m, const T: usize> SpanEvaluator<'m, T> {
         let len = u32::from(len);
         let mut i = 0u32;
         while i < len {
-            // Set up every forward-differenced or cached term whose cell ended.
+            // (Re-)anchor every term whose segment ended; the segment is the shortest of them.
             let mut seg = len - i;
             for k in 0..n {
-                match state[k] {
-                    TermState::Fd(_) | TermState::Cached(_) => {
-                        if remaining[k] == 0 {
-                            let ts = &setup.terms[k];
-                            let (cell, frac) = split(upoint[k]);
-                            let (amp, _) = Self::amp_and_sign(&terms[k]);
-                            let basis = &terms[k].basis;
-                            let data = basis.cell(cell, amp, fv);
-                            self.stats.cell_setups += 1;
-                            remaining[k] = pixels_in_cell(frac, ts.du);
-                            state[k] = match (state[k], data) {
-                                (TermState::Fd(_), CellData::Value(v)) => {
-                                    TermState::Fd(cubic_setup(&v, frac, ts, grads && ts.gradient))
-                                }
-                                _ => TermState::Cached(data),
-                            };
-                        }
-                        seg = seg.min(remaining[k]);
-                    }
-                    _ => {}
+                let r = &mut runs[k];
+                if r.strategy == Strategy::Off {
+                    continue;
                 }
+                if r.remaining == 0 {
+                    let ts = &setup.terms[k];
+                    let term = &terms[k];
+                    let (amp, _) = amp_and_sign(term);
+                    let (cell, frac) = split(r.u);
+                    if !r.cached || cell != r.cell {
+                        r.data = term.basis.cell(cell, amp, fv);
+                        r.cell = cell;
+                        r.cached = true;
+                        self.stats.cell_setups += 1;
+                    }
+                    let in_cell = pixels_in_cell(frac, ts.du);
+                    let want_g = grads && ts.gradient;
+                    r.remaining = match (r.strategy, &r.data) {
+                        (Strategy::Fd, CellData::Value(v)) => {
+                            r.fd = cubic_setup(v, frac, ts, want_g);
+                            in_cell
+                        }
+                        (Strategy::Fd32, CellData::Value(v)) => {
+                            r.fd32 = narrow(&cubic_setup(v, frac, ts, want_g));
+                            in_cell.min(FD32_ANCHOR)
+                        }
+                        (Strategy::Hermite, data) => {
+                            // At most a quarter of a cell along the span, at most 16 pixels.
+                            let step = ts.du.iter().map(|d| d.unsigned_abs()).max().unwrap_or(0);
+                            let quarter = (1u32 << 14) / step.max(1);
+                            let l = in_cell
+                                .min(HERMITE_SEGMENT)
+                                .min(quarter.max(2))
+                                .min(len - i);
+                            r.herm = hermite_setup(term, data, r.u, ts, l, amp, fv, want_g);
+                            l
+                        }
+                        _ => in_cell,
+                    };
+                }
+                seg = seg.min(r.remaining);
             }
 
             for _ in 0..seg {
@@ -402,14 +508,16 @@ impl<'m, const T: usize> SpanEvaluator<'m, T> {
                 let mut gyn: i64 = 0;
                 let mut any_fd = false;
                 for k in 0..n {
+                    let r = &mut runs[k];
                     let ts = &setup.terms[k];
                     let term = &terms[k];
-                    let (amp, neg) = Self::amp_and_sign(term);
+                    let (amp, neg) = amp_and_sign(term);
                     let want_g = grads && ts.gradient;
-                    let (mut v, mut gx, mut gy) = match &mut state[k] {
-                        TermState::Off => continue,
-                        TermState::Fd(c) => {
+                    let (mut v, mut gx, mut gy) = match r.strategy {
+                        Strategy::Off => continue,
+                        Strategy::Fd => {
                             any_fd = true;
+                            let c = &mut r.fd;
                             let out = (c.p[0], c.gx[0], c.gy[0]);
                             c.p[0] = c.p[0].wrapping_add(c.p[1]);
                             c.p[1] = c.p[1].wrapping_add(c.p[2]);
@@ -422,12 +530,45 @@ impl<'m, const T: usize> SpanEvaluator<'m, T> {
                             }
                             out
                         }
-                        TermState::Cached(data) => {
-                            let (_, frac) = split(upoint[k]);
-                            eval_term(term, data, frac, ts, amp, fv, want_g)
+                        Strategy::Fd32 => {
+                            any_fd = true;
+                            let c = &mut r.fd32;
+                            let out = (
+                                i64::from(c.p[0]) << 32,
+                                i64::from(c.gx[0]) << 32,
+                                i64::from(c.gy[0]) << 32,
+                            );
+                            c.p[0] = c.p[0].wrapping_add(c.p[1]);
+                            c.p[1] = c.p[1].wrapping_add(c.p[2]);
+                            c.p[2] = c.p[2].wrapping_add(c.p[3]);
+                            if want_g {
+                                c.gx[0] = c.gx[0].wrapping_add(c.gx[1]);
+                                c.gx[1] = c.gx[1].wrapping_add(c.gx[2]);
+                                c.gy[0] = c.gy[0].wrapping_add(c.gy[1]);
+                                c.gy[1] = c.gy[1].wrapping_add(c.gy[2]);
+                            }
+                            out
                         }
-                        TermState::Direct => {
-                            let (cell, frac) = split(upoint[k]);
+                        Strategy::Hermite => {
+                            any_fd = true;
+                            let c = &mut r.herm;
+                            let out = (c.p[0], c.gx[0], c.gy[0]);
+                            c.p[0] = c.p[0].wrapping_add(c.p[1]);
+                            c.p[1] = c.p[1].wrapping_add(c.p[2]);
+                            c.p[2] = c.p[2].wrapping_add(c.p[3]);
+                            if want_g {
+                                c.gx[0] = c.gx[0].wrapping_add(c.gx[1]);
+                                c.gx[1] = c.gx[1].wrapping_add(c.gx[2]);
+                                c.gy[0] = c.gy[0].wrapping_add(c.gy[1]);
+                            }
+                            out
+                        }
+                        Strategy::Cached => {
+                            let (_, frac) = split(r.u);
+                            eval_term(term, &r.data, frac, ts, amp, fv, want_g)
+                        }
+                        Strategy::Direct => {
+                            let (cell, frac) = split(r.u);
                             let data = term.basis.cell(cell, amp, fv);
                             self.stats.cell_setups += 1;
                             eval_term(term, &data, frac, ts, amp, fv, want_g)
@@ -452,13 +593,14 @@ impl<'m, const T: usize> SpanEvaluator<'m, T> {
                         self.stats.gradient_evaluations += 1;
                     }
                     self.stats.noise_evaluations += 1;
-                    upoint[k] = [
-                        upoint[k][0].wrapping_add(ts.du[0]),
-                        upoint[k][1].wrapping_add(ts.du[1]),
-                        upoint[k][2].wrapping_add(ts.du[2]),
+                    r.u = [
+                        r.u[0].wrapping_add(ts.du[0]),
+                        r.u[1].wrapping_add(ts.du[1]),
+                        r.u[2].wrapping_add(ts.du[2]),
                     ];
-                    if remaining[k] != 0 {
-                        remaining[k] -= 1;
+                    r.remaining = r.remaining.saturating_sub(1);
+                    if r.strategy == Strategy::Direct {
+                        r.remaining = u32::MAX;
                     }
                 }
                 if any_fd {
@@ -489,6 +631,105 @@ impl<'m, const T: usize> SpanEvaluator<'m, T> {
             }
             i += seg;
         }
+    }
+}
+
+/// Amplitude used for the corner values and the sign applied afterwards (turbulence).
+#[inline(always)]
+fn amp_and_sign(term: &NoiseTerm) -> (i32, bool) {
+    let a = term.amplitude.to_bits();
+    if term.turbulence {
+        (a.wrapping_abs(), a < 0)
+    } else {
+        (a, false)
+    }
+}
+
+/// The top 32 bits (floor) of an exact forward-difference state.
+fn narrow(c: &Cubic) -> Cubic32 {
+    let h = |x: i64| (x >> 32) as i32;
+    Cubic32 {
+        p: [h(c.p[0]), h(c.p[1]), h(c.p[2]), h(c.p[3])],
+        gx: [h(c.gx[0]), h(c.gx[1]), h(c.gx[2])],
+        gy: [h(c.gy[0]), h(c.gy[1]), h(c.gy[2])],
+    }
+}
+
+/// Division of an i128 by a positive divisor, rounded to nearest (ties away from zero), saturated.
+fn div_round(x: i128, d: i128) -> i64 {
+    let q = if x >= 0 {
+        (x + d / 2) / d
+    } else {
+        (x - d / 2) / d
+    };
+    sat_i64(q)
+}
+
+/// Cubic Hermite segment over pixels `0..l` through the exact values and derivatives at pixels
+/// `0` and `l - 1` (both inside the current cell).
+#[allow(clippy::too_many_arguments)]
+fn hermite_setup(
+    term: &NoiseTerm,
+    data: &CellData,
+    u: [i32; 3],
+    ts: &TermSetup,
+    l: u32,
+    amp: i32,
+    fv: u32,
+    grads: bool,
+) -> Hermite {
+    let (_, f0) = split(u);
+    let b = &term.basis;
+    let p0 = b.sample(data, f0, amp, fv);
+    let g0 = b.derivative(data, f0, ts.du, amp, fv);
+    let y0 = if grads {
+        b.derivative(data, f0, ts.dy, amp, fv)
+    } else {
+        0
+    };
+    if l <= 1 {
+        return Hermite {
+            p: [p0, 0, 0, 0],
+            gx: [g0, 0, 0],
+            gy: [y0, 0],
+        };
+    }
+    let mm = l - 1;
+    let (_, fm) = split([
+        u[0].wrapping_add(ts.du[0].wrapping_mul(mm as i32)),
+        u[1].wrapping_add(ts.du[1].wrapping_mul(mm as i32)),
+        u[2].wrapping_add(ts.du[2].wrapping_mul(mm as i32)),
+    ]);
+    let pm = b.sample(data, fm, amp, fv);
+    let gm = b.derivative(data, fm, ts.du, amp, fv);
+    let ym = if grads {
+        b.derivative(data, fm, ts.dy, amp, fv)
+    } else {
+        0
+    };
+    let m = i128::from(mm);
+    let (p0w, pmw, g0w, gmw) = (
+        i128::from(p0),
+        i128::from(pm),
+        i128::from(g0),
+        i128::from(gm),
+    );
+    let c2 = div_round(3 * (pmw - p0w) - (2 * g0w + gmw) * m, m * m);
+    let c3 = div_round(2 * (p0w - pmw) + (g0w + gmw) * m, m * m * m);
+    let c1 = g0;
+    Hermite {
+        p: [
+            p0,
+            c1.wrapping_add(c2).wrapping_add(c3),
+            c2.wrapping_mul(2).wrapping_add(c3.wrapping_mul(6)),
+            c3.wrapping_mul(6),
+        ],
+        gx: [
+            g0,
+            c2.wrapping_mul(2).wrapping_add(c3.wrapping_mul(3)),
+            c3.wrapping_mul(6),
+        ],
+        gy: [y0, div_round(i128::from(ym) - i128::from(y0), m)],
     }
 }
 

@@ -394,3 +394,76 @@ proptest! {
         assert_exact(&m, &span);
     }
 }
+
+/// Largest |a - b| over two sample runs, in raw `f` units (2^-16) and raw gx units (2^-48).
+fn max_errors(a: &[Sample], b: &[Sample]) -> (i64, i64) {
+    let mut ef = 0i64;
+    let mut eg = 0i64;
+    for (x, y) in a.iter().zip(b) {
+        ef = ef.max((i64::from(x.f.to_bits()) - i64::from(y.f.to_bits())).abs());
+        eg = eg.max(
+            (i128::from(x.gx) - i128::from(y.gx))
+                .unsigned_abs()
+                .min(i64::MAX as u128) as i64,
+        );
+    }
+    (ef, eg)
+}
+
+#[test]
+fn fd32_drift_within_documented_bound() {
+    let m = marble();
+    let fv = m.noise_frac_bits();
+    // Documented: per cubic term at most 5489 * 2^-(16+fv) of f plus one unit of the floor.
+    let bound = (4 * (5489 >> fv) + 4 + 1 + 4) as i64;
+    let mut worst = 0;
+    for (k, ds) in [
+        p(0.0003, 0.0001, 0.0),
+        p(0.002, -0.001, 0.0007),
+        p(-0.01, 0.003, 0.002),
+    ]
+    .into_iter()
+    .enumerate()
+    {
+        let span = Span {
+            s0: p(0.3 + k as f64, -1.2, 0.7),
+            ds,
+            dsdy: p(0.0, 0.001, 0.0),
+            len: 2000,
+        };
+        let (d, _) = eval(&m, EvalMode::Direct, true, &span);
+        let (f, st) = eval(&m, EvalMode::Fd32, true, &span);
+        assert!(st.fd_pixels > 0);
+        let (ef, _) = max_errors(&d, &f);
+        worst = worst.max(ef);
+        assert!(ef <= bound, "fd32 error {ef} raw units > bound {bound}");
+    }
+    // It is an approximation, but not a bad one: within 4 raw units of 2^-16 here.
+    assert!(worst <= 4, "worst {worst}");
+}
+
+#[test]
+fn reanchored_smooth_noise_is_close_to_direct() {
+    for kind in [BasisKind::Value, BasisKind::Gradient, BasisKind::Modified] {
+        let basis = NoiseBasis {
+            kind,
+            fade: Fade::Smooth,
+            hash: HashKind::Permutation,
+        };
+        let m: TextureModel<8> = octaves(Quadric::ZERO, TableWrap::Clamp, 4, 2.0, basis);
+        let span = Span {
+            s0: p(0.31, 0.17, -0.4),
+            ds: p(0.003, 0.001, 0.0005),
+            dsdy: p(0.0, 0.003, 0.0),
+            len: 1500,
+        };
+        let (d, _) = eval(&m, EvalMode::Direct, true, &span);
+        let (r, st) = eval(&m, EvalMode::Reanchored, true, &span);
+        assert!(st.fd_pixels == 1500, "{kind:?}");
+        let (ef, eg) = max_errors(&d, &r);
+        // Bound asserted for quarter-cell Hermite segments: 2^-10 of f (measured: 2^-11).
+        assert!(ef <= 64, "{kind:?}: max f error {ef} raw units");
+        let gscale = d.iter().map(|s| s.gx.unsigned_abs()).max().unwrap() as i64;
+        assert!(eg <= gscale / 8, "{kind:?}: gx error {eg} of {gscale}");
+    }
+}
