@@ -28,6 +28,7 @@ pub mod hash;
 pub mod material;
 pub mod model;
 pub mod noise;
+pub mod presets;
 pub mod quadric;
 pub mod span;
 pub mod table;
