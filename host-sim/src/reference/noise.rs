@@ -15,6 +15,28 @@
 //! - [`mnoise_raw`] / [`mnoise`]: Olano's mNoise, gradients `(±1, ±1, ±1)` from bits 0, 1, 2 of
 //!   `hash61`; [`mnoise`] multiplies by a scale ([`MNOISE_SCALE`]) and clamps to `[-1, 1]`.
 //! - [`mnoise2_raw`]: the 2D mNoise (`hash61_2`), for the dimension-reducibility property.
+//!
+//! # Measured ranges (raw values, for the fixed-point normalisation)
+//!
+//! From `cargo test -p host-sim measure_noise_ranges -- --ignored --nocapture`: 2M uniformly
+//! random lattice points per case, the 16 most extreme refined to their local extremum
+//! ([`empirical_range`]); for mNoise also an exhaustive scan of every distinct cell (the hash has
+//! period 61 per axis; plus the cells at the 2^16 seam); and the supremum over *any* assignment of
+//! corner gradients from the basis's gradient set (no hash can exceed it).
+//!
+//! | basis, fade | Permutation hash | Integer hash | any-hash bound |
+//! |---|---|---|---|
+//! | gradient, Linear | -1.02083 .. 1.00717 | -1.03160 .. 1.03035 | ±1.06483 |
+//! | gradient, Smooth | -1.01395 .. 1.00479 | -1.02131 .. 1.02032 | ±1.04491 |
+//! | gradient, Quintic | -1.01117 .. 1.00384 | -1.01710 .. 1.01627 | ±1.03635 |
+//! | mNoise, Linear | -1.38889 .. 1.19991 (exhaustive) | (hash61) | ±1.5 |
+//! | mNoise, Smooth | -1.39548 .. 1.22975 (exhaustive) | (hash61) | ±1.5 |
+//! | mNoise, Quintic | -1.40029 .. 1.25086 (exhaustive) | (hash61) | ±1.5 |
+//! | value, any fade | corner values, within [-1, 1) | | [-1, 1) |
+//!
+//! Gradient noise therefore slightly exceeds [-1, 1] (by up to 3.6 % .. 6.5 % in the worst case).
+//! An mNoise scale of `1 / 1.40029` (about 0.714) keeps the hash61 mNoise within [-1, 1] for every
+//! fade; `2/3` does so for any hash.
 
 use texcore::hash::{gradient_bits, hash61, hash61_2, lattice_value, HashKind};
 
@@ -634,6 +656,157 @@ mod tests {
             );
             assert!(r.min < -0.4 && r.max > 0.4, "{basis:?} {fade:?} {r:?}");
             assert_eq!(noise_raw(basis, r.argmax, fade, hash).value, r.max);
+        }
+    }
+
+    /// `sup_p sum_c W_c(p) max_g g . (p - c)` over the unit cell: the largest value any
+    /// assignment of corner gradients from the basis's set can reach (`best` gives the best dot
+    /// product for an offset). Grid search then local grid refinement.
+    fn any_hash_bound(fade: Fade, best: impl Fn([f64; 3]) -> f64) -> (f64, [f64; 3]) {
+        let eval = |p: [f64; 3]| {
+            let mut v = 0.0;
+            for c in 0..8u32 {
+                let cc = [c & 1, c >> 1 & 1, c >> 2 & 1].map(f64::from);
+                let mut w = 1.0;
+                let mut d = [0.0; 3];
+                for i in 0..3 {
+                    let f = fade.value(p[i]);
+                    w *= if cc[i] == 0.0 { 1.0 - f } else { f };
+                    d[i] = p[i] - cc[i];
+                }
+                v += w * best(d);
+            }
+            v
+        };
+        let mut best_p = [0.5; 3];
+        let mut best_v = f64::NEG_INFINITY;
+        let n = 40;
+        for i in 0..=n {
+            for j in 0..=n {
+                for k in 0..=n {
+                    let p = [i, j, k].map(|a| f64::from(a) / f64::from(n));
+                    let v = eval(p);
+                    if v > best_v {
+                        best_v = v;
+                        best_p = p;
+                    }
+                }
+            }
+        }
+        let mut step = 1.0 / f64::from(n);
+        while step > 1e-10 {
+            let mut improved = false;
+            for a in -1..=1 {
+                for b in -1..=1 {
+                    for c in -1..=1 {
+                        let q = [
+                            best_p[0] + f64::from(a) * step,
+                            best_p[1] + f64::from(b) * step,
+                            best_p[2] + f64::from(c) * step,
+                        ]
+                        .map(|x| x.clamp(0.0, 1.0));
+                        let v = eval(q);
+                        if v > best_v {
+                            best_v = v;
+                            best_p = q;
+                            improved = true;
+                        }
+                    }
+                }
+            }
+            if !improved {
+                step *= 0.5;
+            }
+        }
+        (best_v, best_p)
+    }
+
+    /// Exhaustive raw mNoise range: every distinct cell configuration (cells 0..61 per axis, the
+    /// hash has period 61, plus the cells at the 2^16 wrap seam), a 4^3 grid in each, the best
+    /// 64 cells refined.
+    fn mnoise_exhaustive(fade: Fade) -> (f64, [f64; 3], f64, [f64; 3]) {
+        let mut cells: Vec<[u16; 3]> = Vec::new();
+        let axis: Vec<u16> = (0..61).chain([65534, 65535]).collect();
+        for &x in &axis {
+            for &y in &axis {
+                for &z in &axis {
+                    cells.push([x, y, z]);
+                }
+            }
+        }
+        let mut highs: Vec<(f64, [f64; 3])> = Vec::new();
+        let mut lows: Vec<(f64, [f64; 3])> = Vec::new();
+        for c in cells {
+            let mut hi = (f64::NEG_INFINITY, [0.0; 3]);
+            let mut lo = (f64::INFINITY, [0.0; 3]);
+            for g in 0..64u32 {
+                let off = [g & 3, g >> 2 & 3, g >> 4].map(|a| (f64::from(a) + 0.5) / 4.0);
+                let p = [0, 1, 2].map(|i| f64::from(c[i]) + off[i]);
+                let v = mnoise_raw(p, fade).value;
+                if v > hi.0 {
+                    hi = (v, p);
+                }
+                if v < lo.0 {
+                    lo = (v, p);
+                }
+            }
+            highs.push(hi);
+            lows.push((-lo.0, lo.1));
+        }
+        highs.sort_by(|a, b| b.0.total_cmp(&a.0));
+        lows.sort_by(|a, b| b.0.total_cmp(&a.0));
+        let mut max = (f64::NEG_INFINITY, [0.0; 3]);
+        let mut min = (f64::INFINITY, [0.0; 3]);
+        for &(_, p) in highs.iter().take(64) {
+            let (q, v) = refine_extremum(Basis::MNoise, fade, HashKind::Integer, p, 1.0);
+            if v > max.0 {
+                max = (v, q);
+            }
+        }
+        for &(_, p) in lows.iter().take(64) {
+            let (q, v) = refine_extremum(Basis::MNoise, fade, HashKind::Integer, p, -1.0);
+            if v < min.0 {
+                min = (v, q);
+            }
+        }
+        (min.0, min.1, max.0, max.1)
+    }
+
+    /// Measurement for the fixed-point side's normalisation (run with `--ignored --nocapture`).
+    #[test]
+    #[ignore = "measurement: prints the empirical noise ranges"]
+    fn measure_noise_ranges() {
+        let samples = 2_000_000;
+        for basis in [Basis::Gradient, Basis::MNoise, Basis::Value] {
+            for fade in Fade::ALL {
+                for hash in HASHES {
+                    if basis == Basis::MNoise && hash == HashKind::Integer {
+                        continue; // mNoise ignores the hash
+                    }
+                    let r = empirical_range(basis, fade, hash, samples, 0x5EED);
+                    println!(
+                        "random {basis:?} {fade:?} {hash:?}: min {:.6} at {:?}, max {:.6} at {:?}",
+                        r.min, r.argmin, r.max, r.argmax
+                    );
+                }
+            }
+        }
+        for fade in Fade::ALL {
+            let (min, pmin, max, pmax) = mnoise_exhaustive(fade);
+            println!(
+                "exhaustive mNoise {fade:?}: min {min:.6} at {pmin:?}, max {max:.6} at {pmax:?}"
+            );
+        }
+        for fade in Fade::ALL {
+            let (perlin, pp) = any_hash_bound(fade, |d| {
+                let mut a = d.map(f64::abs);
+                a.sort_by(|x, y| y.total_cmp(x));
+                a[0] + a[1]
+            });
+            let (m, pm) = any_hash_bound(fade, |d| d.iter().map(|x| x.abs()).sum());
+            println!(
+                "any-hash bound {fade:?}: gradient {perlin:.6} at {pp:?}, mNoise {m:.6} at {pm:?}"
+            );
         }
     }
 
