@@ -517,6 +517,7 @@ mod tests {
         let term = RefTerm::scaled(1.0, Basis::MNoise, 1.0, [0.0; 3]);
         let mut m = RefModel::new([0.0; 10], vec![term], Wrap::Clamp);
         let s = [10.3, 4.6, 7.2];
+        m.mnoise_scale = 1.0;
         let a = m.f(s);
         m.mnoise_scale = 0.5;
         assert_eq!(m.f(s), 0.5 * a);

@@ -40,12 +40,9 @@
 
 use texcore::hash::{gradient_bits, hash61, hash61_2, lattice_value, HashKind};
 
-/// Scale applied to raw mNoise before clamping to `[-1, 1]` (`docs/model.md` 4.3).
-///
-/// A placeholder: the fixed-point side fixes the value (from the measured raw range, see
-/// [`empirical_range`]); the reference takes the scale as a parameter everywhere and uses this
-/// constant as its default.
-pub const MNOISE_SCALE: f64 = 1.0;
+/// Normalisation of raw mNoise into [-1, 1]: 2/3, as the fixed-point model (`docs/model.md` 4.3);
+/// raw mNoise is bounded by 1.5 for any hash.
+pub const MNOISE_SCALE: f64 = 2.0 / 3.0;
 
 /// Fade (interpolation weight) function of a noise basis, `[0, 1] -> [0, 1]`.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
