@@ -1,5 +1,6 @@
 //! Host simulator for texcore: the f64 reference model, scene loading, rendering and reports.
 #![deny(missing_docs, unsafe_code)]
 
+pub mod bridge;
 pub mod metrics;
 pub mod reference;
