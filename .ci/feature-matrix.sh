@@ -1,0 +1,16 @@
+#!/usr/bin/env bash
+# Builds texcore with each feature alone, with none and with all, for the host and both device
+# targets: features are additive, so every combination here must build without warnings.
+set -euo pipefail
+cd "$(dirname "$0")/.."
+features=(perm-hash smooth-fade gradient-noise mnoise csat mip perturb defmt embedded-graphics)
+for target in x86_64-unknown-linux-gnu thumbv7em-none-eabihf riscv32imc-unknown-none-elf; do
+  echo "-- $target: no features"
+  RUSTFLAGS="-D warnings" cargo build -q -p texcore --no-default-features --target "$target"
+  for f in "${features[@]}"; do
+    echo "-- $target: $f"
+    RUSTFLAGS="-D warnings" cargo build -q -p texcore --no-default-features --features "$f" --target "$target"
+  done
+  echo "-- $target: full,defmt,embedded-graphics"
+  RUSTFLAGS="-D warnings" cargo build -q -p texcore --features "full,defmt,embedded-graphics" --target "$target"
+done
