@@ -25,6 +25,7 @@ pub mod filter;
 pub mod format;
 pub mod hash;
 pub mod noise;
+pub mod raster;
 pub mod table;
 
 pub use format::*;
