@@ -254,6 +254,56 @@ mod tests {
     }
 
     #[test]
+    fn depth_is_screen_linear_rounded_to_nearest() {
+        // z at each covered pixel centre is the screen-linear interpolation rounded to nearest
+        // (within 1/2 plus the plane's negligible error).
+        let v = [
+            ScreenVertex::from_bits(13, 7, 100, 1 << 30, TexPoint::ZERO),
+            ScreenVertex::from_bits(500, 90, 65535, 1 << 30, TexPoint::ZERO),
+            ScreenVertex::from_bits(77, 511, 4321, 1 << 30, TexPoint::ZERO),
+        ];
+        let mut store = [u16::MAX; 32 * 32];
+        let mut db = DepthBuffer::new(&mut store, Rect::from_size(32, 32)).unwrap();
+        let mut o = TriangleOptions::new(Perspective::Affine);
+        o.depth_func = DepthFunc::Always;
+        let mut r = Rasterizer::new(Rect::from_size(32, 32));
+        let mut covered = std::vec![false; 32 * 32];
+        r.draw_depth(&v, &o, &mut db, &mut |s: &Segment| {
+            for i in 0..s.len {
+                covered[s.y as usize * 32 + (s.x0 + i) as usize] = true;
+            }
+        });
+        let p = v.map(|p| {
+            [
+                p.x.to_bits() as f64 / 16.0,
+                p.y.to_bits() as f64 / 16.0,
+                p.z as f64,
+            ]
+        });
+        let area =
+            (p[1][0] - p[0][0]) * (p[2][1] - p[0][1]) - (p[2][0] - p[0][0]) * (p[1][1] - p[0][1]);
+        let mut n = 0;
+        for y in 0..32u16 {
+            for x in 0..32u16 {
+                if !covered[y as usize * 32 + x as usize] {
+                    continue;
+                }
+                let (cx, cy) = (x as f64 + 0.5, y as f64 + 0.5);
+                let mut z = 0.0;
+                for i in 0..3 {
+                    let (j, k) = ((i + 1) % 3, (i + 2) % 3);
+                    let e = (p[j][0] - cx) * (p[k][1] - cy) - (p[k][0] - cx) * (p[j][1] - cy);
+                    z += e / area * p[i][2];
+                }
+                let got = db.get(x, y).unwrap() as f64;
+                assert!((got - z).abs() <= 0.5 + 1e-6, "{x} {y} {got} {z}");
+                n += 1;
+            }
+        }
+        assert!(n > 100);
+    }
+
+    #[test]
     fn buffer_bounds_and_bands() {
         let mut small = [0u16; 10];
         assert!(DepthBuffer::new(&mut small, Rect::from_size(4, 4)).is_none());

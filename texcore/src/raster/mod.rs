@@ -40,11 +40,10 @@
 //!
 //! # Interpolation
 //!
-//! See [`perspective`](self#perspective-modes) below and [`Perspective`]. Interpolants are plane
-//! equations in `i64` evaluated relative to pixel `(0, 0)` with wrapping arithmetic; the planes are
-//! computed exactly (rounded once) in `i128` at setup, so the value at any pixel of a 65535-pixel
-//! target is within `2^16` units of the plane's last bit, which is far below one `TexCoord` LSB
-//! (see the error bounds on [`Perspective`]).
+//! Interpolants are plane equations in `i64` evaluated relative to pixel `(0, 0)` with wrapping
+//! arithmetic; the planes are computed exactly (rounded once) in `i128` at setup, so the value at
+//! any pixel of a 65535-pixel target is within `2^16` units of the plane's last bit, far below one
+//! `TexCoord` LSB. Error bounds and the Jacobian's precision are documented on [`Perspective`].
 //!
 //! # Perspective modes
 //!
@@ -182,9 +181,9 @@ impl Rect {
 }
 
 /// A horizontal segment of covered pixels `x0 .. x0 + len` on row `y`, along which the solid
-/// texture coordinates are exactly `s(i) = s0 + i * ds` (wrapping `i32` per component is never
-/// needed: every `s(i)` of a segment lies within the range of the triangle's vertex coordinates up
-/// to the error bounds of [`Perspective`]).
+/// texture coordinates are exactly `s(i) = s0 + i * ds`, computed in `i64` as in
+/// `docs/model.md` 3 ([`Segment::s_at`]). Every `s(i)` lies within the range of the triangle's
+/// vertex coordinates up to the error bounds of [`Perspective`].
 ///
 /// `ds` is also the x column of the screen-space Jacobian and `dsdy` its y column, in texture
 /// units per pixel (see [`Perspective`] for how each is obtained and their precision). Components
@@ -235,30 +234,43 @@ impl<F: FnMut(&Segment)> SegmentSink for F {
 
 /// How the texture coordinates are interpolated across a triangle.
 ///
-/// Error bounds, in `TexCoord` LSBs (`2^-16`), against the perspective-correct (or, for `Affine`,
-/// screen-linear) interpolation of the vertex data computed in real arithmetic, for targets up to
-/// 65535 pixels and `max(1/w) / min(1/w) <= 2^12` within the triangle:
+/// # Error bounds
 ///
-/// - `Exact`, and every segment start of `Every8`/`Every16`: `s0` within 1 LSB (round to nearest
-///   of the exact quotient, plus less than half an LSB of interpolation error).
-/// - `Every8`/`Every16`: pixel `i` of a segment is within
-///   `1 + i/2 + chord(i)` LSB, where `chord(i)` is the distance of the true hyperbola from its chord
-///   between the segment's exact end points; `chord <= (n^2/4) * max(|d(1/w)/dx| / (1/w) * |ds/dx|)`
-///   over the segment (n = 8 or 16). The last pixel of each run is an end point too.
-/// - `Affine`: pixel `i` of a run is within `1/2 + i/2` LSB of the screen-linear plane (`ds` is
-///   the plane gradient rounded to the nearest LSB).
+/// In `TexCoord` LSBs (`2^-16`), against the interpolation of the vertex data computed in real
+/// arithmetic (perspective-correct: `s = sum(l_i q_i s_i) / sum(l_i q_i)` with barycentrics
+/// `l_i`; `Affine`: screen-linear), on targets up to 65535 pixels. The vertex data are taken as
+/// quantised by setup: positions at 1/16 pixel, `1/w` to 30 significant bits relative to the
+/// triangle's largest. Per component, let `b` be the bit length of `max_i |s_i - s_0|` (raw, at
+/// most 32) and `ratio = max(1/w) / min(1/w)` over the triangle.
 ///
-/// Jacobian (`ds` as `ds/dx`, and `dsdy`):
-/// - `Affine`: the plane gradients, constant per triangle, rounded to nearest.
-/// - Perspective modes: `dsdy` is the analytic derivative of the perspective mapping at the
-///   segment's first pixel centre, `(d(s/w)/dy - s * d(1/w)/dy) / (1/w)`, rounded to nearest
-///   from the interpolated planes (relative error about `2^-28` plus 1 LSB). `ds` is the analytic
-///   `ds/dx` at that pixel for segments of length 1, and the exact secant
-///   `(s(end) - s(start)) / (end - start)` between the segment's exact end points (rounded to
-///   nearest) for longer segments.
+/// - `Exact`, and every segment start of `Every8`/`Every16`: the perspective quotient is rounded
+///   to nearest, and `|s - s_true| <= E = 1/2 + ratio * (2^(2b - 62) + 2^(b - 45))`. For example
+///   `E < 0.52` when the coordinate varies by less than 256 units across the triangle
+///   (`b <= 24`) with `ratio <= 64`; `E` reaches `1/2 + ratio * 4` for a triangle spanning the
+///   full `I16F16` range (`b = 32`), i.e. relative precision about `ratio * 2^-30` of the range.
+/// - `Every8`/`Every16`: pixel `i` of a segment is within `E + i/2 + chord(i)`, where `chord(i)`
+///   is the distance at pixel `i` between the true hyperbola and its chord through the segment's
+///   exact end points (the next segment's start, or the run's last pixel), at most
+///   `(n^2 / 4) * max(|d ln(1/w)/dx| * |ds/dx|)` over the segment (`n` = 8 or 16). The linear
+///   continuation `s0 + steps * ds` reaches the exact end point within `steps / 2`.
+/// - `Affine`: pixel `i` of a run is within `1/2 + i/2 + 2^(b - 46)` of the screen-linear plane
+///   (`ds` is the plane gradient rounded to nearest, so the step error accumulates).
 ///
-/// Triangles whose texture coordinates change by more than `2^15` units per pixel (so that a
-/// step does not fit `I16F16`) fall back to segments of length 1 with exact values.
+/// # Jacobian
+///
+/// `ds` doubles as the x column `ds/dx` of the screen-space Jacobian; `dsdy` is its y column.
+/// - `Affine`: the plane gradients, constant per triangle, each within 1/2 LSB.
+/// - Perspective modes: `dsdy` is the **analytic derivative of the perspective mapping at the
+///   segment's first pixel centre**, `(d(s/w)/dy - s d(1/w)/dy) / (1/w)`, evaluated from the
+///   interpolated planes and rounded to nearest: within `1/2 + E * |d ln(1/w)/dy| +
+///   2^-24 * |ds/dy|` LSB. For segments of length 1, `ds` is the analytic `ds/dx` at the pixel
+///   (same precision); for longer segments `ds` is the **exact secant**
+///   `(s(end) - s(start)) / (end - start)` between the segment's exact end points, rounded to
+///   nearest, which is the step that keeps the segment linear.
+///
+/// Components that do not fit `I16F16` are saturated. Where a step along x does not fit
+/// `I16F16` (a coordinate changing by `2^15` units or more per pixel), the rasterizer falls
+/// back to segments of length 1 with exact values.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]
 #[cfg_attr(feature = "defmt", derive(defmt::Format))]
 pub enum Perspective {
