@@ -60,6 +60,36 @@
 //! An optional, caller-owned [`DepthBuffer`] (any `&mut [u16]` covering a rectangle, e.g. one
 //! band) splits runs into visible sub-runs; `z` is interpolated screen-linearly.
 
+//! # Example: a frame in bands of 8 rows with a band-sized depth buffer
+//!
+//! ```
+//! use texcore::raster::*;
+//! use texcore::TexPoint;
+//!
+//! let v = |x: f32, y: f32, z: u16, w: f32, s: f64| ScreenVertex::new(
+//!     ScreenCoord::from_num(x), ScreenCoord::from_num(y), z,
+//!     InvW::from_num(1.0 / w), TexPoint::from_f64(s, 0.0, 0.0));
+//! let tri = [v(0.0, 0.0, 100, 1.0, 0.0), v(64.0, 0.0, 100, 4.0, 8.0), v(0.0, 32.0, 100, 1.0, 0.0)];
+//! let opts = TriangleOptions::new(Perspective::Every8);
+//!
+//! let mut rast = Rasterizer::new(Rect::from_size(64, 32));
+//! let setup = rast.setup(&tri, &opts).unwrap();
+//! let mut zbuf = [0u16; 64 * 8];
+//! let mut pixels = 0;
+//! for band in 0..4 {
+//!     let rect = Rect::new(0, band * 8, 64, band * 8 + 8);
+//!     let mut depth = DepthBuffer::new(&mut zbuf, rect).unwrap();
+//!     depth.clear(u16::MAX);
+//!     rast.set_clip(rect);
+//!     rast.draw_setup_depth(&setup, &mut depth, &mut |seg: &Segment| {
+//!         assert!(seg.len <= 8);
+//!         pixels += seg.len as u32; // evaluate the texture along seg.s_at(0..seg.len) here
+//!     });
+//! }
+//! assert_eq!(pixels as u64, rast.counters().pixels);
+//! assert_eq!(rast.counters().setups, 1);
+//! ```
+
 mod depth;
 mod edge;
 mod perspective;

@@ -255,7 +255,7 @@ fn jittered_mesh(jitter: &[(i32, i32)], diag: &[bool], flip: &[u8]) -> Vec<[Scre
 }
 
 proptest! {
-    #![proptest_config(ProptestConfig::with_cases(64))]
+    #![proptest_config(ProptestConfig::with_cases(256))]
 
     /// Jittered meshes (any sub-pixel jitter up to 2.5 px, random diagonals, random winding)
     /// cover every pixel of the target exactly once.
@@ -448,7 +448,7 @@ fn banded(
 }
 
 proptest! {
-    #![proptest_config(ProptestConfig::with_cases(48))]
+    #![proptest_config(ProptestConfig::with_cases(128))]
 
     #[test]
     fn bands_equal_full_frame(
@@ -524,7 +524,7 @@ fn mode_segments(t: &[ScreenVertex; 3], mode: Perspective) -> (Vec<Segment>, Cou
 }
 
 proptest! {
-    #![proptest_config(ProptestConfig::with_cases(96))]
+    #![proptest_config(ProptestConfig::with_cases(256))]
 
     /// Exact mode: every pixel within the documented bound of the f64 reference; the x and y
     /// Jacobian columns agree with f64 central finite differences.
@@ -639,6 +639,35 @@ proptest! {
                     let f = reference_tex(&t, (s.x0 + i) as f64 + 0.5, s.y as f64 + 0.5, false)[c];
                     let got = s.s_at(i)[c] as f64;
                     prop_assert!((got - f).abs() <= 0.5 + i as f64 / 2.0 + 1e-3, "{} vs {} {:?}", got, f, s);
+                }
+            }
+        }
+    }
+}
+
+proptest! {
+    #![proptest_config(ProptestConfig::with_cases(256))]
+
+    /// Far from the origin of the planes (pixel (0, 0)), near the 65535-pixel limit, the
+    /// bounds still hold (Exact and Affine).
+    #[test]
+    fn far_from_the_origin(t in persp_triangle(), ox in 0u16..65400, oy in 0u16..65400) {
+        let t = t.map(|mut v| {
+            v.x += ScreenCoord::from_num(ox);
+            v.y += ScreenCoord::from_num(oy);
+            v
+        });
+        let clip = Rect::new(ox, oy, ox + 64, oy + 64);
+        for persp in [true, false] {
+            let mode = if persp { Perspective::Exact } else { Perspective::Affine };
+            for s in segments(clip, &[t], &TriangleOptions::new(mode)) {
+                for i in 0..s.len {
+                    let r = reference_tex(&t, (s.x0 + i) as f64 + 0.5, s.y as f64 + 0.5, persp);
+                    for c in 0..3 {
+                        let b = if persp { persp_bound(&t, c) } else { 0.5 + i as f64 / 2.0 + 1e-3 };
+                        let got = s.s_at(i)[c] as f64;
+                        prop_assert!((got - r[c]).abs() <= b, "{} vs {} {:?}", got, r[c], s);
+                    }
                 }
             }
         }
