@@ -30,6 +30,7 @@ pub mod model;
 pub mod noise;
 pub mod presets;
 pub mod quadric;
+pub mod raster;
 pub mod span;
 pub mod table;
 pub mod transform;

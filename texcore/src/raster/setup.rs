@@ -1,0 +1,385 @@
+//! Triangle setup: guard band, area and culling, coverage, and the exact plane equations of the
+//! interpolants.
+//!
+//! Every interpolant is a plane `L(px, py) = c + dx px + dy py` over pixel positions, anchored at
+//! the centre of pixel `(0, 0)` (never at the clip, so bands agree bit for bit), with `c`, `dx`,
+//! `dy` the exact rational coefficients rounded once (half up) in `i128` and then wrapped to
+//! `i64`. Evaluation wraps too: the true value at any pixel centre inside the triangle fits `i64`
+//! (it is a convex combination of the vertex values, all below `2^62` in magnitude), so the
+//! wrapping evaluation returns it exactly, up to the coefficient rounding of at most
+//! `1/2 + (|px| + |py|)/2` units of the plane's last bit.
+//!
+//! Vertex values of the planes (`s_i` are raw 16.16 texture coordinates, `q_i` the normalised
+//! `1/w`, `q_i <= 2^30`; `b` = `bitlen(max_i |s_i - s_0|)`, at most 32):
+//!
+//! | plane | vertex value | bound |
+//! |---|---|---|
+//! | affine `s` | `(s_i - s_0) << (62 - b)` | `< 2^62` |
+//! | `1/w` | `q_i << 32` | `<= 2^62` |
+//! | `s/w` | `((s_i - s_0) q_i) << (32 - b)` | `< 2^62` |
+//! | depth | `z_i << 32` | `< 2^48` |
+//!
+//! so that the perspective quotient of component `s` is `(s/w plane) / (1/w plane >> b)`, both
+//! carrying the same `32 - b` extra bits: the quotient has about 29 significant bits beyond the
+//! range of `s` across the triangle.
+
+use super::edge::{Coverage, HALF, SUB};
+use super::{
+    div_round_i128, sat_i32, CullMode, Perspective, ScreenVertex, TriangleOptions, GUARD_BAND,
+};
+
+/// Why a triangle was not set up.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
+pub enum Reject {
+    /// Zero area (collinear or repeated vertices).
+    Degenerate,
+    /// Removed by back-face culling.
+    Culled,
+    /// A vertex lies outside the guard band ([`GUARD_BAND`](super::GUARD_BAND)).
+    OutsideGuardBand,
+}
+
+/// A linear function of the pixel position (see the module documentation).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub(crate) struct Plane {
+    /// Value at the centre of pixel `(0, 0)` (rounded, wrapped).
+    pub(crate) c: i64,
+    /// Change per pixel in x (rounded, wrapped).
+    pub(crate) dx: i64,
+    /// Change per pixel in y (rounded, wrapped).
+    pub(crate) dy: i64,
+    /// The rounded x gradient before wrapping.
+    pub(crate) gx: i128,
+    /// The rounded y gradient before wrapping.
+    pub(crate) gy: i128,
+}
+
+impl Plane {
+    /// The plane through the vertex values `l` (each `|l_i| <= 2^62`) at the raw vertex
+    /// positions `p` (guard band), `area2 != 0` the doubled signed area.
+    fn new(l: [i128; 3], p: &[[i64; 2]; 3], area2: i128) -> Plane {
+        let (rx, ry) = (HALF as i128, HALF as i128);
+        let mut num_c: i128 = 0;
+        let mut num_x: i128 = 0;
+        let mut num_y: i128 = 0;
+        for (i, &li) in l.iter().enumerate() {
+            let (j, k) = ((i + 1) % 3, (i + 2) % 3);
+            let (xj, yj) = (p[j][0] as i128, p[j][1] as i128);
+            let (xk, yk) = (p[k][0] as i128, p[k][1] as i128);
+            // Barycentric edge function E_i(r), |E_i| < 2^63; sum over i of E_i = area2.
+            let e = (xj - rx) * (yk - ry) - (xk - rx) * (yj - ry);
+            // |l_i E_i| < 2^125: the sum of three fits i128.
+            num_c += li * e;
+            // dE_i/dx = yj - yk, dE_i/dy = xk - xj (per raw unit; SUB raw units per pixel).
+            num_x += li * (yj - yk) * SUB as i128;
+            num_y += li * (xk - xj) * SUB as i128;
+        }
+        let gx = div_round_i128(num_x, area2);
+        let gy = div_round_i128(num_y, area2);
+        Plane {
+            c: div_round_i128(num_c, area2) as i64,
+            dx: gx as i64,
+            dy: gy as i64,
+            gx,
+            gy,
+        }
+    }
+
+    /// The plane's value at pixel `(px, py)` (wrapping).
+    #[inline]
+    pub(crate) fn at(&self, px: i64, py: i64) -> i64 {
+        self.c
+            .wrapping_add(self.dx.wrapping_mul(px))
+            .wrapping_add(self.dy.wrapping_mul(py))
+    }
+}
+
+/// Screen-linear texture coordinates.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub(crate) struct AffineInterp {
+    /// `(s - s_0) << shift` per component.
+    pub(crate) planes: [Plane; 3],
+    /// Extra fraction bits of each plane (`>= 30`).
+    pub(crate) shift: [u32; 3],
+    /// Gradient in x per pixel, raw 16.16 (saturated).
+    pub(crate) ds: [i32; 3],
+    /// Gradient in y per pixel, raw 16.16 (saturated).
+    pub(crate) dsdy: [i32; 3],
+    /// Some x gradient does not fit `I16F16`: emit pixels one by one.
+    pub(crate) steep: bool,
+}
+
+/// Perspective-correct texture coordinates.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub(crate) struct PerspInterp {
+    /// `q << 32` (normalised `1/w`, `q <= 2^30`).
+    pub(crate) q: Plane,
+    /// `((s - s_0) q) << (32 - qshift)` per component.
+    pub(crate) p: [Plane; 3],
+    /// The 1/w plane is shifted right by this much for component `c` (`bitlen` of its range).
+    pub(crate) qshift: [u32; 3],
+}
+
+/// How a triangle's texture coordinates are interpolated.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub(crate) enum Interp {
+    /// Screen-linear.
+    Affine(AffineInterp),
+    /// Perspective-correct (with the mode's segment length).
+    Persp(PerspInterp),
+}
+
+/// A triangle ready to be drawn: exact coverage data and plane equations. Independent of the
+/// clip rectangle, so one setup can be drawn into any number of bands.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct TriangleSetup {
+    pub(crate) cov: Coverage,
+    pub(crate) opts: TriangleOptions,
+    pub(crate) interp: Interp,
+    /// Depth plane: `z << 32`.
+    pub(crate) z: Plane,
+    /// Depth range of the vertices (interpolated depth is clamped to it).
+    pub(crate) zlo: i64,
+    pub(crate) zhi: i64,
+    /// Texture coordinates of vertex 0 (raw), the offset of the planes.
+    pub(crate) base: [i64; 3],
+    /// Range of the vertex texture coordinates (raw); interpolated values are clamped to it.
+    pub(crate) lo: [i64; 3],
+    pub(crate) hi: [i64; 3],
+    area2: i128,
+}
+
+/// Number of significant bits of `v`.
+fn bitlen(v: u64) -> u32 {
+    64 - v.leading_zeros()
+}
+
+impl TriangleSetup {
+    /// Sets up a triangle (vertices in either winding).
+    pub fn new(v: &[ScreenVertex; 3], opts: &TriangleOptions) -> Result<TriangleSetup, Reject> {
+        let inside = |c: i32| c.unsigned_abs() < GUARD_BAND;
+        if !v
+            .iter()
+            .all(|p| inside(p.x.to_bits()) && inside(p.y.to_bits()))
+        {
+            return Err(Reject::OutsideGuardBand);
+        }
+        let p: [[i64; 2]; 3] = v.map(|p| [p.x.to_bits() as i64, p.y.to_bits() as i64]);
+        // |coordinate differences| < 2^31: products < 2^62, area2 < 2^63 in magnitude.
+        let area2 = (p[1][0] - p[0][0]) as i128 * (p[2][1] - p[0][1]) as i128
+            - (p[2][0] - p[0][0]) as i128 * (p[1][1] - p[0][1]) as i128;
+        if area2 == 0 {
+            return Err(Reject::Degenerate);
+        }
+        let culled = match opts.cull {
+            CullMode::None => false,
+            CullMode::Clockwise => area2 > 0,
+            CullMode::CounterClockwise => area2 < 0,
+        };
+        if culled {
+            return Err(Reject::Culled);
+        }
+
+        let tex = v.map(|p| p.tex.to_bits().map(|c| c as i64));
+        let base = tex[0];
+        let mut lo = base;
+        let mut hi = base;
+        let mut range = [0u64; 3];
+        for t in &tex {
+            for c in 0..3 {
+                lo[c] = lo[c].min(t[c]);
+                hi[c] = hi[c].max(t[c]);
+                range[c] = range[c].max((t[c] - base[c]).unsigned_abs());
+            }
+        }
+
+        let zs = v.map(|p| p.z as i64);
+        let z = Plane::new(zs.map(|z| (z as i128) << 32), &p, area2);
+        let zlo = zs.iter().copied().min().unwrap_or(0);
+        let zhi = zs.iter().copied().max().unwrap_or(0);
+
+        let qmax = v.iter().map(|p| p.inv_w.to_bits()).max().unwrap_or(0);
+        let interp = if opts.perspective == Perspective::Affine || qmax == 0 {
+            let mut planes = [Plane::default(); 3];
+            let mut shift = [0u32; 3];
+            let mut ds = [0i32; 3];
+            let mut dsdy = [0i32; 3];
+            let mut steep = false;
+            for c in 0..3 {
+                let a = 62 - bitlen(range[c]);
+                let l = tex.map(|t| ((t[c] - base[c]) as i128) << a);
+                let pl = Plane::new(l, &p, area2);
+                let half = 1i128 << (a - 1);
+                let gx = pl.gx.saturating_add(half) >> a;
+                let gy = pl.gy.saturating_add(half) >> a;
+                steep |= i32::try_from(gx).is_err();
+                ds[c] = sat_i32(gx);
+                dsdy[c] = sat_i32(gy);
+                planes[c] = pl;
+                shift[c] = a;
+            }
+            Interp::Affine(AffineInterp {
+                planes,
+                shift,
+                ds,
+                dsdy,
+                steep,
+            })
+        } else {
+            // Normalise 1/w so that the largest lies in [2^29, 2^30] (shifting left, or right by
+            // at most 2 bits with rounding half up: 1/w is used to 30 significant bits).
+            let b = bitlen(qmax as u64);
+            let q = v.map(|p| {
+                let w = p.inv_w.to_bits() as i64;
+                if b <= 30 {
+                    w << (30 - b)
+                } else {
+                    (w + (1 << (b - 31))) >> (b - 30)
+                }
+            });
+            let qp = Plane::new(q.map(|q| (q as i128) << 32), &p, area2);
+            let mut pp = [Plane::default(); 3];
+            let mut qshift = [0u32; 3];
+            for c in 0..3 {
+                let bl = bitlen(range[c]);
+                let l = [0, 1, 2].map(|i| (((tex[i][c] - base[c]) * q[i]) as i128) << (32 - bl));
+                pp[c] = Plane::new(l, &p, area2);
+                qshift[c] = bl;
+            }
+            Interp::Persp(PerspInterp {
+                q: qp,
+                p: pp,
+                qshift,
+            })
+        };
+
+        Ok(TriangleSetup {
+            cov: Coverage::new(p),
+            opts: *opts,
+            interp,
+            z,
+            zlo,
+            zhi,
+            base,
+            lo,
+            hi,
+            area2,
+        })
+    }
+
+    /// Twice the signed area in raw units (1/256 pixel^2); positive for clockwise triangles
+    /// (on screen, y down).
+    pub const fn area2(&self) -> i128 {
+        self.area2
+    }
+
+    /// The options the triangle was set up with.
+    pub const fn options(&self) -> &TriangleOptions {
+        &self.opts
+    }
+
+    /// The rows `[first, end)` whose pixel centres lie within the triangle's vertical extent
+    /// (before clipping; may be negative or beyond the target).
+    pub const fn rows(&self) -> (i64, i64) {
+        (self.cov.py_first, self.cov.py_end)
+    }
+
+    /// Whether texture coordinates are interpolated with perspective division (false for
+    /// [`Perspective::Affine`] and for triangles whose `1/w` are all zero).
+    pub const fn is_perspective(&self) -> bool {
+        matches!(self.interp, Interp::Persp(_))
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::super::*;
+    use super::*;
+    use crate::format::TexPoint;
+
+    fn vtx(x: i32, y: i32) -> ScreenVertex {
+        ScreenVertex::from_bits(x, y, 0, 1 << 31, TexPoint::ZERO)
+    }
+
+    #[test]
+    fn degenerate_triangles_are_rejected() {
+        let o = TriangleOptions::new(Perspective::Exact);
+        let cases = [
+            [vtx(0, 0), vtx(0, 0), vtx(0, 0)],
+            [vtx(5, 7), vtx(5, 7), vtx(100, 3)],
+            [vtx(0, 0), vtx(16, 16), vtx(160, 160)],
+            [vtx(-3, 9), vtx(1000, 9), vtx(77, 9)],
+            [vtx(i32::MAX / 4, 0), vtx(0, 0), vtx(-(i32::MAX / 4), 0)],
+        ];
+        for c in &cases {
+            assert_eq!(TriangleSetup::new(c, &o), Err(Reject::Degenerate), "{c:?}");
+        }
+    }
+
+    #[test]
+    fn guard_band_and_extreme_inputs() {
+        let o = TriangleOptions::new(Perspective::Every8);
+        let g = GUARD_BAND as i32;
+        let ok = [vtx(-(g - 1), -(g - 1)), vtx(g - 1, -(g - 1)), vtx(0, g - 1)];
+        assert!(TriangleSetup::new(&ok, &o).is_ok());
+        for bad in [g, -g, i32::MAX, i32::MIN] {
+            let t = [vtx(bad, 0), vtx(0, 16), vtx(16, 0)];
+            assert_eq!(TriangleSetup::new(&t, &o), Err(Reject::OutsideGuardBand));
+            let t = [vtx(0, 0), vtx(0, bad), vtx(16, 0)];
+            assert_eq!(TriangleSetup::new(&t, &o), Err(Reject::OutsideGuardBand));
+        }
+    }
+
+    #[test]
+    fn culling_by_winding() {
+        let cw = [vtx(0, 0), vtx(160, 0), vtx(0, 160)];
+        let ccw = [cw[0], cw[2], cw[1]];
+        let mut o = TriangleOptions::new(Perspective::Affine);
+        assert!(TriangleSetup::new(&cw, &o).unwrap().area2() > 0);
+        assert!(TriangleSetup::new(&ccw, &o).unwrap().area2() < 0);
+        o.cull = CullMode::Clockwise;
+        assert_eq!(TriangleSetup::new(&cw, &o), Err(Reject::Culled));
+        assert!(TriangleSetup::new(&ccw, &o).is_ok());
+        o.cull = CullMode::CounterClockwise;
+        assert!(TriangleSetup::new(&cw, &o).is_ok());
+        assert_eq!(TriangleSetup::new(&ccw, &o), Err(Reject::Culled));
+    }
+
+    #[test]
+    fn plane_is_exact_at_vertices_on_pixel_centres() {
+        // Vertices on pixel centres: the plane reproduces vertex values up to coefficient
+        // rounding (at most 1/2 + (|px| + |py|)/2 units).
+        let p = [[8, 8], [16 * 40 + 8, 8], [16 * 3 + 8, 16 * 29 + 8]];
+        let area2 = (p[1][0] - p[0][0]) as i128 * (p[2][1] - p[0][1]) as i128
+            - (p[2][0] - p[0][0]) as i128 * (p[1][1] - p[0][1]) as i128;
+        let l = [123_456_789i128 << 30, -(987_654_321i128 << 31), 5i128 << 40];
+        let pl = Plane::new(l, &p, area2);
+        for (i, px) in [(0usize, (0, 0)), (1, (40, 0)), (2, (3, 29))] {
+            let err = (pl.at(px.0, px.1) as i128 - l[i]).abs();
+            assert!(err <= 1 + (px.0 + px.1) as i128 / 2 + 1, "{i} {err}");
+        }
+        assert_eq!(pl.at(0, 0) as i128, l[0]);
+    }
+
+    #[test]
+    fn inverse_w_normalisation() {
+        let mut v = [vtx(0, 0), vtx(160, 0), vtx(0, 160)];
+        let o = TriangleOptions::new(Perspective::Exact);
+        v[0].inv_w = InvW::from_bits(0);
+        v[1].inv_w = InvW::from_bits(0);
+        v[2].inv_w = InvW::from_bits(0);
+        // All zero: affine fallback.
+        assert!(!TriangleSetup::new(&v, &o).unwrap().is_perspective());
+        v[2].inv_w = InvW::from_bits(3);
+        let s = TriangleSetup::new(&v, &o).unwrap();
+        assert!(s.is_perspective());
+        if let Interp::Persp(p) = s.interp {
+            // q_2 = 3 << 28 (bitlen 2): the plane at vertex 2's position, (0, 10) px corner.
+            assert!(p.q.gy > 0);
+            assert_eq!(p.q.gx, 0);
+        }
+        v[2].inv_w = InvW::from_bits(u32::MAX);
+        assert!(TriangleSetup::new(&v, &o).unwrap().is_perspective());
+    }
+}
