@@ -38,7 +38,6 @@ pub type LatticeValue = i16;
 
 /// A point or vector of solid texture coordinates `(s, t, r)`.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]
-#[cfg_attr(feature = "defmt", derive(defmt::Format))]
 pub struct TexPoint {
     /// First coordinate.
     pub s: TexCoord,
@@ -90,6 +89,19 @@ impl TexPoint {
 #[inline(always)]
 pub(crate) const fn round_32_to_16(x: i64) -> i64 {
     (x + (1 << 15)) >> 16
+}
+
+#[cfg(feature = "defmt")]
+impl defmt::Format for TexPoint {
+    fn format(&self, f: defmt::Formatter) {
+        defmt::write!(
+            f,
+            "TexPoint(raw 16.16 {=i32}, {=i32}, {=i32})",
+            self.s.to_bits(),
+            self.t.to_bits(),
+            self.r.to_bits()
+        );
+    }
 }
 
 #[cfg(test)]

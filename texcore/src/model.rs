@@ -22,7 +22,6 @@ use crate::transform::{Affine3, OCTAVE_ROTATION};
 
 /// One noise term `a n(T s)`, optionally turbulent (`a |n(T s)|`).
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
-#[cfg_attr(feature = "defmt", derive(defmt::Format))]
 pub struct NoiseTerm {
     /// Amplitude `a`.
     pub amplitude: Amplitude,
@@ -253,6 +252,20 @@ impl<const T: usize> TextureModel<T> {
     /// Whether any term needs per-pixel evaluation (not a cubic along spans).
     pub fn all_terms_cubic(&self) -> bool {
         self.terms.iter().all(|t| t.basis.is_cubic())
+    }
+}
+
+#[cfg(feature = "defmt")]
+impl defmt::Format for NoiseTerm {
+    fn format(&self, f: defmt::Formatter) {
+        defmt::write!(
+            f,
+            "NoiseTerm(a raw {=i32}, {}, {}, turbulence {=bool})",
+            self.amplitude.to_bits(),
+            self.transform,
+            self.basis,
+            self.turbulence
+        );
     }
 }
 

@@ -14,7 +14,6 @@ use crate::format::{QuadricCoeff, TexPoint};
 
 /// A quadric with ten fixed-point coefficients.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]
-#[cfg_attr(feature = "defmt", derive(defmt::Format))]
 pub struct Quadric {
     c: [QuadricCoeff; 10],
 }
@@ -173,6 +172,14 @@ impl Quadric {
             self.form(x, v).wrapping_mul(2),
             self.form(d, v).wrapping_mul(2),
         ]
+    }
+}
+
+#[cfg(feature = "defmt")]
+impl defmt::Format for Quadric {
+    fn format(&self, f: defmt::Formatter) {
+        let c = self.c.map(|c| c.to_bits());
+        defmt::write!(f, "Quadric(raw 16.16 A..J {=[?]})", c);
     }
 }
 

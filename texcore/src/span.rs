@@ -37,7 +37,6 @@ use crate::table::TableWrap;
 /// A span of pixels: `s(i) = s0 + i ds`, with the second screen direction `dsdy` for the filter
 /// width (zero if unknown).
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
-#[cfg_attr(feature = "defmt", derive(defmt::Format))]
 pub struct Span {
     /// Solid coordinates of pixel 0.
     pub s0: TexPoint,
@@ -99,7 +98,6 @@ impl Default for EvalOptions {
 
 /// The texture function and its screen gradient at one pixel.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
-#[cfg_attr(feature = "defmt", derive(defmt::Format))]
 pub struct Sample {
     /// `f`.
     pub f: TexValue,
@@ -804,6 +802,33 @@ fn cubic_setup(v: &[i32; 8], frac: [u32; 3], ts: &TermSetup, grads: bool) -> Cub
         c.gy = quad(dy);
     }
     c
+}
+
+#[cfg(feature = "defmt")]
+impl defmt::Format for Sample {
+    fn format(&self, f: defmt::Formatter) {
+        defmt::write!(
+            f,
+            "Sample(f raw {=i32}, gx {=i64}, gy {=i64})",
+            self.f.to_bits(),
+            self.gx,
+            self.gy
+        );
+    }
+}
+
+#[cfg(feature = "defmt")]
+impl defmt::Format for Span {
+    fn format(&self, f: defmt::Formatter) {
+        defmt::write!(
+            f,
+            "Span(s0 {}, ds {}, dsdy {}, len {=u16})",
+            self.s0,
+            self.ds,
+            self.dsdy,
+            self.len
+        );
+    }
 }
 
 #[cfg(test)]

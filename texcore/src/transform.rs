@@ -9,7 +9,6 @@ use crate::format::{round_32_to_16, MatrixEntry, TexPoint};
 
 /// An affine map of solid texture space into a noise term's lattice space.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
-#[cfg_attr(feature = "defmt", derive(defmt::Format))]
 pub struct Affine3 {
     m: [[MatrixEntry; 3]; 3],
     t: [MatrixEntry; 3],
@@ -174,6 +173,27 @@ pub const OCTAVE_ROTATION: Affine3 = Affine3 {
     ],
     t: [Z, Z, Z],
 };
+
+#[cfg(feature = "defmt")]
+impl defmt::Format for Affine3 {
+    fn format(&self, f: defmt::Formatter) {
+        let r = |i: usize| {
+            [
+                self.m[i][0].to_bits(),
+                self.m[i][1].to_bits(),
+                self.m[i][2].to_bits(),
+                self.t[i].to_bits(),
+            ]
+        };
+        defmt::write!(
+            f,
+            "Affine3(raw 16.16 rows {=[?]} {=[?]} {=[?]})",
+            r(0),
+            r(1),
+            r(2)
+        );
+    }
+}
 
 #[cfg(test)]
 mod tests {
