@@ -216,8 +216,10 @@ pub const fn over(src: Rgba8888, dst: Rgba8888) -> Rgba8888 {
             255,
         );
     }
-    // General straight-alpha case; A >= 255 here because sa >= 1.
+    // General straight-alpha case; A >= 255 here because sa >= 1 (the `max` only lets the
+    // compiler see that the divisions cannot trap).
     let big_a = sa * 255 + da * inv;
+    let big_a = if big_a == 0 { 1 } else { big_a };
     let ws = sa * 255;
     let wd = da * inv;
     Rgba8888::new(

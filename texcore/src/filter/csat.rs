@@ -166,7 +166,7 @@ const fn endpoints(x: u32, w: u32) -> (i32, i32) {
 }
 
 /// Summed-area colour table over the `N` entries: the box filter with the paper's case analysis.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+#[derive(Clone, Debug, PartialEq, Eq, Hash)]
 pub struct Csat<const N: usize> {
     /// Exclusive packed prefix sums `S(0) .. S(N - 1)` (`S(0) = 0`).
     sums: [u64; N],
@@ -278,7 +278,7 @@ impl<const N: usize> Csat<N> {
 
 /// Summed-area colour table over the three-times-long extended table (entries `-N .. 2N - 1`,
 /// extended by `wrap`): the same box filter as [`Csat`] without run-time case analysis.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+#[derive(Clone, Debug, PartialEq, Eq, Hash)]
 pub struct Csat3<const N: usize> {
     /// Exclusive packed prefix sums `S3(0) .. S3(3N - 1)` of the extended table, where `S3(i)` sums
     /// the extended entries `-N .. i - N - 1`; read through `as_flattened`.
@@ -452,14 +452,22 @@ mod tests {
         let mut fs: Vec<i32> = (0..(65536 / step)).map(|k| k * step).collect();
         // Clamp: f outside [0, 1], and f = 1 exactly.
         fs.extend([65536, 65536 + 77, -1, -65536, i32::MIN, i32::MAX]);
+        // The table coordinates of those f under either wrap (check_point tries both wraps).
+        let mut xs: Vec<u32> = fs
+            .iter()
+            .flat_map(|&f| {
+                [TableWrap::Mod, TableWrap::Clamp]
+                    .map(|w| t.coord(I16F16::from_bits(f), w).to_bits())
+            })
+            .collect();
+        xs.sort_unstable();
+        xs.dedup();
+        assert!(xs.len() > 256 * N); // every 1/256 position of [0, N], plus a few odd ones
         let wmax = (N as u32) * 256 + 2;
-        for &f in &fs {
-            for wrap in [TableWrap::Mod, TableWrap::Clamp] {
-                let x = t.coord(I16F16::from_bits(f), wrap).to_bits();
-                for m in 0..=wmax {
-                    check_point(t, &c, &c3, x, m * 256);
-                    check_point(t, &c, &c3, x, m * 256 + 129);
-                }
+        for &x in &xs {
+            for m in 0..=wmax {
+                check_point(t, &c, &c3, x, m * 256);
+                check_point(t, &c, &c3, x, m * 256 + 129);
             }
         }
     }
@@ -632,7 +640,7 @@ mod tests {
     }
 
     proptest! {
-        #![proptest_config(ProptestConfig::with_cases(64))]
+        #![proptest_config(ProptestConfig::with_cases(128))]
 
         #[test]
         fn random_tables_256(

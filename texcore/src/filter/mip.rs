@@ -24,7 +24,7 @@ use crate::format::{FilterWidth, TableCoord};
 use crate::table::{lerp8, lookup_in, ColorTable, TableLookup, TableWrap};
 
 /// A colour table with its MIP levels.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+#[derive(Clone, Debug, PartialEq, Eq, Hash)]
 pub struct ColorMip<const N: usize> {
     table: ColorTable<N>,
     /// Levels `1..=log2 N` back to back: level `l` at offset `N - (N >> (l - 1))`; the last slot is

@@ -13,7 +13,8 @@
 //!   bytes, MIP 2048, csat 3088, three-times-long csat 7184 (plus 3 bytes of configuration).
 //!   `size_of::<ColorStage<N>>()` is that of the largest filter compiled in (disable `csat` to drop
 //!   the csat variants); for the smallest footprint with a fixed filter, use the parts
-//!   ([`csat::Csat`], [`mip::ColorMip`]) directly.
+//!   ([`csat::Csat`], [`mip::ColorMip`]) directly. The stage and the filter structures are `Clone`
+//!   but deliberately not `Copy`, so a multi-kilobyte copy is never implicit.
 
 #[cfg(feature = "csat")]
 pub mod csat;
@@ -57,7 +58,7 @@ impl Antialias {
     }
 }
 
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+#[derive(Clone, Debug, PartialEq, Eq, Hash)]
 enum Filter<const N: usize> {
     None(ColorTable<N>),
     #[cfg(feature = "mip")]
@@ -71,7 +72,7 @@ enum Filter<const N: usize> {
 /// The colour stage of the pixel path: a colour table with its wrap, look-up mode and
 /// antialiasing filter, holding exactly the data that filter needs (the table; the table and its
 /// MIP levels; the table and its prefix sums; the table and its three-times-long prefix sums).
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+#[derive(Clone, Debug, PartialEq, Eq, Hash)]
 pub struct ColorStage<const N: usize> {
     filter: Filter<N>,
     wrap: TableWrap,
