@@ -1,1 +1,344 @@
-//! Colour-table antialiasing filters: summed-area colour table, colour-table MIP map, filter width.
+//! Colour-table antialiasing (Hart et al. 1999 section 3.3; `docs/model.md` sections 7 and 8):
+//! the filter width from the gradient of `f` ([`width`]), the colour-table MIP map ([`mip`],
+//! feature `mip`) and the summed-area colour table in its two layouts ([`csat`], feature `csat`),
+//! combined with a colour table into a [`ColorStage`] that turns `(f, w)` into a colour.
+//!
+//! Guarantees:
+//! - Every filter is integer-only, bit-exact with the model, and total: any `TexValue` (including
+//!   `I16F16::MIN` / `MAX`) and any `FilterWidth` (0 to `U16F16::MAX`) gives a colour without
+//!   panicking. Widths `>= N` give the table mean (csat) or the last MIP level.
+//! - Construction is `const fn`: a whole stage, sums and levels included, can be computed at
+//!   compile time and placed in flash.
+//! - Memory is reported per filter by [`ColorStage::bytes_for`]; for `N = 256`: no filter 1024
+//!   bytes, MIP 2048, csat 3088, three-times-long csat 7184 (plus 3 bytes of configuration).
+//!   `size_of::<ColorStage<N>>()` is that of the largest filter compiled in (disable `csat` to drop
+//!   the csat variants); for the smallest footprint with a fixed filter, use the parts
+//!   ([`csat::Csat`], [`mip::ColorMip`]) directly. The stage and the filter structures are `Clone`
+//!   but deliberately not `Copy`, so a multi-kilobyte copy is never implicit.
+
+#[cfg(feature = "csat")]
+pub mod csat;
+#[cfg(feature = "mip")]
+pub mod mip;
+pub mod width;
+
+#[cfg(feature = "csat")]
+pub use csat::{Csat, Csat3};
+#[cfg(feature = "mip")]
+pub use mip::ColorMip;
+pub use width::{filter_width, isqrt, GradientNorm};
+
+use crate::color::Rgba8888;
+use crate::format::{FilterWidth, TexValue};
+use crate::table::{ColorTable, TableError, TableLookup, TableWrap};
+
+/// Which colour-table antialiasing filter a [`ColorStage`] applies.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
+pub enum Antialias {
+    /// No filtering: the table's nearest / linear look-up, `w` ignored.
+    #[default]
+    None,
+    /// Colour-table MIP map with blending between levels (feature `mip`).
+    Mip,
+    /// Summed-area colour table with run-time case analysis (feature `csat`).
+    Csat,
+    /// Three-times-long summed-area colour table, no case analysis (feature `csat`).
+    Csat3,
+}
+
+impl Antialias {
+    /// Whether this filter is compiled in.
+    pub const fn is_available(self) -> bool {
+        match self {
+            Antialias::None => true,
+            Antialias::Mip => cfg!(feature = "mip"),
+            Antialias::Csat | Antialias::Csat3 => cfg!(feature = "csat"),
+        }
+    }
+}
+
+#[derive(Clone, Debug, PartialEq, Eq, Hash)]
+enum Filter<const N: usize> {
+    None(ColorTable<N>),
+    #[cfg(feature = "mip")]
+    Mip(ColorMip<N>),
+    #[cfg(feature = "csat")]
+    Csat(ColorTable<N>, Csat<N>),
+    #[cfg(feature = "csat")]
+    Csat3(ColorTable<N>, Csat3<N>),
+}
+
+/// The colour stage of the pixel path: a colour table with its wrap, look-up mode and
+/// antialiasing filter, holding exactly the data that filter needs (the table; the table and its
+/// MIP levels; the table and its prefix sums; the table and its three-times-long prefix sums).
+#[derive(Clone, Debug, PartialEq, Eq, Hash)]
+pub struct ColorStage<const N: usize> {
+    filter: Filter<N>,
+    wrap: TableWrap,
+    lookup: TableLookup,
+}
+
+impl<const N: usize> ColorStage<N> {
+    /// Builds the stage, precomputing what `antialias` needs.
+    /// [`TableError::FilterDisabled`] if that filter is not compiled in.
+    pub const fn new(
+        table: ColorTable<N>,
+        wrap: TableWrap,
+        lookup: TableLookup,
+        antialias: Antialias,
+    ) -> Result<Self, TableError> {
+        let filter = match antialias {
+            Antialias::None => Filter::None(table),
+            #[cfg(feature = "mip")]
+            Antialias::Mip => Filter::Mip(ColorMip::new(table)),
+            #[cfg(feature = "csat")]
+            Antialias::Csat => Filter::Csat(table, Csat::new(&table)),
+            #[cfg(feature = "csat")]
+            Antialias::Csat3 => Filter::Csat3(table, Csat3::new(&table, wrap)),
+            #[allow(unreachable_patterns)]
+            _ => return Err(TableError::FilterDisabled),
+        };
+        Ok(ColorStage {
+            filter,
+            wrap,
+            lookup,
+        })
+    }
+
+    /// The filter this stage applies.
+    pub const fn antialias(&self) -> Antialias {
+        match self.filter {
+            Filter::None(_) => Antialias::None,
+            #[cfg(feature = "mip")]
+            Filter::Mip(_) => Antialias::Mip,
+            #[cfg(feature = "csat")]
+            Filter::Csat(..) => Antialias::Csat,
+            #[cfg(feature = "csat")]
+            Filter::Csat3(..) => Antialias::Csat3,
+        }
+    }
+
+    /// The colour table.
+    pub const fn table(&self) -> &ColorTable<N> {
+        match &self.filter {
+            Filter::None(t) => t,
+            #[cfg(feature = "mip")]
+            Filter::Mip(m) => m.table(),
+            #[cfg(feature = "csat")]
+            Filter::Csat(t, _) => t,
+            #[cfg(feature = "csat")]
+            Filter::Csat3(t, _) => t,
+        }
+    }
+
+    /// How `f` maps into the table.
+    pub const fn wrap(&self) -> TableWrap {
+        self.wrap
+    }
+
+    /// The table's look-up mode (used unfiltered and by the MIP levels; the box filters integrate
+    /// the piecewise-constant table, as the model defines).
+    pub const fn lookup(&self) -> TableLookup {
+        self.lookup
+    }
+
+    /// The colour of `f` box-filtered over width `w` (in table entries) by the stage's filter.
+    /// With [`Antialias::None`], `w` is ignored.
+    #[cfg_attr(not(any(feature = "csat", feature = "mip")), allow(unused_variables))]
+    pub fn shade(&self, f: TexValue, w: FilterWidth) -> Rgba8888 {
+        match &self.filter {
+            Filter::None(t) => t.shade(f, self.wrap, self.lookup),
+            #[cfg(feature = "mip")]
+            Filter::Mip(m) => m.lookup(m.table().coord(f, self.wrap), w, self.wrap, self.lookup),
+            #[cfg(feature = "csat")]
+            Filter::Csat(t, c) => c.box_filter(t.coord(f, self.wrap), w, self.wrap),
+            #[cfg(feature = "csat")]
+            Filter::Csat3(t, c) => c.box_filter(t.coord(f, self.wrap), w),
+        }
+    }
+
+    /// The colour of `f` without filtering (the table's nearest / linear look-up).
+    pub fn shade_unfiltered(&self, f: TexValue) -> Rgba8888 {
+        self.table().shade(f, self.wrap, self.lookup)
+    }
+
+    /// Bytes of table, levels and sums held by a stage with filter `antialias` (0 if it is not
+    /// compiled in). Configuration (wrap, look-up mode, variant tag) adds 3 bytes.
+    pub const fn bytes_for(antialias: Antialias) -> usize {
+        let table = core::mem::size_of::<ColorTable<N>>();
+        match antialias {
+            Antialias::None => table,
+            #[cfg(feature = "mip")]
+            Antialias::Mip => ColorMip::<N>::BYTES,
+            #[cfg(feature = "csat")]
+            Antialias::Csat => table + Csat::<N>::BYTES,
+            #[cfg(feature = "csat")]
+            Antialias::Csat3 => table + Csat3::<N>::BYTES,
+            #[allow(unreachable_patterns)]
+            _ => 0,
+        }
+    }
+
+    /// Bytes of table, levels and sums this stage's filter uses ([`ColorStage::bytes_for`]).
+    pub const fn memory_bytes(&self) -> usize {
+        Self::bytes_for(self.antialias())
+    }
+}
+
+#[cfg(all(test, feature = "csat", feature = "mip"))]
+mod tests {
+    use super::*;
+    use crate::table::ColorTable;
+    use fixed::types::{I16F16, U16F16};
+
+    const ALL: [Antialias; 4] = [
+        Antialias::None,
+        Antialias::Mip,
+        Antialias::Csat,
+        Antialias::Csat3,
+    ];
+
+    fn lcg_table<const N: usize>(seed: u64) -> ColorTable<N> {
+        let mut s = seed;
+        ColorTable::from_entries(core::array::from_fn(|_| {
+            s = s
+                .wrapping_mul(6364136223846793005)
+                .wrapping_add(1442695040888963407);
+            Rgba8888::from_u32((s >> 32) as u32)
+        }))
+        .unwrap()
+    }
+
+    #[test]
+    fn memory_report() {
+        assert_eq!(ColorStage::<256>::bytes_for(Antialias::None), 1024);
+        assert_eq!(ColorStage::<256>::bytes_for(Antialias::Mip), 2048);
+        assert_eq!(ColorStage::<256>::bytes_for(Antialias::Csat), 1024 + 2064);
+        assert_eq!(ColorStage::<256>::bytes_for(Antialias::Csat3), 1024 + 6160);
+        assert!(ColorStage::<256>::bytes_for(Antialias::Csat) < 3200);
+        let t = ColorTable::<256>::zebra().unwrap();
+        for aa in ALL {
+            let s = ColorStage::new(t, TableWrap::Mod, TableLookup::Nearest, aa).unwrap();
+            assert_eq!(s.antialias(), aa);
+            assert_eq!(s.memory_bytes(), ColorStage::<256>::bytes_for(aa));
+            assert!(core::mem::size_of::<ColorStage<256>>() >= s.memory_bytes());
+            assert!(aa.is_available());
+        }
+    }
+
+    #[test]
+    fn const_stage() {
+        const STAGE: ColorStage<64> = match ColorTable::zebra() {
+            Ok(t) => {
+                match ColorStage::new(t, TableWrap::Mod, TableLookup::Nearest, Antialias::Csat3) {
+                    Ok(s) => s,
+                    Err(_) => panic!(),
+                }
+            }
+            Err(_) => panic!(),
+        };
+        assert_eq!(STAGE.shade(I16F16::ZERO, U16F16::ZERO), Rgba8888::WHITE);
+        assert_eq!(
+            STAGE.shade(I16F16::ZERO, U16F16::from_num(64)),
+            STAGE.table().mean()
+        );
+    }
+
+    #[test]
+    fn stages_agree_with_their_parts() {
+        let t = lcg_table::<32>(77);
+        for wrap in [TableWrap::Mod, TableWrap::Clamp] {
+            for lookup in [TableLookup::Nearest, TableLookup::Linear] {
+                let st = ALL.map(|aa| ColorStage::new(t, wrap, lookup, aa).unwrap());
+                let mip = ColorMip::new(t);
+                let csat = Csat::new(&t);
+                for f in (-0x1_8000i32..0x2_8000).step_by(313) {
+                    let f = I16F16::from_bits(f);
+                    let x = t.coord(f, wrap);
+                    for w in (0u32..(40 << 16)).step_by(65_537 + 4096) {
+                        let w = U16F16::from_bits(w);
+                        let plain = t.shade(f, wrap, lookup);
+                        assert_eq!(st[0].shade(f, w), plain);
+                        assert_eq!(st[1].shade(f, w), mip.lookup(x, w, wrap, lookup));
+                        let b = csat.box_filter(x, w, wrap);
+                        assert_eq!(st[2].shade(f, w), b);
+                        assert_eq!(st[3].shade(f, w), b);
+                        for s in &st {
+                            assert_eq!(s.shade_unfiltered(f), plain);
+                        }
+                    }
+                }
+            }
+        }
+    }
+
+    #[test]
+    fn zero_width_is_nearest_and_huge_width_is_mean() {
+        let t = lcg_table::<128>(5);
+        for wrap in [TableWrap::Mod, TableWrap::Clamp] {
+            let st = ALL.map(|aa| ColorStage::new(t, wrap, TableLookup::Nearest, aa).unwrap());
+            for f in (i32::MIN..=i32::MAX).step_by(99_991) {
+                let f = I16F16::from_bits(f);
+                let near = t.shade(f, wrap, TableLookup::Nearest);
+                for s in &st {
+                    assert_eq!(s.shade(f, U16F16::ZERO), near);
+                }
+                assert_eq!(st[2].shade(f, U16F16::MAX), t.mean());
+                assert_eq!(st[3].shade(f, U16F16::MAX), t.mean());
+                assert_eq!(st[2].shade(f, U16F16::from_num(128)), t.mean());
+            }
+        }
+    }
+
+    #[test]
+    fn extreme_inputs_never_panic() {
+        fn go<const N: usize>() {
+            let t = lcg_table::<N>(N as u64);
+            let fs = [
+                I16F16::MIN,
+                I16F16::MAX,
+                I16F16::ZERO,
+                I16F16::ONE,
+                -I16F16::DELTA,
+                I16F16::DELTA,
+            ];
+            let ws = [
+                U16F16::ZERO,
+                U16F16::DELTA,
+                U16F16::from_num(N / 2),
+                U16F16::from_num(N) - U16F16::DELTA,
+                U16F16::from_num(N),
+                U16F16::MAX,
+            ];
+            for wrap in [TableWrap::Mod, TableWrap::Clamp] {
+                for lookup in [TableLookup::Nearest, TableLookup::Linear] {
+                    for aa in ALL {
+                        let s = ColorStage::new(t, wrap, lookup, aa).unwrap();
+                        for f in fs {
+                            for w in ws {
+                                let _ = s.shade(f, w);
+                            }
+                            let _ = s.shade_unfiltered(f);
+                        }
+                    }
+                }
+            }
+        }
+        go::<2>();
+        go::<4>();
+        go::<256>();
+        go::<1024>();
+    }
+
+    #[test]
+    fn zone_plate_widths_blend_zebra_to_grey() {
+        // The zebra map filtered over a whole stripe pair is mid grey, for every filter.
+        let t = ColorTable::<256>::zebra().unwrap();
+        for aa in [Antialias::Mip, Antialias::Csat, Antialias::Csat3] {
+            let s = ColorStage::new(t, TableWrap::Mod, TableLookup::Nearest, aa).unwrap();
+            let c = s.shade(I16F16::from_num(0.25), U16F16::from_num(256));
+            assert!(c.r == 127 || c.r == 128, "{aa:?} {c:?}");
+        }
+    }
+}

@@ -1,0 +1,257 @@
+//! Filter width from the gradient of `f` (`docs/model.md` section 8).
+//!
+//! `gx = df/dx` and `gy = df/dy` arrive as `i64` with 48 fraction bits. Each magnitude is first
+//! saturated to `U16F16` (`min(|g| >> 32, u32::MAX)`, floor), then combined by the chosen
+//! [`GradientNorm`] in `u64` (`L1 = a + b`, `Max = max(a, b)`, `L2 = isqrt(a^2 + b^2)`, all exact on
+//! the saturated values; if `a^2 + b^2` does not fit `u64` the norm exceeds 46340 entries and the
+//! width saturates), and the width `w = N * norm` (raw `norm << log2 N`) saturates at `N`.
+//!
+//! Guarantees: integer only, `const fn`, never panics or overflows for any input (including
+//! `i64::MIN`); the result is always in `[0, N]` (with `log2 N` taken as at most 15, so `N << 16`
+//! fits; larger values give `U16F16::MAX`). [`isqrt`] is the exact floor square root of any `u64`
+//! in a fixed 32 iterations (no division, no floating point).
+
+use crate::format::FilterWidth;
+
+/// How the two screen-space derivatives of `f` combine into one filter width.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
+pub enum GradientNorm {
+    /// `|gx| + |gy|`: cheapest, over-blurs diagonals by up to sqrt(2).
+    L1,
+    /// `sqrt(gx^2 + gy^2)`: the gradient magnitude (one integer square root).
+    #[default]
+    L2,
+    /// `max(|gx|, |gy|)`: under-blurs diagonals by up to sqrt(2).
+    Max,
+}
+
+/// Exact integer square root, `floor(sqrt(v))`, for every `u64` (digit by digit, 32 fixed
+/// iterations).
+pub const fn isqrt(v: u64) -> u64 {
+    let mut rem = v;
+    let mut root = 0u64;
+    let mut bit = 1u64 << 62;
+    while bit != 0 {
+        let trial = root + bit; // root < 2^(32 + i) and bit = 4^i here: no overflow
+        if rem >= trial {
+            rem -= trial;
+            root = (root >> 1) + bit;
+        } else {
+            root >>= 1;
+        }
+        bit >>= 2;
+    }
+    root
+}
+
+/// `|g|` (48 fraction bits) as `U16F16` raw, saturated to `u32::MAX` (floor).
+#[inline(always)]
+pub const fn saturate_to_u16f16(g: i64) -> u32 {
+    let a = g.unsigned_abs() >> 32;
+    if a > u32::MAX as u64 {
+        u32::MAX
+    } else {
+        a as u32
+    }
+}
+
+/// The norm of `(gx, gy)` (48 fraction bits each) in `U16F16` raw units (may exceed `u32` for
+/// `L1`; `u64::MAX` stands for "too large to matter" when `L2` overflows).
+pub const fn gradient_norm(gx: i64, gy: i64, norm: GradientNorm) -> u64 {
+    let a = saturate_to_u16f16(gx) as u64;
+    let b = saturate_to_u16f16(gy) as u64;
+    match norm {
+        GradientNorm::L1 => a + b,
+        GradientNorm::Max => {
+            if a > b {
+                a
+            } else {
+                b
+            }
+        }
+        GradientNorm::L2 => match (a * a).checked_add(b * b) {
+            Some(s) => isqrt(s),
+            None => u64::MAX,
+        },
+    }
+}
+
+/// The box filter width in table entries, `w = N * norm(gx, gy)` saturating at `N = 2^n_log2`
+/// (model section 8). `gx`, `gy` have 48 fraction bits.
+pub const fn filter_width(gx: i64, gy: i64, norm: GradientNorm, n_log2: u32) -> FilterWidth {
+    let n_log2 = if n_log2 > 15 { 16 } else { n_log2 };
+    let cap = 1u64 << (16 + n_log2);
+    let g = gradient_norm(gx, gy, norm);
+    // g >> (48 - n_log2) != 0 means g << n_log2 would overflow u64; it is then far above the cap.
+    let w = if g >> (48 - n_log2) != 0 {
+        cap
+    } else {
+        let w = g << n_log2;
+        if w > cap {
+            cap
+        } else {
+            w
+        }
+    };
+    FilterWidth::from_bits(if w > u32::MAX as u64 {
+        u32::MAX
+    } else {
+        w as u32
+    })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use proptest::prelude::*;
+
+    fn check_isqrt(v: u64) {
+        let r = isqrt(v) as u128;
+        assert!(
+            r * r <= v as u128 && (r + 1) * (r + 1) > v as u128,
+            "isqrt({v}) = {r}"
+        );
+    }
+
+    #[test]
+    fn isqrt_exact() {
+        for v in 0..200_000u64 {
+            check_isqrt(v);
+        }
+        for k in [1u64, 2, 3, 255, 256, 65535, 65536, 1 << 31, (1 << 32) - 1] {
+            for d in [-1i64, 0, 1] {
+                check_isqrt((k * k).wrapping_add_signed(d));
+            }
+        }
+        check_isqrt(u64::MAX);
+        assert_eq!(isqrt(u64::MAX), u32::MAX as u64);
+        assert_eq!(isqrt(1 << 62), 1 << 31);
+        const C: u64 = isqrt(1_000_000);
+        assert_eq!(C, 1000);
+    }
+
+    proptest! {
+        #[test]
+        fn isqrt_random(v in any::<u64>()) {
+            check_isqrt(v);
+            prop_assert_eq!(isqrt(v), v.isqrt());
+        }
+    }
+
+    /// f64 reference of section 8 (floor of each step, saturations as specified).
+    fn width_f64(gx: i64, gy: i64, norm: GradientNorm, n_log2: u32) -> f64 {
+        let sat = |g: i64| ((g as f64).abs() / 2f64.powi(48)).min(u32::MAX as f64 / 65536.0);
+        let sat = |g: i64| (sat(g) * 65536.0).floor() / 65536.0;
+        let (a, b) = (sat(gx), sat(gy));
+        let n = 2f64.powi(n_log2 as i32);
+        let nrm = match norm {
+            GradientNorm::L1 => a + b,
+            GradientNorm::Max => a.max(b),
+            GradientNorm::L2 => (a * a + b * b).sqrt(),
+        };
+        (nrm * n).min(n)
+    }
+
+    fn check_width(gx: i64, gy: i64) {
+        for norm in [GradientNorm::L1, GradientNorm::L2, GradientNorm::Max] {
+            for n_log2 in [1u32, 4, 8, 10] {
+                let w = filter_width(gx, gy, norm, n_log2).to_num::<f64>();
+                let r = width_f64(gx, gy, norm, n_log2);
+                // Exact for L1 / Max; L2 floors the root in 1/65536 units before scaling by N.
+                let tol = match norm {
+                    GradientNorm::L2 => (1u32 << n_log2) as f64 / 65536.0 + 1e-9,
+                    _ => 1e-12,
+                };
+                assert!(
+                    w <= r + 1e-9 && w >= r - tol,
+                    "{gx} {gy} {norm:?} {n_log2}: {w} vs {r}"
+                );
+                assert!(w <= (1u32 << n_log2) as f64);
+            }
+        }
+    }
+
+    #[test]
+    fn width_examples() {
+        let one = 1i64 << 48;
+        // |grad| = 1/256 entry-widths of f per pixel, N = 256 -> w = 1 entry.
+        assert_eq!(
+            filter_width(one / 256, 0, GradientNorm::L2, 8),
+            FilterWidth::from_num(1)
+        );
+        // 3-4-5.
+        assert_eq!(
+            filter_width(3 * one / 1024, -4 * one / 1024, GradientNorm::L2, 10),
+            FilterWidth::from_num(5)
+        );
+        assert_eq!(
+            filter_width(3 * one / 1024, -4 * one / 1024, GradientNorm::L1, 10),
+            FilterWidth::from_num(7)
+        );
+        assert_eq!(
+            filter_width(3 * one / 1024, -4 * one / 1024, GradientNorm::Max, 10),
+            FilterWidth::from_num(4)
+        );
+        // Saturation at N.
+        for norm in [GradientNorm::L1, GradientNorm::L2, GradientNorm::Max] {
+            assert_eq!(filter_width(one, one, norm, 8), FilterWidth::from_num(256));
+            assert_eq!(
+                filter_width(i64::MIN, i64::MIN, norm, 8),
+                FilterWidth::from_num(256)
+            );
+            assert_eq!(
+                filter_width(i64::MAX, i64::MIN, norm, 10),
+                FilterWidth::from_num(1024)
+            );
+            assert_eq!(filter_width(0, 0, norm, 8), FilterWidth::ZERO);
+            assert_eq!(filter_width(i64::MAX, 0, norm, 40), FilterWidth::MAX);
+            assert_eq!(
+                filter_width(i64::MAX, 0, norm, 15),
+                FilterWidth::from_num(32768)
+            );
+        }
+        // Below U16F16 resolution: floors to zero.
+        assert_eq!(
+            filter_width((1 << 32) - 1, 0, GradientNorm::L1, 1),
+            FilterWidth::ZERO
+        );
+    }
+
+    #[test]
+    fn width_grid() {
+        let vals = [
+            0i64,
+            1,
+            -1,
+            1 << 32,
+            (1 << 32) + 1,
+            1 << 40,
+            -(1 << 40),
+            1 << 47,
+            1 << 48,
+            3 << 47,
+            1 << 62,
+            i64::MAX,
+            i64::MIN,
+            123_456_789_012,
+        ];
+        for &a in &vals {
+            for &b in &vals {
+                check_width(a, b);
+            }
+        }
+    }
+
+    proptest! {
+        #[test]
+        fn width_random(gx in -(1i64 << 50)..(1i64 << 50), gy in -(1i64 << 50)..(1i64 << 50)) {
+            check_width(gx, gy);
+        }
+
+        #[test]
+        fn width_random_any(gx in any::<i64>(), gy in any::<i64>()) {
+            check_width(gx, gy);
+        }
+    }
+}
