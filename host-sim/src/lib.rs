@@ -2,5 +2,7 @@
 #![deny(missing_docs, unsafe_code)]
 
 pub mod bridge;
+pub mod cli;
 pub mod metrics;
 pub mod reference;
+pub mod unit;

@@ -8,22 +8,29 @@
 //! Against an f64 reference the max / mean / PSNR errors are measured against the **unrounded**
 //! reference, so they include the unavoidable 8-bit quantisation (at most 0.5 per channel).
 //!
-//! JSON: [`Metrics`] serializes as
-//! `{"max_error": [r, g, b, a], "mean_error": [r, g, b, a], "psnr": dB, "within_one_step": frac,
-//! "pixels": count}`. Identical images have infinite PSNR, which JSON cannot hold: it is written as
-//! `null` (and `null` reads back as `f64::INFINITY`).
+//! JSON: [`Metrics`] serializes as `{"max_error": e, "mean_error": e, "max_error_per_channel":
+//! [r, g, b, a], "mean_error_per_channel": [r, g, b, a], "psnr": dB, "within_one_step": frac,
+//! "pixels": count}` (`max_error` is the largest over channels, `mean_error` the mean over
+//! channels). PSNR is capped at [`PSNR_CAP`] = 100 dB, which identical images report, so it is
+//! always a finite JSON number.
 
-use serde::{Deserialize, Deserializer, Serialize, Serializer};
+use serde::{Deserialize, Serialize};
+
+/// The PSNR reported for identical images, and the cap of every PSNR (dB).
+pub const PSNR_CAP: f64 = 100.0;
 
 /// Comparison of two images.
 #[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
 pub struct Metrics {
+    /// Largest absolute error over all channels and pixels, 8-bit units.
+    pub max_error: f64,
+    /// Mean absolute error over all channels and pixels, 8-bit units.
+    pub mean_error: f64,
     /// Per-channel (R, G, B, A) maximum absolute error, 8-bit units.
-    pub max_error: [f64; 4],
+    pub max_error_per_channel: [f64; 4],
     /// Per-channel (R, G, B, A) mean absolute error, 8-bit units.
-    pub mean_error: [f64; 4],
-    /// PSNR over R, G, B in dB; `f64::INFINITY` for identical images (JSON `null`).
-    #[serde(serialize_with = "psnr_to_json", deserialize_with = "psnr_from_json")]
+    pub mean_error_per_channel: [f64; 4],
+    /// PSNR over R, G, B in dB, capped at [`PSNR_CAP`] (identical images).
     pub psnr: f64,
     /// Fraction of pixels with every channel within 1 of the (rounded) other image.
     pub within_one_step: f64,
@@ -40,18 +47,6 @@ pub enum MetricsError {
     /// No pixels.
     #[error("empty images")]
     Empty,
-}
-
-fn psnr_to_json<S: Serializer>(v: &f64, s: S) -> Result<S::Ok, S::Error> {
-    if v.is_finite() {
-        s.serialize_some(v)
-    } else {
-        s.serialize_none()
-    }
-}
-
-fn psnr_from_json<'de, D: Deserializer<'de>>(d: D) -> Result<f64, D::Error> {
-    Ok(Option::<f64>::deserialize(d)?.unwrap_or(f64::INFINITY))
 }
 
 /// Accumulates per-pixel channel differences.
@@ -92,13 +87,16 @@ impl Acc {
         let n = self.pixels as f64;
         let mse = self.sq_rgb / (3.0 * n);
         let psnr = if mse == 0.0 {
-            f64::INFINITY
+            PSNR_CAP
         } else {
-            10.0 * (255.0 * 255.0 / mse).log10()
+            (10.0 * (255.0 * 255.0 / mse).log10()).min(PSNR_CAP)
         };
+        let mean = self.sum.map(|s| s / n);
         Metrics {
-            max_error: self.max,
-            mean_error: self.sum.map(|s| s / n),
+            max_error: self.max.iter().copied().fold(0.0, f64::max),
+            mean_error: mean.iter().sum::<f64>() / 4.0,
+            max_error_per_channel: self.max,
+            mean_error_per_channel: mean,
             psnr,
             within_one_step: self.within as f64 / n,
             pixels: self.pixels,
@@ -160,13 +158,14 @@ mod tests {
     fn identical_images() {
         let a = image(256 * 256, 5);
         let m = compare_rgba8(&a, &a).unwrap();
-        assert_eq!(m.max_error, [0.0; 4]);
-        assert_eq!(m.mean_error, [0.0; 4]);
-        assert_eq!(m.psnr, f64::INFINITY);
+        assert_eq!(m.max_error, 0.0);
+        assert_eq!(m.mean_error, 0.0);
+        assert_eq!(m.max_error_per_channel, [0.0; 4]);
+        assert_eq!(m.psnr, PSNR_CAP);
         assert_eq!(m.within_one_step, 1.0);
         assert_eq!(m.pixels, 65536);
         let json = serde_json::to_string(&m).unwrap();
-        assert!(json.contains("\"psnr\":null"), "{json}");
+        assert!(json.contains("\"psnr\":100.0"), "{json}");
         let back: Metrics = serde_json::from_str(&json).unwrap();
         assert_eq!(back, m);
         // Against itself as an f64 reference.
@@ -180,8 +179,10 @@ mod tests {
         let mut b = a.clone();
         b[1000][0] = b[1000][0].wrapping_add(10);
         let m = compare_rgba8(&a, &b).unwrap();
-        assert_eq!(m.max_error, [10.0, 0.0, 0.0, 0.0]);
-        assert_eq!(m.mean_error[0], 10.0 / 65536.0);
+        assert_eq!(m.max_error_per_channel, [10.0, 0.0, 0.0, 0.0]);
+        assert_eq!(m.max_error, 10.0);
+        assert_eq!(m.mean_error_per_channel[0], 10.0 / 65536.0);
+        assert_eq!(m.mean_error, 10.0 / 65536.0 / 4.0);
         // MSE = 10^2 / (3 * 65536): PSNR = 10 log10(255^2 * 3 * 65536 / 100) = 81.0668... dB.
         let expected = 10.0 * (255.0f64 * 255.0 * 3.0 * 65536.0 / 100.0).log10();
         assert!((m.psnr - expected).abs() < 1e-9, "{} {}", m.psnr, expected);
@@ -205,7 +206,7 @@ mod tests {
         c[0][3] = c[0][3].wrapping_sub(2);
         let mc = compare_rgba8(&a, &c).unwrap();
         assert_eq!(mc.within_one_step, 65535.0 / 65536.0);
-        assert_eq!(mc.max_error[3], 2.0);
+        assert_eq!(mc.max_error_per_channel[3], 2.0);
     }
 
     #[test]
@@ -213,14 +214,14 @@ mod tests {
         let img = vec![[10u8, 20, 30, 255], [0, 0, 0, 0]];
         let reference = vec![[10.4, 21.5, 28.6, 255.0], [0.0, 0.0, 0.0, 0.0]];
         let m = compare_to_reference(&img, &reference).unwrap();
-        assert!((m.max_error[0] - 0.4).abs() < 1e-12);
-        assert!((m.max_error[1] - 1.5).abs() < 1e-12);
-        assert!((m.max_error[2] - 1.4).abs() < 1e-12);
+        assert!((m.max_error_per_channel[0] - 0.4).abs() < 1e-12);
+        assert!((m.max_error_per_channel[1] - 1.5).abs() < 1e-12);
+        assert!((m.max_error_per_channel[2] - 1.4).abs() < 1e-12);
         // 21.5 rounds to 22 (two steps from 20): pixel 0 fails; 28.6 -> 29 is one step.
         assert_eq!(m.within_one_step, 0.5);
         let mse = (0.4f64.powi(2) + 1.5f64.powi(2) + 1.4f64.powi(2)) / 6.0;
         assert!((m.psnr - 10.0 * (65025.0 / mse).log10()).abs() < 1e-9);
-        assert!((m.mean_error[1] - 0.75).abs() < 1e-12);
+        assert!((m.mean_error_per_channel[1] - 0.75).abs() < 1e-12);
     }
 
     #[test]

@@ -33,6 +33,7 @@ pub mod quadric;
 pub mod raster;
 pub mod span;
 pub mod table;
+pub mod texture;
 pub mod transform;
 
 pub use format::*;

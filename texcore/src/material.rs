@@ -197,6 +197,17 @@ impl<'m, const T: usize> MaterialEvaluator<'m, T> {
         s
     }
 
+    /// The extra filter width of `span` from culled octaves, in `f` units (48 fraction bits): the
+    /// sum over the channels, scaled for wood by the characteristic's derivative bound
+    /// `2 max(|y0|, |y2|) / R^2` taken as 2 (a conservative constant for `|y| <= R`).
+    pub fn extra_width48(&self, span: &Span) -> i64 {
+        let e0 = self.e0.extra_width48(span);
+        match &self.e2 {
+            Some(e2) => e0.saturating_add(e2.extra_width48(span)).saturating_mul(2),
+            None => e0,
+        }
+    }
+
     /// Evaluates `span`, calling `emit` once per pixel in order.
     pub fn eval<F: FnMut(Sample)>(&mut self, span: &Span, mut emit: F) -> SpanInfo {
         match (self.material.characteristic, &mut self.e2) {

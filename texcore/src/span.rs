@@ -326,23 +326,16 @@ impl<'m, const T: usize> SpanEvaluator<'m, T> {
         let mut terms = [TermSetup::default(); T];
         let mut extra: i64 = 0;
         for (ts, term) in terms.iter_mut().zip(m.terms()) {
-            let t = &term.transform;
-            let du = t.apply_vector(span.ds);
-            let dyl = t.apply_vector(span.dsdy);
-            let beyond = du
-                .iter()
-                .chain(dyl.iter())
-                .any(|c| c.unsigned_abs() > NYQUIST_STEP as u32);
-            let a2 = (i64::from(term.amplitude.to_bits().unsigned_abs()) * 2) << 32;
+            let (du, dyl, beyond) = lattice_steps(term, span);
             if beyond {
-                extra = extra.saturating_add(a2);
+                extra = extra.saturating_add(culled_width48(term));
                 if self.opts.cull {
                     self.stats.culled_octaves += 1;
                     continue;
                 }
             }
             *ts = TermSetup {
-                u0: t.apply_point(span.s0),
+                u0: term.transform.apply_point(span.s0),
                 du,
                 dy: dyl,
                 active: true,
@@ -365,6 +358,18 @@ impl<'m, const T: usize> SpanEvaluator<'m, T> {
             gqy,
             extra_width48: extra,
         }
+    }
+
+    /// The extra filter width of `span` from octaves past the Nyquist limit (what
+    /// [`SpanInfo::extra_width48`] of [`SpanEvaluator::eval`] will be), without evaluating it.
+    pub fn extra_width48(&self, span: &Span) -> i64 {
+        let mut extra: i64 = 0;
+        for term in self.model.terms() {
+            if lattice_steps(term, span).2 {
+                extra = extra.saturating_add(culled_width48(term));
+            }
+        }
+        extra
     }
 
     /// Evaluates `span`, calling `emit` once per pixel in order. Returns the span's facts.
@@ -729,6 +734,25 @@ fn hermite_setup(
         ],
         gy: [y0, div_round(i128::from(ym) - i128::from(y0), m)],
     }
+}
+
+/// A term's lattice steps along the span and across it, and whether either passes the Nyquist
+/// limit in any component.
+#[inline]
+fn lattice_steps(term: &NoiseTerm, span: &Span) -> ([i32; 3], [i32; 3], bool) {
+    let du = term.transform.apply_vector(span.ds);
+    let dy = term.transform.apply_vector(span.dsdy);
+    let beyond = du
+        .iter()
+        .chain(dy.iter())
+        .any(|c| c.unsigned_abs() > NYQUIST_STEP as u32);
+    (du, dy, beyond)
+}
+
+/// The filter width a culled (or aliasing) term adds: `2 |a|` in `f` units, 48 fraction bits.
+#[inline]
+fn culled_width48(term: &NoiseTerm) -> i64 {
+    (i64::from(term.amplitude.to_bits().unsigned_abs()) * 2) << 32
 }
 
 /// Value and gradients of one term at a fraction of its cached cell.

@@ -1,9 +1,6 @@
 //! `texsim`: render, check and report on texcore scenes from the host.
-fn main() {
-    std::process::exit(host_sim_main());
-}
+use clap::Parser;
 
-fn host_sim_main() -> i32 {
-    eprintln!("texsim: no commands yet");
-    2
+fn main() -> std::process::ExitCode {
+    host_sim::cli::run(host_sim::cli::Cli::parse())
 }

@@ -10,10 +10,12 @@
 //! - [`quadric`]: `q(s)` and `2 Q [s; 1]`;
 //! - [`model`]: [`RefModel`], `f`, `grad f`, the filter width and the Nyquist rule;
 //! - [`table`]: [`RefTable`], nearest/linear look-up, the exact box filter and the MIP look-up;
+//! - [`perturbed`]: Miné & Neyret's domain-perturbed marble and wood;
 //! - [`plane`]: the [`Plane`] of solid coordinates sampled by `texsim check`, f64 renders.
 
 pub mod model;
 pub mod noise;
+pub mod perturbed;
 pub mod plane;
 pub mod quadric;
 pub mod table;

@@ -1,12 +1,11 @@
 //! Colour-table MIP map (Hart et al. 1999 section 3.3.1; `docs/model.md` section 7).
 //!
 //! Level 0 is the colour table itself (`N` entries); level `l` (`1..=log2 N`) has `N >> l` entries,
-//! entry `j` being `(a + b + 1) >> 1` per channel of entries `2j`, `2j + 1` of level `l - 1`
-//! (the model's definition). Each pair rounding adds at most 1/2, so a level-`l` entry lies in
-//! `[m, m + l/2]` where `m` is the exact mean of the `2^l` level-0 entries it covers; the bound is
-//! attained by adversarial tables (e.g. the top of `[2, 1, 2, 1, 1, 0, 0, 0]` is 2 for a mean of
-//! 7/8). So the last level is the table mean only approximately: [`ColorTable::mean`] (exact,
-//! `(sum + N/2) / N`) is what the summed-area filters return for `w >= N`.
+//! entry `j` being the exact mean of level-0 entries `j 2^l .. (j + 1) 2^l - 1` rounded half up
+//! (`(sum + 2^(l-1)) >> l` per channel, the model's definition). Computing every level from level 0,
+//! not from pair averages of the level below, keeps the rounding error of every entry within 1/2:
+//! chained pair averages `(a + b + 1) >> 1` drift upwards by up to `l/2`. The last level is
+//! therefore exactly [`ColorTable::mean`].
 //!
 //! Look-up at width `w` (`FilterWidth`, in entries): `l = floor(log2 w)` clamped to
 //! `[0, log2 N]` (`l = 0` for `w < 1`), `t = (w / 2^l - 1)` in 8 bits (`((w.raw >> l) - 2^16) >> 8`,
@@ -54,17 +53,24 @@ impl<const N: usize> ColorMip<N> {
             let len = N >> l;
             let mut j = 0;
             while j < len {
-                let (a, b) = if l == 1 {
-                    (table.entries()[2 * j], table.entries()[2 * j + 1])
-                } else {
-                    let src = level_offset(N, l - 1);
-                    (upper[src + 2 * j], upper[src + 2 * j + 1])
-                };
+                // The exact mean of the 2^l level-0 entries, rounded half up (no bias
+                // accumulates from level to level).
+                let mut sum = [0u32; 4];
+                let mut k = j << l;
+                while k < (j + 1) << l {
+                    let c = table.entries()[k];
+                    sum[0] += c.r as u32;
+                    sum[1] += c.g as u32;
+                    sum[2] += c.b as u32;
+                    sum[3] += c.a as u32;
+                    k += 1;
+                }
+                let half = 1u32 << (l - 1);
                 upper[dst + j] = Rgba8888::new(
-                    ((a.r as u16 + b.r as u16 + 1) >> 1) as u8,
-                    ((a.g as u16 + b.g as u16 + 1) >> 1) as u8,
-                    ((a.b as u16 + b.b as u16 + 1) >> 1) as u8,
-                    ((a.a as u16 + b.a as u16 + 1) >> 1) as u8,
+                    ((sum[0] + half) >> l) as u8,
+                    ((sum[1] + half) >> l) as u8,
+                    ((sum[2] + half) >> l) as u8,
+                    ((sum[3] + half) >> l) as u8,
                 );
                 j += 1;
             }
@@ -185,8 +191,10 @@ mod tests {
             m.level(1).unwrap(),
             &[grey(1), grey(15), grey(255), grey(7)]
         );
+        // (0+1+10+20)/4 = 7.75 -> 8; (255+254+7+7)/4 = 130.75 -> 131
         assert_eq!(m.level(2).unwrap(), &[grey(8), grey(131)]);
-        assert_eq!(m.level(3).unwrap(), &[grey(70)]);
+        // 554/8 = 69.25 -> 69 (chained pair averages would give 70)
+        assert_eq!(m.level(3).unwrap(), &[grey(69)]);
         assert_eq!(m.level(4), None);
     }
 
@@ -209,25 +217,18 @@ mod tests {
                     .map(|c| c.to_array().map(u32::from))
                     .collect();
                 assert_eq!(got, cur, "N={N} level {l}");
-                // Each level is within [mean, mean + l/2] of the exact mean of the entries it covers.
-                let span = 1usize << l;
-                for (j, c) in cur.iter().enumerate() {
-                    for (ch, &cv) in c.iter().enumerate() {
-                        let s: u32 = t.entries()[j * span..(j + 1) * span]
-                            .iter()
-                            .map(|e| e.to_array()[ch] as u32)
-                            .sum();
-                        let v = cv * span as u32;
-                        assert!(
-                            v >= s && 2 * v <= 2 * s + span as u32 * l,
-                            "N={N} l={l} j={j}"
-                        );
-                    }
-                }
-                cur = cur
-                    .chunks(2)
-                    .filter(|p| p.len() == 2)
-                    .map(|p| [0, 1, 2, 3].map(|i| (p[0][i] + p[1][i]).div_ceil(2)))
+                // The next level from level 0 directly: the rounded exact mean of 2^(l+1) entries.
+                let span = 1usize << (l + 1);
+                cur = (0..N / span)
+                    .map(|j| {
+                        [0, 1, 2, 3].map(|ch| {
+                            let s: u32 = t.entries()[j * span..(j + 1) * span]
+                                .iter()
+                                .map(|e| e.to_array()[ch] as u32)
+                                .sum();
+                            (2 * s + span as u32) / (2 * span as u32)
+                        })
+                    })
                     .collect();
                 l += 1;
             }
@@ -242,8 +243,8 @@ mod tests {
     }
 
     #[test]
-    fn top_level_is_not_always_the_rounded_mean() {
-        // Documented behaviour: pair rounding compounds upwards (here by 9/8; at most l/2 = 3/2).
+    fn top_level_is_the_rounded_mean() {
+        // Chained pair averages would give 2 here (bias 9/8); the exact mean 7/8 rounds to 1.
         let t = ColorTable::from_entries([
             grey(2),
             grey(1),
@@ -257,7 +258,7 @@ mod tests {
         .unwrap();
         let m = ColorMip::new(t);
         assert_eq!(t.mean(), grey(1)); // 7/8
-        assert_eq!(m.level(3).unwrap(), &[grey(2)]);
+        assert_eq!(m.level(3).unwrap(), &[grey(1)]);
     }
 
     #[test]
@@ -299,12 +300,8 @@ mod tests {
                 }
             }
         }
-        // Which is the exact table mean to within log2(N) / 2 = 4 (usually much closer).
-        let sums = t.channel_sums();
-        for (a, s) in top.to_array().iter().zip(sums) {
-            let v = *a as u32 * 256;
-            assert!(v >= s && v <= s + 4 * 256);
-        }
+        // Which is the table mean.
+        assert_eq!(top, t.mean());
         // A solid table's MIP is the colour at every width.
         let s = ColorMip::new(ColorTable::<64>::solid(Rgba8888::new(9, 99, 199, 255)).unwrap());
         for w in (0..=u32::MAX).step_by(0x0F0F_0F0F) {
