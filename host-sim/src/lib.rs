@@ -1,2 +1,3 @@
 //! Host simulator for texcore: the f64 reference model, scene loading, rendering and reports.
 #![deny(missing_docs, unsafe_code)]
+pub mod device;
