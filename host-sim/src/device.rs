@@ -334,6 +334,10 @@ pub fn check_qemu(target: DeviceTarget) -> Result<String, DeviceError> {
 }
 
 /// Builds the firmware (release) for `target`; returns the ELF path.
+///
+/// Runs `cargo build --release -p firmware --target <triple> [--features ..]` in
+/// `opts.workspace`, without the caller's `RUSTFLAGS` (the device build is defined by the
+/// repository's config alone).
 pub fn build_firmware(target: DeviceTarget, opts: &RunOptions) -> Result<PathBuf, DeviceError> {
     let mut cmd = Command::new(&opts.cargo);
     cmd.current_dir(&opts.workspace).args([
@@ -348,10 +352,15 @@ pub fn build_firmware(target: DeviceTarget, opts: &RunOptions) -> Result<PathBuf
     if !opts.features.is_empty() {
         cmd.arg("--features").arg(opts.features.join(","));
     }
-    // The outer cargo (when called from a test) must not leak its per-crate settings.
+    // The outer cargo (when called from a test) must not leak its per-crate settings, and the
+    // firmware (hence its instruction counts) must not depend on ambient host RUSTFLAGS (a
+    // `-C target-cpu=native` would not even build for the device).
     for (k, _) in std::env::vars_os() {
         let k = k.to_string_lossy().into_owned();
-        if k.starts_with("CARGO_PKG_")
+        if k == "RUSTFLAGS"
+            || k == "CARGO_ENCODED_RUSTFLAGS"
+            || k == "CARGO_BUILD_RUSTFLAGS"
+            || k.starts_with("CARGO_PKG_")
             || k.starts_with("CARGO_CRATE_")
             || k.starts_with("CARGO_BIN_")
             || k == "CARGO_MANIFEST_DIR"
