@@ -3,6 +3,7 @@
 
 pub mod bridge;
 pub mod cli;
+pub mod device;
 pub mod metrics;
 pub mod reference;
 pub mod unit;

@@ -1,0 +1,120 @@
+//! Runs the calibration, the counter self-test and every job, and reports over defmt.
+//!
+//! Report protocol (one `defmt::println!` frame per line, always enabled, parsed by
+//! `host_sim::device`; every line starts with `TEXFW` and continues with `key=value` words):
+//!
+//! ```text
+//! TEXFW begin target=<triple> counter=<name> unit=<instructions|cycles> protocol=1
+//! TEXFW overhead raw=<u64> repeat=<u64>
+//! TEXFW selftest nops=<u32> measured=<u64> ok=<bool>
+//! TEXFW job name=<str> checksum=<0x........> count=<u64> repeat=<u64> ok=<bool>
+//! TEXFW error what=<str> ...
+//! TEXFW end pass=<bool> jobs=<u32>
+//! ```
+//!
+//! `overhead` is the raw count of measuring the empty job (`fn(&mut Ctx) -> u32 { 0 }`); every
+//! other count is net: raw minus overhead, i.e. the instructions a job executes beyond an empty
+//! job. `repeat` is a second measurement of the same thing, which must be identical. The self
+//! test measures nop sleds of known length (which compile to the empty job plus `n` nops) and
+//! checks the counter returns exactly `n`.
+
+use crate::counter::{Counter, Sample, NAME, UNIT};
+use crate::jobs::{Ctx, JobFn, JOBS};
+use defmt::println;
+
+const TARGET: &str = env!("FIRMWARE_TARGET");
+
+fn empty(_: &mut Ctx) -> u32 {
+    0
+}
+
+/// `N` nops, then what [`empty`] does.
+#[allow(unsafe_code)]
+fn sled<const N: u32>(_: &mut Ctx) -> u32 {
+    // SAFETY: executes `N` nops; touches no registers, memory or flags.
+    unsafe {
+        core::arch::asm!(".rept {n}", "nop", ".endr", n = const N, options(nomem, nostack, preserves_flags));
+    }
+    0
+}
+
+/// Sled lengths chosen to land on every kind of tick phase of the Cortex-M vernier (below, at and
+/// above one tick of 40 instructions, and many ticks).
+static SLEDS: &[(u32, JobFn)] = &[
+    (1, sled::<1>),
+    (2, sled::<2>),
+    (39, sled::<39>),
+    (40, sled::<40>),
+    (41, sled::<41>),
+    (1000, sled::<1000>),
+    (4099, sled::<4099>),
+];
+
+fn measure(c: &mut Counter, f: JobFn, ctx: &mut Ctx) -> Option<Sample> {
+    match c.measure(f, ctx) {
+        Ok(s) => Some(s),
+        Err(_) => {
+            println!("TEXFW error what=counter-overflow");
+            None
+        }
+    }
+}
+
+/// Runs everything; `true` when every check passed.
+pub fn run() -> bool {
+    let mut counter = Counter::init();
+    let mut ctx = Ctx::new();
+    let mut pass = true;
+    println!(
+        "TEXFW begin target={=str} counter={=str} unit={=str} protocol=1",
+        TARGET, NAME, UNIT
+    );
+
+    let (Some(o1), Some(o2)) = (
+        measure(&mut counter, empty, &mut ctx),
+        measure(&mut counter, empty, &mut ctx),
+    ) else {
+        println!("TEXFW end pass=false jobs=0");
+        return false;
+    };
+    println!("TEXFW overhead raw={=u64} repeat={=u64}", o1.raw, o2.raw);
+    pass &= o1.raw == o2.raw;
+    let overhead = o1.raw;
+
+    for &(n, f) in SLEDS {
+        let measured = match measure(&mut counter, f, &mut ctx) {
+            Some(s) => s.raw.wrapping_sub(overhead),
+            None => u64::MAX,
+        };
+        let ok = measured == u64::from(n);
+        pass &= ok;
+        println!(
+            "TEXFW selftest nops={=u32} measured={=u64} ok={=bool}",
+            n, measured, ok
+        );
+    }
+
+    let mut count = 0u32;
+    for job in JOBS {
+        let (Some(a), Some(b)) = (
+            measure(&mut counter, job.run, &mut ctx),
+            measure(&mut counter, job.run, &mut ctx),
+        ) else {
+            pass = false;
+            continue;
+        };
+        let ok = a == b;
+        pass &= ok;
+        count += 1;
+        println!(
+            "TEXFW job name={=str} checksum={=u32:#010x} count={=u64} repeat={=u64} ok={=bool}",
+            job.name,
+            a.checksum,
+            a.raw.wrapping_sub(overhead),
+            b.raw.wrapping_sub(overhead),
+            ok
+        );
+    }
+    println!("TEXFW end pass={=bool} jobs={=u32}", pass, count);
+    pass
+}

@@ -1,0 +1,167 @@
+//! Workloads ("jobs") the firmware measures, and the context they run in.
+//!
+//! A job is a plain function `fn(&mut Ctx) -> u32` that does a fixed amount of work and returns a
+//! checksum of everything it computed. The harness runs every entry of [`JOBS`] twice under the
+//! instruction counter and reports `name`, checksum and instruction count; the host recomputes
+//! the checksum with the same texcore functions (`tests/tests/firmware_qemu.rs`).
+//!
+//! To add a workload (e.g. a texcore scanline render later): write the function, fold what it
+//! produces with [`fold`] / [`fold_line`] starting from [`FNV_OFFSET`], and append a [`Job`] to
+//! [`JOBS`]. Keep it panic-free: `check-panic-never.sh` links every job with a panic handler that
+//! cannot link.
+//!
+//! Checksum: 32-bit FNV-1a over 32-bit words, `acc = (acc ^ word) * 0x0100_0193 (mod 2^32)` from
+//! `acc = 0x811C_9DC5`. Each job documents which words it folds, in which order.
+//!
+//! Per target: the RISC-V soft-core class build runs only table-free code (no ROM tables); the
+//! Cortex-M build additionally runs the 256-byte permutation-table hash.
+
+use texcore::hash::{hash61, int_hash, lattice_value, HashKind};
+
+/// Entries of the context's scanline buffer: one 256-pixel row.
+pub const LINE: usize = 256;
+
+/// FNV-1a 32-bit offset basis: the checksum of nothing.
+pub const FNV_OFFSET: u32 = 0x811C_9DC5;
+/// FNV-1a 32-bit prime.
+pub const FNV_PRIME: u32 = 0x0100_0193;
+
+/// Folds one 32-bit word into a checksum (FNV-1a over words).
+#[inline(always)]
+pub fn fold(acc: u32, word: u32) -> u32 {
+    (acc ^ word).wrapping_mul(FNV_PRIME)
+}
+
+/// Folds a whole line, entry 0 first.
+#[inline(always)]
+pub fn fold_line(acc: u32, line: &[u32]) -> u32 {
+    line.iter().fold(acc, |a, &w| fold(a, w))
+}
+
+/// What a job gets to work with. Lives on the stack of the harness for the whole run.
+pub struct Ctx {
+    /// Scratch scanline: jobs write one row of results here, then checksum it (the shape a
+    /// renderer has: produce a span into a line buffer, hand the line on).
+    pub line: [u32; LINE],
+    /// The third lattice coordinate of the hash planes. Set at run time from an opaque value so
+    /// the compiler cannot precompute a job. The harness uses [`Ctx::PLANE_Z`].
+    pub z: u16,
+}
+
+impl Ctx {
+    /// The `z` coordinate every hash-plane job uses (the host test uses the same).
+    pub const PLANE_Z: u16 = 7;
+
+    /// A zeroed line and `z = PLANE_Z`, passed through `black_box`.
+    pub fn new() -> Self {
+        Ctx {
+            line: [0; LINE],
+            z: core::hint::black_box(Self::PLANE_Z),
+        }
+    }
+}
+
+/// The signature of a job: does its work on the context, returns the checksum.
+pub type JobFn = fn(&mut Ctx) -> u32;
+
+impl Default for Ctx {
+    fn default() -> Self {
+        Self::new()
+    }
+}
+
+/// One named workload.
+#[derive(Clone, Copy)]
+pub struct Job {
+    /// Stable name, reported to the host (no spaces).
+    pub name: &'static str,
+    /// The work; returns its checksum.
+    pub run: JobFn,
+}
+
+/// Every job the firmware runs, in order.
+pub static JOBS: &[Job] = &[
+    Job {
+        name: "int_hash_256x256",
+        run: int_hash_plane,
+    },
+    Job {
+        name: "lattice_value_int_256x256",
+        run: lattice_value_int_plane,
+    },
+    Job {
+        name: "hash61_256x256",
+        run: hash61_plane,
+    },
+    #[cfg(target_arch = "arm")]
+    Job {
+        name: "perm_hash_256x256",
+        run: perm_hash_plane,
+    },
+    #[cfg(target_arch = "arm")]
+    Job {
+        name: "lattice_value_perm_256x256",
+        run: lattice_value_perm_plane,
+    },
+    #[cfg(feature = "panic-never-canary")]
+    Job {
+        name: "panic_never_canary",
+        run: panic_never_canary,
+    },
+];
+
+/// A job with a bounds-checked index the optimiser cannot remove (only with feature
+/// `panic-never-canary`).
+#[cfg(feature = "panic-never-canary")]
+fn panic_never_canary(ctx: &mut Ctx) -> u32 {
+    let i = core::hint::black_box(LINE + 1);
+    ctx.line[i]
+}
+
+/// Fills each row `y in 0..256` of the plane `z` with `f(x, y, z)` for `x in 0..256`, folding
+/// each finished row (x ascending) into the checksum, rows in ascending `y`.
+#[inline(always)]
+fn plane(ctx: &mut Ctx, f: impl Fn(u16, u16, u16) -> u32) -> u32 {
+    let z = ctx.z;
+    let mut acc = FNV_OFFSET;
+    for y in 0..LINE as u16 {
+        for (x, px) in (0u16..).zip(ctx.line.iter_mut()) {
+            *px = f(x, y, z);
+        }
+        acc = fold_line(acc, &ctx.line);
+    }
+    acc
+}
+
+/// `int_hash(x, y, 7)` over the 256x256 plane: folds the 32-bit hash.
+pub fn int_hash_plane(ctx: &mut Ctx) -> u32 {
+    plane(ctx, int_hash)
+}
+
+/// `lattice_value(Integer, x, y, 7)` over the plane: folds the i16 value zero-extended from its
+/// 16-bit pattern (`v as u16 as u32`).
+pub fn lattice_value_int_plane(ctx: &mut Ctx) -> u32 {
+    plane(ctx, |x, y, z| {
+        u32::from(lattice_value(HashKind::Integer, x, y, z) as u16)
+    })
+}
+
+/// `hash61(x, y, 7)` (Olano's mod-61 hash, value in `0..61`) over the plane.
+pub fn hash61_plane(ctx: &mut Ctx) -> u32 {
+    plane(ctx, hash61)
+}
+
+/// `perm_hash(x, y, 7)` (256-byte permutation table) over the plane: folds the byte.
+#[cfg(target_arch = "arm")]
+pub fn perm_hash_plane(ctx: &mut Ctx) -> u32 {
+    plane(ctx, |x, y, z| u32::from(texcore::hash::perm_hash(x, y, z)))
+}
+
+/// `lattice_value(Permutation, x, y, 7)` over the plane, folded like
+/// [`lattice_value_int_plane`].
+#[cfg(target_arch = "arm")]
+pub fn lattice_value_perm_plane(ctx: &mut Ctx) -> u32 {
+    plane(ctx, |x, y, z| {
+        u32::from(lattice_value(HashKind::Permutation, x, y, z) as u16)
+    })
+}

@@ -1,0 +1,162 @@
+//! Runs the device firmware under QEMU on both targets (through `host_sim::device`) and checks:
+//! - every job's checksum equals the same computation done here on the host with the same
+//!   texcore functions (the firmware's `jobs` module documents each job's definition);
+//! - the firmware's own checks passed (counter self-test, two runs per job in one boot agree);
+//! - instruction counts are exactly repeatable across two separate QEMU runs.
+//!
+//! When QEMU is not installed the test fails if `CI` is set, and otherwise prints a skip message
+//! and returns. Install QEMU with `.ci/install-qemu.sh`.
+
+use host_sim::device::{self, DeviceError, DeviceRun, DeviceTarget, RunOptions};
+use std::time::Duration;
+use texcore::hash::{hash61, int_hash, lattice_value, perm_hash, HashKind};
+
+const FNV_OFFSET: u32 = 0x811C_9DC5;
+const FNV_PRIME: u32 = 0x0100_0193;
+/// The firmware's `Ctx::PLANE_Z`.
+const PLANE_Z: u16 = 7;
+
+/// FNV-1a over 32-bit words of `f(x, y, PLANE_Z)`, x fastest, over the 256x256 plane.
+fn plane(f: impl Fn(u16, u16, u16) -> u32) -> u32 {
+    let mut acc = FNV_OFFSET;
+    for y in 0..256u16 {
+        for x in 0..256u16 {
+            acc = (acc ^ f(x, y, PLANE_Z)).wrapping_mul(FNV_PRIME);
+        }
+    }
+    acc
+}
+
+/// Host computation of each job, by name.
+fn host_checksum(name: &str) -> Option<u32> {
+    Some(match name {
+        "int_hash_256x256" => plane(int_hash),
+        "lattice_value_int_256x256" => {
+            plane(|x, y, z| u32::from(lattice_value(HashKind::Integer, x, y, z) as u16))
+        }
+        "hash61_256x256" => plane(hash61),
+        "perm_hash_256x256" => plane(|x, y, z| u32::from(perm_hash(x, y, z))),
+        "lattice_value_perm_256x256" => {
+            plane(|x, y, z| u32::from(lattice_value(HashKind::Permutation, x, y, z) as u16))
+        }
+        _ => return None,
+    })
+}
+
+/// The jobs each target must run (the RISC-V build is table-free).
+fn expected_jobs(target: DeviceTarget) -> &'static [&'static str] {
+    match target {
+        DeviceTarget::CortexM4F => &[
+            "int_hash_256x256",
+            "lattice_value_int_256x256",
+            "hash61_256x256",
+            "perm_hash_256x256",
+            "lattice_value_perm_256x256",
+        ],
+        DeviceTarget::Riscv32imc => &[
+            "int_hash_256x256",
+            "lattice_value_int_256x256",
+            "hash61_256x256",
+        ],
+    }
+}
+
+/// `false` (after printing why) when QEMU is missing and we are not in CI.
+fn qemu_or_skip(target: DeviceTarget) -> bool {
+    match device::check_qemu(target) {
+        Ok(_) => true,
+        Err(e) if std::env::var_os("CI").is_some() => {
+            panic!("CI is set and QEMU is required: {e}")
+        }
+        Err(e) => {
+            // Straight to stderr, past libtest's output capture, so the skip is always visible.
+            let msg = format!(
+                "\nSKIPPED firmware_qemu for {target}: {e} (with CI set this is an error)\n"
+            );
+            let _ = std::io::Write::write_all(&mut std::io::stderr(), msg.as_bytes());
+            false
+        }
+    }
+}
+
+fn run_twice(target: DeviceTarget) -> (DeviceRun, DeviceRun) {
+    let opts = RunOptions::default();
+    let elf = device::build_firmware(target, &opts).unwrap_or_else(|e| panic!("{e}"));
+    let a = device::run_elf(target, &elf, opts.timeout).unwrap_or_else(|e| panic!("{e}"));
+    let b = device::run_elf(target, &elf, opts.timeout).unwrap_or_else(|e| panic!("{e}"));
+    (a, b)
+}
+
+fn check(target: DeviceTarget) {
+    if !qemu_or_skip(target) {
+        return;
+    }
+    let (a, b) = run_twice(target);
+    for line in &a.log {
+        eprintln!("{target}: {line}");
+    }
+    eprintln!(
+        "{target}: counter={} overhead={} {}",
+        a.counter, a.overhead, a.unit
+    );
+    assert_eq!(a.reported_target, target.triple());
+    assert_eq!(a.unit, "instructions");
+    assert!(a.pass(), "{}", a.log.join("\n"));
+    assert!(!a.selftests.is_empty());
+
+    let names: Vec<&str> = a.jobs.iter().map(|j| j.name.as_str()).collect();
+    assert_eq!(names, expected_jobs(target), "job list of {target}");
+
+    for job in &a.jobs {
+        let want = host_checksum(&job.name)
+            .unwrap_or_else(|| panic!("no host computation for job {}", job.name));
+        eprintln!(
+            "{target}: {:<28} checksum {:#010x} {:>10} instructions",
+            job.name, job.checksum, job.instructions
+        );
+        assert_eq!(
+            job.checksum, want,
+            "{target} {}: device {:#010x} host {want:#010x}",
+            job.name, job.checksum
+        );
+        assert_eq!(job.instructions, job.repeat, "{target} {}", job.name);
+        // At least one instruction per value of the 65536-point plane.
+        assert!(job.instructions > 65_536, "{target} {}", job.name);
+    }
+
+    // Exactly repeatable across separate QEMU runs.
+    assert_eq!(a.overhead, b.overhead, "{target} overhead");
+    assert_eq!(a.selftests, b.selftests, "{target} self-tests");
+    let counts = |r: &DeviceRun| -> Vec<(String, u32, u64)> {
+        r.jobs
+            .iter()
+            .map(|j| (j.name.clone(), j.checksum, j.instructions))
+            .collect()
+    };
+    assert_eq!(counts(&a), counts(&b), "{target}: second run differs");
+}
+
+#[test]
+fn cortex_m4f_matches_host_and_repeats() {
+    check(DeviceTarget::CortexM4F);
+}
+
+#[test]
+fn riscv32imc_matches_host_and_repeats() {
+    check(DeviceTarget::Riscv32imc);
+}
+
+/// A run that exceeds its timeout is killed and reported as an error, not a hang or a panic.
+#[test]
+fn timeout_is_reported() {
+    let target = DeviceTarget::Riscv32imc;
+    if !qemu_or_skip(target) {
+        return;
+    }
+    let elf =
+        device::build_firmware(target, &RunOptions::default()).unwrap_or_else(|e| panic!("{e}"));
+    match device::run_elf(target, &elf, Duration::from_millis(1)) {
+        Err(DeviceError::Timeout { .. }) => {}
+        other => panic!("expected a timeout, got {other:?}"),
+    }
+}
