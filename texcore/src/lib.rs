@@ -31,6 +31,8 @@ pub mod noise;
 pub mod presets;
 pub mod quadric;
 pub mod raster;
+pub mod render;
+pub mod sink;
 pub mod span;
 pub mod table;
 pub mod texture;

@@ -341,8 +341,9 @@ pub enum CullMode {
     CounterClockwise,
 }
 
-/// Per-triangle (per-object) drawing options.
-#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]
+/// Per-triangle (per-object) drawing options. The default is [`TriangleOptions::new`] with the
+/// default perspective mode: no culling, depth test `Less` with writes.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
 #[cfg_attr(feature = "defmt", derive(defmt::Format))]
 pub struct TriangleOptions {
     /// Texture coordinate interpolation.
@@ -353,6 +354,12 @@ pub struct TriangleOptions {
     pub depth_func: DepthFunc,
     /// Whether passing pixels write their depth (only with a depth buffer).
     pub depth_write: bool,
+}
+
+impl Default for TriangleOptions {
+    fn default() -> Self {
+        TriangleOptions::new(Perspective::default())
+    }
 }
 
 impl TriangleOptions {

@@ -1,0 +1,312 @@
+//! Pixel sinks: where rendered rows go.
+//!
+//! [`PixelSink`] has one required method, [`PixelSink::write_span`] (a run of pixels of one row),
+//! and an overridable fast path, [`PixelSink::fill_span`] (a run of one colour), in the manner of
+//! `embedded_graphics::DrawTarget::fill_contiguous`. Implementations:
+//! - [`RgbaBuffer`]: an RGBA8888 buffer over a caller-owned slice (a whole frame, or a band);
+//! - [`Rgb565Buffer`]: an RGB565 buffer over a caller-owned `u16` slice;
+//! - [`DrawTargetSink`] (feature `embedded-graphics`): one `fill_contiguous` per span, so a display
+//!   driver receives whole rows.
+//!
+//! Guarantees: sinks clip every write to their rectangle and never panic, whatever the
+//! coordinates.
+
+use crate::color::Rgba8888;
+
+/// A destination for rows of pixels.
+pub trait PixelSink {
+    /// Writes `colors` to pixels `x .. x + colors.len()` of row `y`.
+    fn write_span(&mut self, x: u16, y: u16, colors: &[Rgba8888]);
+
+    /// Fills `len` pixels of row `y` from `x` with one colour. The default writes chunks through
+    /// [`PixelSink::write_span`].
+    fn fill_span(&mut self, x: u16, y: u16, len: u16, color: Rgba8888) {
+        let chunk = [color; 32];
+        let mut done = 0u16;
+        while done < len {
+            let n = (len - done).min(32);
+            self.write_span(x.saturating_add(done), y, &chunk[..usize::from(n)]);
+            done += n;
+        }
+    }
+}
+
+/// The part of `[x, x + n)` inside `[0, width)`: (first pixel, offset into the input, count).
+#[inline]
+fn clip_run(x: u16, n: usize, width: u16) -> Option<(usize, usize, usize)> {
+    let x = usize::from(x);
+    let w = usize::from(width);
+    if x >= w || n == 0 {
+        return None;
+    }
+    Some((x, 0, n.min(w - x)))
+}
+
+/// An RGBA8888 image over a caller-owned slice: rows `y0 .. y0 + height` of a `width`-pixel image
+/// (a full frame with `y0 = 0`, or one band).
+#[derive(Debug)]
+pub struct RgbaBuffer<'a> {
+    data: &'a mut [Rgba8888],
+    width: u16,
+    y0: u16,
+    height: u16,
+}
+
+impl<'a> RgbaBuffer<'a> {
+    /// A buffer of `width x height` pixels for rows starting at `y0`; `None` if the slice is too
+    /// small.
+    pub fn new(data: &'a mut [Rgba8888], width: u16, y0: u16, height: u16) -> Option<Self> {
+        if data.len() < usize::from(width) * usize::from(height) {
+            return None;
+        }
+        Some(RgbaBuffer {
+            data,
+            width,
+            y0,
+            height,
+        })
+    }
+
+    /// Width in pixels.
+    pub fn width(&self) -> u16 {
+        self.width
+    }
+
+    /// First row.
+    pub fn y0(&self) -> u16 {
+        self.y0
+    }
+
+    /// Number of rows.
+    pub fn height(&self) -> u16 {
+        self.height
+    }
+
+    /// Moves the buffer to rows `y0 .. y0 + height` (band rendering); the contents are kept.
+    pub fn set_y0(&mut self, y0: u16) {
+        self.y0 = y0;
+    }
+
+    /// The pixels of row `y` (absolute), if inside.
+    pub fn row(&self, y: u16) -> Option<&[Rgba8888]> {
+        let r = usize::from(y.checked_sub(self.y0)?);
+        if r >= usize::from(self.height) {
+            return None;
+        }
+        let w = usize::from(self.width);
+        self.data.get(r * w..(r + 1) * w)
+    }
+
+    /// Mutable pixels of row `y` (absolute), if inside.
+    pub fn row_mut(&mut self, y: u16) -> Option<&mut [Rgba8888]> {
+        let r = usize::from(y.checked_sub(self.y0)?);
+        if r >= usize::from(self.height) {
+            return None;
+        }
+        let w = usize::from(self.width);
+        self.data.get_mut(r * w..(r + 1) * w)
+    }
+
+    /// Fills every pixel.
+    pub fn clear(&mut self, c: Rgba8888) {
+        let n = usize::from(self.width) * usize::from(self.height);
+        for p in self.data.iter_mut().take(n) {
+            *p = c;
+        }
+    }
+
+    /// Composites `colors` over pixels `x ..` of row `y` (alpha "over").
+    pub fn blend_span(&mut self, x: u16, y: u16, colors: &[Rgba8888]) {
+        let width = self.width;
+        if let (Some(row), Some((x0, off, n))) = (self.row_mut(y), clip_run(x, colors.len(), width))
+        {
+            for (d, s) in row[x0..x0 + n].iter_mut().zip(&colors[off..off + n]) {
+                *d = crate::color::over(*s, *d);
+            }
+        }
+    }
+}
+
+impl PixelSink for RgbaBuffer<'_> {
+    fn write_span(&mut self, x: u16, y: u16, colors: &[Rgba8888]) {
+        let width = self.width;
+        if let (Some(row), Some((x0, off, n))) = (self.row_mut(y), clip_run(x, colors.len(), width))
+        {
+            row[x0..x0 + n].copy_from_slice(&colors[off..off + n]);
+        }
+    }
+
+    fn fill_span(&mut self, x: u16, y: u16, len: u16, color: Rgba8888) {
+        let width = self.width;
+        if let (Some(row), Some((x0, _, n))) =
+            (self.row_mut(y), clip_run(x, usize::from(len), width))
+        {
+            for p in &mut row[x0..x0 + n] {
+                *p = color;
+            }
+        }
+    }
+}
+
+/// An RGB565 image (display format) over a caller-owned slice, rows `y0 .. y0 + height`.
+#[derive(Debug)]
+pub struct Rgb565Buffer<'a> {
+    data: &'a mut [u16],
+    width: u16,
+    y0: u16,
+    height: u16,
+}
+
+impl<'a> Rgb565Buffer<'a> {
+    /// A buffer of `width x height` pixels for rows from `y0`; `None` if the slice is too small.
+    pub fn new(data: &'a mut [u16], width: u16, y0: u16, height: u16) -> Option<Self> {
+        if data.len() < usize::from(width) * usize::from(height) {
+            return None;
+        }
+        Some(Rgb565Buffer {
+            data,
+            width,
+            y0,
+            height,
+        })
+    }
+
+    /// Moves the buffer to rows from `y0`.
+    pub fn set_y0(&mut self, y0: u16) {
+        self.y0 = y0;
+    }
+
+    fn row_mut(&mut self, y: u16) -> Option<&mut [u16]> {
+        let r = usize::from(y.checked_sub(self.y0)?);
+        if r >= usize::from(self.height) {
+            return None;
+        }
+        let w = usize::from(self.width);
+        self.data.get_mut(r * w..(r + 1) * w)
+    }
+}
+
+impl PixelSink for Rgb565Buffer<'_> {
+    fn write_span(&mut self, x: u16, y: u16, colors: &[Rgba8888]) {
+        let width = self.width;
+        if let (Some(row), Some((x0, off, n))) = (self.row_mut(y), clip_run(x, colors.len(), width))
+        {
+            for (d, s) in row[x0..x0 + n].iter_mut().zip(&colors[off..off + n]) {
+                *d = s.to_rgb565().to_bits();
+            }
+        }
+    }
+}
+
+/// An `embedded_graphics` draw target as a sink: every span becomes one `fill_contiguous` call of
+/// RGB565 pixels (one call per row run, which display drivers stream as a window write).
+#[cfg(feature = "embedded-graphics")]
+#[derive(Debug)]
+pub struct DrawTargetSink<'d, D> {
+    target: &'d mut D,
+    error: bool,
+}
+
+#[cfg(feature = "embedded-graphics")]
+impl<'d, D> DrawTargetSink<'d, D>
+where
+    D: embedded_graphics_core::draw_target::DrawTarget<
+        Color = embedded_graphics_core::pixelcolor::Rgb565,
+    >,
+{
+    /// Wraps a draw target.
+    pub fn new(target: &'d mut D) -> Self {
+        DrawTargetSink {
+            target,
+            error: false,
+        }
+    }
+
+    /// Whether any draw call returned an error.
+    pub fn had_error(&self) -> bool {
+        self.error
+    }
+}
+
+#[cfg(feature = "embedded-graphics")]
+impl<D> PixelSink for DrawTargetSink<'_, D>
+where
+    D: embedded_graphics_core::draw_target::DrawTarget<
+        Color = embedded_graphics_core::pixelcolor::Rgb565,
+    >,
+{
+    fn write_span(&mut self, x: u16, y: u16, colors: &[Rgba8888]) {
+        use embedded_graphics_core::geometry::{Point, Size};
+        use embedded_graphics_core::primitives::Rectangle;
+        let n = colors.len().min(usize::from(u16::MAX)) as u32;
+        let area = Rectangle::new(Point::new(i32::from(x), i32::from(y)), Size::new(n, 1));
+        let pixels = colors
+            .iter()
+            .map(|c| embedded_graphics_core::pixelcolor::Rgb565::from(c.to_rgb565()));
+        if self.target.fill_contiguous(&area, pixels).is_err() {
+            self.error = true;
+        }
+    }
+
+    fn fill_span(&mut self, x: u16, y: u16, len: u16, color: Rgba8888) {
+        use embedded_graphics_core::geometry::{Point, Size};
+        use embedded_graphics_core::primitives::Rectangle;
+        let area = Rectangle::new(
+            Point::new(i32::from(x), i32::from(y)),
+            Size::new(u32::from(len), 1),
+        );
+        let c = embedded_graphics_core::pixelcolor::Rgb565::from(color.to_rgb565());
+        if self.target.fill_solid(&area, c).is_err() {
+            self.error = true;
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn rgba_buffer_clips_and_bands() {
+        let mut data = [Rgba8888::BLACK; 8 * 2];
+        let mut b = RgbaBuffer::new(&mut data, 8, 10, 2).unwrap();
+        let red = Rgba8888::new(255, 0, 0, 255);
+        b.write_span(6, 10, &[red; 5]); // clipped to 2 pixels
+        b.write_span(0, 9, &[red; 3]); // above the band: ignored
+        b.write_span(0, 12, &[red; 3]); // below: ignored
+        b.fill_span(65535, 11, 65535, red); // far right: ignored
+        b.fill_span(1, 11, 2, red);
+        let row10 = b.row(10).unwrap();
+        assert_eq!(row10[5], Rgba8888::BLACK);
+        assert_eq!(row10[6], red);
+        assert_eq!(row10[7], red);
+        let row11 = b.row(11).unwrap();
+        assert_eq!(&row11[..4], &[Rgba8888::BLACK, red, red, Rgba8888::BLACK]);
+        assert!(RgbaBuffer::new(&mut [Rgba8888::BLACK; 3], 2, 0, 2).is_none());
+    }
+
+    #[test]
+    fn blending_over() {
+        let mut data = [Rgba8888::new(0, 0, 255, 255); 4];
+        let mut b = RgbaBuffer::new(&mut data, 4, 0, 1).unwrap();
+        b.blend_span(
+            1,
+            0,
+            &[
+                Rgba8888::new(255, 255, 255, 0),
+                Rgba8888::new(255, 255, 255, 255),
+            ],
+        );
+        let r = b.row(0).unwrap();
+        assert_eq!(r[1], Rgba8888::new(0, 0, 255, 255));
+        assert_eq!(r[2], Rgba8888::new(255, 255, 255, 255));
+    }
+
+    #[test]
+    fn rgb565_buffer() {
+        let mut data = [0u16; 4];
+        let mut b = Rgb565Buffer::new(&mut data, 4, 0, 1).unwrap();
+        b.fill_span(1, 0, 2, Rgba8888::WHITE);
+        assert_eq!(data, [0, 0xFFFF, 0xFFFF, 0]);
+    }
+}
