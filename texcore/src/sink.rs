@@ -5,6 +5,7 @@
 //! `embedded_graphics::DrawTarget::fill_contiguous`. Implementations:
 //! - [`RgbaBuffer`]: an RGBA8888 buffer over a caller-owned slice (a whole frame, or a band);
 //! - [`Rgb565Buffer`]: an RGB565 buffer over a caller-owned `u16` slice;
+//! - [`ChecksumSink`]: only a checksum, for comparing device and host renders;
 //! - [`DrawTargetSink`] (feature `embedded-graphics`): one `fill_contiguous` per span, so a display
 //!   driver receives whole rows.
 //!
@@ -262,9 +263,77 @@ where
     }
 }
 
+/// A sink that keeps only a checksum of the image: FNV-1a (32 bit) over the RGB565 pixels
+/// (little-endian bytes) in the order they arrive. Rendering writes every row once, top to bottom
+/// (banded) or object by object (streamed), so compare checksums of the same render path; the
+/// device and the host use this same sink, so their checksums of a scene must be equal.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct ChecksumSink {
+    hash: u32,
+    pixels: u64,
+}
+
+impl Default for ChecksumSink {
+    fn default() -> Self {
+        ChecksumSink {
+            hash: 0x811C_9DC5,
+            pixels: 0,
+        }
+    }
+}
+
+impl ChecksumSink {
+    /// A fresh checksum.
+    pub fn new() -> Self {
+        Self::default()
+    }
+
+    /// The checksum so far.
+    pub fn checksum(&self) -> u32 {
+        self.hash
+    }
+
+    /// Pixels seen.
+    pub fn pixels(&self) -> u64 {
+        self.pixels
+    }
+
+    /// Adds one RGB565 pixel.
+    #[inline]
+    pub fn add_rgb565(&mut self, p: u16) {
+        for b in p.to_le_bytes() {
+            self.hash ^= u32::from(b);
+            self.hash = self.hash.wrapping_mul(0x0100_0193);
+        }
+        self.pixels += 1;
+    }
+}
+
+impl PixelSink for ChecksumSink {
+    fn write_span(&mut self, _x: u16, _y: u16, colors: &[Rgba8888]) {
+        for c in colors {
+            self.add_rgb565(c.to_rgb565().to_bits());
+        }
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn checksum_is_fnv1a_of_rgb565_bytes() {
+        let mut c = ChecksumSink::new();
+        c.write_span(0, 0, &[Rgba8888::WHITE, Rgba8888::BLACK]);
+        // FNV-1a of [ff, ff, 00, 00]
+        let mut h: u32 = 0x811C_9DC5;
+        for b in [0xFFu8, 0xFF, 0, 0] {
+            h ^= u32::from(b);
+            h = h.wrapping_mul(0x0100_0193);
+        }
+        assert_eq!(c.checksum(), h);
+        assert_eq!(c.pixels(), 2);
+    }
 
     #[test]
     fn rgba_buffer_clips_and_bands() {
