@@ -5,5 +5,6 @@ pub mod bridge;
 pub mod cli;
 pub mod device;
 pub mod metrics;
+pub mod output;
 pub mod reference;
 pub mod unit;
