@@ -59,7 +59,10 @@ where
         .parent()
         .filter(|p| !p.as_os_str().is_empty())
         .unwrap_or(Path::new("."));
-    let name = path.file_name().map(|n| n.to_string_lossy().into_owned()).unwrap_or_default();
+    let name = path
+        .file_name()
+        .map(|n| n.to_string_lossy().into_owned())
+        .unwrap_or_default();
     let tmp = dir.join(format!(".{name}.{}.tmp", std::process::id()));
     let result = (|| {
         let f = File::create(&tmp).map_err(io(&tmp))?;
@@ -138,12 +141,13 @@ pub fn write_animation(path: &Path, frames: &[Frame], delay_ms: u16) -> Result<(
             let mut g = GifEncoder::new_with_speed(w, 10);
             g.set_repeat(Repeat::Infinite).map_err(enc(path))?;
             for f in frames {
-                let buf = image::RgbaImage::from_raw(f.width, f.height, f.bytes()).ok_or_else(|| {
-                    OutputError::Encode {
-                        path: path.to_path_buf(),
-                        message: "frame size mismatch".into(),
-                    }
-                })?;
+                let buf =
+                    image::RgbaImage::from_raw(f.width, f.height, f.bytes()).ok_or_else(|| {
+                        OutputError::Encode {
+                            path: path.to_path_buf(),
+                            message: "frame size mismatch".into(),
+                        }
+                    })?;
                 let delay = image::Delay::from_numer_denom_ms(u32::from(delay_ms), 1);
                 g.encode_frame(image::Frame::from_parts(buf, 0, 0, delay))
                     .map_err(enc(path))?;
@@ -185,7 +189,10 @@ mod tests {
             })
         });
         assert!(r.is_err());
-        assert_eq!(image::open(&p).unwrap().to_rgba8().get_pixel(0, 0).0, [10, 245, 7, 255]);
+        assert_eq!(
+            image::open(&p).unwrap().to_rgba8().get_pixel(0, 0).0,
+            [10, 245, 7, 255]
+        );
         let leftovers: Vec<_> = std::fs::read_dir(&dir)
             .unwrap()
             .filter_map(|e| e.ok())
@@ -196,7 +203,9 @@ mod tests {
         let frames = [frame(0), frame(100), frame(200)];
         write_animation(&dir.join("a.gif"), &frames, 40).unwrap();
         write_animation(&dir.join("b.png"), &frames, 40).unwrap();
-        let dec = png::Decoder::new(std::io::BufReader::new(File::open(dir.join("b.png")).unwrap()));
+        let dec = png::Decoder::new(std::io::BufReader::new(
+            File::open(dir.join("b.png")).unwrap(),
+        ));
         let reader = dec.read_info().unwrap();
         assert_eq!(reader.info().animation_control().unwrap().num_frames, 3);
         assert!(matches!(
