@@ -31,6 +31,7 @@ pub mod noise;
 pub mod presets;
 pub mod quadric;
 pub mod raster;
+pub mod scene;
 pub mod span;
 pub mod table;
 pub mod texture;
