@@ -33,6 +33,7 @@ pub mod quadric;
 pub mod raster;
 pub mod render;
 pub mod sink;
+pub mod scene;
 pub mod span;
 pub mod table;
 pub mod texture;
