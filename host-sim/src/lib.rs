@@ -7,4 +7,6 @@ pub mod device;
 pub mod metrics;
 pub mod output;
 pub mod reference;
+pub mod scenefile;
+pub mod scenes;
 pub mod unit;
