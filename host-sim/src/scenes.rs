@@ -174,9 +174,9 @@ impl From<&RenderStats> for StatsReport {
             plain_lookups: s.shade.plain_lookups,
             blended_pixels: s.blended_pixels,
             triangles: u64::from(s.raster.triangles),
-            segments: u64::from(s.raster.segments),
-            perspective_divides: u64::from(s.raster.divides),
-            depth_failed: u64::from(s.raster.depth_failed),
+            segments: s.raster.segments,
+            perspective_divides: s.raster.divides,
+            depth_failed: s.raster.depth_failed,
             bands: s.bands,
         }
     }
