@@ -221,6 +221,10 @@ impl KnobArgs {
 pub struct CheckArgs {
     /// Preset name (see `texsim presets`), built-in scene name or scene file.
     pub name: String,
+    /// Check the scene of that name even when a preset has the same name (`wood`, `marble`,
+    /// `fire`, `planet`, `zoneplate` are both).
+    #[arg(long)]
+    pub scene: bool,
     /// Animation frame of a scene (default: its still frame).
     #[arg(long)]
     pub frame: Option<u32>,
@@ -452,7 +456,12 @@ fn gallery(a: &GalleryArgs) -> ExitCode {
 
 fn check(a: &CheckArgs) -> ExitCode {
     let cfg = a.knobs.config();
-    let report = match unit::preset_material(&a.name, a.knobs.hash()) {
+    let preset = if a.scene {
+        Err(unit::UnitError::UnknownPreset(a.name.clone()))
+    } else {
+        unit::preset_material(&a.name, a.knobs.hash())
+    };
+    let report = match preset {
         Ok(material) => match unit::check_material(&material, &cfg, a.size) {
             Ok(r) => r,
             Err(e) => return bad_input(e),
