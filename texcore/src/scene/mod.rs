@@ -40,6 +40,8 @@ pub mod camera;
 pub mod math;
 pub mod mesh;
 pub mod teapot;
+#[cfg(test)]
+mod tests;
 
 pub use builtin::{by_name, BUILTIN};
 pub use camera::{focal_from_fov, Camera, Projection, View};
