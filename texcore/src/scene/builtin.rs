@@ -153,8 +153,8 @@ pub fn marble() -> Scene {
     let mut s = Scene::new(
         "marble",
         camera(
-            Vec3::milli(3900, 2900, 6600),
-            Vec3::milli(0, -150, 0),
+            Vec3::milli(4700, 3100, 8000),
+            Vec3::milli(0, -250, 0),
             40,
             milli(500),
             units(60),

@@ -265,6 +265,31 @@ impl Scene {
         s.for_each_triangle_static(&mut f)
     }
 
+    /// A 32-bit FNV-1a checksum of every screen triangle of frame `frame` (object index, then
+    /// each vertex's `x`, `y`, `z`, `inv_w` and texture coordinates as raw little-endian bits):
+    /// equal on every target for the same scene, so a device can be checked against the host.
+    pub fn checksum(&self, frame: u32) -> u32 {
+        let mut h: u32 = 0x811C_9DC5;
+        let mut eat = |bytes: &[u8]| {
+            for &b in bytes {
+                h = (h ^ b as u32).wrapping_mul(0x0100_0193);
+            }
+        };
+        self.for_each_triangle(frame, |o, t| {
+            eat(&(o as u32).to_le_bytes());
+            for v in t {
+                eat(&v.x.to_bits().to_le_bytes());
+                eat(&v.y.to_bits().to_le_bytes());
+                eat(&v.z.to_le_bytes());
+                eat(&v.inv_w.to_bits().to_le_bytes());
+                for c in v.tex.to_bits() {
+                    eat(&c.to_le_bytes());
+                }
+            }
+        });
+        h
+    }
+
     /// [`Scene::for_each_triangle`] for the scene exactly as it is (no animation applied).
     pub fn for_each_triangle_static<F: FnMut(usize, &[ScreenVertex; 3])>(
         &self,

@@ -256,9 +256,22 @@ fn horizon_plane_stays_in_guard_band() {
         );
         let mut s = Scene::new("plane", cam);
         s.add_slot(TextureSlot::preset("water"));
-        let mut o = Object::new(Mesh::Plane {
-            half_size: units(16_000),
-            rings: 12,
+        // Alternately a geometric grid and one single quad 32000 units wide.
+        let mut o = Object::new(if i % 2 == 0 {
+            Mesh::Plane {
+                half_size: units(16_000),
+                rings: 12,
+            }
+        } else {
+            let e = units(16_000);
+            Mesh::Quad {
+                corners: [
+                    Vec3::new(-e, 0, e),
+                    Vec3::new(e, 0, e),
+                    Vec3::new(e, 0, -e),
+                    Vec3::new(-e, 0, -e),
+                ],
+            }
         });
         o.tex_map = crate::transform::Affine3::IDENTITY;
         s.add(o);
@@ -562,3 +575,102 @@ fn degenerate_inputs_do_not_panic() {
     let (tris, _) = collect(&s, 0);
     assert!(tris.iter().all(|(_, t)| in_guard_band(t)));
 }
+
+/// Perspective-correct texture coordinates on the sea plane: at pixel centres the rasterized
+/// coordinates (exact perspective mode) match an f64 ray cast through the same camera to the
+/// plane `y = 0`, mapped by the same texture mapping.
+#[test]
+fn sea_texture_coordinates_match_ray_cast() {
+    let mut s = by_name("seascape").unwrap();
+    s.objects[1].perspective = Perspective::Exact;
+    let cam = s.camera;
+    let f = |v: Vec3| v.to_array().map(|c| c as f64 / 65536.0);
+    let (eye, target) = (f(cam.eye), f(cam.target));
+    let sub = |a: [f64; 3], b: [f64; 3]| [a[0] - b[0], a[1] - b[1], a[2] - b[2]];
+    let norm = |a: [f64; 3]| {
+        let l = (a[0] * a[0] + a[1] * a[1] + a[2] * a[2]).sqrt();
+        a.map(|c| c / l)
+    };
+    let cross = |a: [f64; 3], b: [f64; 3]| {
+        [
+            a[1] * b[2] - a[2] * b[1],
+            a[2] * b[0] - a[0] * b[2],
+            a[0] * b[1] - a[1] * b[0],
+        ]
+    };
+    let fw = norm(sub(target, eye));
+    let rt = norm(cross(fw, [0.0, 1.0, 0.0]));
+    let up = cross(rt, fw);
+    let Projection::Perspective { focal } = cam.projection else {
+        panic!()
+    };
+    let k = focal as f64 / 65536.0 * 120.0;
+    let m = s.objects[1]
+        .tex_map
+        .matrix()
+        .map(|r| r.map(|e| e.to_num::<f64>()));
+    let t = s.objects[1]
+        .tex_map
+        .translation()
+        .map(|e| e.to_num::<f64>());
+    let (tris, _) = collect(&s, 0);
+    let mut rast = Rasterizer::new(Rect::from_size(320, 240));
+    let mut checked = 0;
+    for (o, tri) in &tris {
+        if *o != 1 {
+            continue;
+        }
+        rast.draw(tri, &s.objects[1].options(), &mut |seg: &Segment| {
+            if seg.y < 150 || seg.x0 % 7 != 0 {
+                return; // well below the horizon, a sample of pixels
+            }
+            let (px, py) = (seg.x0 as f64 + 0.5, seg.y as f64 + 0.5);
+            let (a, b) = ((px - 160.0) / k, (120.0 - py) / k);
+            let d = [0, 1, 2].map(|i| fw[i] + a * rt[i] + b * up[i]);
+            let l = -eye[1] / d[1];
+            let p = [eye[0] + l * d[0], 0.0, eye[2] + l * d[2]];
+            let ex = [0, 1, 2].map(|i| m[i][0] * p[0] + m[i][1] * p[1] + m[i][2] * p[2] + t[i]);
+            let got = seg.s_at(0).map(|c| c as f64 / 65536.0);
+            // Tolerance: a sixteenth of a pixel's worth of texture change, plus rounding.
+            let step = [seg.ds.s, seg.ds.t, seg.ds.r].map(|c| c.to_num::<f64>().abs());
+            let stepy = [seg.dsdy.s, seg.dsdy.t, seg.dsdy.r].map(|c| c.to_num::<f64>().abs());
+            for i in 0..3 {
+                let tol = (step[i] + stepy[i]) / 16.0 + 1e-4 * (1.0 + ex[i].abs());
+                assert!(
+                    (got[i] - ex[i]).abs() <= tol,
+                    "pixel ({px}, {py}) comp {i}: {} vs {} (tol {tol})",
+                    got[i],
+                    ex[i]
+                );
+            }
+            checked += 1;
+        });
+    }
+    assert!(checked > 500, "{checked}");
+}
+
+/// Golden checksums of the built-in scenes' triangles: integer arithmetic only, so these are the
+/// values on every target (a device running the same scenes must reproduce them).
+#[test]
+fn golden_checksums() {
+    let got: Vec<(&str, u32)> = BUILTIN
+        .iter()
+        .map(|&n| {
+            let s = by_name(n).unwrap();
+            (n, s.checksum(s.still))
+        })
+        .collect();
+    let expect: [(&str, u32); 8] = GOLDEN;
+    assert_eq!(got, expect);
+}
+
+const GOLDEN: [(&str, u32); 8] = [
+    ("wood", 0xCE8E_14CC),
+    ("marble", 0x10D7_EF39),
+    ("seascape", 0x85CD_F1AB),
+    ("fire", 0x3A23_1730),
+    ("planet", 0x1ED3_6ED0),
+    ("moonrise", 0xD1A7_6EAD),
+    ("zoneplate", 0xF597_B0E9),
+    ("torus", 0xCF06_1DD8),
+];
