@@ -574,6 +574,39 @@ fn degenerate_inputs_do_not_panic() {
     s.camera.projection = Projection::Orthographic { half_height: 1 };
     let (tris, _) = collect(&s, 0);
     assert!(tris.iter().all(|(_, t)| in_guard_band(t)));
+    // Extreme cameras and objects at the ends of the world range.
+    for (eye, target, up) in [
+        (
+            Vec3::new(i32::MIN, i32::MIN, i32::MIN),
+            Vec3::new(i32::MAX, i32::MAX, i32::MAX),
+            Vec3::Y,
+        ),
+        (
+            Vec3::new(i32::MAX, 0, 0),
+            Vec3::new(i32::MIN, 1, 0),
+            Vec3::new(0, i32::MIN, 1),
+        ),
+        (Vec3::ZERO, Vec3::new(0, 0, -1), Vec3::new(1, 1, 1)),
+    ] {
+        for name in ["moonrise", "marble", "zoneplate"] {
+            let mut s = by_name(name).unwrap();
+            s.camera.eye = eye;
+            s.camera.target = target;
+            s.camera.up = up;
+            s.camera.near = 1;
+            s.camera.far = i32::MAX;
+            for o in s.objects.iter_mut() {
+                o.transform.t = [i32::MAX, i32::MIN, i32::MAX];
+            }
+            let (tris, _) = collect(&s, 0);
+            assert!(tris.iter().all(|(_, t)| in_guard_band(t)));
+            s.camera.projection = Projection::Orthographic {
+                half_height: i32::MAX,
+            };
+            let (tris, _) = collect(&s, 0);
+            assert!(tris.iter().all(|(_, t)| in_guard_band(t)));
+        }
+    }
 }
 
 /// Perspective-correct texture coordinates on the sea plane: at pixel centres the rasterized
