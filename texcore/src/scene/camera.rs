@@ -8,11 +8,12 @@
 //! down, pixel `(x, y)` covering `[x, x + 1) x [y, y + 1)`, and the image centre at
 //! `(width / 2, height / 2)`.
 //!
-//! # Projection (all integer, rounded to nearest once)
+//! # Projection (all integer; the exact arithmetic is documented on [`View::project`])
 //!
 //! - Perspective with focal factor `f = cot(fovy / 2)` and focal length in pixels
 //!   `K = f height / 2`: `x_s = width / 2 + K x / z`, `y_s = height / 2 - K y / z`, in
-//!   `I28F4` (1/16 pixel).
+//!   `I28F4` (1/16 pixel), within 0.57/16 pixel of the exact value (one reciprocal of `z` per
+//!   vertex).
 //! - Orthographic with half view height `h`: `x_s = width / 2 + (height / 2) x / h`,
 //!   `y_s = height / 2 - (height / 2) y / h`.
 //! - Depth: perspective `z16 = 65535 (1/near - 1/z) / (1/near - 1/far)` (the NDC depth, affine in
