@@ -109,8 +109,8 @@ pub fn wood() -> Scene {
     let mut s = Scene::new(
         "wood",
         camera(
-            Vec3::milli(0, 3300, 9000),
-            Vec3::milli(0, -150, 0),
+            Vec3::milli(0, 2900, 7900),
+            Vec3::milli(0, -100, 0),
             40,
             milli(500),
             units(60),
@@ -153,8 +153,8 @@ pub fn marble() -> Scene {
     let mut s = Scene::new(
         "marble",
         camera(
-            Vec3::milli(4600, 3300, 7600),
-            Vec3::milli(0, -800, 0),
+            Vec3::milli(4700, 3100, 8000),
+            Vec3::milli(0, -250, 0),
             40,
             milli(500),
             units(60),
@@ -164,20 +164,20 @@ pub fn marble() -> Scene {
     s.frames = 64;
     s.still = 63;
     let slot = s.add_slot(TextureSlot::preset("marble"));
-    // Pedestal: a cube of side 3.2, top face at y = 0.
+    // Pedestal: a cube of side 2.5, top face at y = 0.
     let mut cube = Object::new(Mesh::Cube {
-        half: milli(1600),
+        half: milli(1250),
         divisions: 1,
     });
     cube.slot = slot;
     cube.cull = CullMode::Clockwise;
-    cube.transform = Transform::translate(Vec3::milli(0, -1600, 0));
+    cube.transform = Transform::translate(Vec3::milli(0, -1250, 0));
     let cube = cube.with_world_texture(&MARBLE_BLOCK);
-    // Teapot at half size, its base on the pedestal.
+    // Teapot at 3/4 size, its base (radius 1.07) on the pedestal.
     let mut pot = Object::new(Mesh::Teapot { level: 4 });
     pot.slot = slot;
     pot.transform = Transform::rotate_x(Angle::from_degrees(-90))
-        .then(&Transform::scale(ONE / 2))
+        .then(&Transform::scale(3 * ONE / 4))
         .then(&Transform::rotate_y(Angle::from_degrees(-25)))
         .then(&Transform::translate(Vec3::milli(-100, 0, 0)));
     let pot = pot.with_world_texture(&MARBLE_BLOCK);
@@ -199,6 +199,9 @@ pub fn marble() -> Scene {
 pub const HORIZON_HALF_SIZE: i32 = 12_000 << 16;
 /// Grid rings of the horizon planes (innermost cell 5.9 units, outermost 6000).
 pub const HORIZON_RINGS: u8 = 11;
+
+/// Sea waves stretched along x: `s = x / 16`, `t = z / 5`, `r = 0.3`.
+const SEA_MAP: Affine3 = tex_map([[62, 0, 0], [0, 0, 200], [0, 0, 0]], [0, 0, 300]);
 
 const fn horizon_plane() -> Mesh {
     Mesh::Plane {
@@ -233,24 +236,23 @@ pub fn seascape() -> Scene {
     // Face down, 25 units up.
     clouds.transform =
         Transform::rotate_x(Angle::HALF).then(&Transform::translate(Vec3::milli(0, 25_000, 0)));
-    // s = x / 20, t = z / 20, r = 0.5.
-    clouds.tex_map = tex_map([[50, 0, 0], [0, 0, 50], [0, 0, 0]], [0, 0, 500]);
+    // s = x / 50, t = z / 50, r = 0.5 (clouds some 25 units across, as high as the layer).
+    clouds.tex_map = tex_map([[20, 0, 0], [0, 0, 20], [0, 0, 0]], [0, 0, 500]);
     clouds.depth_test = false;
     clouds.depth_write = false;
     let mut water = Object::new(horizon_plane());
     water.slot = sea;
-    // Waves stretched along x: s = x / 6, t = z / 2, r = 0.3.
-    water.tex_map = tex_map([[167, 0, 0], [0, 0, 500], [0, 0, 0]], [0, 0, 300]);
+    water.tex_map = SEA_MAP;
     water.depth_test = false;
     water.depth_write = false;
     s.add(clouds);
     s.add(water);
     s.animate = Some(|s, frame| {
         if let Some(o) = s.objects.get_mut(0) {
-            o.tex_map = drift(&o.tex_map, [milli(8), milli(3), 0], frame);
+            o.tex_map = drift(&o.tex_map, [milli(4), milli(2), 0], frame);
         }
         if let Some(o) = s.objects.get_mut(1) {
-            o.tex_map = drift(&o.tex_map, [0, -milli(20), milli(4)], frame);
+            o.tex_map = drift(&o.tex_map, [0, -milli(10), milli(4)], frame);
         }
     });
     s
@@ -377,11 +379,11 @@ pub const MOON_KEYS: [Key; 3] = [
 /// 0.9) around 1/2, used with the marble model so that the bands are wavy streaks.
 pub const MOON_GLINT_KEYS: [Key; 7] = [
     (0, [255, 236, 180, 0]),
-    (22938, [255, 236, 180, 0]),
-    (29491, [255, 242, 200, 170]),
-    (32768, [255, 250, 228, 230]),
-    (36045, [255, 242, 200, 170]),
-    (42598, [255, 236, 180, 0]),
+    (27853, [255, 236, 180, 0]),
+    (30802, [255, 242, 200, 150]),
+    (32768, [255, 250, 228, 235]),
+    (34734, [255, 242, 200, 150]),
+    (37683, [255, 236, 180, 0]),
     (65536, [255, 236, 180, 0]),
 ];
 /// Thin night clouds: clear below 0.45, then grey to 80% opaque (clamped).
@@ -416,16 +418,16 @@ pub fn moonrise() -> Scene {
 
     let mut water = Object::new(horizon_plane());
     water.slot = sea;
-    water.tex_map = tex_map([[167, 0, 0], [0, 0, 500], [0, 0, 0]], [0, 0, 300]);
+    water.tex_map = SEA_MAP;
     water.depth_test = false;
     water.depth_write = false;
 
-    // The highlight: a trapezoid on the water under the moon (x = 12 at distance 260), about as
-    // wide on screen as the moon at every distance.
+    // The highlight: a trapezoid on the water under the moon (x = 12 at distance 260), as wide
+    // on screen as the moon far away and twice as wide near the eye.
     let mut glow = Object::new(Mesh::Quad {
         corners: [
-            Vec3::milli(-300, 20, -6000),
-            Vec3::milli(860, 20, -6000),
+            Vec3::milli(-1000, 20, -6000),
+            Vec3::milli(1550, 20, -6000),
             Vec3::milli(35_500, 20, -250_000),
             Vec3::milli(-12_500, 20, -250_000),
         ],

@@ -8,20 +8,22 @@
 //! down, pixel `(x, y)` covering `[x, x + 1) x [y, y + 1)`, and the image centre at
 //! `(width / 2, height / 2)`.
 //!
-//! # Projection (all integer, rounded to nearest once)
+//! # Projection (all integer; the exact arithmetic is documented on [`View::project`])
 //!
 //! - Perspective with focal factor `f = cot(fovy / 2)` and focal length in pixels
 //!   `K = f height / 2`: `x_s = width / 2 + K x / z`, `y_s = height / 2 - K y / z`, in
-//!   `I28F4` (1/16 pixel).
+//!   `I28F4` (1/16 pixel), within 0.57/16 pixel of the exact value (one reciprocal of `z` per
+//!   vertex).
 //! - Orthographic with half view height `h`: `x_s = width / 2 + (height / 2) x / h`,
 //!   `y_s = height / 2 - (height / 2) y / h`.
 //! - Depth: perspective `z16 = 65535 (1/near - 1/z) / (1/near - 1/far)` (the NDC depth, affine in
 //!   `1/z`, hence **linear in screen space**, as the rasterizer interpolates it); orthographic
 //!   `z16 = 65535 (z - near) / (far - near)`. 0 is the near plane, 65535 the far plane.
-//! - `1/w`: perspective `near / z` computed with 62 fraction bits, then scaled **per triangle**
-//!   by a common power of two so that the largest of the three lies in `[2^30, 2^31]` (`U1F31` in
-//!   `[0.5, 1]`): the ratios within a triangle, which are all the rasterizer uses, keep about 30
-//!   significant bits even for a vertex 10^5 times farther than another. Orthographic: `1.0`.
+//! - `1/w`: perspective `round(2^62 / z)` (`z` in `Q16.16`, below `2^31`, so at least 31
+//!   significant bits), then scaled **per triangle** by a common power of two so that the largest
+//!   of the three lies in `[2^30, 2^31)` (`U1F31` in `[0.5, 1)`): the ratios within a triangle,
+//!   which are all the rasterizer uses, keep about 30 significant bits even for a vertex 10^5
+//!   times farther than another. Orthographic: `0.5`.
 //!
 //! # Clipping
 //!
@@ -43,7 +45,8 @@
 //! near (far) plane gets `z = near` (`far`) exactly.
 
 use super::math::{
-    div_round, div_round_128, round_shift_128, sat_i32, sat_i64, sin_cos, Angle, Vec3, ONE,
+    div_round, div_round_128, round_shift, round_shift_128, sat_i32, sat_i64, sin_cos, Angle, Vec3,
+    ONE,
 };
 use crate::format::TexPoint;
 use crate::raster::{ScreenCoord, ScreenVertex, GUARD_BAND};
@@ -52,6 +55,9 @@ use crate::raster::{ScreenCoord, ScreenVertex, GUARD_BAND};
 /// coordinates stay within `±(2^24 + 32768)` pixels, i.e. raw `I28F4` below `2^28 + 2^19`, far
 /// inside the rasterizer's `2^30`.
 pub const GUARD_PIXELS: i64 = 1 << 24;
+
+// `View::outcodes` uses `GUARD_PIXELS * 2^16 = 2^40` as a shift.
+const _: () = assert!(GUARD_PIXELS == 1 << 24);
 
 /// Most vertices a clipped triangle can have (3 + one per clip plane).
 pub const MAX_CLIP_VERTICES: usize = 9;
@@ -191,6 +197,11 @@ impl Camera {
             height: self.height,
             guard: [ClipPlane::ZERO; 6],
             screen: [ClipPlane::ZERO; 6],
+            depth_scale: sat_i64(div_round_128(
+                (65535 * (far as i128)) << 16,
+                (far - near) as i128,
+            )),
+            margin: [w / 2 + 1, h / 2 + 1],
         };
         // Margins in pixels: the screen edges (plus one pixel) and the guard band.
         v.screen = v.planes(w / 2 + 1, h / 2 + 1);
@@ -217,9 +228,11 @@ impl ClipPlane {
 
     #[inline]
     fn eval(&self, p: &[i64; 3]) -> i128 {
+        // |a| < 2^47 (focal length in pixels, 2^40 guard margins, image height), |p| < 2^63:
+        // the products are below 2^110 and nothing overflows; wrapping only avoids checks.
         let mut d = self.c;
         for (a, x) in self.a.iter().zip(p.iter()) {
-            d = d.saturating_add((*a as i128).saturating_mul(*x as i128));
+            d = d.wrapping_add((*a as i128).wrapping_mul(*x as i128));
         }
         d
     }
@@ -255,6 +268,10 @@ pub struct View {
     height: u16,
     guard: [ClipPlane; 6],
     screen: [ClipPlane; 6],
+    /// Perspective depth factor `round(65535 f 2^16 / (f - n))`.
+    depth_scale: i64,
+    /// Screen margins in pixels (`width / 2 + 1`, `height / 2 + 1`).
+    margin: [i64; 2],
 }
 
 /// What happened to one triangle in [`View::clip_project`].
@@ -332,37 +349,55 @@ impl View {
             p.y as i64 - self.eye.y as i64,
             p.z as i64 - self.eye.z as i64,
         ];
+        // Unit rows (|r| <= 2^16) times |d| <= 2^32: every sum fits i64.
         self.rows.map(|r| {
-            let acc = r.x as i128 * d[0] as i128
-                + r.y as i128 * d[1] as i128
-                + r.z as i128 * d[2] as i128;
-            sat_i64(round_shift_128(acc, 16))
+            let acc = r.x as i64 * d[0] + r.y as i64 * d[1] + r.z as i64 * d[2];
+            round_shift(acc, 16)
         })
     }
 
     /// Projects a camera-space vertex (`z` is clamped to `[near, far]`); `inv_w` is returned
-    /// unnormalised with 62 fraction bits (see the module documentation), to be scaled per
+    /// unnormalised as `round(2^62 / z)` (see the module documentation), to be scaled per
     /// triangle by [`normalise_inv_w`].
+    ///
+    /// Perspective: one division per vertex, the reciprocal `r = round(2^62 / z)` (`z` in
+    /// `[near, far]`, so `2^31 <= r <= 2^62`), then products only:
+    /// `x_s = width/2 + round(x K r / 2^74)` (1/16 pixel; within `0.57` LSB of `x K / (z 2^12)`
+    /// for any vertex inside the guard band), the depth
+    /// `round(round((z - n) r / 2^31) D / 2^47)` with `D = round(65535 f 2^16 / (f - n))`, and
+    /// `1/w = r`. (An exact division replaces the product for `|x K| >= 2^62`.)
     pub fn project(&self, v: &CamVertex) -> (ScreenVertex, u64) {
         let [x, y, z] = v.p;
-        let z = z.clamp(self.near, self.far) as i128;
-        let (n, f) = (self.near as i128, self.far as i128);
+        // max then min, not clamp: no panic path even if near > far. 1 <= z < 2^31.
+        let z = z.max(self.near).min(self.far);
+        let n = self.near;
         let (w8, h8) = (self.width as i128 * 8, self.height as i128 * 8);
         let (sx, sy, depth, q) = match self.proj {
             ViewProj::Perspective { k } => {
-                let den = z << 12;
-                let sx = w8 + div_round_128((x as i128).saturating_mul(k as i128), den);
-                let sy = h8 - div_round_128((y as i128).saturating_mul(k as i128), den);
-                let depth = div_round_128(65535 * f * (z - n), z * (f - n));
-                let q = div_round_128(n << 62, z);
-                (sx, sy, depth, q)
+                let zu = z.max(1) as u64;
+                let r = ((1u64 << 62) + (zu >> 1))
+                    .checked_div(zu)
+                    .unwrap_or_default();
+                let off = |a: i128| -> i128 {
+                    if a.unsigned_abs() < 1 << 62 {
+                        round_shift_128(a * r as i128, 74)
+                    } else {
+                        div_round_128(a, (z as i128) << 12)
+                    }
+                };
+                let sx = w8 + off(mul_wide(x, k));
+                let sy = h8 - off(mul_wide(y, k));
+                // (z - n) / z in Q31, then times 65535 f / (f - n).
+                let t = round_shift_128((z - n) as i128 * r as i128, 31);
+                let depth = round_shift_128(t * self.depth_scale as i128, 47);
+                (sx, sy, depth, r)
             }
             ViewProj::Orthographic { hh } => {
                 let s = self.height as i128 * 8;
-                let sx = w8 + div_round_128((x as i128).saturating_mul(s), hh as i128);
-                let sy = h8 - div_round_128((y as i128).saturating_mul(s), hh as i128);
-                let depth = div_round_128(65535 * (z - n), f - n);
-                (sx, sy, depth, 1i128 << 62)
+                let sx = w8 + div_round_128(x as i128 * s, hh as i128);
+                let sy = h8 - div_round_128(y as i128 * s, hh as i128);
+                let depth = div_round((z - n) * 65535, self.far - n) as i128;
+                (sx, sy, depth, 1u64 << 62)
             }
         };
         let lim = GUARD_BAND as i128 - 1;
@@ -373,7 +408,7 @@ impl View {
             inv_w: crate::raster::InvW::ZERO,
             tex: TexPoint::from_bits(v.tex[0], v.tex[1], v.tex[2]),
         };
-        (sv, q.clamp(0, 1 << 62) as u64)
+        (sv, q)
     }
 
     /// Rejects, clips and projects one camera-space triangle, calling `f` with each resulting
@@ -384,18 +419,17 @@ impl View {
         tri: &[CamVertex; 3],
         f: &mut F,
     ) -> ClipOutcome {
+        let oc = [
+            self.outcodes(&tri[0].p),
+            self.outcodes(&tri[1].p),
+            self.outcodes(&tri[2].p),
+        ];
         // 1. Trivial rejection against the view volume.
-        for pl in &self.screen {
-            if tri.iter().all(|v| pl.eval(&v.p) < 0) {
-                return ClipOutcome::Rejected;
-            }
+        if oc[0].0 & oc[1].0 & oc[2].0 != 0 {
+            return ClipOutcome::Rejected;
         }
         // 2. Inside the near/far/guard volume: no clipping.
-        let inside = self
-            .guard
-            .iter()
-            .all(|pl| tri.iter().all(|v| pl.eval(&v.p) >= 0));
-        if inside {
+        if (oc[0].1 | oc[1].1 | oc[2].1) == 0 {
             emit(self, tri, f);
             return ClipOutcome::Inside;
         }
@@ -418,6 +452,49 @@ impl View {
         ClipOutcome::Clipped(n)
     }
 
+    /// Which planes a camera-space point is outside of: bit `i` of the first value for plane `i`
+    /// of the view volume (near, far, right, left, top, bottom screen edge plus one pixel), of the
+    /// second for the near/far/guard-band volume. Exactly `ClipPlane::eval(p) < 0` for each
+    /// plane, computed with one or two 64-bit products per plane pair instead of `i128` dot
+    /// products.
+    pub fn outcodes(&self, p: &[i64; 3]) -> (u8, u8) {
+        let [x, y, z] = *p;
+        let mut s = 0u8;
+        if z < self.near {
+            s |= 1;
+        }
+        if z > self.far {
+            s |= 2;
+        }
+        let mut g = s;
+        // Bits for "a > m" and "-a > m" on x (4, 8) and y (16, 32).
+        let side = |a: i128, m: i128, bit: u8| -> u8 {
+            (if a > m { bit } else { 0 }) | (if a.wrapping_neg() > m { bit << 1 } else { 0 })
+        };
+        match self.proj {
+            ViewProj::Perspective { k } => {
+                // Plane d = -k x + (m 2^16) z: outside iff k x > m 2^16 z.
+                let (kx, ky) = (mul_wide(x, k), mul_wide(y, k));
+                let [mx, my] = self.margin;
+                let (sx, sy) = (mul_wide(z, mx) << 16, mul_wide(z, my) << 16);
+                let gz = (z as i128) << 40; // GUARD_PIXELS 2^16 z
+                s |= side(kx, sx, 4) | side(ky, sy, 16);
+                g |= side(kx, gz, 4) | side(ky, gz, 16);
+            }
+            ViewProj::Orthographic { hh } => {
+                // Plane d = -h x + 2 m hh: outside iff h x > 2 m hh.
+                let h = self.height as i64;
+                let (hx, hy) = (mul_wide(x, h), mul_wide(y, h));
+                let [mx, my] = self.margin;
+                let hh2 = 2 * hh as i128;
+                s |= side(hx, hh2 * mx as i128, 4) | side(hy, hh2 * my as i128, 16);
+                let gc = hh2 * GUARD_PIXELS as i128;
+                g |= side(hx, gc, 4) | side(hy, gc, 16);
+            }
+        }
+        (s, g)
+    }
+
     /// Clips a camera-space triangle against the near, far and guard planes only (no projection),
     /// returning the polygon (for tests and tools).
     pub fn clip_polygon(&self, tri: &[CamVertex; 3]) -> ClipPolygon {
@@ -429,17 +506,35 @@ impl View {
     }
 }
 
+/// `a b` exactly, with a 64-bit multiplication when both are below `2^31` in magnitude.
+#[inline]
+fn mul_wide(a: i64, b: i64) -> i128 {
+    const L: i64 = 1 << 31;
+    if a > -L && a < L && b > -L && b < L {
+        (a * b) as i128
+    } else {
+        a as i128 * b as i128
+    }
+}
+
 /// Projects three camera-space vertices, normalises their `1/w` together, and emits them.
 fn emit<F: FnMut(&[ScreenVertex; 3])>(view: &View, tri: &[CamVertex; 3], f: &mut F) {
-    let (a, qa) = view.project(&tri[0]);
-    let (b, qb) = view.project(&tri[1]);
-    let (c, qc) = view.project(&tri[2]);
-    let q = normalise_inv_w([qa, qb, qc]);
-    let mut out = [a, b, c];
+    f(&assemble([
+        view.project(&tri[0]),
+        view.project(&tri[1]),
+        view.project(&tri[2]),
+    ]));
+}
+
+/// A screen triangle from three projected vertices ([`View::project`]): their `1/w` normalised
+/// together ([`normalise_inv_w`]).
+pub fn assemble(p: [(ScreenVertex, u64); 3]) -> [ScreenVertex; 3] {
+    let q = normalise_inv_w([p[0].1, p[1].1, p[2].1]);
+    let mut out = [p[0].0, p[1].0, p[2].0];
     for (v, q) in out.iter_mut().zip(q) {
         v.inv_w = crate::raster::InvW::from_bits(q);
     }
-    f(&out);
+    out
 }
 
 /// Scales three `1/w` values (62 fraction bits) by a common power of two so that the largest
@@ -498,7 +593,7 @@ impl ClipPolygon {
             return *self;
         }
         for (i, a) in vs.iter().enumerate() {
-            let b = vs.get((i + 1) % vs.len()).unwrap_or(a);
+            let b = vs.get(i + 1).or(vs.first()).unwrap_or(a);
             let (da, db) = (pl.eval(&a.p), pl.eval(&b.p));
             if da >= 0 {
                 out.push(*a);
@@ -525,9 +620,9 @@ impl ClipPolygon {
 /// `a + (b - a) da / (da - db)`, per component rounded half up.
 fn intersect(a: &CamVertex, b: &CamVertex, da: i128, db: i128) -> CamVertex {
     let mut num = da;
-    let mut den = da - db; // > 0
-                           // Keep num, den below 2^62 (same shift: the ratio is kept to 62 bits) so that
-                           // (b - a) * num fits i128.
+    let mut den = da.saturating_sub(db); // > 0
+                                         // Keep num, den below 2^62 (same shift: the ratio is kept to 62 bits) so that
+                                         // (b - a) * num fits i128.
     let bits = 128 - den.leading_zeros();
     if bits > 62 {
         let s = bits - 62;
@@ -821,6 +916,54 @@ mod tests {
             .filter(|v| on(&p2).contains(v))
             .collect();
         assert_eq!(shared.len(), 1, "{p1:?} {p2:?}");
+    }
+
+    /// The fast outcodes are exactly the signs of the clip planes.
+    #[test]
+    fn outcodes_match_planes() {
+        let mut st = 12345u64;
+        let mut rnd = || {
+            st = st
+                .wrapping_mul(6364136223846793005)
+                .wrapping_add(1442695040888963407);
+            let v = (st >> 1) as i64;
+            // Mixed magnitudes, from tiny to the full range.
+            v >> (st % 62)
+        };
+        let cams = [
+            persp(Vec3::ZERO, Vec3::units(0, 0, -1)),
+            Camera::orthographic(
+                Vec3::units(0, 0, 5),
+                Vec3::ZERO,
+                Vec3::Y,
+                units(2),
+                units(1),
+                units(10),
+                320,
+                240,
+            ),
+            Camera::perspective(
+                Vec3::ZERO,
+                Vec3::units(0, 0, -1),
+                Vec3::Y,
+                i32::MAX,
+                1,
+                i32::MAX,
+                65535,
+                65535,
+            ),
+        ];
+        for cam in cams {
+            let view = cam.view().unwrap();
+            for _ in 0..20000 {
+                let p = [rnd(), rnd(), rnd()];
+                let (s, g) = view.outcodes(&p);
+                for i in 0..6 {
+                    assert_eq!(view.screen[i].eval(&p) < 0, s & (1 << i) != 0, "{p:?} {i}");
+                    assert_eq!(view.guard[i].eval(&p) < 0, g & (1 << i) != 0, "{p:?} {i}");
+                }
+            }
+        }
     }
 
     #[test]

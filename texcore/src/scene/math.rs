@@ -58,16 +58,49 @@ pub const fn sat_i64(v: i128) -> i64 {
     }
 }
 
+/// Operands below this magnitude take the `i64` path of [`div_round`] / [`div_round_128`].
+const FAST_DIV: i64 = 1 << 61;
+
 /// `round(n / d)`, ties towards `+inf`, for any `d != 0` (the quotient of the exact rationals).
-/// Returns 0 for `d == 0` (never panics; saturates the one overflowing case).
+/// Returns 0 for `d == 0` (never panics; saturates the one overflowing case). Uses `i64`
+/// division when `|n|, |d| < 2^61` (the common case; a library call on 32-bit cores) and `i128`
+/// division otherwise, with identical results.
 #[inline]
 pub const fn div_round(n: i64, d: i64) -> i64 {
-    sat_i64(div_round_128(n as i128, d as i128))
+    if n > -FAST_DIV && n < FAST_DIV && d > -FAST_DIV && d < FAST_DIV {
+        div_round_small(n, d)
+    } else {
+        sat_i64(div_round_wide(n as i128, d as i128))
+    }
 }
 
-/// `round(n / d)` in `i128`, ties towards `+inf`; 0 for `d == 0`.
+/// `round(n / d)` in `i128`, ties towards `+inf`; 0 for `d == 0`. Same as [`div_round`] (fast
+/// `i64` path for small operands).
 #[inline]
 pub const fn div_round_128(n: i128, d: i128) -> i128 {
+    let lim = FAST_DIV as i128;
+    if n > -lim && n < lim && d > -lim && d < lim {
+        div_round_small(n as i64, d as i64) as i128
+    } else {
+        div_round_wide(n, d)
+    }
+}
+
+/// [`div_round`] for `|n|, |d| < 2^61`: `floor((2n + d) / 2d)` after making `d` positive.
+#[inline]
+const fn div_round_small(n: i64, d: i64) -> i64 {
+    if d == 0 {
+        return 0;
+    }
+    let (n, d) = if d < 0 { (-n, -d) } else { (n, d) };
+    match (2 * n + d).checked_div_euclid(2 * d) {
+        Some(q) => q,
+        None => 0,
+    }
+}
+
+/// [`div_round_128`] by `i128` division.
+const fn div_round_wide(n: i128, d: i128) -> i128 {
     if d == 0 {
         return 0;
     }
@@ -80,7 +113,11 @@ pub const fn div_round_128(n: i128, d: i128) -> i128 {
     // above 2^126, which no caller produces; saturate rather than wrap.
     let num = n.saturating_mul(2).saturating_add(d);
     let den = d.saturating_mul(2);
-    num.div_euclid(den)
+    // den >= 2 here; checked so that no panic path exists.
+    match num.checked_div_euclid(den) {
+        Some(q) => q,
+        None => 0,
+    }
 }
 
 /// Rounds a value with `k` extra fraction bits (`1 <= k <= 62`) half up.
@@ -152,10 +189,18 @@ impl Angle {
         if den == 0 {
             return Angle(0);
         }
-        let d = den as i128;
-        let r = (num as i128).rem_euclid(d); // 0 <= r < den: the angle mod one turn
-        let q = div_round_128(r << 32, d);
-        Angle(q as u64 as u32) // q == 2^32 wraps to 0
+        // 0 <= r < den: the angle mod one turn (checked so that no panic path exists).
+        let r = match num.checked_rem_euclid(den as i64) {
+            Some(r) => r as u64,
+            None => 0,
+        };
+        // round(r 2^32 / den), ties up: floor((r 2^32 + floor(den / 2)) / den) (for odd den no
+        // tie exists); r 2^32 + den / 2 < 2^64.
+        let q = match ((r << 32) + den as u64 / 2).checked_div(den as u64) {
+            Some(q) => q,
+            None => 0,
+        };
+        Angle(q as u32) // q == 2^32 wraps to 0
     }
 
     /// Whole degrees.
@@ -197,11 +242,18 @@ impl Angle {
 /// `2 pi` in `Q30` (rounded).
 const TWO_PI_Q30: i64 = 6_746_518_852;
 
+/// Taylor coefficients of `sin x / x` after the constant term, in `x^2`: `-1/3!`, `1/5!`,
+/// `-1/7!`, `1/9!`, `Q30` rounded to nearest.
+const SIN_C: [i64; 4] = [-178_956_971, 8_947_849, -213_044, 2_959];
+/// Taylor coefficients of `cos x` after the constant term, in `x^2`: `-1/2!`, `1/4!`, `-1/6!`,
+/// `1/8!`, `-1/10!`, `Q30` rounded to nearest.
+const COS_C: [i64; 5] = [-536_870_912, 44_739_243, -1_491_308, 26_631, -296];
+
 /// `(sin a, cos a)` in `Q2.30`, by octant reduction and odd/even Taylor polynomials on
 /// `[0, pi/4]` (degree 9 for sine, 10 for cosine; truncation error below `2e-9`), evaluated in
-/// `i64` Horner form with round-half-up at each step. Maximum error about `1e-8`, measured
-/// over the full circle by the tests. Exact at multiples of a quarter turn (`0`, `±1`), and
-/// `sin^2 + cos^2 = 1` to within `1e-8`.
+/// `i64` Horner form with the Taylor coefficients rounded to `Q30` and round-half-up after each
+/// product (multiplications and shifts only). Maximum error about `1e-8`, measured over the
+/// full circle by the tests. Exact at multiples of a quarter turn (`0`, `±1`).
 pub const fn sin_cos(a: Angle) -> (i32, i32) {
     let quadrant = a.0 >> 30;
     let f = a.0 & ((1 << 30) - 1);
@@ -214,25 +266,22 @@ pub const fn sin_cos(a: Angle) -> (i32, i32) {
     // Radians, Q30: x * 2pi / 2^32, x <= 2^29 so the product fits i64.
     let xr = round_shift(x as i64 * TWO_PI_Q30, 32);
     let x2 = round_shift(xr * xr, 30);
-    let one = ONE_Q30 as i64;
-    // sin x = x (1 - x^2/(2*3) (1 - x^2/(4*5) (1 - x^2/(6*7) (1 - x^2/(8*9))))).
-    let mut h = one;
-    let sd = [72i64, 42, 20, 6];
-    let mut i = 0;
-    while i < sd.len() {
-        h = one - div_round(x2 * h, sd[i] << 30);
-        i += 1;
+    // sin x = x + x (x^2 (c1 + x^2 (c3 + x^2 (c5 + x^2 c7)))), |x^2 p| < 2^59.
+    let mut p = SIN_C[3];
+    let mut i = 3;
+    while i > 0 {
+        i -= 1;
+        p = SIN_C[i] + round_shift(x2 * p, 30);
     }
-    let s = round_shift(xr * h, 30);
-    // cos x = 1 - x^2/(1*2) (1 - x^2/(3*4) (1 - ... (1 - x^2/(9*10)))).
-    let mut h = one;
-    let cd = [90i64, 56, 30, 12, 2];
-    let mut i = 0;
-    while i < cd.len() {
-        h = one - div_round(x2 * h, cd[i] << 30);
-        i += 1;
+    let s = xr + round_shift(xr * round_shift(x2 * p, 30), 30);
+    // cos x = 1 + x^2 (c0 + x^2 (c2 + ... + x^2 c8)).
+    let mut p = COS_C[4];
+    let mut i = 4;
+    while i > 0 {
+        i -= 1;
+        p = COS_C[i] + round_shift(x2 * p, 30);
     }
-    let c = h;
+    let c = ONE_Q30 as i64 + round_shift(x2 * p, 30);
     let (s, c) = if swap { (c, s) } else { (s, c) };
     let (s, c) = match quadrant {
         0 => (s, c),
@@ -515,22 +564,22 @@ impl Transform {
         while i < 3 {
             let mut j = 0;
             while j < 3 {
-                let mut acc: i64 = 0;
+                let mut acc: i128 = 0;
                 let mut k = 0;
                 while k < 3 {
-                    acc += other.m[i][k] as i64 * self.m[k][j] as i64;
+                    acc += other.m[i][k] as i128 * self.m[k][j] as i128;
                     k += 1;
                 }
-                m[i][j] = sat_i32(round_shift(acc, 16));
+                m[i][j] = sat_i32(sat_i64(round_shift_128(acc, 16)));
                 j += 1;
             }
-            let mut acc: i64 = (other.t[i] as i64) << 16;
+            let mut acc: i128 = (other.t[i] as i128) << 16;
             let mut k = 0;
             while k < 3 {
-                acc += other.m[i][k] as i64 * self.t[k] as i64;
+                acc += other.m[i][k] as i128 * self.t[k] as i128;
                 k += 1;
             }
-            t[i] = sat_i32(round_shift(acc, 16));
+            t[i] = sat_i32(sat_i64(round_shift_128(acc, 16)));
             i += 1;
         }
         Transform { m, t }
@@ -541,6 +590,31 @@ impl Transform {
     pub const fn apply_wide(&self, p: Vec3) -> [i64; 3] {
         let p = [p.x as i64, p.y as i64, p.z as i64];
         let mut out = [0i64; 3];
+        // Entries below 2^30: each product is below 2^61 and the sum fits i64 (same result as
+        // the i128 path, cheaper on 32-bit cores).
+        let mut small = true;
+        let mut i = 0;
+        while i < 3 {
+            let mut j = 0;
+            while j < 3 {
+                let e = self.m[i][j];
+                small = small && e > -(1 << 30) && e < (1 << 30);
+                j += 1;
+            }
+            i += 1;
+        }
+        if small {
+            let mut i = 0;
+            while i < 3 {
+                let acc = self.m[i][0] as i64 * p[0]
+                    + self.m[i][1] as i64 * p[1]
+                    + self.m[i][2] as i64 * p[2]
+                    + ((self.t[i] as i64) << 16);
+                out[i] = round_shift(acc, 16);
+                i += 1;
+            }
+            return out;
+        }
         let mut i = 0;
         while i < 3 {
             // |each product| < 2^62; three of them plus the shifted translation fit i128,
@@ -730,6 +804,20 @@ mod tests {
         // Never panics on extreme values.
         let big = Transform::scale(i32::MAX).then(&Transform::scale(i32::MIN));
         let _ = big.apply(Vec3::new(i32::MIN, i32::MAX, i32::MIN));
+        let full = Transform {
+            m: [[i32::MIN; 3], [i32::MAX; 3], [i32::MIN, i32::MAX, i32::MIN]],
+            t: [i32::MIN, i32::MAX, i32::MIN],
+        };
+        let f2 = full.then(&full);
+        assert_eq!(f2.m[0][0], i32::MAX);
+        let _ = f2.apply_wide(Vec3::new(i32::MIN, i32::MIN, i32::MIN));
+        let _ = full.apply_vector(Vec3::new(i32::MAX, i32::MAX, i32::MAX));
+        let _ = Vec3::new(i32::MIN, i32::MIN, i32::MIN).cross(Vec3::new(i32::MAX, i32::MIN, 1));
+        let _ = Vec3::new(i32::MIN, i32::MIN, i32::MIN).length();
+        let _ = Vec3::new(i32::MIN, i32::MIN, i32::MIN).normalized();
+        let _ =
+            Vec3::new(i32::MIN, i32::MIN, i32::MIN).dot(Vec3::new(i32::MIN, i32::MIN, i32::MIN));
+        let _ = Vec3::new(i32::MIN, 0, 0).scale(i32::MIN);
         assert_eq!(
             Vec3::X.cross(Vec3::Y),
             Vec3::Z,

@@ -14,7 +14,7 @@
 //! of a sphere or torus equals the first).
 
 use super::math::{sat_i32, sin_cos, Angle, Vec3, ONE};
-use super::teapot::{teapot_point, MAX_TEAPOT_LEVEL, TEAPOT_PATCH_COUNT};
+use super::teapot::{teapot_quad, MAX_TEAPOT_LEVEL, TEAPOT_PATCH_COUNT};
 
 /// A procedural mesh in object space (`Q16.16` sizes).
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
@@ -121,15 +121,9 @@ impl Mesh {
         Some(match *self {
             Mesh::Teapot { level } => {
                 let n = level.clamp(1, MAX_TEAPOT_LEVEL) as u32;
-                let patch = (q / (n * n)) as usize;
-                let r = q % (n * n);
-                let (k, l) = (r % n, r / n);
-                [
-                    teapot_point(patch, n, k, l),
-                    teapot_point(patch, n, k + 1, l),
-                    teapot_point(patch, n, k + 1, l + 1),
-                    teapot_point(patch, n, k, l + 1),
-                ]
+                let (patch, r) = divrem(q, n * n);
+                let (l, k) = divrem(r, n);
+                teapot_quad(patch as usize, n, k, l)
             }
             Mesh::Sphere {
                 radius,
@@ -140,9 +134,12 @@ impl Mesh {
                     stacks.max(MIN_STACKS) as u32,
                     slices.max(MIN_SEGMENTS) as u32,
                 );
-                let (i, j) = (q % sl, q / sl);
-                let p = |i: u32, j: u32| sphere_point(radius, sl, st, i, j);
-                [p(i, j), p(i + 1, j), p(i + 1, j + 1), p(i, j + 1)]
+                let (j, i) = divrem(q, sl);
+                // Longitude i / slices turn, latitude j / (2 stacks) turn from the north pole.
+                let ph = [i, i + 1].map(|i| sin_cos(Angle::from_turns(i as i64, sl)));
+                let th = [j, j + 1].map(|j| sin_cos(Angle::from_turns(j as i64, 2 * st)));
+                let p = |a: usize, b: usize| sphere_point(radius, ph[a], th[b]);
+                [p(0, 0), p(1, 0), p(1, 1), p(0, 1)]
             }
             Mesh::Torus {
                 major,
@@ -154,15 +151,18 @@ impl Mesh {
                     major_segments.max(MIN_SEGMENTS) as u32,
                     minor_segments.max(MIN_SEGMENTS) as u32,
                 );
-                let (i, j) = (q % nu, q / nu);
-                let p = |i: u32, j: u32| torus_point(major, minor, nu, nv, i, j);
-                [p(i, j), p(i + 1, j), p(i + 1, j + 1), p(i, j + 1)]
+                let (j, i) = divrem(q, nu);
+                // Around the centre circle i / nu turn, around the tube j / nv turn.
+                let ph = [i, i + 1].map(|i| sin_cos(Angle::from_turns(i as i64, nu)));
+                let th = [j, j + 1].map(|j| sin_cos(Angle::from_turns(j as i64, nv)));
+                let p = |a: usize, b: usize| torus_point(major, minor, ph[a], th[b]);
+                [p(0, 0), p(1, 0), p(1, 1), p(0, 1)]
             }
             Mesh::Cube { half, divisions } => {
                 let d = divisions.max(1) as u32;
-                let face = (q / (d * d)) as usize;
-                let r = q % (d * d);
-                let (i, j) = (r % d, r / d);
+                let (face, r) = divrem(q, d * d);
+                let (j, i) = divrem(r, d);
+                let face = face as usize;
                 let p = |i: u32, j: u32| cube_point(half, d, face, i, j);
                 [p(i, j), p(i + 1, j), p(i + 1, j + 1), p(i, j + 1)]
             }
@@ -170,7 +170,7 @@ impl Mesh {
             Mesh::Plane { half_size, rings } => {
                 let r = rings.clamp(1, MAX_RINGS) as u32;
                 let n = 2 * r;
-                let (i, j) = (q % n, q / n);
+                let (j, i) = divrem(q, n);
                 // u runs along z, v along x: z x x = +y, facing up.
                 let g = |k: u32| plane_line(half_size, r, k);
                 let p = |i: u32, j: u32| Vec3::new(g(j), 0, g(i));
@@ -232,6 +232,13 @@ impl Iterator for Triangles<'_> {
     }
 }
 
+/// `(a / b, a % b)`; `(0, 0)` for `b == 0` (never happens: sizes are clamped; written so
+/// that no division-by-zero panic path exists).
+#[inline]
+fn divrem(a: u32, b: u32) -> (u32, u32) {
+    (a.checked_div(b).unwrap_or(0), a.checked_rem(b).unwrap_or(0))
+}
+
 /// `round(r * a * b)` for `r` in `Q16.16` and `a`, `b` in `Q2.30`, saturating.
 fn mul3(r: i32, a: i32, b: i32) -> i32 {
     let v = r as i128 * a as i128 * b as i128;
@@ -245,19 +252,15 @@ fn mul2(r: i32, a: i32) -> i32 {
     sat_i32((v + (1 << 29)) >> 30)
 }
 
-/// Longitude `i / slices` turn, latitude `j / (2 stacks)` turn from the north pole:
-/// `(r sin(th) cos(ph), r cos(th), r sin(th) sin(ph))`.
-fn sphere_point(radius: i32, slices: u32, stacks: u32, i: u32, j: u32) -> Vec3 {
-    let (sp, cp) = sin_cos(Angle::from_turns(i as i64, slices));
-    let (st, ct) = sin_cos(Angle::from_turns(j as i64, 2 * stacks));
+/// `(r sin(th) cos(ph), r cos(th), r sin(th) sin(ph))` from `(sin, cos)` of longitude `ph`
+/// and colatitude `th`.
+fn sphere_point(radius: i32, (sp, cp): (i32, i32), (st, ct): (i32, i32)) -> Vec3 {
     Vec3::new(mul3(radius, st, cp), mul2(radius, ct), mul3(radius, st, sp))
 }
 
-/// Around the centre circle `i / nu` turn, around the tube `j / nv` turn:
-/// `((R + r cos(th)) cos(ph), -r sin(th), (R + r cos(th)) sin(ph))`.
-fn torus_point(major: i32, minor: i32, nu: u32, nv: u32, i: u32, j: u32) -> Vec3 {
-    let (sp, cp) = sin_cos(Angle::from_turns(i as i64, nu));
-    let (st, ct) = sin_cos(Angle::from_turns(j as i64, nv));
+/// `((R + r cos(th)) cos(ph), -r sin(th), (R + r cos(th)) sin(ph))` from `(sin, cos)` of the
+/// angle `ph` around the centre circle and `th` around the tube.
+fn torus_point(major: i32, minor: i32, (sp, cp): (i32, i32), (st, ct): (i32, i32)) -> Vec3 {
     let ring = major.saturating_add(mul2(minor, ct)); // Q16.16
     Vec3::new(mul2(ring, cp), -mul2(minor, st), mul2(ring, sp))
 }

@@ -18,7 +18,7 @@
 //! produce **bit-identical vertices** along it, and the tessellated teapot has no cracks
 //! between patches.
 
-use super::math::{div_round, Vec3};
+use super::math::{div_round, round_shift_128, sat_i32, sat_i64, Vec3};
 
 /// Number of patches.
 pub const TEAPOT_PATCH_COUNT: usize = 32;
@@ -454,6 +454,44 @@ const fn bernstein(n: i64, k: i64) -> [i64; 4] {
     [j * j * j, 3 * k * j * j, 3 * k * k * j, k * k * k]
 }
 
+/// Exact numerators of the four row curves of patch `idx` at `u = k / n`: `sum_i b_i(k) P_ji`
+/// for each row `j` (`|value| < n^3 2^18`).
+fn rows_at(idx: &[u16; 16], bu: &[i64; 4]) -> [[i64; 3]; 4] {
+    let mut out = [[0i64; 3]; 4];
+    for (row, o) in idx.chunks_exact(4).zip(out.iter_mut()) {
+        for (&pi, &wu) in row.iter().zip(bu.iter()) {
+            let p = TEAPOT_POINTS_Q16
+                .get(pi as usize)
+                .copied()
+                .unwrap_or(Vec3::ZERO);
+            o[0] += wu * p.x as i64;
+            o[1] += wu * p.y as i64;
+            o[2] += wu * p.z as i64;
+        }
+    }
+    out
+}
+
+/// `round(sum_j b_j(l) rows_j / n^6)` per coordinate: the exact numerator (`|acc| < 2^42`) times
+/// `recip = round(2^62 / n^6)`, rounded half up from 62 fraction bits. A function of the exact
+/// numerator only (so shared boundaries agree bit for bit), within `2^-20` LSB of the exactly
+/// rounded quotient before the final rounding (exact at control points).
+fn combine(rows: &[[i64; 3]; 4], bv: &[i64; 4], recip: i64) -> Vec3 {
+    let mut acc = [0i64; 3];
+    for (r, &wv) in rows.iter().zip(bv.iter()) {
+        acc[0] += wv * r[0];
+        acc[1] += wv * r[1];
+        acc[2] += wv * r[2];
+    }
+    let f = |a: i64| sat_i32(sat_i64(round_shift_128(a as i128 * recip as i128, 62)));
+    Vec3::new(f(acc[0]), f(acc[1]), f(acc[2]))
+}
+
+/// `round(2^62 / n^6)` for a clamped level `n`.
+fn recip6(n: i64) -> i64 {
+    div_round(1 << 62, n * n * n * n * n * n)
+}
+
 /// The point of patch `patch` at `u = k / n`, `v = l / n` (`k, l <= n`), rounded to `Q16.16`.
 /// `n` is clamped to `1..=MAX_TEAPOT_LEVEL`, `k` and `l` to `0..=n`; an out-of-range patch gives
 /// the origin.
@@ -464,30 +502,32 @@ pub fn teapot_point(patch: usize, n: u32, k: u32, l: u32) -> Vec3 {
     let n = n.clamp(1, MAX_TEAPOT_LEVEL as u32);
     let (k, l) = (k.min(n) as i64, l.min(n) as i64);
     let n = n as i64;
-    let bu = bernstein(n, k);
-    let bv = bernstein(n, l);
-    let mut acc = [0i64; 3];
-    for (row, &wv) in idx.chunks_exact(4).zip(bv.iter()) {
-        let mut inner = [0i64; 3];
-        for (&pi, &wu) in row.iter().zip(bu.iter()) {
-            let p = TEAPOT_POINTS_Q16
-                .get(pi as usize)
-                .copied()
-                .unwrap_or(Vec3::ZERO);
-            inner[0] += wu * p.x as i64;
-            inner[1] += wu * p.y as i64;
-            inner[2] += wu * p.z as i64;
-        }
-        for c in 0..3 {
-            acc[c] += wv * inner[c];
-        }
-    }
-    let d = n * n * n * n * n * n;
-    Vec3::new(
-        div_round(acc[0], d) as i32,
-        div_round(acc[1], d) as i32,
-        div_round(acc[2], d) as i32,
-    )
+    combine(&rows_at(idx, &bernstein(n, k)), &bernstein(n, l), recip6(n))
+}
+
+/// The corners `[P(k, l), P(k+1, l), P(k+1, l+1), P(k, l+1)]` of quad `(k, l)` of patch
+/// `patch` at level `n` (`k, l < n`), identical to four calls of [`teapot_point`] but sharing
+/// the row curves (about half the work).
+pub fn teapot_quad(patch: usize, n: u32, k: u32, l: u32) -> [Vec3; 4] {
+    let Some(idx) = TEAPOT_PATCHES.get(patch) else {
+        return [Vec3::ZERO; 4];
+    };
+    let n = n.clamp(1, MAX_TEAPOT_LEVEL as u32);
+    let (k0, l0) = (k.min(n) as i64, l.min(n) as i64);
+    let (k1, l1) = ((k0 + 1).min(n as i64), (l0 + 1).min(n as i64));
+    let n = n as i64;
+    let recip = recip6(n);
+    let (r0, r1) = (
+        rows_at(idx, &bernstein(n, k0)),
+        rows_at(idx, &bernstein(n, k1)),
+    );
+    let (b0, b1) = (bernstein(n, l0), bernstein(n, l1));
+    [
+        combine(&r0, &b0, recip),
+        combine(&r1, &b0, recip),
+        combine(&r1, &b1, recip),
+        combine(&r0, &b1, recip),
+    ]
 }
 
 #[cfg(test)]
@@ -537,6 +577,25 @@ mod tests {
                 for c in 0..4 {
                     let [x, y, z] = p(TEAPOT_PATCHES[a][r * 4 + c]);
                     assert_eq!([x, -y, z], p(TEAPOT_PATCHES[b][r * 4 + 3 - c]));
+                }
+            }
+        }
+    }
+
+    #[test]
+    fn quads_equal_points() {
+        for n in [1u32, 4, 5, 16] {
+            for patch in 0..32 {
+                for (k, l) in [(0, 0), (n - 1, 0), (n / 2, n - 1), (n - 1, n - 1)] {
+                    assert_eq!(
+                        teapot_quad(patch, n, k, l),
+                        [
+                            teapot_point(patch, n, k, l),
+                            teapot_point(patch, n, k + 1, l),
+                            teapot_point(patch, n, k + 1, l + 1),
+                            teapot_point(patch, n, k, l + 1),
+                        ]
+                    );
                 }
             }
         }
