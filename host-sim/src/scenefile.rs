@@ -164,7 +164,11 @@ fn validate_frames(def: &SceneDef) -> Result<(), Fail> {
                 },
                 None => Fail {
                     span: m.amplitude_span.clone().unwrap_or(m.span.clone()),
-                    field: format!("materials.{}", m.name),
+                    field: if m.amplitude_span.is_some() {
+                        format!("materials.{}.amplitude", m.name)
+                    } else {
+                        format!("materials.{}", m.name)
+                    },
                     message: e.to_string(),
                 },
             });

@@ -149,14 +149,22 @@ impl HostScene {
         HostScene { scene, hook: None }
     }
 
-    /// The scene and its slot materials at `frame` (taken modulo the frame count).
+    /// The scene and its slot materials at `frame` (taken modulo the frame count), at the image
+    /// size of [`HostScene::scene`]'s camera.
     pub fn frame(
         &self,
         frame: u32,
         hash: HashKind,
     ) -> Result<(Scene, Vec<MaterialSpec>), UnitError> {
         match &self.hook {
-            Some(h) => h.frame(frame % self.scene.frames.max(1), hash),
+            Some(h) => {
+                let (mut s, m) = h.frame(frame % self.scene.frames.max(1), hash)?;
+                // The image size of `self.scene` is authoritative (it may have been changed,
+                // e.g. to render a scene file small).
+                s.camera.width = self.scene.camera.width;
+                s.camera.height = self.scene.camera.height;
+                Ok((s, m))
+            }
             None => {
                 let s = self.scene.at_frame(frame);
                 let m = scene_materials(&s, hash)?;
