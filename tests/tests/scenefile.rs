@@ -878,3 +878,69 @@ fn extreme_values_never_panic() {
         "{loaded} loaded, {rejected} rejected"
     );
 }
+
+#[test]
+fn every_animatable_parameter_reaches_the_scene() {
+    let src = r#"
+frames = 3
+[camera]
+projection = "orthographic"
+eye = [0, 0, 5]
+half_height = 1
+[materials.m]
+preset = "clouds"
+[[objects]]
+name = "q"
+mesh = "cube"
+[[animate]]
+param = "camera.target"
+from = [0, 0, 0]
+to = [2, 0, 0]
+[[animate]]
+param = "camera.half_height"
+from = 1
+to = 3
+[[animate]]
+param = "objects.q.scale"
+from = 1
+to = [1, 2, 3]
+[[animate]]
+param = "objects.q.texture.translate"
+from = [0, 0, 0]
+to = [4, 0, -4]
+[[animate]]
+param = "materials.m.phase"
+from = 0
+to = 0.5
+"#;
+    let s = parse(src).unwrap();
+    let (sc, mats) = s.frame(1, HashKind::Permutation).unwrap();
+    assert_eq!(sc.camera.target, Vec3::units(1, 0, 0));
+    assert_eq!(
+        sc.camera.projection,
+        texcore::scene::Projection::Orthographic {
+            half_height: 2 << 16
+        }
+    );
+    assert_eq!(
+        sc.objects[0].transform,
+        Transform::scale3(65536, 98304, 131072)
+    );
+    let t = sc.objects[0].tex_map.translation();
+    assert_eq!(t.map(|e| e.to_bits()), [2 << 16, 0, -2 << 16]);
+    assert_eq!(sc.slots[0].phase, 16384);
+    // The phase moved every noise term by -T_k (0, 0.25, 0).
+    let clouds = texcore::presets::clouds(HashKind::Permutation).model;
+    match &mats[0].shader {
+        ShaderSpec::Model(m) => {
+            for (a, b) in m.terms().iter().zip(clouds.terms()) {
+                let ty = b.transform.matrix()[1][1].to_bits();
+                assert_eq!(
+                    a.transform.translation()[1].to_bits(),
+                    -((i64::from(ty) * 16384) >> 16) as i32
+                );
+            }
+        }
+        _ => panic!(),
+    }
+}
