@@ -281,10 +281,11 @@ pub fn bad_input(msg: impl std::fmt::Display) -> ExitCode {
     ExitCode::from(2)
 }
 
-/// A scene by built-in name or from a scene file.
-pub fn load_scene(name: &str) -> Result<texcore::scene::Scene, String> {
+/// A scene by built-in name or from a scene file (validated completely before anything is
+/// rendered or written).
+pub fn load_scene(name: &str) -> Result<scenes::HostScene, String> {
     if let Some(s) = texcore::scene::by_name(name) {
-        return Ok(s);
+        return Ok(scenes::HostScene::builtin(s));
     }
     let path = std::path::Path::new(name);
     if path.extension().is_some_and(|e| e == "toml") || path.exists() {
@@ -297,10 +298,11 @@ pub fn load_scene(name: &str) -> Result<texcore::scene::Scene, String> {
 }
 
 fn render(a: &RenderArgs) -> ExitCode {
-    let scene = match load_scene(&a.scene) {
+    let host = match load_scene(&a.scene) {
         Ok(s) => s,
         Err(e) => return bad_input(e),
     };
+    let scene = &host.scene;
     let cfg = a.knobs.config();
     let hash = a.knobs.hash();
     let show = match a.show {
@@ -335,7 +337,7 @@ fn render(a: &RenderArgs) -> ExitCode {
     let mut rendered = Vec::with_capacity(frames.len());
     let start = std::time::Instant::now();
     for &f in &frames {
-        match scenes::render_frame(&scene, f, &cfg, hash, show) {
+        match scenes::render_host_frame(&host, f, &cfg, hash, show) {
             Ok(r) => rendered.push(r),
             Err(e) => return bad_input(e),
         }
@@ -476,12 +478,12 @@ fn check(a: &CheckArgs) -> ExitCode {
                     ))
                 }
             };
-            let frame = a.frame.unwrap_or(scene.still);
-            match scenes::check_scene(&scene, frame, &cfg, a.knobs.hash()) {
+            let frame = a.frame.unwrap_or(scene.scene.still);
+            match scenes::check_host_scene(&scene, frame, &cfg, a.knobs.hash()) {
                 Ok(metrics) => {
-                    let (w, h) = scene.size();
+                    let (w, h) = scene.scene.size();
                     unit::CheckReport {
-                        name: scene.name.to_string(),
+                        name: scene.scene.name.to_string(),
                         width: u32::from(w),
                         height: u32::from(h),
                         config: cfg,

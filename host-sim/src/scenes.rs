@@ -114,6 +114,78 @@ pub fn render_frame(
     crate::dispatch_table_size!(cfg.table_size, render_n(&s, &materials, cfg, output))
 }
 
+/// A host-side per-frame hook: the scene and the materials of its slots at each frame. Scene
+/// files use it for what texcore's [`Scene`] cannot carry (materials that are not presets,
+/// animations of parameters that a plain `fn` pointer cannot capture).
+pub trait FrameHook: Send + Sync {
+    /// The scene and one material per slot at `frame` (already taken modulo the frame count).
+    fn frame(&self, frame: u32, hash: HashKind) -> Result<(Scene, Vec<MaterialSpec>), UnitError>;
+}
+
+/// A scene as the host renders it: texcore's [`Scene`] and, for scene files, a [`FrameHook`]
+/// that supplies each frame's scene and materials. Built-in scenes have no hook: their frames
+/// come from [`Scene::at_frame`] and their materials from the slots' presets
+/// ([`scene_materials`]).
+#[derive(Clone)]
+pub struct HostScene {
+    /// The scene at frame 0: name, camera (image size), frame count, still frame, objects.
+    pub scene: Scene,
+    /// Per-frame scenes and materials (`None`: a built-in scene).
+    pub hook: Option<std::sync::Arc<dyn FrameHook>>,
+}
+
+impl std::fmt::Debug for HostScene {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.debug_struct("HostScene")
+            .field("scene", &self.scene)
+            .field("hook", &self.hook.is_some())
+            .finish()
+    }
+}
+
+impl HostScene {
+    /// A built-in (or any texcore) scene, its slots naming presets.
+    pub fn builtin(scene: Scene) -> HostScene {
+        HostScene { scene, hook: None }
+    }
+
+    /// The scene and its slot materials at `frame` (taken modulo the frame count), at the image
+    /// size of [`HostScene::scene`]'s camera.
+    pub fn frame(
+        &self,
+        frame: u32,
+        hash: HashKind,
+    ) -> Result<(Scene, Vec<MaterialSpec>), UnitError> {
+        match &self.hook {
+            Some(h) => {
+                let (mut s, m) = h.frame(frame % self.scene.frames.max(1), hash)?;
+                // The image size of `self.scene` is authoritative (it may have been changed,
+                // e.g. to render a scene file small).
+                s.camera.width = self.scene.camera.width;
+                s.camera.height = self.scene.camera.height;
+                Ok((s, m))
+            }
+            None => {
+                let s = self.scene.at_frame(frame);
+                let m = scene_materials(&s, hash)?;
+                Ok((s, m))
+            }
+        }
+    }
+}
+
+/// Renders frame `frame` of a host scene (built-in or from a file) with the given knobs.
+pub fn render_host_frame(
+    scene: &HostScene,
+    frame: u32,
+    cfg: &UnitConfig,
+    hash: HashKind,
+    output: Output,
+) -> Result<Rendered, UnitError> {
+    let (s, materials) = scene.frame(frame, hash)?;
+    crate::dispatch_table_size!(cfg.table_size, render_n(&s, &materials, cfg, output))
+}
+
 /// The checksum of an image as the device computes it: FNV-1a over its RGB565 pixels, row-major.
 pub fn checksum(frame: &Frame) -> u32 {
     let mut c = ChecksumSink::new();
@@ -279,8 +351,17 @@ pub fn reference_frame(
     cfg: &UnitConfig,
     hash: HashKind,
 ) -> Result<Vec<[f64; 4]>, UnitError> {
-    let s = scene.at_frame(frame);
-    let materials = scene_materials(&s, hash)?;
+    reference_host_frame(&HostScene::builtin(scene.clone()), frame, cfg, hash)
+}
+
+/// [`reference_frame`] of a host scene (built-in or from a file).
+pub fn reference_host_frame(
+    scene: &HostScene,
+    frame: u32,
+    cfg: &UnitConfig,
+    hash: HashKind,
+) -> Result<Vec<[f64; 4]>, UnitError> {
+    let (s, materials) = scene.frame(frame, hash)?;
     crate::dispatch_table_size!(cfg.table_size, reference_n(&s, &materials, cfg))
 }
 
@@ -291,7 +372,17 @@ pub fn check_scene(
     cfg: &UnitConfig,
     hash: HashKind,
 ) -> Result<Metrics, UnitError> {
-    let r = render_frame(scene, frame, cfg, hash, Output::Color)?;
-    let reference = reference_frame(scene, frame, cfg, hash)?;
+    check_host_scene(&HostScene::builtin(scene.clone()), frame, cfg, hash)
+}
+
+/// [`check_scene`] of a host scene (built-in or from a file).
+pub fn check_host_scene(
+    scene: &HostScene,
+    frame: u32,
+    cfg: &UnitConfig,
+    hash: HashKind,
+) -> Result<Metrics, UnitError> {
+    let r = render_host_frame(scene, frame, cfg, hash, Output::Color)?;
+    let reference = reference_host_frame(scene, frame, cfg, hash)?;
     compare_to_reference(&r.frame.pixels, &reference).map_err(|e| UnitError::Render(e.to_string()))
 }
