@@ -150,8 +150,14 @@ pub const PLANET_CLOUD_KEYS: [Key; 3] = [
     key(0.45, 0xFFFFFF00),
     key(1.0, 0xFFFFFFD9),
 ];
-/// Zebra: white below 1/2, black above (N = 256: entries 0..127 white).
-pub const ZEBRA_KEYS: [Key; 2] = [key(0.0, 0xFFFFFFFF), key(1.0, 0x000000FF)];
+/// Zebra: white below 1/2, black above: with N = 256, entries 0..127 white and 128..255 black
+/// (keys at the centres of entries 127 and 128, so the step falls between them).
+pub const ZEBRA_KEYS: [Key; 4] = [
+    key(0.0, 0xFFFFFFFF),
+    key(127.5 / 256.0, 0xFFFFFFFF),
+    key(128.5 / 256.0, 0x000000FF),
+    key(1.0, 0x000000FF),
+];
 
 fn e(v: f64) -> MatrixEntry {
     MatrixEntry::from_num(v)
@@ -467,6 +473,22 @@ mod tests {
         assert_eq!(m.model.terms()[3].amplitude.to_bits(), 65536 >> 3);
         let z = zoneplate();
         assert!(z.model.terms().is_empty());
+        // The zebra table: entries 0..127 white, 128..255 black.
+        let keys: heapless::Vec<_, 8> = z
+            .keys
+            .iter()
+            .map(|(p, c)| {
+                (
+                    crate::format::TexValue::from_bits(*p as i32),
+                    crate::color::Rgba8888::from_array(*c),
+                )
+            })
+            .collect();
+        let t = crate::table::ColorTable::<256>::from_keys(&keys).unwrap();
+        assert_eq!(
+            t.entries(),
+            crate::table::ColorTable::<256>::zebra().unwrap().entries()
+        );
         assert_eq!(
             z.model.quadric().coefficients()[4],
             QuadricCoeff::from_num(50)
