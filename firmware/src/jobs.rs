@@ -147,20 +147,41 @@ pub static JOBS: &[Job] = &[
         name: "lattice_value_perm_256x256",
         run: lattice_value_perm_plane,
     },
-    job!("span_1oct_direct", span_job::<0, { workload::CELLS_8 }, DIRECT>),
+    job!(
+        "span_1oct_direct",
+        span_job::<0, { workload::CELLS_8 }, DIRECT>
+    ),
     job!("span_1oct_fd", span_job::<0, { workload::CELLS_8 }, FD>),
     job!("span_1oct_auto", span_job::<0, { workload::CELLS_8 }, AUTO>),
     job!("span_1oct_fd32", span_job::<0, { workload::CELLS_8 }, FD32>),
-    job!("span_4oct_direct", span_job::<1, { workload::CELLS_8 }, DIRECT>),
+    job!(
+        "span_4oct_direct",
+        span_job::<1, { workload::CELLS_8 }, DIRECT>
+    ),
     job!("span_4oct_fd", span_job::<1, { workload::CELLS_8 }, FD>),
     job!("span_4oct_auto", span_job::<1, { workload::CELLS_8 }, AUTO>),
     job!("span_4oct_fd32", span_job::<1, { workload::CELLS_8 }, FD32>),
-    job!("span_zoomin4_direct", span_job::<1, { workload::ZOOM_IN }, DIRECT>),
+    job!(
+        "span_zoomin4_direct",
+        span_job::<1, { workload::ZOOM_IN }, DIRECT>
+    ),
     job!("span_zoomin4_fd", span_job::<1, { workload::ZOOM_IN }, FD>),
-    job!("span_zoomin4_auto", span_job::<1, { workload::ZOOM_IN }, AUTO>),
-    job!("span_zoomout4_direct", span_job::<1, { workload::ZOOM_OUT }, DIRECT>),
-    job!("span_zoomout4_fd", span_job::<1, { workload::ZOOM_OUT }, FD>),
-    job!("span_zoomout4_auto", span_job::<1, { workload::ZOOM_OUT }, AUTO>),
+    job!(
+        "span_zoomin4_auto",
+        span_job::<1, { workload::ZOOM_IN }, AUTO>
+    ),
+    job!(
+        "span_zoomout4_direct",
+        span_job::<1, { workload::ZOOM_OUT }, DIRECT>
+    ),
+    job!(
+        "span_zoomout4_fd",
+        span_job::<1, { workload::ZOOM_OUT }, FD>
+    ),
+    job!(
+        "span_zoomout4_auto",
+        span_job::<1, { workload::ZOOM_OUT }, AUTO>
+    ),
     job!("marble_csat_direct", marble_job::<0>),
     job!("marble_csat_fd", marble_job::<1>),
     job!("marble_csat_auto", marble_job::<2>),
