@@ -30,6 +30,7 @@
 
 use crate::format::{TexPoint, TexValue};
 use crate::model::{NoiseTerm, TextureModel};
+use crate::noise::value::{directional, scaled_corners};
 use crate::noise::{split, CellData};
 use crate::quadric::QuadraticSpan;
 use crate::table::TableWrap;
@@ -63,6 +64,9 @@ pub enum EvalMode {
     /// the exact polynomial every [`FD32_ANCHOR`] pixels: **not** bit-identical; the error of `f` is
     /// at most `5489 * 2^-(16 + fv)` (one anchor interval's truncation drift, `1 + 32 + C(32,2) +
     /// C(32,3)` units) plus one unit of the final floor, per cubic term. Other terms as `Fd`.
+    /// Since the exact merged accumulators of `Fd` (one set for all cubic terms) cost less than
+    /// per-term 32-bit ones, non-turbulent cubic terms take the exact merged path here too (error
+    /// zero, within the bound); the 32-bit accumulators remain for turbulent cubic terms.
     Fd32,
     /// Terms that are not cubics along a span (smooth and quintic fades, gradient noise, mNoise:
     /// degree 9 or more) forward-differenced as cubic Hermite segments through exact values and
@@ -394,8 +398,10 @@ impl<'m, const T: usize> SpanEvaluator<'m, T> {
                     }
                 }
                 EvalMode::Auto => {
-                    // Forward differencing pays when a cell spans at least 4 pixels on every axis.
-                    if ts.du.iter().any(|d| d.unsigned_abs() > 1 << 14) {
+                    // With the merged set-up, forward differencing pays as soon as a cell spans
+                    // 2 pixels (measured: `docs/performance.md`); past that (only reached with
+                    // culling off) per-pixel evaluation is cheaper.
+                    if ts.du.iter().any(|d| d.unsigned_abs() > NYQUIST_STEP as u32) {
                         Strategy::Direct
                     } else if cubic {
                         Strategy::Fd
@@ -423,6 +429,191 @@ impl<'m, const T: usize> SpanEvaluator<'m, T> {
         info
     }
 
+    /// The fast path: every forward-differenced term is a non-turbulent trilinear term, and their
+    /// forward differences are merged into **one** accumulator set (a sum of cubics is a cubic
+    /// while no term changes cell; wrapping arithmetic keeps it exact). Per pixel that is three
+    /// 64-bit additions for the value and four for the two gradients, whatever the number of
+    /// terms. When a term leaves its cell, its state at that pixel is subtracted (evaluated from
+    /// its polynomial, [`fd_at`]) and the new cell's added ([`cubic_poly`]). Terms evaluated
+    /// per pixel (`Direct`, trilinear only) are added on top. The quadric and its gradients are
+    /// stepped in i64, which is exact when they provably stay in range over the span (checked
+    /// here; `mod` tables only need `q` modulo 2^64). Returns `false`, having emitted nothing,
+    /// when the span needs the general loop.
+    ///
+    /// Exactness of the merged gradient: every trilinear term's derivative inside its cell is at
+    /// most `3 * 2^48 * max|v'|` per pixel step of at most half a cell (terms past Nyquist have no
+    /// gradient), and `sum_k max|v'_k| <= 2^13 + T` (model 4.4), so the sum stays below 2^63 and
+    /// the general loop's saturating sum never saturates: wrapping and saturating sums agree.
+    fn run_merged<F: FnMut(Sample)>(
+        &mut self,
+        len: u16,
+        setup: &Setup<T>,
+        strategies: &[Strategy; T],
+        emit: &mut F,
+    ) -> bool {
+        let m = self.model;
+        let terms = m.terms();
+        let fv = m.noise_frac_bits();
+        let grads = self.opts.gradients;
+        let clamp = m.wrap() == TableWrap::Clamp;
+        let len = u32::from(len);
+        let mut n_fd = 0usize;
+        let mut n_direct = 0usize;
+        for (term, st) in terms.iter().zip(strategies) {
+            match st {
+                Strategy::Off => {}
+                Strategy::Fd | Strategy::Fd32 if term.basis.is_cubic() && !term.turbulence => {
+                    n_fd += 1
+                }
+                Strategy::Direct if term.basis.is_cubic() => n_direct += 1,
+                _ => return false,
+            }
+        }
+        let qc = setup.quad.c;
+        if clamp && !fits_i64(&qc, len) {
+            return false;
+        }
+        if grads && !(fits_i64(&setup.gqx, len) && fits_i64(&setup.gqy, len)) {
+            return false;
+        }
+        let mut quad = QuadStep {
+            q: qc[0] as i64,
+            dq: qc[1].wrapping_add(qc[2]) as i64,
+            ddq: qc[2].wrapping_mul(2) as i64,
+            gx: setup.gqx[0] as i64,
+            dgx: setup.gqx[1] as i64,
+            gy: setup.gqy[0] as i64,
+            dgy: setup.gqy[1] as i64,
+        };
+
+        // Merged terms: their polynomials, entry pixel and exit pixel.
+        let mut merged = [(0usize, CubicPoly::default(), 0u32, 0u32); T];
+        let mut direct = [(0usize, [0i32; 3]); T];
+        let (mut nm, mut nd) = (0usize, 0usize);
+        let mut sum = Cubic::default();
+        let mut setups: u64 = 0;
+        let mut grad_terms: u64 = 0;
+        for (k, (term, st)) in terms.iter().zip(strategies).enumerate() {
+            let ts = &setup.terms[k];
+            if *st != Strategy::Off && grads && ts.gradient {
+                grad_terms += 1;
+            }
+            match st {
+                Strategy::Fd | Strategy::Fd32 => {
+                    let g = grads && ts.gradient;
+                    let (cell, frac) = split(ts.u0);
+                    let v = scaled_corners(term.basis.hash, cell, term.amplitude.to_bits(), fv);
+                    setups += 1;
+                    let poly = cubic_poly(&v, frac, ts.du, ts.dy, g);
+                    sum.add(&fd_start(&poly, g));
+                    if let Some(slot) = merged.get_mut(nm) {
+                        *slot = (k, poly, 0, pixels_in_cell(frac, ts.du));
+                        nm += 1;
+                    }
+                }
+                Strategy::Direct => {
+                    if let Some(slot) = direct.get_mut(nd) {
+                        *slot = (k, ts.u0);
+                        nd += 1;
+                    }
+                }
+                _ => {}
+            }
+        }
+        debug_assert_eq!((nm, nd), (n_fd, n_direct));
+
+        let mut i = 0u32;
+        while i < len {
+            let end = merged[..nm].iter().fold(len, |e, t| e.min(t.3));
+            let seg = end - i;
+            if nd == 0 {
+                pixel_loop(seg, fv, grads, clamp, &mut sum, &mut quad, emit, |_, _, _| {});
+            } else {
+                let direct = &mut direct[..nd];
+                pixel_loop(
+                    seg,
+                    fv,
+                    grads,
+                    clamp,
+                    &mut sum,
+                    &mut quad,
+                    emit,
+                    |n: &mut i64, gx: &mut i64, gy: &mut i64| {
+                        for (k, u) in direct.iter_mut() {
+                            let (Some(term), Some(ts)) = (terms.get(*k), setup.terms.get(*k))
+                            else {
+                                continue;
+                            };
+                            let (amp, neg) = amp_and_sign(term);
+                            let (cell, frac) = split(*u);
+                            let v = scaled_corners(term.basis.hash, cell, amp, fv);
+                            let w = [i64::from(frac[0]), i64::from(frac[1]), i64::from(frac[2])];
+                            let mut p = crate::noise::value::interpolate(&v, w);
+                            let g = grads && ts.gradient;
+                            let (mut a, mut b) = if g {
+                                (directional(&v, w, wide(ts.du)), directional(&v, w, wide(ts.dy)))
+                            } else {
+                                (0, 0)
+                            };
+                            if term.turbulence && ((p < 0) != neg) {
+                                p = p.wrapping_neg();
+                                a = a.wrapping_neg();
+                                b = b.wrapping_neg();
+                            }
+                            *n = n.wrapping_add(p);
+                            *gx = gx.wrapping_add(a);
+                            *gy = gy.wrapping_add(b);
+                            *u = [
+                                u[0].wrapping_add(ts.du[0]),
+                                u[1].wrapping_add(ts.du[1]),
+                                u[2].wrapping_add(ts.du[2]),
+                            ];
+                        }
+                    },
+                );
+            }
+            i = end;
+            if i >= len {
+                break;
+            }
+            for (k, poly, start, next) in merged[..nm].iter_mut() {
+                if *next != i {
+                    continue;
+                }
+                let (Some(term), Some(ts)) = (terms.get(*k), setup.terms.get(*k)) else {
+                    continue;
+                };
+                let g = grads && ts.gradient;
+                sum.sub(&fd_at(poly, i - *start, g));
+                let at = i as i32;
+                let u = [
+                    ts.u0[0].wrapping_add(ts.du[0].wrapping_mul(at)),
+                    ts.u0[1].wrapping_add(ts.du[1].wrapping_mul(at)),
+                    ts.u0[2].wrapping_add(ts.du[2].wrapping_mul(at)),
+                ];
+                let (cell, frac) = split(u);
+                let v = scaled_corners(term.basis.hash, cell, term.amplitude.to_bits(), fv);
+                setups += 1;
+                *poly = cubic_poly(&v, frac, ts.du, ts.dy, g);
+                sum.add(&fd_start(poly, g));
+                *start = i;
+                *next = i.saturating_add(pixels_in_cell(frac, ts.du));
+            }
+        }
+
+        let px = u64::from(len);
+        let st = &mut self.stats;
+        st.cell_setups += setups + px * nd as u64;
+        st.noise_evaluations += px * (nm + nd) as u64;
+        if grads {
+            st.gradient_evaluations += px * (1 + grad_terms);
+        }
+        if nm > 0 {
+            st.fd_pixels += px;
+        }
+        true
+    }
+
     /// The evaluation loop. `choose(term setup, is_cubic)` picks each term's strategy.
     fn run<D, F>(&mut self, len: u16, setup: &Setup<T>, choose: D, mut emit: F)
     where
@@ -436,11 +627,22 @@ impl<'m, const T: usize> SpanEvaluator<'m, T> {
         let terms = m.terms();
         let n = terms.len();
 
+        let mut strategies = [Strategy::Off; T];
+        for (k, st) in strategies.iter_mut().enumerate().take(n) {
+            let ts = &setup.terms[k];
+            if ts.active {
+                *st = choose(ts, terms[k].basis.is_cubic());
+            }
+        }
+        if self.run_merged(len, setup, &strategies, &mut emit) {
+            return;
+        }
+
         let mut runs = [TermRun::default(); T];
         for (k, r) in runs.iter_mut().enumerate().take(n) {
             let ts = &setup.terms[k];
             if ts.active {
-                r.strategy = choose(ts, terms[k].basis.is_cubic());
+                r.strategy = strategies[k];
                 r.u = ts.u0;
                 if r.strategy == Strategy::Direct {
                     r.remaining = u32::MAX;
@@ -633,6 +835,110 @@ impl<'m, const T: usize> SpanEvaluator<'m, T> {
                 }
             }
             i += seg;
+        }
+    }
+}
+
+#[inline(always)]
+fn wide(d: [i32; 3]) -> [i64; 3] {
+    [i64::from(d[0]), i64::from(d[1]), i64::from(d[2])]
+}
+
+/// The quadric (48 fraction bits) and its two screen derivatives along a span, stepped in i64.
+struct QuadStep {
+    q: i64,
+    dq: i64,
+    ddq: i64,
+    gx: i64,
+    dgx: i64,
+    gy: i64,
+    dgy: i64,
+}
+
+/// Whether the polynomial `sum_m c_m i^m` provably stays within i64 for `i` in `0..len`
+/// (`sum_m |c_m| len^m < 2^63`); then its wrapping i64 forward differences are exact values.
+fn fits_i64(c: &[i128], len: u32) -> bool {
+    let l = i128::from(len);
+    let mut acc: i128 = 0;
+    let mut pw: i128 = 1;
+    for &cm in c {
+        let Some(term) = cm.checked_abs().and_then(|a| a.checked_mul(pw)) else {
+            return false;
+        };
+        let Some(a) = acc.checked_add(term) else {
+            return false;
+        };
+        acc = a;
+        pw = pw.saturating_mul(l);
+    }
+    acc < 1i128 << 63
+}
+
+/// `seg` pixels of the merged loop, specialised per span (gradients on or off, `mod` or `clamp`)
+/// so that nothing is tested per pixel; `extra` adds per-pixel (direct) terms.
+#[allow(clippy::too_many_arguments)]
+#[inline(always)]
+fn pixel_loop<F: FnMut(Sample), X: FnMut(&mut i64, &mut i64, &mut i64)>(
+    seg: u32,
+    fv: u32,
+    grads: bool,
+    clamp: bool,
+    s: &mut Cubic,
+    q: &mut QuadStep,
+    emit: &mut F,
+    extra: X,
+) {
+    match (grads, clamp) {
+        (true, false) => pixels::<true, false, F, X>(seg, fv, s, q, emit, extra),
+        (true, true) => pixels::<true, true, F, X>(seg, fv, s, q, emit, extra),
+        (false, false) => pixels::<false, false, F, X>(seg, fv, s, q, emit, extra),
+        (false, true) => pixels::<false, true, F, X>(seg, fv, s, q, emit, extra),
+    }
+}
+
+#[inline(always)]
+fn pixels<const G: bool, const CLAMP: bool, F, X>(
+    seg: u32,
+    fv: u32,
+    s: &mut Cubic,
+    q: &mut QuadStep,
+    emit: &mut F,
+    mut extra: X,
+) where
+    F: FnMut(Sample),
+    X: FnMut(&mut i64, &mut i64, &mut i64),
+{
+    for _ in 0..seg {
+        let (mut n, mut gxn, mut gyn) = (s.p[0], s.gx[0], s.gy[0]);
+        extra(&mut n, &mut gxn, &mut gyn);
+        let n = n >> fv;
+        let f48 = if CLAMP {
+            q.q.saturating_add(n)
+        } else {
+            q.q.wrapping_add(n)
+        };
+        let f = TexValue::from_bits((f48 >> 32) as i32);
+        if G {
+            emit(Sample {
+                f,
+                gx: q.gx.saturating_add(gxn >> fv),
+                gy: q.gy.saturating_add(gyn >> fv),
+            });
+        } else {
+            emit(Sample { f, gx: 0, gy: 0 });
+        }
+        s.p[0] = s.p[0].wrapping_add(s.p[1]);
+        s.p[1] = s.p[1].wrapping_add(s.p[2]);
+        s.p[2] = s.p[2].wrapping_add(s.p[3]);
+        q.q = q.q.wrapping_add(q.dq);
+        q.dq = q.dq.wrapping_add(q.ddq);
+        if G {
+            s.gx[0] = s.gx[0].wrapping_add(s.gx[1]);
+            s.gx[1] = s.gx[1].wrapping_add(s.gx[2]);
+            s.gy[0] = s.gy[0].wrapping_add(s.gy[1]);
+            s.gy[1] = s.gy[1].wrapping_add(s.gy[2]);
+            q.gx = q.gx.wrapping_add(q.dgx);
+            q.gy = q.gy.wrapping_add(q.dgy);
         }
     }
 }
@@ -878,35 +1184,50 @@ fn cubic_poly(v: &[i32; 8], frac: [u32; 3], du: [i32; 3], dy: [i32; 3], grads: b
     CubicPoly { g, h }
 }
 
-/// Forward-difference state of `c` at local pixel 0.
+/// Forward-difference state of `c` at local pixel 0 (gradient parts zero unless `grads`).
 #[inline(always)]
-fn fd_start(c: &CubicPoly) -> Cubic {
+fn fd_start(c: &CubicPoly, grads: bool) -> Cubic {
     let [g0, g1, g2, g3] = c.g;
     let [h0, h1, h2] = c.h;
     let d3 = wmul(g3, 6);
+    let p = [g0, wadd(wadd(g1, g2), g3), wadd(wmul(g2, 2), d3), d3];
+    if !grads {
+        return Cubic {
+            p,
+            ..Cubic::default()
+        };
+    }
     Cubic {
-        p: [g0, wadd(wadd(g1, g2), g3), wadd(wmul(g2, 2), d3), d3],
+        p,
         gx: [g1, wadd(wmul(g2, 2), wmul(g3, 3)), d3],
         gy: [h0, wadd(h1, h2), wmul(h2, 2)],
     }
 }
 
-/// Forward-difference state of `c` at local pixel `l` (12 multiplications).
+/// Forward-difference state of `c` at local pixel `l <= 65535` (12 multiplications; gradient
+/// parts zero unless `grads`).
 #[inline]
-fn fd_at(c: &CubicPoly, l: u32) -> Cubic {
+fn fd_at(c: &CubicPoly, l: u32, grads: bool) -> Cubic {
     let [g0, g1, g2, g3] = c.g;
     let [h0, h1, h2] = c.h;
-    let l = i64::from(l);
-    let l2 = l * l; // l < 2^17: exact
+    let l = i64::from(l.min(1 << 16));
+    let l2 = l * l; // l <= 2^16: exact
     let t = 2 * l + 1;
     let d3 = wmul(g3, 6);
+    let p = [
+        wadd(g0, wmul(l, wadd(g1, wmul(l, wadd(g2, wmul(l, g3)))))),
+        wadd(wadd(g1, wmul(g2, t)), wmul(g3, 3 * l2 + 3 * l + 1)),
+        wadd(wmul(g2, 2), wmul(g3, 6 * l + 6)),
+        d3,
+    ];
+    if !grads {
+        return Cubic {
+            p,
+            ..Cubic::default()
+        };
+    }
     Cubic {
-        p: [
-            wadd(g0, wmul(l, wadd(g1, wmul(l, wadd(g2, wmul(l, g3)))))),
-            wadd(wadd(g1, wmul(g2, t)), wmul(g3, 3 * l2 + 3 * l + 1)),
-            wadd(wmul(g2, 2), wmul(g3, 6 * l + 6)),
-            d3,
-        ],
+        p,
         gx: [
             wadd(g1, wmul(l, wadd(wmul(g2, 2), wmul(wmul(g3, 3), l)))),
             wadd(wmul(g2, 2), wmul(wmul(g3, 3), t)),
@@ -951,7 +1272,7 @@ impl Cubic {
 /// Forward-difference start values of a trilinear term in a new cell (see [`cubic_poly`]).
 #[inline]
 fn cubic_setup(v: &[i32; 8], frac: [u32; 3], ts: &TermSetup, grads: bool) -> Cubic {
-    fd_start(&cubic_poly(v, frac, ts.du, ts.dy, grads))
+    fd_start(&cubic_poly(v, frac, ts.du, ts.dy, grads), grads)
 }
 
 #[cfg(feature = "defmt")]
