@@ -325,7 +325,21 @@ impl<'m, const T: usize> SpanEvaluator<'m, T> {
         let s0 = exact(span.s0);
         let ds = exact(span.ds);
         let dy = exact(span.dsdy);
-        let quad = m.quadric().along(s0, ds);
+        let qm = quadric_matrix(m.quadric());
+        let xh = [
+            i128::from(s0[0]),
+            i128::from(s0[1]),
+            i128::from(s0[2]),
+            1 << 16,
+        ];
+        let dh = [i128::from(ds[0]), i128::from(ds[1]), i128::from(ds[2]), 0];
+        let quad = QuadraticSpan {
+            c: [
+                sparse_form(&qm, &xh, &xh),
+                sparse_form(&qm, &xh, &dh).wrapping_mul(2),
+                sparse_form(&qm, &dh, &dh),
+            ],
+        };
         let grads = self.opts.gradients;
         let mut terms = [TermSetup::default(); T];
         let mut extra: i64 = 0;
@@ -347,10 +361,14 @@ impl<'m, const T: usize> SpanEvaluator<'m, T> {
             };
         }
         let (gqx, gqy) = if grads {
-            (
-                m.quadric().derivative_along(s0, ds, ds),
-                m.quadric().derivative_along(s0, ds, dy),
-            )
+            let yh = [i128::from(dy[0]), i128::from(dy[1]), i128::from(dy[2]), 0];
+            let along = |v: &[i128; 4]| {
+                [
+                    sparse_form(&qm, &xh, v).wrapping_mul(2),
+                    sparse_form(&qm, &dh, v).wrapping_mul(2),
+                ]
+            };
+            (along(&dh), along(&yh))
         } else {
             ([0, 0], [0, 0])
         };
@@ -527,7 +545,16 @@ impl<'m, const T: usize> SpanEvaluator<'m, T> {
             let end = merged[..nm].iter().fold(len, |e, t| e.min(t.3));
             let seg = end - i;
             if nd == 0 {
-                pixel_loop(seg, fv, grads, clamp, &mut sum, &mut quad, emit, |_, _, _| {});
+                pixel_loop(
+                    seg,
+                    fv,
+                    grads,
+                    clamp,
+                    &mut sum,
+                    &mut quad,
+                    emit,
+                    |_, _, _| {},
+                );
             } else {
                 let direct = &mut direct[..nd];
                 pixel_loop(
@@ -551,7 +578,10 @@ impl<'m, const T: usize> SpanEvaluator<'m, T> {
                             let mut p = crate::noise::value::interpolate(&v, w);
                             let g = grads && ts.gradient;
                             let (mut a, mut b) = if g {
-                                (directional(&v, w, wide(ts.du)), directional(&v, w, wide(ts.dy)))
+                                (
+                                    directional(&v, w, wide(ts.du)),
+                                    directional(&v, w, wide(ts.dy)),
+                                )
                             } else {
                                 (0, 0)
                             };
@@ -837,6 +867,36 @@ impl<'m, const T: usize> SpanEvaluator<'m, T> {
             i += seg;
         }
     }
+}
+
+/// The quadric's symmetric matrix (raw 16.16 entries).
+fn quadric_matrix(q: &crate::quadric::Quadric) -> [[i128; 4]; 4] {
+    let c = q.coefficients().map(|k| i128::from(k.to_bits()));
+    let [a, b, cc, d, e, f, g, h, i, j] = c;
+    [[a, b, cc, d], [b, e, f, g], [cc, f, h, i], [d, g, i, j]]
+}
+
+/// `x^T Q y` in wrapping i128 skipping zero entries and components: the same value as
+/// [`crate::quadric::Quadric::along`]'s form (every product and sum is taken modulo 2^128, so
+/// dropping zero products changes nothing), at a fraction of the cost for the sparse quadrics
+/// of real materials (i128 multiplications are library calls on 32-bit cores).
+fn sparse_form(m: &[[i128; 4]; 4], x: &[i128; 4], y: &[i128; 4]) -> i128 {
+    let mut acc: i128 = 0;
+    for (row, &xi) in m.iter().zip(x) {
+        if xi == 0 {
+            continue;
+        }
+        let mut r: i128 = 0;
+        for (&q, &yj) in row.iter().zip(y) {
+            if q != 0 && yj != 0 {
+                r = r.wrapping_add(q.wrapping_mul(yj));
+            }
+        }
+        if r != 0 {
+            acc = acc.wrapping_add(r.wrapping_mul(xi));
+        }
+    }
+    acc
 }
 
 #[inline(always)]
@@ -1428,6 +1488,60 @@ mod tests {
         assert_eq!(ev.stats().noise_evaluations, 0);
         // 2 * (1 + 1/2 + 1/4 + 1/8) = 3.75
         assert_eq!(info.extra_width48, (3 * 65536 + 49152) << 32);
+    }
+
+    #[test]
+    fn sparse_quadric_is_the_quadric() {
+        let mut st = 99u64;
+        let mut r = || {
+            st = st
+                .wrapping_mul(6364136223846793005)
+                .wrapping_add(1442695040888963407);
+            (st >> 32) as i32
+        };
+        for case in 0..400 {
+            let mut c = [QuadricCoeff::ZERO; 10];
+            for k in c.iter_mut() {
+                // Sparse and dense quadrics, small and extreme entries.
+                let v = r();
+                *k = QuadricCoeff::from_bits(match (v as u32) % 4 {
+                    0 | 1 => 0,
+                    2 => v >> 12,
+                    _ => v,
+                });
+            }
+            let q = Quadric::from_coefficients(c);
+            let pt = |r: &mut dyn FnMut() -> i32, big: bool| {
+                let mut v = [0i64; 3];
+                for x in v.iter_mut() {
+                    let a = r();
+                    *x = i64::from(if big || a % 3 == 0 { a } else { a >> 14 });
+                }
+                v
+            };
+            let s0 = pt(&mut r, case % 2 == 0);
+            let ds = pt(&mut r, case % 5 == 0);
+            let dy = pt(&mut r, false);
+            let qm = quadric_matrix(&q);
+            let h =
+                |v: [i64; 3], w: i128| [i128::from(v[0]), i128::from(v[1]), i128::from(v[2]), w];
+            let (xh, dh, yh) = (h(s0, 1 << 16), h(ds, 0), h(dy, 0));
+            let want = q.along(s0, ds).c;
+            let got = [
+                sparse_form(&qm, &xh, &xh),
+                sparse_form(&qm, &xh, &dh).wrapping_mul(2),
+                sparse_form(&qm, &dh, &dh),
+            ];
+            assert_eq!(got, want);
+            for (dir, vh) in [(ds, dh), (dy, yh)] {
+                let want = q.derivative_along(s0, ds, dir);
+                let got = [
+                    sparse_form(&qm, &xh, &vh).wrapping_mul(2),
+                    sparse_form(&qm, &dh, &vh).wrapping_mul(2),
+                ];
+                assert_eq!(got, want);
+            }
+        }
     }
 
     #[test]

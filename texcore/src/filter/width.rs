@@ -184,7 +184,11 @@ mod tests {
 
     #[test]
     fn isqrt32_exact() {
-        for v in (0..=u32::MAX).step_by(9973).chain(0..100_000).chain([u32::MAX, u32::MAX - 1]) {
+        for v in (0..=u32::MAX)
+            .step_by(9973)
+            .chain(0..100_000)
+            .chain([u32::MAX, u32::MAX - 1])
+        {
             assert_eq!(u64::from(isqrt32(v)), isqrt(u64::from(v)), "{v}");
         }
         for r in 0..=65535u32 {
