@@ -487,13 +487,18 @@ impl<'m, const T: usize> SpanEvaluator<'m, T> {
                 _ => return false,
             }
         }
+        // Below 2^62 the quadric (clamp tables) and its gradients plus the noise (|N| <= 2^61,
+        // gradients below 2^59 after `>> fv`, see above) can never saturate, so the pixel loop
+        // adds with plain wrapping additions; `mod` tables wrap `q` by definition.
         let qc = setup.quad.c;
-        if clamp && !fits_i64(&qc, len) {
+        if clamp && !fits(&qc, len, 1 << 62) {
             return false;
         }
-        if grads && !(fits_i64(&setup.gqx, len) && fits_i64(&setup.gqy, len)) {
+        if grads && !(fits(&setup.gqx, len, 1 << 62) && fits(&setup.gqy, len, 1 << 62)) {
             return false;
         }
+        // An affine quadric along the span (linear `q`, constant gradients) skips three additions.
+        let affine = qc[2] == 0 && setup.gqx[1] == 0 && setup.gqy[1] == 0;
         let mut quad = QuadStep {
             q: qc[0] as i64,
             dq: qc[1].wrapping_add(qc[2]) as i64,
@@ -549,7 +554,7 @@ impl<'m, const T: usize> SpanEvaluator<'m, T> {
                     seg,
                     fv,
                     grads,
-                    clamp,
+                    affine,
                     &mut sum,
                     &mut quad,
                     emit,
@@ -561,7 +566,7 @@ impl<'m, const T: usize> SpanEvaluator<'m, T> {
                     seg,
                     fv,
                     grads,
-                    clamp,
+                    affine,
                     &mut sum,
                     &mut quad,
                     emit,
@@ -915,9 +920,10 @@ struct QuadStep {
     dgy: i64,
 }
 
-/// Whether the polynomial `sum_m c_m i^m` provably stays within i64 for `i` in `0..len`
-/// (`sum_m |c_m| len^m < 2^63`); then its wrapping i64 forward differences are exact values.
-fn fits_i64(c: &[i128], len: u32) -> bool {
+/// Whether the polynomial `sum_m c_m i^m` provably stays below `limit` in magnitude for `i` in
+/// `0..len` (`sum_m |c_m| len^m < limit`); with `limit <= 2^63` its wrapping i64 forward
+/// differences are then exact values.
+fn fits(c: &[i128], len: u32, limit: i128) -> bool {
     let l = i128::from(len);
     let mut acc: i128 = 0;
     let mut pw: i128 = 1;
@@ -931,33 +937,34 @@ fn fits_i64(c: &[i128], len: u32) -> bool {
         acc = a;
         pw = pw.saturating_mul(l);
     }
-    acc < 1i128 << 63
+    acc < limit
 }
 
-/// `seg` pixels of the merged loop, specialised per span (gradients on or off, `mod` or `clamp`)
-/// so that nothing is tested per pixel; `extra` adds per-pixel (direct) terms.
+/// `seg` pixels of the merged loop, specialised per span (gradients on or off, affine quadric or
+/// not) so that nothing is tested per pixel; `extra` adds per-pixel (direct) terms. No addition
+/// here can saturate (see [`SpanEvaluator::run_merged`]), so all are wrapping.
 #[allow(clippy::too_many_arguments)]
 #[inline(always)]
 fn pixel_loop<F: FnMut(Sample), X: FnMut(&mut i64, &mut i64, &mut i64)>(
     seg: u32,
     fv: u32,
     grads: bool,
-    clamp: bool,
+    affine: bool,
     s: &mut Cubic,
     q: &mut QuadStep,
     emit: &mut F,
     extra: X,
 ) {
-    match (grads, clamp) {
-        (true, false) => pixels::<true, false, F, X>(seg, fv, s, q, emit, extra),
+    match (grads, affine) {
         (true, true) => pixels::<true, true, F, X>(seg, fv, s, q, emit, extra),
-        (false, false) => pixels::<false, false, F, X>(seg, fv, s, q, emit, extra),
+        (true, false) => pixels::<true, false, F, X>(seg, fv, s, q, emit, extra),
         (false, true) => pixels::<false, true, F, X>(seg, fv, s, q, emit, extra),
+        (false, false) => pixels::<false, false, F, X>(seg, fv, s, q, emit, extra),
     }
 }
 
 #[inline(always)]
-fn pixels<const G: bool, const CLAMP: bool, F, X>(
+fn pixels<const G: bool, const AFFINE: bool, F, X>(
     seg: u32,
     fv: u32,
     s: &mut Cubic,
@@ -971,18 +978,13 @@ fn pixels<const G: bool, const CLAMP: bool, F, X>(
     for _ in 0..seg {
         let (mut n, mut gxn, mut gyn) = (s.p[0], s.gx[0], s.gy[0]);
         extra(&mut n, &mut gxn, &mut gyn);
-        let n = n >> fv;
-        let f48 = if CLAMP {
-            q.q.saturating_add(n)
-        } else {
-            q.q.wrapping_add(n)
-        };
+        let f48 = q.q.wrapping_add(n >> fv);
         let f = TexValue::from_bits((f48 >> 32) as i32);
         if G {
             emit(Sample {
                 f,
-                gx: q.gx.saturating_add(gxn >> fv),
-                gy: q.gy.saturating_add(gyn >> fv),
+                gx: q.gx.wrapping_add(gxn >> fv),
+                gy: q.gy.wrapping_add(gyn >> fv),
             });
         } else {
             emit(Sample { f, gx: 0, gy: 0 });
@@ -991,14 +993,18 @@ fn pixels<const G: bool, const CLAMP: bool, F, X>(
         s.p[1] = s.p[1].wrapping_add(s.p[2]);
         s.p[2] = s.p[2].wrapping_add(s.p[3]);
         q.q = q.q.wrapping_add(q.dq);
-        q.dq = q.dq.wrapping_add(q.ddq);
+        if !AFFINE {
+            q.dq = q.dq.wrapping_add(q.ddq);
+        }
         if G {
             s.gx[0] = s.gx[0].wrapping_add(s.gx[1]);
             s.gx[1] = s.gx[1].wrapping_add(s.gx[2]);
             s.gy[0] = s.gy[0].wrapping_add(s.gy[1]);
             s.gy[1] = s.gy[1].wrapping_add(s.gy[2]);
-            q.gx = q.gx.wrapping_add(q.dgx);
-            q.gy = q.gy.wrapping_add(q.dgy);
+            if !AFFINE {
+                q.gx = q.gx.wrapping_add(q.dgx);
+                q.gy = q.gy.wrapping_add(q.dgy);
+            }
         }
     }
 }
@@ -1488,6 +1494,65 @@ mod tests {
         assert_eq!(ev.stats().noise_evaluations, 0);
         // 2 * (1 + 1/2 + 1/4 + 1/8) = 3.75
         assert_eq!(info.extra_width48, (3 * 65536 + 49152) << 32);
+    }
+
+    #[test]
+    fn merged_path_exact_without_gradients_and_with_quadrics() {
+        // Gradients on and off, mod and clamp, affine and curved quadrics, terms forward
+        // differenced and (past Nyquist, culling off) per pixel in the same span.
+        for wrap in [TableWrap::Mod, TableWrap::Clamp] {
+            for curved in [false, true] {
+                let q = if curved {
+                    Quadric::from_f64([0.7, 0.1, 0.0, -0.2, 0.3, 0.0, 0.05, 1.1, 0.25, 0.4])
+                        .unwrap()
+                } else {
+                    Quadric::linear(
+                        QuadricCoeff::ONE,
+                        QuadricCoeff::ZERO,
+                        QuadricCoeff::from_num(0.5),
+                        QuadricCoeff::ZERO,
+                    )
+                };
+                let mut m: TextureModel<8> = TextureModel::new(q, wrap);
+                m.push_octaves(&Octaves {
+                    count: 6,
+                    base: Affine3::scale(MatrixEntry::from_num(3)),
+                    amplitude: Amplitude::from_num(0.6),
+                    rotate: true,
+                    basis: NoiseBasis::trilinear(HashKind::Integer),
+                    turbulence: false,
+                })
+                .unwrap();
+                let span = Span {
+                    s0: TexPoint::from_f64(-0.37, 1.21, 0.55),
+                    ds: TexPoint::from_f64(0.0082, 0.0026, -0.0014),
+                    dsdy: TexPoint::from_f64(-0.0011, 0.0037, 0.0002),
+                    len: 700,
+                };
+                for gradients in [true, false] {
+                    for cull in [true, false] {
+                        let go = |mode| {
+                            let mut ev = SpanEvaluator::new(
+                                &m,
+                                EvalOptions {
+                                    mode,
+                                    gradients,
+                                    cull,
+                                },
+                            );
+                            let mut out = Vec::new();
+                            ev.eval(&span, |s| out.push(s));
+                            out
+                        };
+                        let d = go(EvalMode::Direct);
+                        let ctx = (wrap, curved, gradients, cull);
+                        assert_eq!(d, go(EvalMode::Fd), "{ctx:?}");
+                        assert_eq!(d, go(EvalMode::Auto), "{ctx:?}");
+                        assert_eq!(d, go(EvalMode::Fd32), "{ctx:?}");
+                    }
+                }
+            }
+        }
     }
 
     #[test]
