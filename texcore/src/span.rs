@@ -491,10 +491,10 @@ impl<'m, const T: usize> SpanEvaluator<'m, T> {
         // gradients below 2^59 after `>> fv`, see above) can never saturate, so the pixel loop
         // adds with plain wrapping additions; `mod` tables wrap `q` by definition.
         let qc = setup.quad.c;
-        if clamp && !fits(&qc, len, 1 << 62) {
+        if clamp && !fits(&qc, len) {
             return false;
         }
-        if grads && !(fits(&setup.gqx, len, 1 << 62) && fits(&setup.gqy, len, 1 << 62)) {
+        if grads && !(fits(&setup.gqx, len) && fits(&setup.gqy, len)) {
             return false;
         }
         // An affine quadric along the span (linear `q`, constant gradients) skips three additions.
@@ -920,24 +920,16 @@ struct QuadStep {
     dgy: i64,
 }
 
-/// Whether the polynomial `sum_m c_m i^m` provably stays below `limit` in magnitude for `i` in
-/// `0..len` (`sum_m |c_m| len^m < limit`); with `limit <= 2^63` its wrapping i64 forward
-/// differences are then exact values.
-fn fits(c: &[i128], len: u32, limit: i128) -> bool {
-    let l = i128::from(len);
-    let mut acc: i128 = 0;
-    let mut pw: i128 = 1;
-    for &cm in c {
-        let Some(term) = cm.checked_abs().and_then(|a| a.checked_mul(pw)) else {
-            return false;
-        };
-        let Some(a) = acc.checked_add(term) else {
-            return false;
-        };
-        acc = a;
-        pw = pw.saturating_mul(l);
-    }
-    acc < limit
+/// Whether the polynomial `sum_m c_m i^m` (degree <= 2) provably stays below 2^62 in magnitude for
+/// `i` in `0..len` (`len <= 65535`), then its wrapping i64 forward differences are exact values
+/// and adding a value below 2^62 cannot overflow. Conservative and cheap (no wide
+/// multiplications, which are library calls on 32-bit cores): each nonzero term must satisfy
+/// `|c_m| len^m < 2^60`, checked on bit lengths (`bits(|c_m|) + 16 m <= 60`).
+fn fits(c: &[i128], len: u32) -> bool {
+    let lbits = 32 - len.leading_zeros(); // len < 2^lbits
+    c.iter().enumerate().all(|(m, &cm)| {
+        cm == 0 || (128 - cm.unsigned_abs().leading_zeros()) + lbits * m as u32 <= 60
+    })
 }
 
 /// `seg` pixels of the merged loop, specialised per span (gradients on or off, affine quadric or
