@@ -325,22 +325,29 @@ impl<'m, const T: usize> SpanEvaluator<'m, T> {
         let s0 = exact(span.s0);
         let ds = exact(span.ds);
         let dy = exact(span.dsdy);
-        let qm = quadric_matrix(m.quadric());
-        let xh = [
-            i128::from(s0[0]),
-            i128::from(s0[1]),
-            i128::from(s0[2]),
-            1 << 16,
-        ];
-        let dh = [i128::from(ds[0]), i128::from(ds[1]), i128::from(ds[2]), 0];
-        let quad = QuadraticSpan {
-            c: [
-                sparse_form(&qm, &xh, &xh),
-                sparse_form(&qm, &xh, &dh).wrapping_mul(2),
-                sparse_form(&qm, &dh, &dh),
-            ],
-        };
+        // The quadric along the span from two matrix-vector products, `Q x` and `Q d` (entries
+        // 32 x 32 -> 64-bit, zero entries skipped), and five dot products: the same values mod
+        // 2^128 as `Quadric::along` / `derivative_along` (`x^T Q d = d^T Q x`).
         let grads = self.opts.gradients;
+        let qm = quadric_matrix(m.quadric());
+        let xh = [s0[0], s0[1], s0[2], 1 << 16];
+        let dh = [ds[0], ds[1], ds[2], 0];
+        let qx = mat_vec(&qm, &xh);
+        let qd = mat_vec(&qm, &dh);
+        let c1 = dot(&dh, &qx).wrapping_mul(2);
+        let c2 = dot(&dh, &qd);
+        let quad = QuadraticSpan {
+            c: [dot(&xh, &qx), c1, c2],
+        };
+        let (gqx, gqy) = if grads {
+            let yh = [dy[0], dy[1], dy[2], 0];
+            (
+                [c1, c2.wrapping_mul(2)],
+                [dot(&yh, &qx).wrapping_mul(2), dot(&yh, &qd).wrapping_mul(2)],
+            )
+        } else {
+            ([0, 0], [0, 0])
+        };
         let mut terms = [TermSetup::default(); T];
         let mut extra: i64 = 0;
         for (ts, term) in terms.iter_mut().zip(m.terms()) {
@@ -360,18 +367,6 @@ impl<'m, const T: usize> SpanEvaluator<'m, T> {
                 gradient: grads && !beyond,
             };
         }
-        let (gqx, gqy) = if grads {
-            let yh = [i128::from(dy[0]), i128::from(dy[1]), i128::from(dy[2]), 0];
-            let along = |v: &[i128; 4]| {
-                [
-                    sparse_form(&qm, &xh, v).wrapping_mul(2),
-                    sparse_form(&qm, &dh, v).wrapping_mul(2),
-                ]
-            };
-            (along(&dh), along(&yh))
-        } else {
-            ([0, 0], [0, 0])
-        };
         Setup {
             terms,
             quad_zero: quad.is_zero(),
@@ -875,30 +870,31 @@ impl<'m, const T: usize> SpanEvaluator<'m, T> {
 }
 
 /// The quadric's symmetric matrix (raw 16.16 entries).
-fn quadric_matrix(q: &crate::quadric::Quadric) -> [[i128; 4]; 4] {
-    let c = q.coefficients().map(|k| i128::from(k.to_bits()));
-    let [a, b, cc, d, e, f, g, h, i, j] = c;
-    [[a, b, cc, d], [b, e, f, g], [cc, f, h, i], [d, g, i, j]]
+fn quadric_matrix(q: &crate::quadric::Quadric) -> [[i32; 4]; 4] {
+    let [a, b, c, d, e, f, g, h, i, j] = q.coefficients().map(|k| k.to_bits());
+    [[a, b, c, d], [b, e, f, g], [c, f, h, i], [d, g, i, j]]
 }
 
-/// `x^T Q y` in wrapping i128 skipping zero entries and components: the same value as
-/// [`crate::quadric::Quadric::along`]'s form (every product and sum is taken modulo 2^128, so
-/// dropping zero products changes nothing), at a fraction of the cost for the sparse quadrics
-/// of real materials (i128 multiplications are library calls on 32-bit cores).
-fn sparse_form(m: &[[i128; 4]; 4], x: &[i128; 4], y: &[i128; 4]) -> i128 {
-    let mut acc: i128 = 0;
-    for (row, &xi) in m.iter().zip(x) {
-        if xi == 0 {
-            continue;
-        }
-        let mut r: i128 = 0;
-        for (&q, &yj) in row.iter().zip(y) {
-            if q != 0 && yj != 0 {
-                r = r.wrapping_add(q.wrapping_mul(yj));
+/// `Q v` for a homogeneous vector of 32-bit components (as i64), skipping zero entries; exact.
+fn mat_vec(m: &[[i32; 4]; 4], v: &[i64; 4]) -> [i128; 4] {
+    let mut out = [0i128; 4];
+    for (o, row) in out.iter_mut().zip(m) {
+        for (&q, &x) in row.iter().zip(v) {
+            if q != 0 && x != 0 {
+                // |q| < 2^31 and |x| <= 2^31 (span coordinates are raw i32): exact in i64.
+                *o = o.wrapping_add(i128::from(i64::from(q).wrapping_mul(x)));
             }
         }
-        if r != 0 {
-            acc = acc.wrapping_add(r.wrapping_mul(xi));
+    }
+    out
+}
+
+/// `v . w` in wrapping i128, skipping zero products.
+fn dot(v: &[i64; 4], w: &[i128; 4]) -> i128 {
+    let mut acc: i128 = 0;
+    for (&a, &b) in v.iter().zip(w) {
+        if a != 0 && b != 0 {
+            acc = acc.wrapping_add(b.wrapping_mul(i128::from(a)));
         }
     }
     acc
@@ -1580,22 +1576,15 @@ mod tests {
             let ds = pt(&mut r, case % 5 == 0);
             let dy = pt(&mut r, false);
             let qm = quadric_matrix(&q);
-            let h =
-                |v: [i64; 3], w: i128| [i128::from(v[0]), i128::from(v[1]), i128::from(v[2]), w];
+            let h = |v: [i64; 3], w: i64| [v[0], v[1], v[2], w];
             let (xh, dh, yh) = (h(s0, 1 << 16), h(ds, 0), h(dy, 0));
+            let (qx, qd) = (mat_vec(&qm, &xh), mat_vec(&qm, &dh));
             let want = q.along(s0, ds).c;
-            let got = [
-                sparse_form(&qm, &xh, &xh),
-                sparse_form(&qm, &xh, &dh).wrapping_mul(2),
-                sparse_form(&qm, &dh, &dh),
-            ];
+            let got = [dot(&xh, &qx), dot(&dh, &qx).wrapping_mul(2), dot(&dh, &qd)];
             assert_eq!(got, want);
             for (dir, vh) in [(ds, dh), (dy, yh)] {
                 let want = q.derivative_along(s0, ds, dir);
-                let got = [
-                    sparse_form(&qm, &xh, &vh).wrapping_mul(2),
-                    sparse_form(&qm, &dh, &vh).wrapping_mul(2),
-                ];
+                let got = [dot(&vh, &qx).wrapping_mul(2), dot(&vh, &qd).wrapping_mul(2)];
                 assert_eq!(got, want);
             }
         }
