@@ -9,7 +9,7 @@
 //!
 //! Corner order: index `c = cx | cy << 1 | cz << 2`.
 
-use crate::hash::{lattice_value, HashKind};
+use crate::hash::HashKind;
 
 /// Amplitude-scaled corner values of the cell at `cell`: `v'_c = (amp * v_c + 2^(30-fv)) >> (31-fv)`.
 ///
@@ -116,6 +116,7 @@ pub fn directional(v: &[i32; 8], w: [i64; 3], dw: [i64; 3]) -> i64 {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::hash::lattice_value;
 
     fn corners() -> [i32; 8] {
         [1000, -2000, 3000, 8191, -8192, 17, 0, -5000]
