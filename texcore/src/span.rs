@@ -511,8 +511,12 @@ impl<'m, const T: usize> SpanEvaluator<'m, T> {
         let mut sum = Cubic::default();
         let mut setups: u64 = 0;
         let mut grad_terms: u64 = 0;
-        for (k, (term, st)) in terms.iter().zip(strategies).enumerate() {
-            let ts = &setup.terms[k];
+        for (k, ((term, st), ts)) in terms
+            .iter()
+            .zip(strategies)
+            .zip(setup.terms.iter())
+            .enumerate()
+        {
             if *st != Strategy::Off && grads && ts.gradient {
                 grad_terms += 1;
             }
@@ -542,7 +546,7 @@ impl<'m, const T: usize> SpanEvaluator<'m, T> {
 
         let mut i = 0u32;
         while i < len {
-            let end = merged[..nm].iter().fold(len, |e, t| e.min(t.3));
+            let end = merged.iter().take(nm).fold(len, |e, t| e.min(t.3));
             let seg = end - i;
             if nd == 0 {
                 pixel_loop(
@@ -556,7 +560,7 @@ impl<'m, const T: usize> SpanEvaluator<'m, T> {
                     |_, _, _| {},
                 );
             } else {
-                let direct = &mut direct[..nd];
+                let direct = &mut direct;
                 pixel_loop(
                     seg,
                     fv,
@@ -566,7 +570,7 @@ impl<'m, const T: usize> SpanEvaluator<'m, T> {
                     &mut quad,
                     emit,
                     |n: &mut i64, gx: &mut i64, gy: &mut i64| {
-                        for (k, u) in direct.iter_mut() {
+                        for (k, u) in direct.iter_mut().take(nd) {
                             let (Some(term), Some(ts)) = (terms.get(*k), setup.terms.get(*k))
                             else {
                                 continue;
@@ -606,7 +610,7 @@ impl<'m, const T: usize> SpanEvaluator<'m, T> {
             if i >= len {
                 break;
             }
-            for (k, poly, start, next) in merged[..nm].iter_mut() {
+            for (k, poly, start, next) in merged.iter_mut().take(nm) {
                 if *next != i {
                     continue;
                 }
@@ -658,10 +662,9 @@ impl<'m, const T: usize> SpanEvaluator<'m, T> {
         let n = terms.len();
 
         let mut strategies = [Strategy::Off; T];
-        for (k, st) in strategies.iter_mut().enumerate().take(n) {
-            let ts = &setup.terms[k];
+        for ((st, ts), term) in strategies.iter_mut().zip(setup.terms.iter()).zip(terms) {
             if ts.active {
-                *st = choose(ts, terms[k].basis.is_cubic());
+                *st = choose(ts, term.basis.is_cubic());
             }
         }
         if self.run_merged(len, setup, &strategies, &mut emit) {
@@ -669,10 +672,14 @@ impl<'m, const T: usize> SpanEvaluator<'m, T> {
         }
 
         let mut runs = [TermRun::default(); T];
-        for (k, r) in runs.iter_mut().enumerate().take(n) {
-            let ts = &setup.terms[k];
+        for ((r, ts), st) in runs
+            .iter_mut()
+            .zip(setup.terms.iter())
+            .zip(strategies.iter())
+            .take(n)
+        {
             if ts.active {
-                r.strategy = strategies[k];
+                r.strategy = *st;
                 r.u = ts.u0;
                 if r.strategy == Strategy::Direct {
                     r.remaining = u32::MAX;
@@ -693,14 +700,11 @@ impl<'m, const T: usize> SpanEvaluator<'m, T> {
         while i < len {
             // (Re-)anchor every term whose segment ended; the segment is the shortest of them.
             let mut seg = len - i;
-            for k in 0..n {
-                let r = &mut runs[k];
+            for ((r, ts), term) in runs.iter_mut().zip(setup.terms.iter()).zip(terms) {
                 if r.strategy == Strategy::Off {
                     continue;
                 }
                 if r.remaining == 0 {
-                    let ts = &setup.terms[k];
-                    let term = &terms[k];
                     let (amp, _) = amp_and_sign(term);
                     let (cell, frac) = split(r.u);
                     if !r.cached || cell != r.cell {
@@ -742,10 +746,7 @@ impl<'m, const T: usize> SpanEvaluator<'m, T> {
                 let mut gxn: i64 = 0;
                 let mut gyn: i64 = 0;
                 let mut any_fd = false;
-                for k in 0..n {
-                    let r = &mut runs[k];
-                    let ts = &setup.terms[k];
-                    let term = &terms[k];
+                for ((r, ts), term) in runs.iter_mut().zip(setup.terms.iter()).zip(terms) {
                     let (amp, neg) = amp_and_sign(term);
                     let want_g = grads && ts.gradient;
                     let (mut v, mut gx, mut gy) = match r.strategy {

@@ -299,9 +299,35 @@ pub mod workload {
         }
     }
 
+    /// The marble preset's model, `r + sum_{i<4} 2^-i n(2^i s)` (`mod`), built without floating
+    /// point (the preset builder converts `f64` constants, which links panicking paths into a
+    /// device build); equal to `presets::marble(hash).model` (tested).
+    pub fn marble_model(hash: HashKind) -> TextureModel<TERMS> {
+        let mut c = [QuadricCoeff::ZERO; 10];
+        c[8] = QuadricCoeff::from_bits(1 << 15); // I = 1/2: q = 2 I r = r
+        let mut m = TextureModel::new(Quadric::from_coefficients(c), TableWrap::Mod);
+        // Four octaves of amplitude sum < 2 always fit: this cannot fail.
+        let _ = m.push_octaves(&Octaves {
+            count: 4,
+            base: Affine3::IDENTITY,
+            amplitude: Amplitude::ONE,
+            rotate: false,
+            basis: NoiseBasis::trilinear(hash),
+            turbulence: false,
+        });
+        m
+    }
+
+    /// The marble preset's check plane (equal to `presets::marble(..).plane`, tested).
+    pub const MARBLE_PLANE: crate::presets::CheckPlane = crate::presets::CheckPlane {
+        origin: [0, 32768, 0],
+        step_x: [512, 0, 0],
+        step_y: [0, 0, 512],
+    };
+
     /// Row `y` of the marble preset's check plane, `width` pixels.
     pub fn marble_span(y: u16, width: u16) -> Span {
-        let p = crate::presets::marble(HashKind::Integer).plane;
+        let p = MARBLE_PLANE;
         let at = |k: usize| {
             p.origin[k]
                 .wrapping_add(p.step_x[k] / 2)
@@ -315,39 +341,72 @@ pub mod workload {
         }
     }
 
-    /// The marble preset as a texture: its model and colour table (`N = 256`, nearest), the
-    /// summed-area filter and the L2 gradient norm, evaluated in `mode`.
+    /// The marble colour stage: the preset's keys in a 256-entry table (nearest, `mod`) with the
+    /// summed-area filter, computed at compile time (`None` only if the keys were invalid).
+    #[cfg(feature = "csat")]
+    pub const MARBLE_STAGE: Option<crate::filter::ColorStage<256>> = marble_stage();
+
+    #[cfg(feature = "csat")]
+    const fn marble_stage() -> Option<crate::filter::ColorStage<256>> {
+        use crate::color::Rgba8888;
+        use crate::filter::{Antialias, ColorStage};
+        use crate::format::TexValue;
+        use crate::table::{ColorTable, TableLookup};
+        const N_KEYS: usize = crate::presets::MARBLE_KEYS.len();
+        let k = &crate::presets::MARBLE_KEYS;
+        let mut keys = [(TexValue::ZERO, Rgba8888::BLACK); N_KEYS];
+        let mut i = 0;
+        while i < N_KEYS {
+            let c = k[i].1;
+            keys[i] = (
+                TexValue::from_bits(k[i].0 as i32),
+                Rgba8888::new(c[0], c[1], c[2], c[3]),
+            );
+            i += 1;
+        }
+        match ColorTable::<256>::from_keys(&keys) {
+            Ok(t) => {
+                match ColorStage::new(t, TableWrap::Mod, TableLookup::Nearest, Antialias::Csat) {
+                    Ok(s) => Some(s),
+                    Err(_) => None,
+                }
+            }
+            Err(_) => None,
+        }
+    }
+
+    /// The marble preset as a texture: [`marble_model`] and [`MARBLE_STAGE`], the L2 gradient
+    /// norm, evaluated in `mode`.
     #[cfg(feature = "csat")]
     pub fn marble_csat(
         hash: HashKind,
         mode: crate::span::EvalMode,
     ) -> Option<super::Texture<TERMS, 256>> {
-        use crate::color::Rgba8888;
-        use crate::filter::{Antialias, ColorStage, GradientNorm};
-        use crate::format::TexValue;
-        use crate::table::{ColorTable, TableLookup};
-        let preset = crate::presets::marble(hash);
-        let mut keys = [(TexValue::ZERO, Rgba8888::BLACK); 16];
-        let n = preset.keys.len().min(keys.len());
-        for (slot, &(p, c)) in keys.iter_mut().zip(preset.keys) {
-            *slot = (
-                TexValue::from_bits(p as i32),
-                Rgba8888::new(c[0], c[1], c[2], c[3]),
-            );
-        }
-        let table = ColorTable::<256>::from_keys(&keys[..n]).ok()?;
-        let stage = ColorStage::new(
-            table,
-            preset.model.wrap(),
-            TableLookup::Nearest,
-            Antialias::Csat,
-        )
-        .ok()?;
         Some(super::Texture::new(
-            super::Shader::Model(preset.model),
-            stage,
-            GradientNorm::L2,
+            super::Shader::Model(marble_model(hash)),
+            MARBLE_STAGE?,
+            crate::filter::GradientNorm::L2,
             mode,
         ))
+    }
+
+    #[cfg(test)]
+    mod tests {
+        use super::*;
+
+        #[test]
+        fn marble_workload_is_the_preset() {
+            for hash in [
+                HashKind::Integer,
+                #[cfg(feature = "perm-hash")]
+                HashKind::Permutation,
+            ] {
+                let p = crate::presets::marble(hash);
+                assert_eq!(marble_model(hash), p.model);
+                assert_eq!(MARBLE_PLANE, p.plane);
+                assert_eq!(p.keys, &crate::presets::MARBLE_KEYS[..]);
+                assert_eq!(p.table_size, 256);
+            }
+        }
     }
 }
