@@ -964,6 +964,9 @@ fn pixels<const G: bool, const AFFINE: bool, F, X>(
     F: FnMut(Sample),
     X: FnMut(&mut i64, &mut i64, &mut i64),
 {
+    // fv <= 16 (model 4.4): saying so lets 32-bit targets shift a 64-bit value in four
+    // instructions instead of a general sequence with a test for shifts of 32 and more.
+    let fv = fv & 31;
     for _ in 0..seg {
         let (mut n, mut gxn, mut gyn) = (s.p[0], s.gx[0], s.gy[0]);
         extra(&mut n, &mut gxn, &mut gyn);
