@@ -15,8 +15,12 @@
 //!   Other bases (smooth fades, gradient noise, mNoise) are degree 9 or more along a span; they keep
 //!   their hashed cell cached and interpolate per pixel, which is exactly the direct computation.
 //!   The quadric is a quadratic in `i`: two additions a pixel.
-//! - [`EvalMode::Auto`]: per span and per term, forward differencing where cells span several
-//!   pixels, direct where they are shorter (set-up would cost more than it saves).
+//!   All non-turbulent trilinear terms share **one** merged forward-difference state (a sum of
+//!   cubics is a cubic while no term changes cell): the pixel loop costs the same for one octave
+//!   or eight, and a cell change subtracts the leaving term's state and adds the new cell's
+//!   (`docs/performance.md`).
+//! - [`EvalMode::Auto`]: per span and per term, forward differencing where a cell spans at least
+//!   2 pixels, direct where they are shorter (set-up would cost more than it saves).
 //!
 //! Two cheaper, approximate modes trade accuracy for time: [`EvalMode::Fd32`] (32-bit
 //! accumulators) and [`EvalMode::Reanchored`] (piecewise cubic forward differencing of the
