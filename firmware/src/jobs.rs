@@ -17,6 +17,9 @@
 //! Cortex-M build additionally runs the 256-byte permutation-table hash.
 
 use texcore::hash::{hash61, int_hash, lattice_value, HashKind};
+use texcore::model::TextureModel;
+use texcore::span::{EvalMode, EvalOptions, Sample, SpanEvaluator};
+use texcore::texture::{workload, Texture};
 
 /// Entries of the context's scanline buffer: one 256-pixel row.
 pub const LINE: usize = 256;
@@ -46,6 +49,10 @@ pub struct Ctx {
     /// The third lattice coordinate of the hash planes. Set at run time from an opaque value so
     /// the compiler cannot precompute a job. The harness uses [`Ctx::PLANE_Z`].
     pub z: u16,
+    /// The value-noise workload models (1 and 4 octaves), built outside the measured window.
+    pub fbm: [TextureModel<{ workload::TERMS }>; 2],
+    /// The marble + csat texture in `Direct`, `Fd` and `Auto` (built outside the measured window).
+    pub marble: [Option<Texture<{ workload::TERMS }, 256>>; 3],
 }
 
 impl Ctx {
@@ -54,9 +61,19 @@ impl Ctx {
 
     /// A zeroed line and `z = PLANE_Z`, passed through `black_box`.
     pub fn new() -> Self {
+        let marble = |mode| core::hint::black_box(workload::marble_csat(HASH, mode));
         Ctx {
             line: [0; LINE],
             z: core::hint::black_box(Self::PLANE_Z),
+            fbm: [
+                core::hint::black_box(workload::value_fbm(1, HASH)),
+                core::hint::black_box(workload::value_fbm(4, HASH)),
+            ],
+            marble: [
+                marble(EvalMode::Direct),
+                marble(EvalMode::Fd),
+                marble(EvalMode::Auto),
+            ],
         }
     }
 }
@@ -77,6 +94,33 @@ pub struct Job {
     pub name: &'static str,
     /// The work; returns its checksum.
     pub run: JobFn,
+}
+
+/// The lattice hash of the texture jobs: the permutation table on the Cortex-M, the table-free
+/// integer hash on the RISC-V soft-core class.
+#[cfg(target_arch = "arm")]
+pub const HASH: HashKind = HashKind::Permutation;
+/// The lattice hash of the texture jobs: the permutation table on the Cortex-M, the table-free
+/// integer hash on the RISC-V soft-core class.
+#[cfg(not(target_arch = "arm"))]
+pub const HASH: HashKind = HashKind::Integer;
+
+/// Side of the square planes of the span and texture jobs, in pixels.
+pub const PLANE: u16 = 128;
+
+/// A job whose name ends in the hash and plane size: `<name>_perm_128` on the Cortex-M,
+/// `<name>_int_128` on the RISC-V.
+macro_rules! job {
+    ($name:literal, $f:expr) => {
+        Job {
+            name: if cfg!(target_arch = "arm") {
+                concat!($name, "_perm_128")
+            } else {
+                concat!($name, "_int_128")
+            },
+            run: $f,
+        }
+    };
 }
 
 /// Every job the firmware runs, in order.
@@ -103,6 +147,44 @@ pub static JOBS: &[Job] = &[
         name: "lattice_value_perm_256x256",
         run: lattice_value_perm_plane,
     },
+    job!(
+        "span_1oct_direct",
+        span_job::<0, { workload::CELLS_8 }, DIRECT>
+    ),
+    job!("span_1oct_fd", span_job::<0, { workload::CELLS_8 }, FD>),
+    job!("span_1oct_auto", span_job::<0, { workload::CELLS_8 }, AUTO>),
+    job!("span_1oct_fd32", span_job::<0, { workload::CELLS_8 }, FD32>),
+    job!(
+        "span_4oct_direct",
+        span_job::<1, { workload::CELLS_8 }, DIRECT>
+    ),
+    job!("span_4oct_fd", span_job::<1, { workload::CELLS_8 }, FD>),
+    job!("span_4oct_auto", span_job::<1, { workload::CELLS_8 }, AUTO>),
+    job!("span_4oct_fd32", span_job::<1, { workload::CELLS_8 }, FD32>),
+    job!(
+        "span_zoomin4_direct",
+        span_job::<1, { workload::ZOOM_IN }, DIRECT>
+    ),
+    job!("span_zoomin4_fd", span_job::<1, { workload::ZOOM_IN }, FD>),
+    job!(
+        "span_zoomin4_auto",
+        span_job::<1, { workload::ZOOM_IN }, AUTO>
+    ),
+    job!(
+        "span_zoomout4_direct",
+        span_job::<1, { workload::ZOOM_OUT }, DIRECT>
+    ),
+    job!(
+        "span_zoomout4_fd",
+        span_job::<1, { workload::ZOOM_OUT }, FD>
+    ),
+    job!(
+        "span_zoomout4_auto",
+        span_job::<1, { workload::ZOOM_OUT }, AUTO>
+    ),
+    job!("marble_csat_direct", marble_job::<0>),
+    job!("marble_csat_fd", marble_job::<1>),
+    job!("marble_csat_auto", marble_job::<2>),
     #[cfg(feature = "panic-never-canary")]
     Job {
         name: "panic_never_canary",
@@ -164,4 +246,95 @@ pub fn lattice_value_perm_plane(ctx: &mut Ctx) -> u32 {
     plane(ctx, |x, y, z| {
         u32::from(lattice_value(HashKind::Permutation, x, y, z) as u16)
     })
+}
+
+const DIRECT: u8 = 0;
+const FD: u8 = 1;
+const AUTO: u8 = 2;
+const FD32: u8 = 3;
+
+const fn mode(m: u8) -> EvalMode {
+    match m {
+        DIRECT => EvalMode::Direct,
+        FD => EvalMode::Fd,
+        FD32 => EvalMode::Fd32,
+        _ => EvalMode::Auto,
+    }
+}
+
+/// One 32-bit word per sample: `f ^ gx_lo ^ rotl(gx_hi, 8) ^ rotl(gy_lo, 16) ^ rotl(gy_hi, 24)`
+/// (a few instructions a pixel; the host check recomputes it).
+#[inline(always)]
+pub fn mix(s: &Sample) -> u32 {
+    let (gx, gy) = (s.gx as u64, s.gy as u64);
+    (s.f.to_bits() as u32)
+        ^ (gx as u32)
+        ^ ((gx >> 32) as u32).rotate_left(8)
+        ^ (gy as u32).rotate_left(16)
+        ^ ((gy >> 32) as u32).rotate_left(24)
+}
+
+/// The value-noise plane `PLANE x PLANE` of [`workload::plane_span`] with octave-0 step `STEP`
+/// (model `ctx.fbm[M]`: 1 or 4 octaves; gradients on, culling on, mode `MODE`): each row's
+/// [`mix`] words are written to the line and the row folded, rows in ascending `y`.
+pub fn span_job<const M: usize, const STEP: i32, const MODE: u8>(ctx: &mut Ctx) -> u32 {
+    span_plane(ctx, M, STEP, mode(MODE))
+}
+
+/// The body of [`span_job`], shared by every instance (one copy of the evaluator in flash).
+#[inline(never)]
+fn span_plane(ctx: &mut Ctx, m: usize, step: i32, mode: EvalMode) -> u32 {
+    let Some(model) = ctx.fbm.get(m) else {
+        return 0;
+    };
+    let mut ev = SpanEvaluator::new(
+        model,
+        EvalOptions {
+            mode,
+            gradients: true,
+            cull: true,
+        },
+    );
+    let line = &mut ctx.line[..usize::from(PLANE)];
+    let mut acc = FNV_OFFSET;
+    for y in 0..PLANE {
+        let span = workload::plane_span(step, y, PLANE);
+        let mut px = line.iter_mut();
+        ev.eval(&span, |s| {
+            if let Some(p) = px.next() {
+                *p = mix(&s);
+            }
+        });
+        acc = fold_line(acc, line);
+    }
+    acc
+}
+
+/// The marble + csat texture (`ctx.marble[K]`: `Direct`, `Fd`, `Auto`) on the first
+/// `PLANE x PLANE` pixels of the preset's check plane: colours (`Rgba8888::to_u32`) written to the
+/// line, each row folded, rows in ascending `y`.
+pub fn marble_job<const K: usize>(ctx: &mut Ctx) -> u32 {
+    marble_plane(ctx, K)
+}
+
+/// The body of [`marble_job`], shared by every instance.
+#[inline(never)]
+fn marble_plane(ctx: &mut Ctx, k: usize) -> u32 {
+    let Some(Some(tex)) = ctx.marble.get(k) else {
+        return 0;
+    };
+    let mut ev = tex.evaluator();
+    let line = &mut ctx.line[..usize::from(PLANE)];
+    let mut acc = FNV_OFFSET;
+    for y in 0..PLANE {
+        let span = workload::marble_span(y, PLANE);
+        let mut px = line.iter_mut();
+        ev.shade(&span, |c| {
+            if let Some(p) = px.next() {
+                *p = c.to_u32();
+            }
+        });
+        acc = fold_line(acc, line);
+    }
+    acc
 }

@@ -10,6 +10,8 @@
 use host_sim::device::{self, DeviceError, DeviceRun, DeviceTarget, RunOptions};
 use std::time::Duration;
 use texcore::hash::{hash61, int_hash, lattice_value, perm_hash, HashKind};
+use texcore::span::{EvalMode, EvalOptions, Sample, SpanEvaluator};
+use texcore::texture::workload;
 
 const FNV_OFFSET: u32 = 0x811C_9DC5;
 const FNV_PRIME: u32 = 0x0100_0193;
@@ -27,8 +29,80 @@ fn plane(f: impl Fn(u16, u16, u16) -> u32) -> u32 {
     acc
 }
 
+/// Side of the firmware's span and texture planes (`jobs::PLANE`).
+const TEX_PLANE: u16 = 128;
+
+/// The firmware's `jobs::mix`: one word per sample.
+fn mix(s: &Sample) -> u32 {
+    let (gx, gy) = (s.gx as u64, s.gy as u64);
+    (s.f.to_bits() as u32)
+        ^ (gx as u32)
+        ^ ((gx >> 32) as u32).rotate_left(8)
+        ^ (gy as u32).rotate_left(16)
+        ^ ((gy >> 32) as u32).rotate_left(24)
+}
+
+fn mode(name: &str) -> Option<EvalMode> {
+    Some(match name {
+        "direct" => EvalMode::Direct,
+        "fd" => EvalMode::Fd,
+        "auto" => EvalMode::Auto,
+        "fd32" => EvalMode::Fd32,
+        _ => return None,
+    })
+}
+
+/// The firmware's `jobs::span_job` and `jobs::marble_job` (names
+/// `span_<case>_<mode>_<hash>_128` and `marble_csat_<mode>_<hash>_128`).
+fn texture_checksum(name: &str) -> Option<u32> {
+    let rest = name.strip_suffix("_128")?;
+    let (rest, hash) = match rest.rsplit_once('_')? {
+        (r, "perm") => (r, HashKind::Permutation),
+        (r, "int") => (r, HashKind::Integer),
+        _ => return None,
+    };
+    let (what, m) = rest.rsplit_once('_')?;
+    let m = mode(m)?;
+    let mut acc = FNV_OFFSET;
+    if what == "marble_csat" {
+        let tex = workload::marble_csat(hash, m)?;
+        let mut ev = tex.evaluator();
+        for y in 0..TEX_PLANE {
+            ev.shade(&workload::marble_span(y, TEX_PLANE), |c| {
+                acc = (acc ^ c.to_u32()).wrapping_mul(FNV_PRIME)
+            });
+        }
+        return Some(acc);
+    }
+    let (oct, step) = match what {
+        "span_1oct" => (1, workload::CELLS_8),
+        "span_4oct" => (4, workload::CELLS_8),
+        "span_zoomin4" => (4, workload::ZOOM_IN),
+        "span_zoomout4" => (4, workload::ZOOM_OUT),
+        _ => return None,
+    };
+    let model = workload::value_fbm(oct, hash);
+    let mut ev = SpanEvaluator::new(
+        &model,
+        EvalOptions {
+            mode: m,
+            gradients: true,
+            cull: true,
+        },
+    );
+    for y in 0..TEX_PLANE {
+        ev.eval(&workload::plane_span(step, y, TEX_PLANE), |s| {
+            acc = (acc ^ mix(&s)).wrapping_mul(FNV_PRIME)
+        });
+    }
+    Some(acc)
+}
+
 /// Host computation of each job, by name.
 fn host_checksum(name: &str) -> Option<u32> {
+    if let Some(c) = texture_checksum(name) {
+        return Some(c);
+    }
     Some(match name {
         "int_hash_256x256" => plane(int_hash),
         "lattice_value_int_256x256" => {
@@ -43,8 +117,41 @@ fn host_checksum(name: &str) -> Option<u32> {
     })
 }
 
-/// The jobs each target must run (the RISC-V build is table-free).
-fn expected_jobs(target: DeviceTarget) -> &'static [&'static str] {
+/// The span and texture jobs (firmware `jobs::JOBS`, in order), before the hash suffix.
+const TEXTURE_JOBS: &[&str] = &[
+    "span_1oct_direct",
+    "span_1oct_fd",
+    "span_1oct_auto",
+    "span_1oct_fd32",
+    "span_4oct_direct",
+    "span_4oct_fd",
+    "span_4oct_auto",
+    "span_4oct_fd32",
+    "span_zoomin4_direct",
+    "span_zoomin4_fd",
+    "span_zoomin4_auto",
+    "span_zoomout4_direct",
+    "span_zoomout4_fd",
+    "span_zoomout4_auto",
+    "marble_csat_direct",
+    "marble_csat_fd",
+    "marble_csat_auto",
+];
+
+/// The jobs each target must run (the RISC-V build is table-free): the hash planes, then the
+/// span and texture jobs with the target's hash (`perm` on the Cortex-M, `int` on the RISC-V).
+fn expected_jobs(target: DeviceTarget) -> Vec<String> {
+    let hash = match target {
+        DeviceTarget::CortexM4F => "perm",
+        DeviceTarget::Riscv32imc => "int",
+    };
+    let mut v: Vec<String> = base_jobs(target).iter().map(|s| s.to_string()).collect();
+    v.extend(TEXTURE_JOBS.iter().map(|j| format!("{j}_{hash}_128")));
+    v
+}
+
+/// The hash-plane jobs.
+fn base_jobs(target: DeviceTarget) -> &'static [&'static str] {
     match target {
         DeviceTarget::CortexM4F => &[
             "int_hash_256x256",
@@ -120,8 +227,13 @@ fn check(target: DeviceTarget) {
             job.name, job.checksum
         );
         assert_eq!(job.instructions, job.repeat, "{target} {}", job.name);
-        // At least one instruction per value of the 65536-point plane.
-        assert!(job.instructions > 65_536, "{target} {}", job.name);
+        // At least one instruction per value of the plane.
+        let values = if job.name.ends_with("_128") {
+            u64::from(TEX_PLANE) * u64::from(TEX_PLANE)
+        } else {
+            65_536
+        };
+        assert!(job.instructions > values, "{target} {}", job.name);
     }
 
     // Exactly repeatable across separate QEMU runs.

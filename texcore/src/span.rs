@@ -15,8 +15,12 @@
 //!   Other bases (smooth fades, gradient noise, mNoise) are degree 9 or more along a span; they keep
 //!   their hashed cell cached and interpolate per pixel, which is exactly the direct computation.
 //!   The quadric is a quadratic in `i`: two additions a pixel.
-//! - [`EvalMode::Auto`]: per span and per term, forward differencing where cells span several
-//!   pixels, direct where they are shorter (set-up would cost more than it saves).
+//!   All non-turbulent trilinear terms share **one** merged forward-difference state (a sum of
+//!   cubics is a cubic while no term changes cell): the pixel loop costs the same for one octave
+//!   or eight, and a cell change subtracts the leaving term's state and adds the new cell's
+//!   (`docs/performance.md`).
+//! - [`EvalMode::Auto`]: per span and per term, forward differencing where a cell spans at least
+//!   2 pixels, direct where they are shorter (set-up would cost more than it saves).
 //!
 //! Two cheaper, approximate modes trade accuracy for time: [`EvalMode::Fd32`] (32-bit
 //! accumulators) and [`EvalMode::Reanchored`] (piecewise cubic forward differencing of the
@@ -30,6 +34,7 @@
 
 use crate::format::{TexPoint, TexValue};
 use crate::model::{NoiseTerm, TextureModel};
+use crate::noise::value::{directional, scaled_corners};
 use crate::noise::{split, CellData};
 use crate::quadric::QuadraticSpan;
 use crate::table::TableWrap;
@@ -63,6 +68,9 @@ pub enum EvalMode {
     /// the exact polynomial every [`FD32_ANCHOR`] pixels: **not** bit-identical; the error of `f` is
     /// at most `5489 * 2^-(16 + fv)` (one anchor interval's truncation drift, `1 + 32 + C(32,2) +
     /// C(32,3)` units) plus one unit of the final floor, per cubic term. Other terms as `Fd`.
+    /// Since the exact merged accumulators of `Fd` (one set for all cubic terms) cost less than
+    /// per-term 32-bit ones, non-turbulent cubic terms take the exact merged path here too (error
+    /// zero, within the bound); the 32-bit accumulators remain for turbulent cubic terms.
     Fd32,
     /// Terms that are not cubics along a span (smooth and quintic fades, gradient noise, mNoise:
     /// degree 9 or more) forward-differenced as cubic Hermite segments through exact values and
@@ -321,8 +329,29 @@ impl<'m, const T: usize> SpanEvaluator<'m, T> {
         let s0 = exact(span.s0);
         let ds = exact(span.ds);
         let dy = exact(span.dsdy);
-        let quad = m.quadric().along(s0, ds);
+        // The quadric along the span from two matrix-vector products, `Q x` and `Q d` (entries
+        // 32 x 32 -> 64-bit, zero entries skipped), and five dot products: the same values mod
+        // 2^128 as `Quadric::along` / `derivative_along` (`x^T Q d = d^T Q x`).
         let grads = self.opts.gradients;
+        let qm = quadric_matrix(m.quadric());
+        let xh = [s0[0], s0[1], s0[2], 1 << 16];
+        let dh = [ds[0], ds[1], ds[2], 0];
+        let qx = mat_vec(&qm, &xh);
+        let qd = mat_vec(&qm, &dh);
+        let c1 = dot(&dh, &qx).wrapping_mul(2);
+        let c2 = dot(&dh, &qd);
+        let quad = QuadraticSpan {
+            c: [dot(&xh, &qx), c1, c2],
+        };
+        let (gqx, gqy) = if grads {
+            let yh = [dy[0], dy[1], dy[2], 0];
+            (
+                [c1, c2.wrapping_mul(2)],
+                [dot(&yh, &qx).wrapping_mul(2), dot(&yh, &qd).wrapping_mul(2)],
+            )
+        } else {
+            ([0, 0], [0, 0])
+        };
         let mut terms = [TermSetup::default(); T];
         let mut extra: i64 = 0;
         for (ts, term) in terms.iter_mut().zip(m.terms()) {
@@ -342,14 +371,6 @@ impl<'m, const T: usize> SpanEvaluator<'m, T> {
                 gradient: grads && !beyond,
             };
         }
-        let (gqx, gqy) = if grads {
-            (
-                m.quadric().derivative_along(s0, ds, ds),
-                m.quadric().derivative_along(s0, ds, dy),
-            )
-        } else {
-            ([0, 0], [0, 0])
-        };
         Setup {
             terms,
             quad_zero: quad.is_zero(),
@@ -394,8 +415,10 @@ impl<'m, const T: usize> SpanEvaluator<'m, T> {
                     }
                 }
                 EvalMode::Auto => {
-                    // Forward differencing pays when a cell spans at least 4 pixels on every axis.
-                    if ts.du.iter().any(|d| d.unsigned_abs() > 1 << 14) {
+                    // With the merged set-up, forward differencing pays as soon as a cell spans
+                    // 2 pixels (measured: `docs/performance.md`); past that (only reached with
+                    // culling off) per-pixel evaluation is cheaper.
+                    if ts.du.iter().any(|d| d.unsigned_abs() > NYQUIST_STEP as u32) {
                         Strategy::Direct
                     } else if cubic {
                         Strategy::Fd
@@ -423,6 +446,212 @@ impl<'m, const T: usize> SpanEvaluator<'m, T> {
         info
     }
 
+    /// The fast path: every forward-differenced term is a non-turbulent trilinear term, and their
+    /// forward differences are merged into **one** accumulator set (a sum of cubics is a cubic
+    /// while no term changes cell; wrapping arithmetic keeps it exact). Per pixel that is three
+    /// 64-bit additions for the value and four for the two gradients, whatever the number of
+    /// terms. When a term leaves its cell, its state at that pixel is subtracted (evaluated from
+    /// its polynomial, [`fd_at`]) and the new cell's added ([`cubic_poly`]). Terms evaluated
+    /// per pixel (`Direct`, trilinear only) are added on top. The quadric and its gradients are
+    /// stepped in i64, which is exact when they provably stay in range over the span (checked
+    /// here; `mod` tables only need `q` modulo 2^64). Returns `false`, having emitted nothing,
+    /// when the span needs the general loop.
+    ///
+    /// Exactness of the merged gradient: every trilinear term's derivative inside its cell is at
+    /// most `3 * 2^48 * max|v'|` per pixel step of at most half a cell (terms past Nyquist have no
+    /// gradient), and `sum_k max|v'_k| <= 2^13 + T` (model 4.4), so the sum stays below 2^63 and
+    /// the general loop's saturating sum never saturates: wrapping and saturating sums agree.
+    fn run_merged<F: FnMut(Sample)>(
+        &mut self,
+        len: u16,
+        setup: &Setup<T>,
+        strategies: &[Strategy; T],
+        emit: &mut F,
+    ) -> bool {
+        let m = self.model;
+        let terms = m.terms();
+        let fv = m.noise_frac_bits();
+        let grads = self.opts.gradients;
+        let clamp = m.wrap() == TableWrap::Clamp;
+        let len = u32::from(len);
+        let mut n_fd = 0usize;
+        let mut n_direct = 0usize;
+        for (term, st) in terms.iter().zip(strategies) {
+            match st {
+                Strategy::Off => {}
+                Strategy::Fd | Strategy::Fd32 if term.basis.is_cubic() && !term.turbulence => {
+                    n_fd += 1
+                }
+                Strategy::Direct if term.basis.is_cubic() => n_direct += 1,
+                _ => return false,
+            }
+        }
+        // Below 2^62 the quadric (clamp tables) and its gradients plus the noise (|N| <= 2^61,
+        // gradients below 2^59 after `>> fv`, see above) can never saturate, so the pixel loop
+        // adds with plain wrapping additions; `mod` tables wrap `q` by definition.
+        let qc = setup.quad.c;
+        if clamp && !fits(&qc, len) {
+            return false;
+        }
+        if grads && !(fits(&setup.gqx, len) && fits(&setup.gqy, len)) {
+            return false;
+        }
+        // An affine quadric along the span (linear `q`, constant gradients) skips three additions.
+        let affine = qc[2] == 0 && setup.gqx[1] == 0 && setup.gqy[1] == 0;
+        let mut quad = QuadStep {
+            q: qc[0] as i64,
+            dq: qc[1].wrapping_add(qc[2]) as i64,
+            ddq: qc[2].wrapping_mul(2) as i64,
+            gx: setup.gqx[0] as i64,
+            dgx: setup.gqx[1] as i64,
+            gy: setup.gqy[0] as i64,
+            dgy: setup.gqy[1] as i64,
+        };
+
+        // Merged terms: their polynomials, entry pixel and exit pixel.
+        let mut merged = [(0usize, CubicPoly::default(), 0u32, 0u32); T];
+        let mut direct = [(0usize, [0i32; 3]); T];
+        let (mut nm, mut nd) = (0usize, 0usize);
+        let mut sum = Cubic::default();
+        let mut setups: u64 = 0;
+        let mut grad_terms: u64 = 0;
+        for (k, ((term, st), ts)) in terms
+            .iter()
+            .zip(strategies)
+            .zip(setup.terms.iter())
+            .enumerate()
+        {
+            if *st != Strategy::Off && grads && ts.gradient {
+                grad_terms += 1;
+            }
+            match st {
+                Strategy::Fd | Strategy::Fd32 => {
+                    let g = grads && ts.gradient;
+                    let (cell, frac) = split(ts.u0);
+                    let v = scaled_corners(term.basis.hash, cell, term.amplitude.to_bits(), fv);
+                    setups += 1;
+                    let poly = cubic_poly(&v, frac, ts.du, ts.dy, g);
+                    sum.add(&fd_start(&poly, g));
+                    if let Some(slot) = merged.get_mut(nm) {
+                        *slot = (k, poly, 0, pixels_in_cell(frac, ts.du));
+                        nm += 1;
+                    }
+                }
+                Strategy::Direct => {
+                    if let Some(slot) = direct.get_mut(nd) {
+                        *slot = (k, ts.u0);
+                        nd += 1;
+                    }
+                }
+                _ => {}
+            }
+        }
+        debug_assert_eq!((nm, nd), (n_fd, n_direct));
+
+        let mut i = 0u32;
+        while i < len {
+            let end = merged.iter().take(nm).fold(len, |e, t| e.min(t.3));
+            let seg = end - i;
+            if nd == 0 {
+                pixel_loop(
+                    seg,
+                    fv,
+                    grads,
+                    affine,
+                    &mut sum,
+                    &mut quad,
+                    emit,
+                    |_, _, _| {},
+                );
+            } else {
+                let direct = &mut direct;
+                pixel_loop(
+                    seg,
+                    fv,
+                    grads,
+                    affine,
+                    &mut sum,
+                    &mut quad,
+                    emit,
+                    |n: &mut i64, gx: &mut i64, gy: &mut i64| {
+                        for (k, u) in direct.iter_mut().take(nd) {
+                            let (Some(term), Some(ts)) = (terms.get(*k), setup.terms.get(*k))
+                            else {
+                                continue;
+                            };
+                            let (amp, neg) = amp_and_sign(term);
+                            let (cell, frac) = split(*u);
+                            let v = scaled_corners(term.basis.hash, cell, amp, fv);
+                            let w = [i64::from(frac[0]), i64::from(frac[1]), i64::from(frac[2])];
+                            let mut p = crate::noise::value::interpolate(&v, w);
+                            let g = grads && ts.gradient;
+                            let (mut a, mut b) = if g {
+                                (
+                                    directional(&v, w, wide(ts.du)),
+                                    directional(&v, w, wide(ts.dy)),
+                                )
+                            } else {
+                                (0, 0)
+                            };
+                            if term.turbulence && ((p < 0) != neg) {
+                                p = p.wrapping_neg();
+                                a = a.wrapping_neg();
+                                b = b.wrapping_neg();
+                            }
+                            *n = n.wrapping_add(p);
+                            *gx = gx.wrapping_add(a);
+                            *gy = gy.wrapping_add(b);
+                            *u = [
+                                u[0].wrapping_add(ts.du[0]),
+                                u[1].wrapping_add(ts.du[1]),
+                                u[2].wrapping_add(ts.du[2]),
+                            ];
+                        }
+                    },
+                );
+            }
+            i = end;
+            if i >= len {
+                break;
+            }
+            for (k, poly, start, next) in merged.iter_mut().take(nm) {
+                if *next != i {
+                    continue;
+                }
+                let (Some(term), Some(ts)) = (terms.get(*k), setup.terms.get(*k)) else {
+                    continue;
+                };
+                let g = grads && ts.gradient;
+                sum.sub(&fd_at(poly, i - *start, g));
+                let at = i as i32;
+                let u = [
+                    ts.u0[0].wrapping_add(ts.du[0].wrapping_mul(at)),
+                    ts.u0[1].wrapping_add(ts.du[1].wrapping_mul(at)),
+                    ts.u0[2].wrapping_add(ts.du[2].wrapping_mul(at)),
+                ];
+                let (cell, frac) = split(u);
+                let v = scaled_corners(term.basis.hash, cell, term.amplitude.to_bits(), fv);
+                setups += 1;
+                *poly = cubic_poly(&v, frac, ts.du, ts.dy, g);
+                sum.add(&fd_start(poly, g));
+                *start = i;
+                *next = i.saturating_add(pixels_in_cell(frac, ts.du));
+            }
+        }
+
+        let px = u64::from(len);
+        let st = &mut self.stats;
+        st.cell_setups += setups + px * nd as u64;
+        st.noise_evaluations += px * (nm + nd) as u64;
+        if grads {
+            st.gradient_evaluations += px * (1 + grad_terms);
+        }
+        if nm > 0 {
+            st.fd_pixels += px;
+        }
+        true
+    }
+
     /// The evaluation loop. `choose(term setup, is_cubic)` picks each term's strategy.
     fn run<D, F>(&mut self, len: u16, setup: &Setup<T>, choose: D, mut emit: F)
     where
@@ -436,11 +665,25 @@ impl<'m, const T: usize> SpanEvaluator<'m, T> {
         let terms = m.terms();
         let n = terms.len();
 
-        let mut runs = [TermRun::default(); T];
-        for (k, r) in runs.iter_mut().enumerate().take(n) {
-            let ts = &setup.terms[k];
+        let mut strategies = [Strategy::Off; T];
+        for ((st, ts), term) in strategies.iter_mut().zip(setup.terms.iter()).zip(terms) {
             if ts.active {
-                r.strategy = choose(ts, terms[k].basis.is_cubic());
+                *st = choose(ts, term.basis.is_cubic());
+            }
+        }
+        if self.run_merged(len, setup, &strategies, &mut emit) {
+            return;
+        }
+
+        let mut runs = [TermRun::default(); T];
+        for ((r, ts), st) in runs
+            .iter_mut()
+            .zip(setup.terms.iter())
+            .zip(strategies.iter())
+            .take(n)
+        {
+            if ts.active {
+                r.strategy = *st;
                 r.u = ts.u0;
                 if r.strategy == Strategy::Direct {
                     r.remaining = u32::MAX;
@@ -461,14 +704,11 @@ impl<'m, const T: usize> SpanEvaluator<'m, T> {
         while i < len {
             // (Re-)anchor every term whose segment ended; the segment is the shortest of them.
             let mut seg = len - i;
-            for k in 0..n {
-                let r = &mut runs[k];
+            for ((r, ts), term) in runs.iter_mut().zip(setup.terms.iter()).zip(terms) {
                 if r.strategy == Strategy::Off {
                     continue;
                 }
                 if r.remaining == 0 {
-                    let ts = &setup.terms[k];
-                    let term = &terms[k];
                     let (amp, _) = amp_and_sign(term);
                     let (cell, frac) = split(r.u);
                     if !r.cached || cell != r.cell {
@@ -510,10 +750,7 @@ impl<'m, const T: usize> SpanEvaluator<'m, T> {
                 let mut gxn: i64 = 0;
                 let mut gyn: i64 = 0;
                 let mut any_fd = false;
-                for k in 0..n {
-                    let r = &mut runs[k];
-                    let ts = &setup.terms[k];
-                    let term = &terms[k];
+                for ((r, ts), term) in runs.iter_mut().zip(setup.terms.iter()).zip(terms) {
                     let (amp, neg) = amp_and_sign(term);
                     let want_g = grads && ts.gradient;
                     let (mut v, mut gx, mut gy) = match r.strategy {
@@ -633,6 +870,137 @@ impl<'m, const T: usize> SpanEvaluator<'m, T> {
                 }
             }
             i += seg;
+        }
+    }
+}
+
+/// The quadric's symmetric matrix (raw 16.16 entries).
+fn quadric_matrix(q: &crate::quadric::Quadric) -> [[i32; 4]; 4] {
+    let [a, b, c, d, e, f, g, h, i, j] = q.coefficients().map(|k| k.to_bits());
+    [[a, b, c, d], [b, e, f, g], [c, f, h, i], [d, g, i, j]]
+}
+
+/// `Q v` for a homogeneous vector of 32-bit components (as i64), skipping zero entries; exact.
+fn mat_vec(m: &[[i32; 4]; 4], v: &[i64; 4]) -> [i128; 4] {
+    let mut out = [0i128; 4];
+    for (o, row) in out.iter_mut().zip(m) {
+        for (&q, &x) in row.iter().zip(v) {
+            if q != 0 && x != 0 {
+                // |q| < 2^31 and |x| <= 2^31 (span coordinates are raw i32): exact in i64.
+                *o = o.wrapping_add(i128::from(i64::from(q).wrapping_mul(x)));
+            }
+        }
+    }
+    out
+}
+
+/// `v . w` in wrapping i128, skipping zero products.
+fn dot(v: &[i64; 4], w: &[i128; 4]) -> i128 {
+    let mut acc: i128 = 0;
+    for (&a, &b) in v.iter().zip(w) {
+        if a != 0 && b != 0 {
+            acc = acc.wrapping_add(b.wrapping_mul(i128::from(a)));
+        }
+    }
+    acc
+}
+
+#[inline(always)]
+fn wide(d: [i32; 3]) -> [i64; 3] {
+    [i64::from(d[0]), i64::from(d[1]), i64::from(d[2])]
+}
+
+/// The quadric (48 fraction bits) and its two screen derivatives along a span, stepped in i64.
+struct QuadStep {
+    q: i64,
+    dq: i64,
+    ddq: i64,
+    gx: i64,
+    dgx: i64,
+    gy: i64,
+    dgy: i64,
+}
+
+/// Whether the polynomial `sum_m c_m i^m` (degree <= 2) provably stays below 2^62 in magnitude for
+/// `i` in `0..len` (`len <= 65535`), then its wrapping i64 forward differences are exact values
+/// and adding a value below 2^62 cannot overflow. Conservative and cheap (no wide
+/// multiplications, which are library calls on 32-bit cores): each nonzero term must satisfy
+/// `|c_m| len^m < 2^60`, checked on bit lengths (`bits(|c_m|) + 16 m <= 60`).
+fn fits(c: &[i128], len: u32) -> bool {
+    let lbits = 32 - len.leading_zeros(); // len < 2^lbits
+    c.iter().enumerate().all(|(m, &cm)| {
+        cm == 0 || (128 - cm.unsigned_abs().leading_zeros()) + lbits * m as u32 <= 60
+    })
+}
+
+/// `seg` pixels of the merged loop, specialised per span (gradients on or off, affine quadric or
+/// not) so that nothing is tested per pixel; `extra` adds per-pixel (direct) terms. No addition
+/// here can saturate (see [`SpanEvaluator::run_merged`]), so all are wrapping.
+#[allow(clippy::too_many_arguments)]
+#[inline(always)]
+fn pixel_loop<F: FnMut(Sample), X: FnMut(&mut i64, &mut i64, &mut i64)>(
+    seg: u32,
+    fv: u32,
+    grads: bool,
+    affine: bool,
+    s: &mut Cubic,
+    q: &mut QuadStep,
+    emit: &mut F,
+    extra: X,
+) {
+    match (grads, affine) {
+        (true, true) => pixels::<true, true, F, X>(seg, fv, s, q, emit, extra),
+        (true, false) => pixels::<true, false, F, X>(seg, fv, s, q, emit, extra),
+        (false, true) => pixels::<false, true, F, X>(seg, fv, s, q, emit, extra),
+        (false, false) => pixels::<false, false, F, X>(seg, fv, s, q, emit, extra),
+    }
+}
+
+#[inline(always)]
+fn pixels<const G: bool, const AFFINE: bool, F, X>(
+    seg: u32,
+    fv: u32,
+    s: &mut Cubic,
+    q: &mut QuadStep,
+    emit: &mut F,
+    mut extra: X,
+) where
+    F: FnMut(Sample),
+    X: FnMut(&mut i64, &mut i64, &mut i64),
+{
+    // fv <= 16 (model 4.4): saying so lets 32-bit targets shift a 64-bit value in four
+    // instructions instead of a general sequence with a test for shifts of 32 and more.
+    let fv = fv & 31;
+    for _ in 0..seg {
+        let (mut n, mut gxn, mut gyn) = (s.p[0], s.gx[0], s.gy[0]);
+        extra(&mut n, &mut gxn, &mut gyn);
+        let f48 = q.q.wrapping_add(n >> fv);
+        let f = TexValue::from_bits((f48 >> 32) as i32);
+        if G {
+            emit(Sample {
+                f,
+                gx: q.gx.wrapping_add(gxn >> fv),
+                gy: q.gy.wrapping_add(gyn >> fv),
+            });
+        } else {
+            emit(Sample { f, gx: 0, gy: 0 });
+        }
+        s.p[0] = s.p[0].wrapping_add(s.p[1]);
+        s.p[1] = s.p[1].wrapping_add(s.p[2]);
+        s.p[2] = s.p[2].wrapping_add(s.p[3]);
+        q.q = q.q.wrapping_add(q.dq);
+        if !AFFINE {
+            q.dq = q.dq.wrapping_add(q.ddq);
+        }
+        if G {
+            s.gx[0] = s.gx[0].wrapping_add(s.gx[1]);
+            s.gx[1] = s.gx[1].wrapping_add(s.gx[2]);
+            s.gy[0] = s.gy[0].wrapping_add(s.gy[1]);
+            s.gy[1] = s.gy[1].wrapping_add(s.gy[2]);
+            if !AFFINE {
+                q.gx = q.gx.wrapping_add(q.dgx);
+                q.gy = q.gy.wrapping_add(q.dgy);
+            }
         }
     }
 }
@@ -779,53 +1147,194 @@ fn eval_term(
     }
 }
 
-/// Forward-difference start values of a trilinear term in a new cell: the exact polynomial
-/// sampled at the first pixels (fractions continued past the cell, wrapping) and differenced.
-fn cubic_setup(v: &[i32; 8], frac: [u32; 3], ts: &TermSetup, grads: bool) -> Cubic {
-    use crate::noise::value::{directional, interpolate};
-    let w = |j: i64| -> [i64; 3] {
-        [
-            i64::from(frac[0]) + j * i64::from(ts.du[0]),
-            i64::from(frac[1]) + j * i64::from(ts.du[1]),
-            i64::from(frac[2]) + j * i64::from(ts.du[2]),
-        ]
+/// A trilinear term inside one cell as exact polynomials in the local pixel index `j` (pixel 0
+/// is where the set-up was made): the value `P(j) = g0 + g1 j + g2 j^2 + g3 j^3` and the
+/// directional derivative across the span `Gy(j) = h0 + h1 j + h2 j^2`. The derivative along the
+/// span is `P'(j)`. All coefficients are exact integers taken modulo 2^64 (wrapping), which is all
+/// forward differencing needs: every value derived from them is an integer polynomial of the
+/// coefficients, and the true values fit in i64.
+#[derive(Clone, Copy, Debug, Default)]
+struct CubicPoly {
+    g: [i64; 4],
+    h: [i64; 3],
+}
+
+#[inline(always)]
+fn wmul(a: i64, b: i64) -> i64 {
+    a.wrapping_mul(b)
+}
+
+#[inline(always)]
+fn wadd(a: i64, b: i64) -> i64 {
+    a.wrapping_add(b)
+}
+
+#[inline(always)]
+fn wsub(a: i64, b: i64) -> i64 {
+    a.wrapping_sub(b)
+}
+
+/// The exact polynomials of a trilinear term (corner values `v`, fractions `frac` at pixel 0,
+/// lattice steps `du` along and `dy` across the span), by symbolic expansion of the three lerp
+/// levels of `docs/model.md` 4.2 (`lerp(p, q, w) = p 2^16 + (q - p) w` with `w = f + j d`):
+/// x-lerps are linear in `j`, y-lerps quadratic, the z-lerp cubic. The derivative across the span
+/// is carried along as the dual part of every lerp (`d lerp = dp 2^16 + (dq - dp) w + (q - p) e`).
+/// This is the same integer polynomial as [`crate::noise::value::interpolate`] and
+/// [`crate::noise::value::directional`] at `w = f + j d`, so the forward differences are
+/// bit-identical to direct evaluation. 22 multiplications (41 with the derivative across), the
+/// x level as exact 32 x 32 -> 64-bit products.
+#[inline]
+fn cubic_poly(v: &[i32; 8], frac: [u32; 3], du: [i32; 3], dy: [i32; 3], grads: bool) -> CubicPoly {
+    // Fractions are below 2^16, so as i32 they are exact.
+    let f = [frac[0] as i32, frac[1] as i32, frac[2] as i32];
+    // x level: e(j) = e0 + e1 j, derivative across de (constant). v' fits 26 bits (model 4.4),
+    // so dv fits i32 and every product here is an exact 32 x 32 -> 64-bit one.
+    let xl = |a: usize| -> (i64, i64, i64) {
+        let v0 = v[a];
+        let dv = i64::from(v[a + 1].wrapping_sub(v0));
+        (
+            wadd(i64::from(v0) << 16, dv * i64::from(f[0])),
+            wmul(dv, i64::from(du[0])),
+            wmul(dv, i64::from(dy[0])),
+        )
     };
-    let p0 = interpolate(v, w(0));
-    let p1 = interpolate(v, w(1));
-    let p2 = interpolate(v, w(2));
-    let p3 = interpolate(v, w(3));
-    let d1 = p1.wrapping_sub(p0);
-    let d2 = p2.wrapping_sub(p1).wrapping_sub(d1);
-    let d3 = p3
-        .wrapping_sub(p2.wrapping_mul(3))
-        .wrapping_add(p1.wrapping_mul(3))
-        .wrapping_sub(p0);
-    let mut c = Cubic {
-        p: [p0, d1, d2, d3],
-        ..Cubic::default()
+    // y level: F(j) = F0 + F1 j + F2 j^2, dF(j) = dF0 + dF1 j.
+    let (fy, sy, ey) = (i64::from(f[1]), i64::from(du[1]), i64::from(dy[1]));
+    let yl = |a: (i64, i64, i64), b: (i64, i64, i64)| -> ([i64; 3], [i64; 2]) {
+        let d0 = wsub(b.0, a.0);
+        let d1 = wsub(b.1, a.1);
+        let ff = [
+            wadd(a.0 << 16, wmul(d0, fy)),
+            wadd(wadd(a.1 << 16, wmul(d1, fy)), wmul(d0, sy)),
+            wmul(d1, sy),
+        ];
+        if !grads {
+            return (ff, [0, 0]);
+        }
+        let dd = wsub(b.2, a.2);
+        (
+            ff,
+            [
+                wadd(wadd(a.2 << 16, wmul(dd, fy)), wmul(d0, ey)),
+                wadd(wmul(dd, sy), wmul(d1, ey)),
+            ],
+        )
     };
-    if grads {
-        let du = [
-            i64::from(ts.du[0]),
-            i64::from(ts.du[1]),
-            i64::from(ts.du[2]),
-        ];
-        let dy = [
-            i64::from(ts.dy[0]),
-            i64::from(ts.dy[1]),
-            i64::from(ts.dy[2]),
-        ];
-        let quad = |d: [i64; 3]| -> [i64; 3] {
-            let g0 = directional(v, w(0), d);
-            let g1 = directional(v, w(1), d);
-            let g2 = directional(v, w(2), d);
-            let e1 = g1.wrapping_sub(g0);
-            [g0, e1, g2.wrapping_sub(g1).wrapping_sub(e1)]
-        };
-        c.gx = quad(du);
-        c.gy = quad(dy);
+    let (fa, dfa) = yl(xl(0), xl(2));
+    let (fb, dfb) = yl(xl(4), xl(6));
+    // z level: P(j) cubic, Gy(j) quadratic.
+    let (fz, sz, ez) = (i64::from(f[2]), i64::from(du[2]), i64::from(dy[2]));
+    let e = [wsub(fb[0], fa[0]), wsub(fb[1], fa[1]), wsub(fb[2], fa[2])];
+    let g = [
+        wadd(fa[0] << 16, wmul(e[0], fz)),
+        wadd(wadd(fa[1] << 16, wmul(e[1], fz)), wmul(e[0], sz)),
+        wadd(wadd(fa[2] << 16, wmul(e[2], fz)), wmul(e[1], sz)),
+        wmul(e[2], sz),
+    ];
+    if !grads {
+        return CubicPoly { g, h: [0; 3] };
     }
-    c
+    let k = [wsub(dfb[0], dfa[0]), wsub(dfb[1], dfa[1])];
+    let h = [
+        wadd(wadd(dfa[0] << 16, wmul(k[0], fz)), wmul(e[0], ez)),
+        wadd(
+            wadd(wadd(dfa[1] << 16, wmul(k[1], fz)), wmul(k[0], sz)),
+            wmul(e[1], ez),
+        ),
+        wadd(wmul(k[1], sz), wmul(e[2], ez)),
+    ];
+    CubicPoly { g, h }
+}
+
+/// Forward-difference state of `c` at local pixel 0 (gradient parts zero unless `grads`).
+#[inline(always)]
+fn fd_start(c: &CubicPoly, grads: bool) -> Cubic {
+    let [g0, g1, g2, g3] = c.g;
+    let [h0, h1, h2] = c.h;
+    let d3 = wmul(g3, 6);
+    let p = [g0, wadd(wadd(g1, g2), g3), wadd(wmul(g2, 2), d3), d3];
+    if !grads {
+        return Cubic {
+            p,
+            ..Cubic::default()
+        };
+    }
+    Cubic {
+        p,
+        gx: [g1, wadd(wmul(g2, 2), wmul(g3, 3)), d3],
+        gy: [h0, wadd(h1, h2), wmul(h2, 2)],
+    }
+}
+
+/// Forward-difference state of `c` at local pixel `l <= 65535` (12 multiplications; gradient
+/// parts zero unless `grads`).
+#[inline]
+fn fd_at(c: &CubicPoly, l: u32, grads: bool) -> Cubic {
+    let [g0, g1, g2, g3] = c.g;
+    let [h0, h1, h2] = c.h;
+    let l = i64::from(l.min(1 << 16));
+    let l2 = l * l; // l <= 2^16: exact
+    let t = 2 * l + 1;
+    let d3 = wmul(g3, 6);
+    let p = [
+        wadd(g0, wmul(l, wadd(g1, wmul(l, wadd(g2, wmul(l, g3)))))),
+        wadd(wadd(g1, wmul(g2, t)), wmul(g3, 3 * l2 + 3 * l + 1)),
+        wadd(wmul(g2, 2), wmul(g3, 6 * l + 6)),
+        d3,
+    ];
+    if !grads {
+        return Cubic {
+            p,
+            ..Cubic::default()
+        };
+    }
+    Cubic {
+        p,
+        gx: [
+            wadd(g1, wmul(l, wadd(wmul(g2, 2), wmul(wmul(g3, 3), l)))),
+            wadd(wmul(g2, 2), wmul(wmul(g3, 3), t)),
+            d3,
+        ],
+        gy: [
+            wadd(h0, wmul(l, wadd(h1, wmul(l, h2)))),
+            wadd(h1, wmul(h2, t)),
+            wmul(h2, 2),
+        ],
+    }
+}
+
+impl Cubic {
+    #[inline(always)]
+    fn add(&mut self, o: &Cubic) {
+        for (a, b) in self.p.iter_mut().zip(o.p) {
+            *a = a.wrapping_add(b);
+        }
+        for (a, b) in self.gx.iter_mut().zip(o.gx) {
+            *a = a.wrapping_add(b);
+        }
+        for (a, b) in self.gy.iter_mut().zip(o.gy) {
+            *a = a.wrapping_add(b);
+        }
+    }
+
+    #[inline(always)]
+    fn sub(&mut self, o: &Cubic) {
+        for (a, b) in self.p.iter_mut().zip(o.p) {
+            *a = a.wrapping_sub(b);
+        }
+        for (a, b) in self.gx.iter_mut().zip(o.gx) {
+            *a = a.wrapping_sub(b);
+        }
+        for (a, b) in self.gy.iter_mut().zip(o.gy) {
+            *a = a.wrapping_sub(b);
+        }
+    }
+}
+
+/// Forward-difference start values of a trilinear term in a new cell (see [`cubic_poly`]).
+#[inline]
+fn cubic_setup(v: &[i32; 8], frac: [u32; 3], ts: &TermSetup, grads: bool) -> Cubic {
+    fd_start(&cubic_poly(v, frac, ts.du, ts.dy, grads), grads)
 }
 
 #[cfg(feature = "defmt")]
@@ -981,6 +1490,112 @@ mod tests {
         assert_eq!(ev.stats().noise_evaluations, 0);
         // 2 * (1 + 1/2 + 1/4 + 1/8) = 3.75
         assert_eq!(info.extra_width48, (3 * 65536 + 49152) << 32);
+    }
+
+    #[test]
+    fn merged_path_exact_without_gradients_and_with_quadrics() {
+        // Gradients on and off, mod and clamp, affine and curved quadrics, terms forward
+        // differenced and (past Nyquist, culling off) per pixel in the same span.
+        for wrap in [TableWrap::Mod, TableWrap::Clamp] {
+            for curved in [false, true] {
+                let q = if curved {
+                    Quadric::from_f64([0.7, 0.1, 0.0, -0.2, 0.3, 0.0, 0.05, 1.1, 0.25, 0.4])
+                        .unwrap()
+                } else {
+                    Quadric::linear(
+                        QuadricCoeff::ONE,
+                        QuadricCoeff::ZERO,
+                        QuadricCoeff::from_num(0.5),
+                        QuadricCoeff::ZERO,
+                    )
+                };
+                let mut m: TextureModel<8> = TextureModel::new(q, wrap);
+                m.push_octaves(&Octaves {
+                    count: 6,
+                    base: Affine3::scale(MatrixEntry::from_num(3)),
+                    amplitude: Amplitude::from_num(0.6),
+                    rotate: true,
+                    basis: NoiseBasis::trilinear(HashKind::Integer),
+                    turbulence: false,
+                })
+                .unwrap();
+                let span = Span {
+                    s0: TexPoint::from_f64(-0.37, 1.21, 0.55),
+                    ds: TexPoint::from_f64(0.0082, 0.0026, -0.0014),
+                    dsdy: TexPoint::from_f64(-0.0011, 0.0037, 0.0002),
+                    len: 700,
+                };
+                for gradients in [true, false] {
+                    for cull in [true, false] {
+                        let go = |mode| {
+                            let mut ev = SpanEvaluator::new(
+                                &m,
+                                EvalOptions {
+                                    mode,
+                                    gradients,
+                                    cull,
+                                },
+                            );
+                            let mut out = Vec::new();
+                            ev.eval(&span, |s| out.push(s));
+                            out
+                        };
+                        let d = go(EvalMode::Direct);
+                        let ctx = (wrap, curved, gradients, cull);
+                        assert_eq!(d, go(EvalMode::Fd), "{ctx:?}");
+                        assert_eq!(d, go(EvalMode::Auto), "{ctx:?}");
+                        assert_eq!(d, go(EvalMode::Fd32), "{ctx:?}");
+                    }
+                }
+            }
+        }
+    }
+
+    #[test]
+    fn sparse_quadric_is_the_quadric() {
+        let mut st = 99u64;
+        let mut r = || {
+            st = st
+                .wrapping_mul(6364136223846793005)
+                .wrapping_add(1442695040888963407);
+            (st >> 32) as i32
+        };
+        for case in 0..400 {
+            let mut c = [QuadricCoeff::ZERO; 10];
+            for k in c.iter_mut() {
+                // Sparse and dense quadrics, small and extreme entries.
+                let v = r();
+                *k = QuadricCoeff::from_bits(match (v as u32) % 4 {
+                    0 | 1 => 0,
+                    2 => v >> 12,
+                    _ => v,
+                });
+            }
+            let q = Quadric::from_coefficients(c);
+            let pt = |r: &mut dyn FnMut() -> i32, big: bool| {
+                let mut v = [0i64; 3];
+                for x in v.iter_mut() {
+                    let a = r();
+                    *x = i64::from(if big || a % 3 == 0 { a } else { a >> 14 });
+                }
+                v
+            };
+            let s0 = pt(&mut r, case % 2 == 0);
+            let ds = pt(&mut r, case % 5 == 0);
+            let dy = pt(&mut r, false);
+            let qm = quadric_matrix(&q);
+            let h = |v: [i64; 3], w: i64| [v[0], v[1], v[2], w];
+            let (xh, dh, yh) = (h(s0, 1 << 16), h(ds, 0), h(dy, 0));
+            let (qx, qd) = (mat_vec(&qm, &xh), mat_vec(&qm, &dh));
+            let want = q.along(s0, ds).c;
+            let got = [dot(&xh, &qx), dot(&dh, &qx).wrapping_mul(2), dot(&dh, &qd)];
+            assert_eq!(got, want);
+            for (dir, vh) in [(ds, dh), (dy, yh)] {
+                let want = q.derivative_along(s0, ds, dir);
+                let got = [dot(&vh, &qx).wrapping_mul(2), dot(&vh, &qd).wrapping_mul(2)];
+                assert_eq!(got, want);
+            }
+        }
     }
 
     #[test]

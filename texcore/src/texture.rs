@@ -214,3 +214,199 @@ impl<const T: usize, const N: usize> TextureEvaluator<'_, T, N> {
         }
     }
 }
+
+/// Reference workloads shared by the criterion benchmarks (`texcore/benches`), the device jobs
+/// (`firmware/src/jobs.rs`) and their host check (`tests/tests/firmware_qemu.rs`), so that all
+/// three measure exactly the same thing (`docs/performance.md`).
+///
+/// - Value-noise planes: `f = r + sum_{i < octaves} 2^-i n(2^i s)` (trilinear value noise,
+///   unrotated octaves, `mod` wrap) on a plane of constant `r`, pixel `(x, y)` at
+///   `s = ((x + 1/2) step, (y + 1/2) step, 1/2 + 1/1024)`; `step` is the lattice step per pixel of
+///   octave 0 ([`workload::CELLS_8`]: 8 cells across 256 pixels; [`workload::ZOOM_IN`]: one cell;
+///   [`workload::ZOOM_OUT`]: 128 cells, at the Nyquist limit, so octaves 1.. are culled).
+/// - The marble preset with its colour table (`N = 256`, nearest) and the summed-area table
+///   filter, L2 gradient norm, on the preset's check plane (feature `csat`).
+pub mod workload {
+    use crate::format::{Amplitude, MatrixEntry, QuadricCoeff, TexPoint};
+    use crate::hash::HashKind;
+    use crate::model::{Octaves, TextureModel};
+    use crate::noise::NoiseBasis;
+    use crate::quadric::Quadric;
+    use crate::span::{Sample, Span};
+    use crate::table::TableWrap;
+    use crate::transform::Affine3;
+
+    /// Octave-0 lattice step of 8 cells across 256 pixels (1/32 cell per pixel), raw 16.16.
+    pub const CELLS_8: i32 = 2048;
+    /// One cell across 256 pixels.
+    pub const ZOOM_IN: i32 = 256;
+    /// 128 cells across 256 pixels (half a cell per pixel: the Nyquist limit of octave 0).
+    pub const ZOOM_OUT: i32 = 32768;
+    /// Noise-term capacity of the workload models.
+    pub const TERMS: usize = 8;
+
+    /// FNV-1a 32-bit offset basis (the firmware's checksum).
+    pub const FNV_OFFSET: u32 = 0x811C_9DC5;
+
+    /// Folds one word into an FNV-1a checksum.
+    #[inline(always)]
+    pub fn fold(acc: u32, word: u32) -> u32 {
+        (acc ^ word).wrapping_mul(0x0100_0193)
+    }
+
+    /// Folds a sample: `f` raw, then `gx` and `gy`, each as low word then high word.
+    #[inline(always)]
+    pub fn fold_sample(acc: u32, s: &Sample) -> u32 {
+        let mut a = fold(acc, s.f.to_bits() as u32);
+        for g in [s.gx, s.gy] {
+            a = fold(a, g as u32);
+            a = fold(a, (g >> 32) as u32);
+        }
+        a
+    }
+
+    /// `r + sum_{i < octaves} 2^-i n(2^i s)`, trilinear value noise with `hash`, `mod` wrap.
+    /// `octaves` is clamped to `1..=TERMS`.
+    pub fn value_fbm(octaves: u8, hash: HashKind) -> TextureModel<TERMS> {
+        let q = Quadric::linear(
+            QuadricCoeff::ZERO,
+            QuadricCoeff::ZERO,
+            QuadricCoeff::ONE,
+            QuadricCoeff::ZERO,
+        );
+        let mut m = TextureModel::new(q, TableWrap::Mod);
+        let oct = Octaves {
+            count: octaves.clamp(1, TERMS as u8),
+            base: Affine3::scale(MatrixEntry::ONE),
+            amplitude: Amplitude::ONE,
+            rotate: false,
+            basis: NoiseBasis::trilinear(hash),
+            turbulence: false,
+        };
+        // Up to TERMS octaves of amplitude sum < 2 always fit: this cannot fail.
+        let _ = m.push_octaves(&oct);
+        m
+    }
+
+    /// Row `y` of the value-noise plane with octave-0 step `step`, `width` pixels.
+    pub fn plane_span(step: i32, y: u16, width: u16) -> Span {
+        let h = step / 2;
+        Span {
+            s0: TexPoint::from_bits(h, i32::from(y).wrapping_mul(step).wrapping_add(h), 0x8040),
+            ds: TexPoint::from_bits(step, 0, 0),
+            dsdy: TexPoint::from_bits(0, step, 0),
+            len: width,
+        }
+    }
+
+    /// The marble preset's model, `r + sum_{i<4} 2^-i n(2^i s)` (`mod`), built without floating
+    /// point (the preset builder converts `f64` constants, which links panicking paths into a
+    /// device build); equal to `presets::marble(hash).model` (tested).
+    pub fn marble_model(hash: HashKind) -> TextureModel<TERMS> {
+        let mut c = [QuadricCoeff::ZERO; 10];
+        c[8] = QuadricCoeff::from_bits(1 << 15); // I = 1/2: q = 2 I r = r
+        let mut m = TextureModel::new(Quadric::from_coefficients(c), TableWrap::Mod);
+        // Four octaves of amplitude sum < 2 always fit: this cannot fail.
+        let _ = m.push_octaves(&Octaves {
+            count: 4,
+            base: Affine3::IDENTITY,
+            amplitude: Amplitude::ONE,
+            rotate: false,
+            basis: NoiseBasis::trilinear(hash),
+            turbulence: false,
+        });
+        m
+    }
+
+    /// The marble preset's check plane (equal to `presets::marble(..).plane`, tested).
+    pub const MARBLE_PLANE: crate::presets::CheckPlane = crate::presets::CheckPlane {
+        origin: [0, 32768, 0],
+        step_x: [512, 0, 0],
+        step_y: [0, 0, 512],
+    };
+
+    /// Row `y` of the marble preset's check plane, `width` pixels.
+    pub fn marble_span(y: u16, width: u16) -> Span {
+        let p = MARBLE_PLANE;
+        let at = |k: usize| {
+            p.origin[k]
+                .wrapping_add(p.step_x[k] / 2)
+                .wrapping_add(p.step_y[k].wrapping_mul(2 * i32::from(y) + 1) / 2)
+        };
+        Span {
+            s0: TexPoint::from_bits(at(0), at(1), at(2)),
+            ds: TexPoint::from_bits(p.step_x[0], p.step_x[1], p.step_x[2]),
+            dsdy: TexPoint::from_bits(p.step_y[0], p.step_y[1], p.step_y[2]),
+            len: width,
+        }
+    }
+
+    /// The marble colour stage: the preset's keys in a 256-entry table (nearest, `mod`) with the
+    /// summed-area filter, computed at compile time (`None` only if the keys were invalid).
+    #[cfg(feature = "csat")]
+    pub const MARBLE_STAGE: Option<crate::filter::ColorStage<256>> = marble_stage();
+
+    #[cfg(feature = "csat")]
+    const fn marble_stage() -> Option<crate::filter::ColorStage<256>> {
+        use crate::color::Rgba8888;
+        use crate::filter::{Antialias, ColorStage};
+        use crate::format::TexValue;
+        use crate::table::{ColorTable, TableLookup};
+        const N_KEYS: usize = crate::presets::MARBLE_KEYS.len();
+        let k = &crate::presets::MARBLE_KEYS;
+        let mut keys = [(TexValue::ZERO, Rgba8888::BLACK); N_KEYS];
+        let mut i = 0;
+        while i < N_KEYS {
+            let c = k[i].1;
+            keys[i] = (
+                TexValue::from_bits(k[i].0 as i32),
+                Rgba8888::new(c[0], c[1], c[2], c[3]),
+            );
+            i += 1;
+        }
+        match ColorTable::<256>::from_keys(&keys) {
+            Ok(t) => {
+                match ColorStage::new(t, TableWrap::Mod, TableLookup::Nearest, Antialias::Csat) {
+                    Ok(s) => Some(s),
+                    Err(_) => None,
+                }
+            }
+            Err(_) => None,
+        }
+    }
+
+    /// The marble preset as a texture: [`marble_model`] and [`MARBLE_STAGE`], the L2 gradient
+    /// norm, evaluated in `mode`.
+    #[cfg(feature = "csat")]
+    pub fn marble_csat(
+        hash: HashKind,
+        mode: crate::span::EvalMode,
+    ) -> Option<super::Texture<TERMS, 256>> {
+        Some(super::Texture::new(
+            super::Shader::Model(marble_model(hash)),
+            MARBLE_STAGE?,
+            crate::filter::GradientNorm::L2,
+            mode,
+        ))
+    }
+
+    #[cfg(test)]
+    mod tests {
+        use super::*;
+
+        #[test]
+        fn marble_workload_is_the_preset() {
+            for hash in [
+                HashKind::Integer,
+                #[cfg(feature = "perm-hash")]
+                HashKind::Permutation,
+            ] {
+                let p = crate::presets::marble(hash);
+                assert_eq!(marble_model(hash), p.model);
+                assert_eq!(MARBLE_PLANE, p.plane);
+                assert_eq!(p.keys, &crate::presets::MARBLE_KEYS[..]);
+                assert_eq!(p.table_size, 256);
+            }
+        }
+    }
+}

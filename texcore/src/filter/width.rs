@@ -45,6 +45,26 @@ pub const fn isqrt(v: u64) -> u64 {
     root
 }
 
+/// Exact integer square root of a `u32`, `floor(sqrt(v))`, by Newton's iteration from a power of
+/// two above the root (monotone decreasing, so it stops at the floor; about four divisions).
+/// Equal to [`isqrt`] on every `u32`; the filter width uses it in the pixel path.
+pub const fn isqrt32(v: u32) -> u32 {
+    if v == 0 {
+        return 0;
+    }
+    // 2^ceil(bits / 2) > sqrt(v).
+    let mut x = 1u32 << (32 - v.leading_zeros()).div_ceil(2);
+    loop {
+        // x >= 1 always (x > floor(sqrt(v)) >= 1 until the last step); x + v / x <= 2^17.
+        let d = if x == 0 { 1 } else { x };
+        let y = (x + v / d) >> 1;
+        if y >= x {
+            return x;
+        }
+        x = y;
+    }
+}
+
 /// `|g|` (48 fraction bits) as `U16F16` raw, saturated to `u32::MAX` (floor).
 #[inline(always)]
 pub const fn saturate_to_u16f16(g: i64) -> u32 {
@@ -82,7 +102,25 @@ pub const fn gradient_norm(gx: i64, gy: i64, norm: GradientNorm) -> u64 {
 pub const fn filter_width(gx: i64, gy: i64, norm: GradientNorm, n_log2: u32) -> FilterWidth {
     let n_log2 = if n_log2 > 15 { 16 } else { n_log2 };
     let cap = 1u64 << (16 + n_log2);
-    let g = gradient_norm(gx, gy, norm);
+    let g = match norm {
+        // Fast path, same result: a norm of at least 1.0 (2^16 raw) always gives the cap, and L2 is
+        // at least max(a, b); below that a^2 + b^2 < 2^33, almost always a u32 (isqrt32).
+        GradientNorm::L2 => {
+            let a = saturate_to_u16f16(gx) as u64;
+            let b = saturate_to_u16f16(gy) as u64;
+            if a >= 1 << 16 || b >= 1 << 16 {
+                1 << 16
+            } else {
+                let s = a * a + b * b;
+                if s <= u32::MAX as u64 {
+                    isqrt32(s as u32) as u64
+                } else {
+                    isqrt(s)
+                }
+            }
+        }
+        _ => gradient_norm(gx, gy, norm),
+    };
     // g >> (48 - n_log2) != 0 means g << n_log2 would overflow u64; it is then far above the cap.
     let w = if g >> (48 - n_log2) != 0 {
         cap
@@ -131,7 +169,52 @@ mod tests {
         assert_eq!(C, 1000);
     }
 
+    /// The pre-fast-path definition of the width, for comparison.
+    fn filter_width_reference(gx: i64, gy: i64, norm: GradientNorm, n_log2: u32) -> u32 {
+        let n_log2 = n_log2.min(16);
+        let cap = 1u64 << (16 + n_log2);
+        let g = gradient_norm(gx, gy, norm);
+        let w = if g >> (48 - n_log2) != 0 {
+            cap
+        } else {
+            (g << n_log2).min(cap)
+        };
+        w.min(u64::from(u32::MAX)) as u32
+    }
+
+    #[test]
+    fn isqrt32_exact() {
+        for v in (0..=u32::MAX)
+            .step_by(9973)
+            .chain(0..100_000)
+            .chain([u32::MAX, u32::MAX - 1])
+        {
+            assert_eq!(u64::from(isqrt32(v)), isqrt(u64::from(v)), "{v}");
+        }
+        for r in 0..=65535u32 {
+            for v in [r * r, (r * r).saturating_sub(1), r * r + 2 * r] {
+                assert_eq!(u64::from(isqrt32(v)), isqrt(u64::from(v)), "{v}");
+            }
+        }
+    }
+
     proptest! {
+        #[test]
+        fn width_fast_path_is_the_reference(
+            gx in any::<i64>(),
+            gy in any::<i64>(),
+            shift in 0u32..40,
+            n_log2 in 0u32..18,
+        ) {
+            let (gx, gy) = (gx >> shift, gy >> (shift / 2));
+            for norm in [GradientNorm::L1, GradientNorm::L2, GradientNorm::Max] {
+                prop_assert_eq!(
+                    filter_width(gx, gy, norm, n_log2).to_bits(),
+                    filter_width_reference(gx, gy, norm, n_log2)
+                );
+            }
+        }
+
         #[test]
         fn isqrt_random(v in any::<u64>()) {
             check_isqrt(v);
