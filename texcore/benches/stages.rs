@@ -1,0 +1,98 @@
+//! A stage a scene does not use costs nothing: these workloads switch stages off at run time
+//! (no antialiasing: no gradient or filter work; the zone plate: no noise; opaque objects: no
+//! blending; affine objects: no perspective divides). Run the benchmark twice, once with every
+//! feature and once with the optional stages compiled out, and compare (`docs/performance.md`):
+//!
+//! ```sh
+//! cargo bench -p texcore --bench stages -- --warm-up-time 1 --measurement-time 3
+//! cargo bench -p texcore --bench stages --no-default-features --features perm-hash -- \
+//!     --warm-up-time 1 --measurement-time 3
+//! ```
+//!
+//! With `count CASE` as arguments it runs one case once, for an instruction counter
+//! (`valgrind --tool=callgrind target/release/deps/stages-* count zoneplate`).
+
+use std::hint::black_box;
+
+use criterion::{criterion_group, Criterion, Throughput};
+use texcore::color::Rgba8888;
+use texcore::filter::{Antialias, ColorStage, GradientNorm};
+use texcore::format::TexValue;
+use texcore::hash::HashKind;
+use texcore::render::Renderer;
+use texcore::sink::ChecksumSink;
+use texcore::span::EvalMode;
+use texcore::table::{ColorTable, TableLookup};
+use texcore::texture::{Shader, Texture};
+
+/// A preset as a texture with no antialiasing.
+fn texture(name: &str) -> Texture<8, 256> {
+    let p = texcore::presets::by_name(name, HashKind::Permutation).expect("preset");
+    let keys: Vec<(TexValue, Rgba8888)> = p
+        .keys
+        .iter()
+        .map(|(k, c)| (TexValue::from_bits(*k as i32), Rgba8888::from_array(*c)))
+        .collect();
+    let table = ColorTable::from_keys(&keys).expect("table");
+    let stage = ColorStage::new(table, p.model.wrap(), TableLookup::Nearest, Antialias::None)
+        .expect("stage");
+    Texture::new(
+        Shader::Model(p.model),
+        stage,
+        GradientNorm::L2,
+        EvalMode::Auto,
+    )
+}
+
+/// Renders a built-in scene (still frame) with every slot's preset unfiltered; returns the
+/// checksum and the pixel count.
+fn render_scene(name: &str) -> (u32, u64) {
+    let scene = texcore::scene::by_name(name).expect("scene");
+    let s = scene.at_frame(scene.still);
+    let textures: Vec<Texture<8, 256>> = s.slots.iter().map(|t| texture(t.material)).collect();
+    let r = Renderer::new(&textures);
+    let mut sink = ChecksumSink::new();
+    let (w, h) = s.size();
+    let n = usize::from(w) * usize::from(h);
+    let stats = match r.needs_bands(&s) {
+        Ok(false) => r.render_streamed(&s, &mut sink),
+        _ => {
+            let mut band = vec![Rgba8888::BLACK; usize::from(w) * 16];
+            let mut depth = vec![0u16; usize::from(w) * 16];
+            r.render_banded(&s, &mut band, &mut depth, 16, &mut sink)
+        }
+    }
+    .expect("render");
+    let _ = n;
+    (sink.checksum(), stats.shade.span.pixels)
+}
+
+const CASES: [&str; 3] = ["zoneplate", "fire", "wood"];
+
+fn stages(c: &mut Criterion) {
+    let mut g = c.benchmark_group("stages-off");
+    for case in CASES {
+        let (_, pixels) = render_scene(case);
+        g.throughput(Throughput::Elements(pixels));
+        g.bench_function(case, |b| {
+            b.iter(|| black_box(render_scene(black_box(case))))
+        });
+    }
+    g.finish();
+}
+
+criterion_group!(benches, stages);
+
+fn main() {
+    let args: Vec<String> = std::env::args().collect();
+    if let Some(i) = args.iter().position(|a| a == "count") {
+        let case = args.get(i + 1).map(String::as_str).unwrap_or("zoneplate");
+        let (sum, px) = render_scene(case);
+        println!("{case}: checksum {sum:08x}, {px} pixels");
+        return;
+    }
+    benches();
+    criterion::Criterion::default()
+        .configure_from_args()
+        .final_summary();
+}
