@@ -31,6 +31,9 @@ pub enum Command {
     Check(CheckArgs),
     /// List the presets.
     Presets,
+    /// Device reports: instruction counts (`cycles`) and firmware sizes (`size`).
+    #[command(subcommand)]
+    Report(crate::report::cli::ReportCommand),
 }
 
 /// Span evaluation mode (`--eval`).
@@ -179,6 +182,7 @@ pub struct CheckArgs {
 pub fn run(cli: Cli) -> ExitCode {
     match cli.command {
         Command::Check(a) => check(&a),
+        Command::Report(r) => crate::report::cli::run(&r),
         Command::Presets => {
             let mut out = std::io::stdout().lock();
             for name in texcore::presets::NAMES {

@@ -6,4 +6,5 @@ pub mod cli;
 pub mod device;
 pub mod metrics;
 pub mod reference;
+pub mod report;
 pub mod unit;
