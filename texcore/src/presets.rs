@@ -154,13 +154,13 @@ pub const PLANET_CLOUD_KEYS: [Key; 3] = [
 pub const ZEBRA_KEYS: [Key; 2] = [key(0.0, 0xFFFFFFFF), key(1.0, 0x000000FF)];
 
 fn e(v: f64) -> MatrixEntry {
-    MatrixEntry::from_num(v)
+    MatrixEntry::checked_from_num(v).unwrap_or(MatrixEntry::ZERO)
 }
 
 fn q(c: [f64; 10]) -> Quadric {
     let mut out = [QuadricCoeff::ZERO; 10];
     for (o, v) in out.iter_mut().zip(c) {
-        *o = QuadricCoeff::from_num(v);
+        *o = QuadricCoeff::checked_from_num(v).unwrap_or(QuadricCoeff::ZERO);
     }
     Quadric::from_coefficients(out)
 }
@@ -177,7 +177,7 @@ fn fbm(
     TextureModel::new(quadric, wrap).with_octaves(&Octaves {
         count,
         base,
-        amplitude: Amplitude::from_num(amplitude),
+        amplitude: Amplitude::checked_from_num(amplitude).unwrap_or(Amplitude::ZERO),
         rotate,
         basis: NoiseBasis::trilinear(hash),
         turbulence: false,
@@ -412,7 +412,7 @@ pub fn mn_marble(hash: HashKind) -> crate::material::PerturbedParams {
     PerturbedParams {
         t1: Affine3::scale(e(2.0)),
         t3: Affine3::scale(e(3.0)),
-        alpha: [Amplitude::from_num(0.6); 3],
+        alpha: [Amplitude::checked_from_num(0.6).unwrap_or(Amplitude::ZERO); 3],
         octaves: 4,
         rotate: true,
         basis: NoiseBasis::trilinear(hash),
@@ -428,7 +428,7 @@ pub fn mn_wood(hash: HashKind) -> crate::material::PerturbedParams {
     PerturbedParams {
         t1: Affine3::scale(e(4.0)),
         t3: Affine3::scale3(e(1.0), e(6.0), e(1.0)),
-        alpha: [Amplitude::from_num(0.25); 3],
+        alpha: [Amplitude::checked_from_num(0.25).unwrap_or(Amplitude::ZERO); 3],
         octaves: 3,
         rotate: true,
         basis: NoiseBasis::trilinear(hash),

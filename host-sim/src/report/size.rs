@@ -563,7 +563,7 @@ pub fn report(opts: &SizeOptions) -> Result<SizeReport, SizeError> {
                         (short.to_string(), *b)
                     })
                     .collect();
-                files.sort_by(|a, b| b.1.cmp(&a.1));
+                files.sort_by_key(|f| std::cmp::Reverse(f.1));
                 files.truncate(12);
                 top_files.insert(target.triple().to_string(), files);
             }
