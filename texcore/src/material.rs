@@ -244,8 +244,9 @@ impl<'m, const T: usize> MaterialEvaluator<'m, T> {
                         let g = |g0: i64, g2: i64| -> i64 {
                             let v = ((i128::from(s0.f.to_bits()) * i128::from(g0)
                                 + i128::from(s2.f.to_bits()) * i128::from(g2))
-                                * 2
-                                / r2)
+                                * 2)
+                            .checked_div(r2)
+                            .unwrap_or(0)
                                 >> 16;
                             crate::noise::saturate_i64(v)
                         };
