@@ -13,6 +13,7 @@ use texcore::hash::HashKind;
 use texcore::span::EvalMode;
 use texcore::table::TableLookup;
 
+use crate::scenes;
 use crate::unit::{self, UnitConfig};
 
 /// texsim: render, check and report on texcore textures from the host.
@@ -27,13 +28,72 @@ pub struct Cli {
 /// Subcommands.
 #[derive(Debug, Subcommand)]
 pub enum Command {
-    /// Compare texcore against the f64 reference on a preset's check plane.
+    /// Render a built-in scene or a scene file to PNG (or an animation with --frames).
+    Render(RenderArgs),
+    /// Render every built-in scene into a directory, one PNG each.
+    Gallery(GalleryArgs),
+    /// List the built-in scenes, one a line, name first.
+    Scenes,
+    /// Compare texcore against the f64 reference on a preset's check plane or a whole scene.
     Check(CheckArgs),
     /// List the presets.
     Presets,
     /// Device reports: instruction counts (`cycles`) and firmware sizes (`size`).
     #[command(subcommand)]
     Report(crate::report::cli::ReportCommand),
+}
+
+/// What the pixels show (`--show`).
+#[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
+pub enum ShowArg {
+    /// The textures' colours.
+    Color,
+    /// The filter width as grey (black = 1 entry, white = the whole table).
+    FilterWidth,
+}
+
+/// `texsim render`.
+#[derive(Clone, Debug, Args)]
+pub struct RenderArgs {
+    /// Built-in scene name (see `texsim scenes`) or a scene file (.toml).
+    pub scene: String,
+    /// Output image: .png (an APNG when animated) or .gif (animations).
+    #[arg(short, long)]
+    pub output: Option<std::path::PathBuf>,
+    /// Render an animation of N frames (0: the scene's own frame count).
+    #[arg(long)]
+    pub frames: Option<u32>,
+    /// Render this frame of the animation (default: the scene's still frame).
+    #[arg(long)]
+    pub frame: Option<u32>,
+    /// Milliseconds per animation frame.
+    #[arg(long, default_value_t = 80)]
+    pub delay: u16,
+    /// Print per-stage activity counts.
+    #[arg(long)]
+    pub stats: bool,
+    /// Print the counts (and checksum) as one JSON object.
+    #[arg(long)]
+    pub json: bool,
+    /// Print the device checksum of the image (FNV-1a over RGB565, row-major).
+    #[arg(long)]
+    pub checksum: bool,
+    /// What the pixels show.
+    #[arg(long, value_enum, default_value_t = ShowArg::Color)]
+    pub show: ShowArg,
+    /// Accuracy knobs.
+    #[command(flatten)]
+    pub knobs: KnobArgs,
+}
+
+/// `texsim gallery`.
+#[derive(Clone, Debug, Args)]
+pub struct GalleryArgs {
+    /// Directory for the PNGs (created if missing).
+    pub dir: std::path::PathBuf,
+    /// Accuracy knobs.
+    #[command(flatten)]
+    pub knobs: KnobArgs,
 }
 
 /// Span evaluation mode (`--eval`).
@@ -162,12 +222,19 @@ impl KnobArgs {
 /// `texsim check`.
 #[derive(Clone, Debug, Args)]
 pub struct CheckArgs {
-    /// Preset name (see `texsim presets`).
+    /// Preset name (see `texsim presets`), built-in scene name or scene file.
     pub name: String,
+    /// Check the scene of that name even when a preset has the same name (`wood`, `marble`,
+    /// `fire`, `planet`, `zoneplate` are both).
+    #[arg(long)]
+    pub scene: bool,
+    /// Animation frame of a scene (default: its still frame).
+    #[arg(long)]
+    pub frame: Option<u32>,
     /// Print one JSON object instead of text.
     #[arg(long)]
     pub json: bool,
-    /// Image size in pixels (square).
+    /// Image size of a preset's check plane in pixels (square).
     #[arg(long, default_value_t = 256, value_parser = clap::value_parser!(u32).range(1..=4096))]
     pub size: u32,
     /// Fail (exit 1) unless at least this fraction of pixels is within one 8-bit step.
@@ -181,6 +248,25 @@ pub struct CheckArgs {
 /// Runs the command line; returns the process exit status.
 pub fn run(cli: Cli) -> ExitCode {
     match cli.command {
+        Command::Render(a) => render(&a),
+        Command::Gallery(a) => gallery(&a),
+        Command::Scenes => {
+            let mut out = std::io::stdout().lock();
+            for name in texcore::scene::BUILTIN {
+                if let Some(s) = texcore::scene::by_name(name) {
+                    let (w, h) = s.size();
+                    let _ = writeln!(
+                        out,
+                        "{name}\t{w}x{h}\t{} frame{}\t{} object{}",
+                        s.frames,
+                        if s.frames == 1 { "" } else { "s" },
+                        s.objects.len(),
+                        if s.objects.len() == 1 { "" } else { "s" }
+                    );
+                }
+            }
+            ExitCode::SUCCESS
+        }
         Command::Check(a) => check(&a),
         Command::Report(r) => crate::report::cli::run(&r),
         Command::Presets => {
@@ -199,14 +285,216 @@ pub fn bad_input(msg: impl std::fmt::Display) -> ExitCode {
     ExitCode::from(2)
 }
 
-fn check(a: &CheckArgs) -> ExitCode {
-    let material = match unit::preset_material(&a.name, a.knobs.hash()) {
-        Ok(m) => m,
+/// A scene by built-in name or from a scene file.
+pub fn load_scene(name: &str) -> Result<texcore::scene::Scene, String> {
+    if let Some(s) = texcore::scene::by_name(name) {
+        return Ok(s);
+    }
+    let path = std::path::Path::new(name);
+    if path.extension().is_some_and(|e| e == "toml") || path.exists() {
+        return crate::scenefile::load(path).map_err(|e| e.to_string());
+    }
+    Err(format!(
+        "unknown scene `{name}` (built-in: {}; or a .toml scene file)",
+        texcore::scene::BUILTIN.join(", ")
+    ))
+}
+
+fn render(a: &RenderArgs) -> ExitCode {
+    let scene = match load_scene(&a.scene) {
+        Ok(s) => s,
         Err(e) => return bad_input(e),
     };
     let cfg = a.knobs.config();
-    let report = match unit::check_material(&material, &cfg, a.size) {
-        Ok(r) => r,
+    let hash = a.knobs.hash();
+    let show = match a.show {
+        ShowArg::Color => texcore::render::Output::Color,
+        ShowArg::FilterWidth => texcore::render::Output::FilterWidth,
+    };
+    if let Some(out) = &a.output {
+        if let Some(parent) = out.parent().filter(|p| !p.as_os_str().is_empty()) {
+            if !parent.is_dir() {
+                return bad_input(format!("{}: directory does not exist", parent.display()));
+            }
+        }
+    }
+    let frames: Vec<u32> = match a.frames {
+        Some(n) => {
+            let n = if n == 0 { scene.frames.max(1) } else { n };
+            (0..n).collect()
+        }
+        None => vec![a.frame.unwrap_or(scene.still)],
+    };
+    let bar = if frames.len() > 1 && !a.json {
+        let b = indicatif::ProgressBar::new(frames.len() as u64);
+        b.set_style(
+            indicatif::ProgressStyle::with_template("{msg} [{bar:30}] {pos}/{len} frames {eta}")
+                .unwrap_or_else(|_| indicatif::ProgressStyle::default_bar()),
+        );
+        b.set_message(scene.name.to_string());
+        Some(b)
+    } else {
+        None
+    };
+    let mut rendered = Vec::with_capacity(frames.len());
+    let start = std::time::Instant::now();
+    for &f in &frames {
+        match scenes::render_frame(&scene, f, &cfg, hash, show) {
+            Ok(r) => rendered.push(r),
+            Err(e) => return bad_input(e),
+        }
+        if let Some(b) = &bar {
+            b.inc(1);
+        }
+    }
+    let elapsed = start.elapsed();
+    if let Some(b) = bar {
+        b.finish_and_clear();
+    }
+    if let Some(out) = &a.output {
+        let frames: Vec<_> = rendered.iter().map(|r| r.frame.clone()).collect();
+        let result = if frames.len() > 1 {
+            crate::output::write_animation(out, &frames, a.delay)
+        } else if out
+            .extension()
+            .is_some_and(|e| e.eq_ignore_ascii_case("png"))
+        {
+            crate::output::write_png(out, &frames[0])
+        } else {
+            crate::output::write_animation(out, &frames, a.delay)
+        };
+        if let Err(e) = result {
+            return bad_input(e);
+        }
+    }
+    let last = &rendered[rendered.len() - 1];
+    let sum = scenes::checksum(&last.frame);
+    let mut out = std::io::stdout().lock();
+    if a.json {
+        let mut v = serde_json::to_value(scenes::StatsReport::from(&last.stats))
+            .unwrap_or(serde_json::Value::Null);
+        if let Some(o) = v.as_object_mut() {
+            o.insert("scene".into(), scene.name.into());
+            o.insert("width".into(), last.frame.width.into());
+            o.insert("height".into(), last.frame.height.into());
+            o.insert("frames".into(), (rendered.len() as u64).into());
+            o.insert("checksum".into(), format!("{sum:08x}").into());
+            o.insert(
+                "host_ms".into(),
+                (elapsed.as_secs_f64() * 1000.0 / rendered.len() as f64).into(),
+            );
+        }
+        let _ = writeln!(out, "{v}");
+    } else {
+        if a.checksum {
+            let _ = writeln!(out, "{sum:08x}");
+        }
+        if a.stats {
+            let s = scenes::StatsReport::from(&last.stats);
+            let _ = writeln!(
+                out,
+                "{}: {}x{}",
+                scene.name, last.frame.width, last.frame.height
+            );
+            if let Ok(serde_json::Value::Object(m)) = serde_json::to_value(&s) {
+                for (k, v) in m {
+                    let _ = writeln!(out, "  {k:22} {v}");
+                }
+            }
+        }
+    }
+    ExitCode::SUCCESS
+}
+
+fn gallery(a: &GalleryArgs) -> ExitCode {
+    if let Err(e) = std::fs::create_dir_all(&a.dir) {
+        return bad_input(format!("{}: {e}", a.dir.display()));
+    }
+    let cfg = a.knobs.config();
+    let hash = a.knobs.hash();
+    let bar = indicatif::ProgressBar::new(texcore::scene::BUILTIN.len() as u64);
+    for name in texcore::scene::BUILTIN {
+        bar.set_message(name);
+        let Some(scene) = texcore::scene::by_name(name) else {
+            continue;
+        };
+        let r = match scenes::render_frame(
+            &scene,
+            scene.still,
+            &cfg,
+            hash,
+            texcore::render::Output::Color,
+        ) {
+            Ok(r) => r,
+            Err(e) => return bad_input(format!("{name}: {e}")),
+        };
+        if let Err(e) = crate::output::write_png(&a.dir.join(format!("{name}.png")), &r.frame) {
+            return bad_input(e);
+        }
+        if name == "torus" {
+            // Figure 9(c): the filter widths of the torus.
+            let w = match scenes::render_frame(
+                &scene,
+                scene.still,
+                &cfg,
+                hash,
+                texcore::render::Output::FilterWidth,
+            ) {
+                Ok(r) => r,
+                Err(e) => return bad_input(format!("{name}: {e}")),
+            };
+            if let Err(e) = crate::output::write_png(&a.dir.join("torus-widths.png"), &w.frame) {
+                return bad_input(e);
+            }
+        }
+        bar.inc(1);
+    }
+    bar.finish_and_clear();
+    println!(
+        "{} scenes written to {}",
+        texcore::scene::BUILTIN.len(),
+        a.dir.display()
+    );
+    ExitCode::SUCCESS
+}
+
+fn check(a: &CheckArgs) -> ExitCode {
+    let cfg = a.knobs.config();
+    let preset = if a.scene {
+        Err(unit::UnitError::UnknownPreset(a.name.clone()))
+    } else {
+        unit::preset_material(&a.name, a.knobs.hash())
+    };
+    let report = match preset {
+        Ok(material) => match unit::check_material(&material, &cfg, a.size) {
+            Ok(r) => r,
+            Err(e) => return bad_input(e),
+        },
+        Err(unit::UnitError::UnknownPreset(_)) => {
+            let scene = match load_scene(&a.name) {
+                Ok(s) => s,
+                Err(e) => {
+                    return bad_input(format!(
+                        "{e}; presets: {}",
+                        texcore::presets::NAMES.join(", ")
+                    ))
+                }
+            };
+            let frame = a.frame.unwrap_or(scene.still);
+            match scenes::check_scene(&scene, frame, &cfg, a.knobs.hash()) {
+                Ok(metrics) => {
+                    let (w, h) = scene.size();
+                    unit::CheckReport {
+                        name: scene.name.to_string(),
+                        width: u32::from(w),
+                        height: u32::from(h),
+                        config: cfg,
+                        metrics,
+                    }
+                }
+                Err(e) => return bad_input(e),
+            }
+        }
         Err(e) => return bad_input(e),
     };
     let mut out = std::io::stdout().lock();

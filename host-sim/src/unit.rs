@@ -100,6 +100,9 @@ pub enum UnitError {
     /// Unsupported table size.
     #[error("table size {0} is not a power of two in 2..=1024")]
     TableSize(usize),
+    /// The renderer refused the scene.
+    #[error("render: {0}")]
+    Render(String),
 }
 
 /// The preset `name` as a material.

@@ -32,6 +32,7 @@ pub mod presets;
 pub mod quadric;
 pub mod raster;
 pub mod render;
+pub mod scene;
 pub mod sink;
 pub mod span;
 pub mod table;

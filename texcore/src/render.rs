@@ -101,6 +101,39 @@ pub enum RenderError {
     BufferTooSmall,
 }
 
+/// A [`crate::scene::Scene`] as drawn (the scene as it is: apply [`crate::scene::Scene::at_frame`]
+/// first for an animation frame). Objects use the depth buffer when they test or write depth.
+impl TriangleSource for crate::scene::Scene {
+    fn size(&self) -> (u16, u16) {
+        crate::scene::Scene::size(self)
+    }
+
+    fn background(&self) -> Rgba8888 {
+        Rgba8888::from_array(self.background)
+    }
+
+    fn object_count(&self) -> usize {
+        self.objects.len()
+    }
+
+    fn object(&self, i: usize) -> Option<DrawObject> {
+        let o = self.objects.get(i)?;
+        Some(DrawObject {
+            texture: usize::from(o.slot),
+            blend: match o.blend {
+                crate::scene::Blend::Opaque => Blend::Opaque,
+                crate::scene::Blend::Over => Blend::Over,
+            },
+            depth: o.depth_test || o.depth_write,
+            raster: o.options(),
+        })
+    }
+
+    fn for_each_triangle<F: FnMut(usize, &[ScreenVertex; 3])>(&self, mut f: F) {
+        self.for_each_triangle_static(&mut f);
+    }
+}
+
 /// Counters of every stage of a frame.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
 #[cfg_attr(feature = "defmt", derive(defmt::Format))]

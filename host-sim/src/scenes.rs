@@ -1,0 +1,297 @@
+//! Rendering scenes on the host: textures for a scene's slots, frames through texcore's renderer,
+//! the f64 reference render of the same geometry, and render statistics.
+
+use serde::Serialize;
+use texcore::color::Rgba8888;
+use texcore::format::Amplitude;
+use texcore::hash::HashKind;
+use texcore::raster::{DepthBuffer, Rasterizer, Rect, Segment};
+use texcore::render::{Blend, Output, RenderStats, Renderer, TriangleSource};
+use texcore::scene::{Scene, TextureSlot};
+use texcore::sink::{ChecksumSink, PixelSink, RgbaBuffer};
+use texcore::texture::Texture;
+
+use crate::bridge;
+use crate::metrics::{compare_to_reference, Metrics};
+use crate::output::Frame;
+use crate::reference::model::{Footprint, Nyquist};
+use crate::reference::perturbed::RefPerturbed;
+use crate::reference::table::RefTable;
+use crate::unit::{self, MaterialSpec, ShaderSpec, UnitConfig, UnitError};
+
+/// The material of a texture slot: its preset with the slot's amplitude factor, phase and keys.
+pub fn slot_material(slot: &TextureSlot, hash: HashKind) -> Result<MaterialSpec, UnitError> {
+    let mut m = unit::preset_material(slot.material, hash)?;
+    if let Some(keys) = slot.keys {
+        m.keys = keys.to_vec();
+    }
+    let factor = i64::from(slot.amplitude);
+    let scale = |a: Amplitude| -> Amplitude {
+        Amplitude::from_bits(
+            ((i64::from(a.to_bits()) * factor) >> 16).clamp(i32::MIN.into(), i32::MAX.into())
+                as i32,
+        )
+    };
+    match &mut m.shader {
+        ShaderSpec::Model(model) => {
+            if factor != 1 << 16 {
+                for k in 0..model.terms().len() {
+                    let a = scale(model.terms()[k].amplitude);
+                    model.set_amplitude(k, a).map_err(UnitError::Model)?;
+                }
+            }
+            if slot.phase != 0 && slot.material == "fire" {
+                texcore::presets::set_fire_phase(model, slot.phase);
+            }
+        }
+        ShaderSpec::Perturbed(p) => {
+            for a in &mut p.alpha {
+                *a = scale(*a);
+            }
+        }
+    }
+    Ok(m)
+}
+
+/// The materials of every slot of `scene`.
+pub fn scene_materials(scene: &Scene, hash: HashKind) -> Result<Vec<MaterialSpec>, UnitError> {
+    scene.slots.iter().map(|s| slot_material(s, hash)).collect()
+}
+
+/// A rendered frame and what it cost.
+#[derive(Clone, Debug)]
+pub struct Rendered {
+    /// The image.
+    pub frame: Frame,
+    /// Stage counters.
+    pub stats: RenderStats,
+}
+
+fn render_n<const N: usize>(
+    scene: &Scene,
+    materials: &[MaterialSpec],
+    cfg: &UnitConfig,
+    output: Output,
+) -> Result<Rendered, UnitError> {
+    let textures: Vec<Texture<{ texcore::presets::PRESET_TERMS }, N>> = materials
+        .iter()
+        .map(|m| unit::texture::<N>(m, cfg))
+        .collect::<Result<_, _>>()?;
+    let renderer = Renderer::new(&textures).with_output(output);
+    let (w, h) = scene.size();
+    let n = usize::from(w) * usize::from(h);
+    let mut img = vec![Rgba8888::BLACK; n];
+    let mut sink = RgbaBuffer::new(&mut img, w, 0, h).ok_or(UnitError::TableSize(0))?;
+    let stats = match renderer.needs_bands(scene) {
+        Ok(false) => renderer.render_streamed(scene, &mut sink),
+        _ => {
+            let mut band = vec![Rgba8888::BLACK; n];
+            let mut depth = vec![0u16; n];
+            renderer.render_banded(scene, &mut band, &mut depth, h, &mut sink)
+        }
+    }
+    .map_err(|e| UnitError::Render(format!("{e:?}")))?;
+    Ok(Rendered {
+        frame: Frame {
+            width: u32::from(w),
+            height: u32::from(h),
+            pixels: img.iter().map(|c| c.to_array()).collect(),
+        },
+        stats,
+    })
+}
+
+/// Renders frame `frame` of `scene` with the given knobs.
+pub fn render_frame(
+    scene: &Scene,
+    frame: u32,
+    cfg: &UnitConfig,
+    hash: HashKind,
+    output: Output,
+) -> Result<Rendered, UnitError> {
+    let s = scene.at_frame(frame);
+    let materials = scene_materials(&s, hash)?;
+    crate::dispatch_table_size!(cfg.table_size, render_n(&s, &materials, cfg, output))
+}
+
+/// The checksum of an image as the device computes it: FNV-1a over its RGB565 pixels, row-major.
+pub fn checksum(frame: &Frame) -> u32 {
+    let mut c = ChecksumSink::new();
+    for row in frame.pixels.chunks(frame.width.max(1) as usize) {
+        let colors: Vec<Rgba8888> = row.iter().map(|p| Rgba8888::from_array(*p)).collect();
+        c.write_span(0, 0, &colors);
+    }
+    c.checksum()
+}
+
+/// Render statistics as `--stats --json` prints them.
+#[derive(Clone, Debug, Serialize)]
+pub struct StatsReport {
+    /// Pixels shaded.
+    pub pixels: u64,
+    /// Spans evaluated.
+    pub spans: u64,
+    /// Lattice cell set-ups.
+    pub cell_setups: u64,
+    /// Noise term samples.
+    pub noise_evaluations: u64,
+    /// Octaves culled past the Nyquist limit (per term per span).
+    pub culled_octaves: u64,
+    /// Gradient samples (quadric and terms, per pixel).
+    pub gradient_evaluations: u64,
+    /// Pixels produced by forward differencing.
+    pub fd_pixels: u64,
+    /// Filtered colour-table look-ups.
+    pub filter_lookups: u64,
+    /// Plain colour-table look-ups.
+    pub plain_lookups: u64,
+    /// Pixels alpha-blended.
+    pub blended_pixels: u64,
+    /// Triangles set up by the rasterizer.
+    pub triangles: u64,
+    /// Segments produced by the rasterizer.
+    pub segments: u64,
+    /// Perspective divides.
+    pub perspective_divides: u64,
+    /// Pixels hidden by the depth test.
+    pub depth_failed: u64,
+    /// Bands rendered (0: streamed without a frame buffer).
+    pub bands: u32,
+}
+
+impl From<&RenderStats> for StatsReport {
+    fn from(s: &RenderStats) -> Self {
+        let sp = &s.shade.span;
+        StatsReport {
+            pixels: sp.pixels,
+            spans: sp.spans,
+            cell_setups: sp.cell_setups,
+            noise_evaluations: sp.noise_evaluations,
+            culled_octaves: sp.culled_octaves,
+            gradient_evaluations: sp.gradient_evaluations,
+            fd_pixels: sp.fd_pixels,
+            filter_lookups: s.shade.filter_lookups,
+            plain_lookups: s.shade.plain_lookups,
+            blended_pixels: s.blended_pixels,
+            triangles: u64::from(s.raster.triangles),
+            segments: s.raster.segments,
+            perspective_divides: s.raster.divides,
+            depth_failed: s.raster.depth_failed,
+            bands: s.bands,
+        }
+    }
+}
+
+fn over_f64(src: [f64; 4], dst: [f64; 4]) -> [f64; 4] {
+    let a = src[3] / 255.0;
+    let da = dst[3] / 255.0;
+    let oa = a + da * (1.0 - a);
+    if oa <= 0.0 {
+        return [0.0; 4];
+    }
+    let mut out = [0.0; 4];
+    for k in 0..3 {
+        out[k] = (src[k] * a + dst[k] * da * (1.0 - a)) / oa;
+    }
+    out[3] = oa * 255.0;
+    out
+}
+
+fn reference_n<const N: usize>(
+    scene: &Scene,
+    materials: &[MaterialSpec],
+    cfg: &UnitConfig,
+) -> Result<Vec<[f64; 4]>, UnitError> {
+    enum Shading {
+        Model(crate::reference::model::RefModel),
+        Perturbed(RefPerturbed),
+    }
+    let mut shaders = Vec::new();
+    for m in materials {
+        let t = unit::table::<N>(m)?;
+        let entries: Vec<[u8; 4]> = t.entries().iter().map(|c| c.to_array()).collect();
+        let table = RefTable::new(&entries).map_err(|_| UnitError::TableSize(N))?;
+        let sh = match &m.shader {
+            ShaderSpec::Model(model) => Shading::Model(bridge::ref_model(model)),
+            ShaderSpec::Perturbed(p) => {
+                Shading::Perturbed(RefPerturbed::new(p, bridge::wrap(m.wrap)))
+            }
+        };
+        shaders.push((sh, table));
+    }
+    let filter = unit::ref_filter(cfg);
+    let norm = unit::ref_norm(cfg.norm);
+    let nyq = if cfg.cull {
+        Nyquist::Cull
+    } else {
+        Nyquist::Widen
+    };
+    let (w, h) = scene.size();
+    let bg = scene.background.map(f64::from);
+    let mut img = vec![bg; usize::from(w) * usize::from(h)];
+    let mut zbuf = vec![u16::MAX; usize::from(w) * usize::from(h)];
+    let mut depth = DepthBuffer::new(&mut zbuf, Rect::from_size(w, h));
+    let mut raster = Rasterizer::new(Rect::from_size(w, h));
+    scene.for_each_triangle_static(
+        &mut |obj: usize, tri: &[texcore::raster::ScreenVertex; 3]| {
+            let Some(o) = TriangleSource::object(scene, obj) else {
+                return;
+            };
+            let Some((sh, table)) = shaders.get(o.texture) else {
+                return;
+            };
+            let mut seg_sink = |seg: &Segment| {
+                let f = |p: texcore::format::TexPoint| p.to_bits().map(|v| f64::from(v) / 65536.0);
+                let s0 = f(seg.s0);
+                let ds = f(seg.ds);
+                let dsdy = f(seg.dsdy);
+                for i in 0..seg.len {
+                    let s = [0, 1, 2].map(|k| s0[k] + f64::from(i) * ds[k]);
+                    let fp = Footprint { s, dsdx: ds, dsdy };
+                    let c = match sh {
+                        Shading::Model(r) => r.pixel_color(&fp, table, filter, norm, nyq),
+                        Shading::Perturbed(r) => r.pixel_color(&fp, table, filter, norm),
+                    };
+                    let idx = usize::from(seg.y) * usize::from(w) + usize::from(seg.x0 + i);
+                    if let Some(px) = img.get_mut(idx) {
+                        *px = match o.blend {
+                            Blend::Opaque => c,
+                            Blend::Over => over_f64(c, *px),
+                        };
+                    }
+                }
+            };
+            match (o.depth, depth.as_mut()) {
+                (true, Some(d)) => raster.draw_depth(tri, &o.raster, d, &mut seg_sink),
+                _ => raster.draw(tri, &o.raster, &mut seg_sink),
+            }
+        },
+    );
+    Ok(img)
+}
+
+/// The f64 reference image of frame `frame` of `scene`: the same geometry (texcore's rasterizer and
+/// depth test), every pixel shaded by the reference model at the pixel's solid coordinate with the
+/// segment's Jacobian, blending in f64.
+pub fn reference_frame(
+    scene: &Scene,
+    frame: u32,
+    cfg: &UnitConfig,
+    hash: HashKind,
+) -> Result<Vec<[f64; 4]>, UnitError> {
+    let s = scene.at_frame(frame);
+    let materials = scene_materials(&s, hash)?;
+    crate::dispatch_table_size!(cfg.table_size, reference_n(&s, &materials, cfg))
+}
+
+/// Renders a scene frame with texcore and with the reference and compares them.
+pub fn check_scene(
+    scene: &Scene,
+    frame: u32,
+    cfg: &UnitConfig,
+    hash: HashKind,
+) -> Result<Metrics, UnitError> {
+    let r = render_frame(scene, frame, cfg, hash, Output::Color)?;
+    let reference = reference_frame(scene, frame, cfg, hash)?;
+    compare_to_reference(&r.frame.pixels, &reference).map_err(|e| UnitError::Render(e.to_string()))
+}
