@@ -26,6 +26,14 @@ pub const HASH: HashKind = HashKind::Permutation;
 #[cfg(not(all(target_arch = "arm", feature = "perm-hash")))]
 pub const HASH: HashKind = HashKind::Integer;
 
+/// Whether the suite's jobs are stubbed out (return 0 without running texcore): only in the
+/// strict `panic-never` link check without `panic-never-pixel-path`, until every panic path of
+/// texcore's pixel path is gone (see `firmware/check-panic-never.sh`).
+const STUBBED: bool = cfg!(all(
+    feature = "panic-never",
+    not(feature = "panic-never-pixel-path")
+));
+
 /// [`HASH`], opaque to the optimiser (so no job is computed at compile time).
 #[inline(always)]
 fn hash() -> HashKind {
@@ -56,10 +64,16 @@ macro_rules! plane_jobs {
     ($($name:literal => $job:ident, $setup:ident;)*) => {$(
         #[doc = concat!("`plane:", $name, "`.")]
         pub fn $job(_: &mut Ctx) -> u32 {
+            if STUBBED {
+                return 0;
+            }
             planes::plane_checksum($name, hash())
         }
         #[doc = concat!("`plane:", $name, "/setup`.")]
         pub fn $setup(_: &mut Ctx) -> u32 {
+            if STUBBED {
+                return 0;
+            }
             planes::setup_checksum($name, hash())
         }
     )*};
@@ -82,10 +96,16 @@ macro_rules! stage_jobs {
     ($($f:ident => $job:ident, $setup:ident;)*) => {$(
         #[doc = concat!("`stage:", stringify!($f), "`.")]
         pub fn $job(_: &mut Ctx) -> u32 {
+            if STUBBED {
+                return 0;
+            }
             stages::$f(hash(), true)
         }
         #[doc = concat!("`stage:", stringify!($f), "/setup`.")]
         pub fn $setup(_: &mut Ctx) -> u32 {
+            if STUBBED {
+                return 0;
+            }
             stages::$f(hash(), false)
         }
     )*};
@@ -127,10 +147,16 @@ macro_rules! scene_jobs {
     ($($f:ident => $job:ident, $setup:ident;)*) => {$(
         #[doc = concat!("`scene:", stringify!($f), "`.")]
         pub fn $job(_: &mut Ctx) -> u32 {
+            if STUBBED {
+                return 0;
+            }
             with_bands(|b, d| scenes::$f(hash(), true, b, d))
         }
         #[doc = concat!("`scene:", stringify!($f), "/setup`.")]
         pub fn $setup(_: &mut Ctx) -> u32 {
+            if STUBBED {
+                return 0;
+            }
             with_bands(|b, d| scenes::$f(hash(), false, b, d))
         }
     )*};

@@ -434,7 +434,8 @@ impl<'m, const T: usize> SpanEvaluator<'m, T> {
         let wrap = m.wrap();
         let grads = self.opts.gradients;
         let terms = m.terms();
-        let n = terms.len();
+        // A model holds at most T terms; `min` lets the compiler see it (no bounds checks).
+        let n = terms.len().min(T);
 
         let mut runs = [TermRun::default(); T];
         for (k, r) in runs.iter_mut().enumerate().take(n) {
