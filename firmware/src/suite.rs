@@ -145,6 +145,7 @@ fn with_bands(f: impl FnOnce(&mut [Rgba8888], &mut [u16]) -> u32) -> u32 {
 
 macro_rules! scene_jobs {
     ($($f:ident => $job:ident, $setup:ident;)*) => {$(
+        #[allow(dead_code)] // the scenes too heavy for the Cortex-M counter are not registered there
         #[doc = concat!("`scene:", stringify!($f), "`.")]
         pub fn $job(_: &mut Ctx) -> u32 {
             if STUBBED {
@@ -153,6 +154,7 @@ macro_rules! scene_jobs {
             with_bands(|b, d| scenes::$f(hash(), true, b, d))
         }
         #[doc = concat!("`scene:", stringify!($f), "/setup`.")]
+        #[allow(dead_code)]
         pub fn $setup(_: &mut Ctx) -> u32 {
             if STUBBED {
                 return 0;

@@ -53,7 +53,23 @@ pub struct SuiteJob {
     pub unit: &'static str,
 }
 
-/// Every job of the suite, in firmware order (each also has a `<name>/setup` job).
+/// Every job of the suite on `target`, in firmware order (each also has a `<name>/setup` job).
+/// The Cortex-M4F runs the scenes whose frame fits its counter's window
+/// ([`scenes::SceneJob::m4f`]); rv32imc runs them all.
+pub fn suite_for(target: DeviceTarget) -> Vec<SuiteJob> {
+    let mut jobs = suite();
+    jobs.retain(|j| {
+        target != DeviceTarget::CortexM4F
+            || j.kind != JobKind::Scene
+            || j.name
+                .strip_prefix("scene:")
+                .and_then(scenes::scene)
+                .is_some_and(|s| s.m4f)
+    });
+    jobs
+}
+
+/// Every job of the suite on any target, in firmware order (each also has a `<name>/setup` job).
 pub fn suite() -> Vec<SuiteJob> {
     let mut jobs = Vec::new();
     for m in planes::MATERIALS {
@@ -113,6 +129,21 @@ pub fn host_plane_checksum(name: &str, hash: HashKind) -> Option<u32> {
     Some(sink.checksum())
 }
 
+/// The host's checksum of frame 0 of built-in scene `name` (csat, 256 entries), through
+/// [`crate::scenes::render_frame`]: the host's own scene textures and renderer, whole frame.
+pub fn host_builtin_scene_checksum(name: &str, hash: HashKind) -> Option<u32> {
+    let scene = texcore::scene::builtin::by_name(name)?;
+    let r = crate::scenes::render_frame(
+        &scene,
+        0,
+        &UnitConfig::default(),
+        hash,
+        texcore::render::Output::Color,
+    )
+    .ok()?;
+    Some(crate::scenes::checksum(&r.frame))
+}
+
 /// Runs a scene workload on the host with heap band buffers.
 fn host_scene(
     f: fn(HashKind, bool, &mut [Rgba8888], &mut [u16]) -> u32,
@@ -142,6 +173,9 @@ pub fn host_checksum(name: &str, hash: HashKind) -> Option<u32> {
         "plane" if work => host_plane_checksum(what, hash),
         "plane" => Some(planes::setup_checksum(what, hash)),
         "stage" => Some((stages::stage(what)?.run)(hash, work)),
+        "scene" if work && texcore::scene::builtin::by_name(what).is_some() => {
+            host_builtin_scene_checksum(what, hash)
+        }
         "scene" => Some(host_scene(scenes::scene(what)?.run, hash, work)),
         _ => None,
     }
