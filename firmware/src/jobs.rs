@@ -51,8 +51,9 @@ pub struct Ctx {
     pub z: u16,
     /// The value-noise workload models (1 and 4 octaves), built outside the measured window.
     pub fbm: [TextureModel<{ workload::TERMS }>; 2],
-    /// The marble + csat texture in `Direct`, `Fd` and `Auto` (built outside the measured window).
-    pub marble: [Option<Texture<{ workload::TERMS }, 256>>; 3],
+    /// The marble + csat texture (built outside the measured window); each marble job sets its
+    /// evaluation mode (one texture, not three: the stack is shared with the scene jobs).
+    pub marble: Option<Texture<{ workload::TERMS }, 256>>,
 }
 
 impl Ctx {
@@ -61,7 +62,6 @@ impl Ctx {
 
     /// A zeroed line and `z = PLANE_Z`, passed through `black_box`.
     pub fn new() -> Self {
-        let marble = |mode| core::hint::black_box(workload::marble_csat(HASH, mode));
         Ctx {
             line: [0; LINE],
             z: core::hint::black_box(Self::PLANE_Z),
@@ -69,11 +69,7 @@ impl Ctx {
                 core::hint::black_box(workload::value_fbm(1, HASH)),
                 core::hint::black_box(workload::value_fbm(4, HASH)),
             ],
-            marble: [
-                marble(EvalMode::Direct),
-                marble(EvalMode::Fd),
-                marble(EvalMode::Auto),
-            ],
+            marble: core::hint::black_box(workload::marble_csat(HASH, EvalMode::Auto)),
         }
     }
 }
@@ -137,12 +133,12 @@ pub static JOBS: &[Job] = &[
         name: "hash61_256x256",
         run: hash61_plane,
     },
-    #[cfg(target_arch = "arm")]
+    #[cfg(all(target_arch = "arm", feature = "perm-hash"))]
     Job {
         name: "perm_hash_256x256",
         run: perm_hash_plane,
     },
-    #[cfg(target_arch = "arm")]
+    #[cfg(all(target_arch = "arm", feature = "perm-hash"))]
     Job {
         name: "lattice_value_perm_256x256",
         run: lattice_value_perm_plane,
@@ -185,6 +181,57 @@ pub static JOBS: &[Job] = &[
     job!("marble_csat_direct", marble_job::<0>),
     job!("marble_csat_fd", marble_job::<1>),
     job!("marble_csat_auto", marble_job::<2>),
+    // Texture-unit workloads through texcore's pixel path (see `crate::suite`).
+    crate::suite::job!("config:hash", config_hash),
+    crate::suite::job!("plane:wood", plane_wood),
+    crate::suite::job!("plane:wood/setup", plane_wood_setup),
+    crate::suite::job!("plane:marble", plane_marble),
+    crate::suite::job!("plane:marble/setup", plane_marble_setup),
+    crate::suite::job!("plane:clouds", plane_clouds),
+    crate::suite::job!("plane:clouds/setup", plane_clouds_setup),
+    crate::suite::job!("plane:water", plane_water),
+    crate::suite::job!("plane:water/setup", plane_water_setup),
+    crate::suite::job!("plane:fire", plane_fire),
+    crate::suite::job!("plane:fire/setup", plane_fire_setup),
+    crate::suite::job!("plane:planet", plane_planet),
+    crate::suite::job!("plane:planet/setup", plane_planet_setup),
+    crate::suite::job!("plane:planet-clouds", plane_planet_clouds),
+    crate::suite::job!("plane:planet-clouds/setup", plane_planet_clouds_setup),
+    crate::suite::job!("plane:zoneplate", plane_zoneplate),
+    crate::suite::job!("plane:zoneplate/setup", plane_zoneplate_setup),
+    crate::suite::job!("plane:mn-marble", plane_mn_marble),
+    crate::suite::job!("plane:mn-marble/setup", plane_mn_marble_setup),
+    crate::suite::job!("plane:mn-wood", plane_mn_wood),
+    crate::suite::job!("plane:mn-wood/setup", plane_mn_wood_setup),
+    crate::suite::job!("stage:noise-octave", stage_noise_octave),
+    crate::suite::job!("stage:noise-octave/setup", stage_noise_octave_setup),
+    crate::suite::job!("stage:noise-octave-grad", stage_noise_octave_grad),
+    crate::suite::job!(
+        "stage:noise-octave-grad/setup",
+        stage_noise_octave_grad_setup
+    ),
+    crate::suite::job!("stage:quadric", stage_quadric),
+    crate::suite::job!("stage:quadric/setup", stage_quadric_setup),
+    crate::suite::job!("stage:color-lookup", stage_color_lookup),
+    crate::suite::job!("stage:color-lookup/setup", stage_color_lookup_setup),
+    crate::suite::job!("stage:csat", stage_csat),
+    crate::suite::job!("stage:csat/setup", stage_csat_setup),
+    crate::suite::job!("stage:raster-setup", stage_raster_setup),
+    crate::suite::job!("stage:raster-setup/setup", stage_raster_setup_setup),
+    crate::suite::job!("stage:perspective-every16", stage_perspective_every16),
+    crate::suite::job!(
+        "stage:perspective-every16/setup",
+        stage_perspective_every16_setup
+    ),
+    crate::suite::job!("stage:perspective-affine", stage_perspective_affine),
+    crate::suite::job!(
+        "stage:perspective-affine/setup",
+        stage_perspective_affine_setup
+    ),
+    crate::suite::job!("scene:floor", scene_floor),
+    crate::suite::job!("scene:floor/setup", scene_floor_setup),
+    crate::suite::job!("scene:overlay", scene_overlay),
+    crate::suite::job!("scene:overlay/setup", scene_overlay_setup),
     #[cfg(feature = "panic-never-canary")]
     Job {
         name: "panic_never_canary",
@@ -234,14 +281,14 @@ pub fn hash61_plane(ctx: &mut Ctx) -> u32 {
 }
 
 /// `perm_hash(x, y, 7)` (256-byte permutation table) over the plane: folds the byte.
-#[cfg(target_arch = "arm")]
+#[cfg(all(target_arch = "arm", feature = "perm-hash"))]
 pub fn perm_hash_plane(ctx: &mut Ctx) -> u32 {
     plane(ctx, |x, y, z| u32::from(texcore::hash::perm_hash(x, y, z)))
 }
 
 /// `lattice_value(Permutation, x, y, 7)` over the plane, folded like
 /// [`lattice_value_int_plane`].
-#[cfg(target_arch = "arm")]
+#[cfg(all(target_arch = "arm", feature = "perm-hash"))]
 pub fn lattice_value_perm_plane(ctx: &mut Ctx) -> u32 {
     plane(ctx, |x, y, z| {
         u32::from(lattice_value(HashKind::Permutation, x, y, z) as u16)
@@ -320,9 +367,15 @@ pub fn marble_job<const K: usize>(ctx: &mut Ctx) -> u32 {
 /// The body of [`marble_job`], shared by every instance.
 #[inline(never)]
 fn marble_plane(ctx: &mut Ctx, k: usize) -> u32 {
-    let Some(Some(tex)) = ctx.marble.get(k) else {
+    let Some(tex) = ctx.marble.as_mut() else {
         return 0;
     };
+    tex.set_mode(match k {
+        0 => EvalMode::Direct,
+        1 => EvalMode::Fd,
+        _ => EvalMode::Auto,
+    });
+    let tex = &*tex;
     let mut ev = tex.evaluator();
     let line = &mut ctx.line[..usize::from(PLANE)];
     let mut acc = FNV_OFFSET;

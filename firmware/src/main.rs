@@ -64,6 +64,14 @@ pub mod harness;
 pub mod jobs;
 #[cfg(all(target_os = "none", not(feature = "rtt")))]
 mod logger;
+#[cfg(target_os = "none")]
+pub mod planes;
+#[cfg(target_os = "none")]
+pub mod scenes;
+#[cfg(target_os = "none")]
+pub mod stages;
+#[cfg(target_os = "none")]
+pub mod suite;
 
 #[cfg(all(target_os = "none", feature = "rtt"))]
 use defmt_rtt as _;

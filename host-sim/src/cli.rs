@@ -38,6 +38,9 @@ pub enum Command {
     Check(CheckArgs),
     /// List the presets.
     Presets,
+    /// Device reports: instruction counts (`cycles`) and firmware sizes (`size`).
+    #[command(subcommand)]
+    Report(crate::report::cli::ReportCommand),
 }
 
 /// What the pixels show (`--show`).
@@ -265,6 +268,7 @@ pub fn run(cli: Cli) -> ExitCode {
             ExitCode::SUCCESS
         }
         Command::Check(a) => check(&a),
+        Command::Report(r) => crate::report::cli::run(&r),
         Command::Presets => {
             let mut out = std::io::stdout().lock();
             for name in texcore::presets::NAMES {

@@ -129,7 +129,7 @@ impl Default for RunOptions {
         RunOptions {
             workspace: workspace_root(),
             features: Vec::new(),
-            timeout: Duration::from_secs(120),
+            timeout: Duration::from_secs(600),
             cargo: std::env::var_os("CARGO")
                 .map(PathBuf::from)
                 .unwrap_or_else(|| PathBuf::from("cargo")),

@@ -7,6 +7,7 @@ pub mod device;
 pub mod metrics;
 pub mod output;
 pub mod reference;
+pub mod report;
 pub mod scenefile;
 pub mod scenes;
 pub mod unit;

@@ -173,7 +173,9 @@ pub struct MaterialEvaluator<'m, const T: usize> {
 fn cylinder(y0: TexValue, y2: TexValue, rings: u8) -> TexValue {
     let a = i64::from(y0.to_bits());
     let b = i64::from(y2.to_bits());
-    let r2 = i64::from(rings) * i64::from(rings);
+    // `rings` is 1..=64 (checked at construction); `max(1)` only removes the division-by-zero
+    // panic path the compiler cannot rule out.
+    let r2 = (i64::from(rings) * i64::from(rings)).max(1);
     let v = ((a * a + b * b) / r2) >> 16;
     TexValue::from_bits(v.min(i64::from(i32::MAX)) as i32)
 }
@@ -233,7 +235,7 @@ impl<'m, const T: usize> MaterialEvaluator<'m, T> {
                         k += 1;
                     });
                     let mut k = 0usize;
-                    let r2 = i128::from(rings) * i128::from(rings);
+                    let r2 = (i128::from(rings) * i128::from(rings)).max(1);
                     let i0 = self.e0.eval(&sub, |s0| {
                         let s2 = buf.get(k).copied().unwrap_or_default();
                         k += 1;
@@ -242,8 +244,9 @@ impl<'m, const T: usize> MaterialEvaluator<'m, T> {
                         let g = |g0: i64, g2: i64| -> i64 {
                             let v = ((i128::from(s0.f.to_bits()) * i128::from(g0)
                                 + i128::from(s2.f.to_bits()) * i128::from(g2))
-                                * 2
-                                / r2)
+                                * 2)
+                            .checked_div(r2)
+                            .unwrap_or(0)
                                 >> 16;
                             crate::noise::saturate_i64(v)
                         };

@@ -160,13 +160,13 @@ pub const ZEBRA_KEYS: [Key; 4] = [
 ];
 
 fn e(v: f64) -> MatrixEntry {
-    MatrixEntry::from_num(v)
+    MatrixEntry::checked_from_num(v).unwrap_or(MatrixEntry::ZERO)
 }
 
 fn q(c: [f64; 10]) -> Quadric {
     let mut out = [QuadricCoeff::ZERO; 10];
     for (o, v) in out.iter_mut().zip(c) {
-        *o = QuadricCoeff::from_num(v);
+        *o = QuadricCoeff::checked_from_num(v).unwrap_or(QuadricCoeff::ZERO);
     }
     Quadric::from_coefficients(out)
 }
@@ -183,7 +183,7 @@ fn fbm(
     TextureModel::new(quadric, wrap).with_octaves(&Octaves {
         count,
         base,
-        amplitude: Amplitude::from_num(amplitude),
+        amplitude: Amplitude::checked_from_num(amplitude).unwrap_or(Amplitude::ZERO),
         rotate,
         basis: NoiseBasis::trilinear(hash),
         turbulence: false,
@@ -418,7 +418,7 @@ pub fn mn_marble(hash: HashKind) -> crate::material::PerturbedParams {
     PerturbedParams {
         t1: Affine3::scale(e(2.0)),
         t3: Affine3::scale(e(3.0)),
-        alpha: [Amplitude::from_num(0.6); 3],
+        alpha: [Amplitude::checked_from_num(0.6).unwrap_or(Amplitude::ZERO); 3],
         octaves: 4,
         rotate: true,
         basis: NoiseBasis::trilinear(hash),
@@ -434,7 +434,7 @@ pub fn mn_wood(hash: HashKind) -> crate::material::PerturbedParams {
     PerturbedParams {
         t1: Affine3::scale(e(4.0)),
         t3: Affine3::scale3(e(1.0), e(6.0), e(1.0)),
-        alpha: [Amplitude::from_num(0.25); 3],
+        alpha: [Amplitude::checked_from_num(0.25).unwrap_or(Amplitude::ZERO); 3],
         octaves: 3,
         rotate: true,
         basis: NoiseBasis::trilinear(hash),

@@ -403,8 +403,8 @@ fn shade_segment<const T: usize, const N: usize, O: FnMut(u16, &[Rgba8888])>(
             }
         }
     }
-    if n > 0 {
-        out(x, &chunk[..n]);
+    if let Some(rest) = chunk.get(..n).filter(|r| !r.is_empty()) {
+        out(x, rest);
     }
 }
 

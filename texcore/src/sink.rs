@@ -121,8 +121,10 @@ impl<'a> RgbaBuffer<'a> {
         let width = self.width;
         if let (Some(row), Some((x0, off, n))) = (self.row_mut(y), clip_run(x, colors.len(), width))
         {
-            for (d, s) in row[x0..x0 + n].iter_mut().zip(&colors[off..off + n]) {
-                *d = crate::color::over(*s, *d);
+            if let (Some(dst), Some(src)) = (row.get_mut(x0..x0 + n), colors.get(off..off + n)) {
+                for (d, s) in dst.iter_mut().zip(src) {
+                    *d = crate::color::over(*s, *d);
+                }
             }
         }
     }

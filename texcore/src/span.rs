@@ -155,6 +155,9 @@ impl SpanStats {
     }
 }
 
+/// Samples handed over per call by [`SpanEvaluator::eval_chunks`].
+pub const SAMPLE_CHUNK: usize = 32;
+
 /// Half a cell per pixel (raw 16.16): the Nyquist limit of a lattice noise.
 pub const NYQUIST_STEP: i32 = 1 << 15;
 
@@ -394,7 +397,46 @@ impl<'m, const T: usize> SpanEvaluator<'m, T> {
     }
 
     /// Evaluates `span`, calling `emit` once per pixel in order. Returns the span's facts.
-    pub fn eval<F: FnMut(Sample)>(&mut self, span: &Span, emit: F) -> SpanInfo {
+    ///
+    /// Only this thin loop is generic over `emit`: the evaluator itself is compiled once per model
+    /// capacity `T` and hands its samples over in chunks of [`SAMPLE_CHUNK`], so a program with
+    /// many call sites carries one copy of the evaluator (code size on the device).
+    #[inline]
+    pub fn eval<F: FnMut(Sample)>(&mut self, span: &Span, mut emit: F) -> SpanInfo {
+        self.eval_chunks(span, &mut |chunk: &[Sample]| {
+            for s in chunk {
+                emit(*s);
+            }
+        })
+    }
+
+    /// Evaluates `span`, handing the samples to `out` in order, in chunks of at most
+    /// [`SAMPLE_CHUNK`].
+    #[inline(never)]
+    pub fn eval_chunks(&mut self, span: &Span, out: &mut dyn FnMut(&[Sample])) -> SpanInfo {
+        let mut buf = [Sample::default(); SAMPLE_CHUNK];
+        let mut n = 0usize;
+        let info = self.eval_inner(span, |s| {
+            if let Some(slot) = buf.get_mut(n) {
+                *slot = s;
+            }
+            n += 1;
+            if n >= SAMPLE_CHUNK {
+                out(&buf);
+                n = 0;
+            }
+        });
+        if let Some(rest) = buf.get(..n) {
+            if !rest.is_empty() {
+                out(rest);
+            }
+        }
+        info
+    }
+
+    /// The evaluation proper (instantiated once, for the chunking closure of
+    /// [`SpanEvaluator::eval_chunks`]).
+    fn eval_inner<F: FnMut(Sample)>(&mut self, span: &Span, emit: F) -> SpanInfo {
         let setup = self.setup(span);
         self.stats.spans += 1;
         self.stats.pixels += u64::from(span.len);
@@ -663,7 +705,8 @@ impl<'m, const T: usize> SpanEvaluator<'m, T> {
         let wrap = m.wrap();
         let grads = self.opts.gradients;
         let terms = m.terms();
-        let n = terms.len();
+        // A model holds at most T terms; `min` lets the compiler see it (no bounds checks).
+        let n = terms.len().min(T);
 
         let mut strategies = [Strategy::Off; T];
         for ((st, ts), term) in strategies.iter_mut().zip(setup.terms.iter()).zip(terms) {

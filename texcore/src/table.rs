@@ -280,6 +280,8 @@ impl<const N: usize> ColorTable<N> {
             while k < last && key_pos(keys[k + 1].0, spacing) * two_n <= p {
                 k += 1;
             }
+            // k <= last always; `min` lets the compiler see it (no bounds-check panic path).
+            let k = if k < last { k } else { last };
             let pk = key_pos(keys[k].0, spacing) * two_n;
             entries[j] = if pk > p {
                 keys[0].1
@@ -433,6 +435,9 @@ const fn key_pos(c: TexValue, spacing: KeySpacing) -> i64 {
 
 /// `round((a (d - t) + b t) / d)`, half up, for `0 <= t < d`, `d < 2^44`.
 const fn lerp_exact(a: u8, b: u8, t: i64, d: i64) -> u8 {
+    if d <= 0 {
+        return a;
+    }
     let num = a as i64 * (d - t) + b as i64 * t;
     ((2 * num + d) / (2 * d)) as u8
 }

@@ -93,6 +93,12 @@ impl<const T: usize, const N: usize> Texture<T, N> {
         self
     }
 
+    /// Switches the evaluation mode in place (every mode but `Fd32`/`Reanchored` gives the same
+    /// colours).
+    pub fn set_mode(&mut self, mode: EvalMode) {
+        self.opts.mode = mode;
+    }
+
     /// The shader.
     pub fn shader(&self) -> &Shader<T> {
         &self.shader

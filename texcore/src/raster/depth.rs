@@ -109,7 +109,9 @@ pub(crate) fn depth_run<S: SegmentSink + ?Sized>(
     let mut zp = setup.z.at(xa as i64, y as i64);
     let mut start: Option<u16> = None;
     for x in xa..xb {
-        let z = (zp.wrapping_add(1 << 31) >> 32).clamp(setup.zlo, setup.zhi) as Depth;
+        let z = (zp.wrapping_add(1 << 31) >> 32)
+            .max(setup.zlo)
+            .min(setup.zhi) as Depth;
         zp = zp.wrapping_add(setup.z.dx);
         let visible = match depth.get_mut(x, y) {
             Some(d) => {

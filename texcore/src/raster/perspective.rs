@@ -60,7 +60,8 @@ fn persp_at(
         out.delta[c] = d;
         out.s[c] = setup.base[c]
             .saturating_add(d)
-            .clamp(setup.lo[c], setup.hi[c]);
+            .max(setup.lo[c])
+            .min(setup.hi[c]);
     }
     out
 }
@@ -88,7 +89,8 @@ fn affine_at(setup: &TriangleSetup, a: &AffineInterp, px: i64, py: i64) -> [i64;
         let v = a.planes[c].at(px, py).wrapping_add(1 << (sh - 1)) >> sh;
         s[c] = setup.base[c]
             .saturating_add(v)
-            .clamp(setup.lo[c], setup.hi[c]);
+            .max(setup.lo[c])
+            .min(setup.hi[c]);
     }
     s
 }

@@ -1,0 +1,200 @@
+//! Preset check planes through texcore's real pixel path (shared with the host).
+//!
+//! Every material of `texsim presets` (the eight model presets of `texcore::presets::by_name` and
+//! Miné & Neyret's perturbed `mn-marble` / `mn-wood`) is built into a [`Texture`] with a 256-entry
+//! colour table and the summed-area colour-table filter (csat), and its check plane is shaded,
+//! [`SIZE`] x [`SIZE`] pixels in spans of 16 pixels exactly like `host_sim::unit::plane_row`, into
+//! a [`ChecksumSink`] (FNV-1a over RGB565). `host_sim::unit::render_plane` computes the same image
+//! on the host, so the checksums must be equal.
+//!
+//! This file has no firmware dependencies (only `texcore`): the host includes it verbatim
+//! (`host_sim::report::shared`) to know the job list and the pixel counts. The lattice hash is a
+//! parameter: the Cortex-M4F firmware uses the permutation hash, the rv32imc firmware the
+//! table-free integer hash.
+
+use texcore::color::Rgba8888;
+use texcore::filter::{Antialias, ColorStage, GradientNorm};
+use texcore::format::{TexPoint, TexValue};
+use texcore::hash::HashKind;
+use texcore::material::PerturbedMaterial;
+use texcore::presets::{self, CheckPlane, Key, PRESET_TERMS};
+use texcore::sink::ChecksumSink;
+use texcore::span::{EvalMode, Span};
+use texcore::table::{ColorTable, KeySpacing, TableLookup, TableWrap};
+use texcore::texture::{Shader, Texture};
+
+/// Colour-table entries of every device texture.
+pub const TABLE: usize = 256;
+/// Noise-term capacity of every device texture.
+pub const TERMS: usize = PRESET_TERMS;
+/// The texture type the device jobs use.
+pub type DeviceTexture = Texture<TERMS, TABLE>;
+
+/// Check-plane image size in pixels (square).
+pub const SIZE: u32 = 64;
+/// Pixels per span (`host_sim::unit::PLANE_SEGMENT`).
+pub const SEGMENT: u32 = 16;
+
+/// Every material with a check plane, in `texsim presets` order.
+pub const MATERIALS: [&str; 10] = presets::NAMES;
+
+/// The check plane of the perturbed materials (`host_sim::unit::preset_material`).
+pub const PERTURBED_PLANE: CheckPlane = CheckPlane {
+    origin: [-65536, -65536, -65536],
+    step_x: [512, 0, 0],
+    step_y: [0, 0, 512],
+};
+
+/// A material: what computes `f`, its colour keys and its check plane.
+pub struct Material {
+    /// The shader.
+    pub shader: Shader<TERMS>,
+    /// Key colours.
+    pub keys: &'static [Key],
+    /// Keys placed at `c^2`.
+    pub squared: bool,
+    /// Table wrap.
+    pub wrap: TableWrap,
+    /// The 256-pixel check plane.
+    pub plane: CheckPlane,
+}
+
+/// The material `name` with lattice hash `hash` (as `host_sim::unit::preset_material`).
+#[inline(never)]
+pub fn material(name: &str, hash: HashKind) -> Option<Material> {
+    if let Some(p) = presets::by_name(name, hash) {
+        return Some(Material {
+            wrap: p.model.wrap(),
+            shader: Shader::Model(p.model),
+            keys: p.keys,
+            squared: p.squared_keys,
+            plane: p.plane,
+        });
+    }
+    let (params, keys, wrap, squared): (_, &'static [Key], _, _) = match name {
+        "mn-marble" => (
+            presets::mn_marble(hash),
+            &presets::MARBLE_KEYS,
+            TableWrap::Mod,
+            false,
+        ),
+        "mn-wood" => (
+            presets::mn_wood(hash),
+            &presets::WOOD_KEYS,
+            TableWrap::Clamp,
+            true,
+        ),
+        _ => return None,
+    };
+    let shader = Shader::Perturbed(PerturbedMaterial::new(&params, wrap).ok()?);
+    Some(Material {
+        shader,
+        keys,
+        squared,
+        wrap,
+        plane: PERTURBED_PLANE,
+    })
+}
+
+/// The colour table of `keys` (at most 16 keys).
+pub fn table(keys: &[Key], squared: bool) -> Option<ColorTable<TABLE>> {
+    let mut k = [(TexValue::ZERO, Rgba8888::BLACK); 16];
+    if keys.len() > k.len() {
+        return None;
+    }
+    for (slot, (p, c)) in k.iter_mut().zip(keys) {
+        *slot = (TexValue::from_bits(*p as i32), Rgba8888::from_array(*c));
+    }
+    let spacing = if squared {
+        KeySpacing::Squared
+    } else {
+        KeySpacing::Linear
+    };
+    ColorTable::from_keys_spaced(k.get(..keys.len())?, spacing).ok()
+}
+
+/// The device texture of a material: nearest look-up, filter `aa`, L2 norm, `EvalMode::Auto`,
+/// culling on (`host_sim::unit::UnitConfig::default()` with `aa`).
+#[inline(never)]
+pub fn texture(m: Material, aa: Antialias) -> Option<DeviceTexture> {
+    let stage =
+        ColorStage::new(table(m.keys, m.squared)?, m.wrap, TableLookup::Nearest, aa).ok()?;
+    Some(Texture::new(m.shader, stage, GradientNorm::L2, EvalMode::Auto).with_culling(true))
+}
+
+/// A 256-pixel check plane scaled to `size` pixels (`host_sim::unit::scaled_plane`).
+pub fn scaled_plane(p: &CheckPlane, size: u32) -> CheckPlane {
+    let k = |v: i32| ((i64::from(v) * 256) / i64::from(size.max(1))) as i32;
+    CheckPlane {
+        origin: p.origin,
+        step_x: p.step_x.map(k),
+        step_y: p.step_y.map(k),
+    }
+}
+
+/// Pixels `x0 .. x0 + len` of row `y` of a check plane (`host_sim::unit::plane_span`).
+pub fn plane_span(p: &CheckPlane, x0: u32, y: u32, len: u32) -> Span {
+    let c = |i: usize| -> i32 {
+        let v = i64::from(p.origin[i])
+            + (i64::from(p.step_x[i]) * (2 * i64::from(x0) + 1)) / 2
+            + (i64::from(p.step_y[i]) * (2 * i64::from(y) + 1)) / 2;
+        v as i32
+    };
+    Span {
+        s0: TexPoint::from_bits(c(0), c(1), c(2)),
+        ds: TexPoint::from_bits(p.step_x[0], p.step_x[1], p.step_x[2]),
+        dsdy: TexPoint::from_bits(p.step_y[0], p.step_y[1], p.step_y[2]),
+        len: len.min(u32::from(u16::MAX)) as u16,
+    }
+}
+
+/// Shades the `size x size` image of `plane` with `tex`, rows top to bottom, spans of
+/// [`SEGMENT`] pixels, into a checksum.
+#[inline(never)]
+pub fn shade_plane(tex: &DeviceTexture, plane: &CheckPlane, size: u32) -> ChecksumSink {
+    let mut sink = ChecksumSink::new();
+    let mut ev = tex.evaluator();
+    for y in 0..size {
+        let mut x0 = 0;
+        while x0 < size {
+            let span = plane_span(plane, x0, y, SEGMENT.min(size - x0));
+            ev.shade(&span, |c| sink.add_rgb565(c.to_rgb565().to_bits()));
+            x0 += SEGMENT;
+        }
+    }
+    sink
+}
+
+/// The set-up part of [`plane_checksum`] alone: builds the same texture (kept alive with
+/// `black_box`) and folds a few filtered colours of its stage instead of shading the plane. The
+/// device measures it as a separate job so that set-up can be subtracted from the plane's count.
+#[inline(never)]
+pub fn setup_checksum(name: &str, hash: HashKind) -> u32 {
+    let Some(tex) = material(name, hash).and_then(|m| texture(m, Antialias::Csat)) else {
+        return 0;
+    };
+    let tex = core::hint::black_box(&tex);
+    let mut sink = ChecksumSink::new();
+    for f in [0, 0x4000, 0x8000, 0xC000] {
+        let c = tex.stage().shade(
+            TexValue::from_bits(f),
+            texcore::format::FilterWidth::from_bits(3 << 16),
+        );
+        sink.add_rgb565(c.to_rgb565().to_bits());
+    }
+    sink.checksum()
+}
+
+/// Builds the csat texture of material `name` and shades its [`SIZE`] x [`SIZE`] check plane;
+/// returns the image checksum (0 for an unknown name).
+#[inline(never)]
+pub fn plane_checksum(name: &str, hash: HashKind) -> u32 {
+    let Some(m) = material(name, hash) else {
+        return 0;
+    };
+    let plane = scaled_plane(&m.plane, SIZE);
+    match texture(m, Antialias::Csat) {
+        Some(tex) => shade_plane(&tex, &plane, SIZE).checksum(),
+        None => 0,
+    }
+}

@@ -1,0 +1,226 @@
+//! `texcore-probe`: the smallest program that links texcore's pixel path as a product would, for
+//! the size report (`texsim report size`).
+//!
+//! It builds a texture (the marble preset: a quadric plus four octaves of value noise, a
+//! 256-entry colour table), hides it from the optimiser (`black_box`, as if the material were
+//! loaded at run time, so every code path the compiled-in features allow stays reachable: every
+//! noise basis, every evaluation mode, every colour filter), shades a 64 x 64 check plane into a
+//! `ChecksumSink`, and with feature `render` also renders a scene through the banded renderer
+//! (perspective, depth test, alpha blending). It exits through semihosting with status 0, so it
+//! also runs under QEMU (`firmware/qemu-run.sh`).
+//!
+//! Which texcore features are compiled in is the size report's feature set (`--no-default-features
+//! --features ...`): `minimal` is none of them (value noise, integer hash, mod/clamp colour table,
+//! no antialiasing).
+//!
+//! The probe also exports `TEXCORE_PROBE_SIZES` (`.rodata`): `core::mem::size_of` of the parts of
+//! a texture-unit instance on this target, read from the ELF by the size report.
+#![cfg_attr(target_os = "none", no_std, no_main)]
+#![deny(unsafe_code)]
+
+#[cfg(not(target_os = "none"))]
+fn main() {}
+
+#[cfg(target_os = "none")]
+mod probe {
+    use core::hint::black_box;
+    use core::mem::size_of;
+    use texcore::color::Rgba8888;
+    use texcore::filter::{Antialias, ColorStage, GradientNorm};
+    use texcore::format::{TexPoint, TexValue};
+    use texcore::hash::HashKind;
+    use texcore::model::{NoiseTerm, TextureModel};
+    use texcore::presets;
+    use texcore::sink::ChecksumSink;
+    use texcore::span::{EvalMode, Span, SpanEvaluator};
+    use texcore::table::{ColorTable, TableLookup, TableWrap};
+    use texcore::texture::{Shader, Texture, TextureEvaluator};
+
+    const N: usize = 256;
+    const T: usize = presets::PRESET_TERMS;
+
+    #[cfg(feature = "csat")]
+    const CSAT: usize = size_of::<texcore::filter::Csat<N>>();
+    #[cfg(not(feature = "csat"))]
+    const CSAT: usize = 0;
+    #[cfg(feature = "perturb")]
+    const PERTURBED: usize = size_of::<texcore::material::PerturbedMaterial<T>>();
+    #[cfg(not(feature = "perturb"))]
+    const PERTURBED: usize = 0;
+
+    /// Sizes in bytes on this target, in this order: colour table (256 entries), its csat
+    /// (0 without `csat`), `ColorStage<256>`, `TextureModel<8>` (quadric and noise terms),
+    /// `NoiseTerm`, `SpanEvaluator<8>`, `TextureEvaluator<8, 256>`, `Texture<8, 256>`,
+    /// `PerturbedMaterial<8>` (0 without `perturb`), `Span`.
+    #[used]
+    #[allow(unsafe_code)] // `no_mangle` (an exported symbol) counts as unsafe code.
+    #[no_mangle]
+    pub static TEXCORE_PROBE_SIZES: [u32; 10] = [
+        size_of::<ColorTable<N>>() as u32,
+        CSAT as u32,
+        size_of::<ColorStage<N>>() as u32,
+        size_of::<TextureModel<T>>() as u32,
+        size_of::<NoiseTerm>() as u32,
+        size_of::<SpanEvaluator<'static, T>>() as u32,
+        size_of::<TextureEvaluator<'static, T, N>>() as u32,
+        size_of::<Texture<T, N>>() as u32,
+        PERTURBED as u32,
+        size_of::<Span>() as u32,
+    ];
+
+    /// The filters compiled in, the strongest last.
+    const FILTERS: &[Antialias] = &[
+        Antialias::None,
+        #[cfg(feature = "mip")]
+        Antialias::Mip,
+        #[cfg(feature = "csat")]
+        Antialias::Csat3,
+        #[cfg(feature = "csat")]
+        Antialias::Csat,
+    ];
+
+    fn texture() -> Option<Texture<T, N>> {
+        let hash = black_box(HashKind::Integer);
+        let p = presets::marble(hash);
+        let mut keys = [(TexValue::ZERO, Rgba8888::BLACK); 8];
+        for (k, (pos, c)) in keys.iter_mut().zip(p.keys) {
+            *k = (TexValue::from_bits(*pos as i32), Rgba8888::from_array(*c));
+        }
+        let table = ColorTable::<N>::from_keys(keys.get(..p.keys.len())?).ok()?;
+        let aa = *FILTERS.last()?;
+        let wrap = black_box(TableWrap::Mod);
+        let lookup = black_box(TableLookup::Nearest);
+        let stage = ColorStage::new(table, wrap, lookup, black_box(aa)).ok()?;
+        let tex = Texture::new(
+            Shader::Model(p.model),
+            stage,
+            black_box(GradientNorm::L2),
+            black_box(EvalMode::Auto),
+        );
+        Some(tex)
+    }
+
+    fn shade(tex: &Texture<T, N>) -> u32 {
+        let mut sink = ChecksumSink::new();
+        let mut ev = tex.evaluator();
+        for y in 0..64i32 {
+            for x0 in (0..64i32).step_by(16) {
+                let span = Span {
+                    s0: TexPoint::from_bits(x0 * 2048 + 1024, 32768, y * 2048 + 1024),
+                    ds: TexPoint::from_bits(2048, 0, 0),
+                    dsdy: TexPoint::from_bits(0, 0, 2048),
+                    len: 16,
+                };
+                ev.shade(&black_box(span), |c| {
+                    sink.add_rgb565(c.to_rgb565().to_bits())
+                });
+            }
+        }
+        sink.checksum()
+    }
+
+    #[cfg(feature = "render")]
+    fn render(tex: &Texture<T, N>) -> u32 {
+        use texcore::raster::{Perspective, ScreenVertex, TriangleOptions};
+        use texcore::render::{Blend, DrawObject, Renderer, TriangleSource};
+
+        struct Scene([ScreenVertex; 4]);
+        impl TriangleSource for Scene {
+            fn size(&self) -> (u16, u16) {
+                (64, 64)
+            }
+            fn background(&self) -> Rgba8888 {
+                Rgba8888::BLACK
+            }
+            fn object_count(&self) -> usize {
+                2
+            }
+            fn object(&self, i: usize) -> Option<DrawObject> {
+                let (blend, perspective) = match i {
+                    0 => (Blend::Opaque, Perspective::Every16),
+                    1 => (Blend::Over, Perspective::Affine),
+                    _ => return None,
+                };
+                Some(DrawObject {
+                    texture: 0,
+                    blend,
+                    depth: true,
+                    raster: TriangleOptions::new(perspective),
+                })
+            }
+            fn for_each_triangle<F: FnMut(usize, &[ScreenVertex; 3])>(&self, mut f: F) {
+                let v = &self.0;
+                for obj in 0..2 {
+                    f(obj, &[v[0], v[1], v[2]]);
+                    f(obj, &[v[0], v[2], v[3]]);
+                }
+            }
+        }
+        let c = |x: i32, y: i32, w: u32| {
+            ScreenVertex::from_bits(
+                x << 4,
+                y << 4,
+                100,
+                w,
+                TexPoint::from_bits(x << 12, y << 12, 0),
+            )
+        };
+        let scene = black_box(Scene([
+            c(0, 0, 1 << 29),
+            c(64, 0, 1 << 29),
+            c(64, 64, 1 << 30),
+            c(0, 64, 1 << 30),
+        ]));
+        let mut band = [Rgba8888::BLACK; 64 * 8];
+        let mut depth = [0u16; 64 * 8];
+        let mut sink = ChecksumSink::new();
+        let textures = core::slice::from_ref(tex);
+        match Renderer::new(textures).render_banded(&scene, &mut band, &mut depth, 8, &mut sink) {
+            Ok(_) => sink.checksum(),
+            Err(_) => 0,
+        }
+    }
+
+    #[cfg(not(feature = "render"))]
+    fn render(_: &Texture<T, N>) -> u32 {
+        0
+    }
+
+    pub fn run() -> u32 {
+        let Some(tex) = texture() else {
+            return 0;
+        };
+        let tex = black_box(&tex);
+        black_box(shade(tex)) ^ black_box(render(tex)) ^ black_box(TEXCORE_PROBE_SIZES[0])
+    }
+}
+
+#[cfg(target_os = "none")]
+fn app() -> ! {
+    let _ = core::hint::black_box(probe::run());
+    semihosting::process::exit(0)
+}
+
+#[cfg(all(target_os = "none", target_arch = "arm"))]
+mod entry {
+    #![allow(unsafe_code)] // cortex-m-rt's entry trampoline
+    #[cortex_m_rt::entry]
+    fn main() -> ! {
+        super::app()
+    }
+}
+
+#[cfg(all(target_os = "none", target_arch = "riscv32"))]
+mod entry {
+    #![allow(unsafe_code)] // riscv-rt's entry trampoline
+    #[riscv_rt::entry]
+    fn main() -> ! {
+        super::app()
+    }
+}
+
+#[cfg(target_os = "none")]
+#[panic_handler]
+fn panic(_: &core::panic::PanicInfo) -> ! {
+    semihosting::process::exit(101)
+}

@@ -1,0 +1,405 @@
+//! Whole scenes through `texcore::render::Renderer::render_banded` into a `ChecksumSink`, with a
+//! small band (RGBA band + depth band in caller-owned memory, no frame buffer), at display size
+//! (shared with the host, like `planes`).
+//!
+//! [`render_checksum`] renders any [`TriangleSource`] this way. The device renders [`SCENES`]:
+//! two scenes defined here from the presets, a perspective floor and a depth-tested,
+//! alpha-blended overlay. The built-in scenes of `texcore::scene::builtin` (frame 0, 320 x 240,
+//! one csat texture per slot as `host_sim::scenes::slot_material` builds it) are ready as
+//! [`BUILTIN_SCENES`] / [`builtin`] but not yet registered on the device (see there).
+
+use texcore::color::Rgba8888;
+use texcore::filter::Antialias;
+use texcore::format::Amplitude;
+use texcore::hash::HashKind;
+use texcore::material::PerturbedMaterial;
+use texcore::presets::{self, Key};
+use texcore::raster::{Perspective, ScreenVertex, TriangleOptions};
+use texcore::render::{Blend, DrawObject, Renderer, TriangleSource};
+use texcore::scene::{builtin, TextureSlot, MAX_SLOTS};
+use texcore::sink::ChecksumSink;
+use texcore::table::TableWrap;
+use texcore::texture::Shader;
+use texcore::TexPoint;
+
+use super::planes::{material, texture, DeviceTexture, Material, PERTURBED_PLANE};
+
+/// Display width.
+pub const WIDTH: u16 = 320;
+/// Display height.
+pub const HEIGHT: u16 = 240;
+/// Rows per band.
+pub const BAND_ROWS: u16 = 8;
+/// Pixels of the RGBA band and entries of the depth band: one band of the widest scene.
+pub const BAND_PIXELS: usize = WIDTH as usize * BAND_ROWS as usize;
+
+/// One scene workload.
+#[derive(Clone, Copy)]
+pub struct SceneJob {
+    /// Name (the job is `scene:<name>`).
+    pub name: &'static str,
+    /// Image size.
+    pub size: (u16, u16),
+    /// Whether the Cortex-M4F firmware runs it: its counter (the SysTick vernier under QEMU)
+    /// measures at most 2^24 * 40 = 671 088 640 instructions per job, and a frame of the heavier
+    /// scenes needs more (rv32imc's 64-bit `minstret` has no such limit, so it runs them all).
+    pub m4f: bool,
+    /// The workload: `(hash, work, band, depth)`; with `work == false` only the textures and the
+    /// scene are built (see `stages`).
+    pub run: fn(HashKind, bool, &mut [Rgba8888], &mut [u16]) -> u32,
+}
+
+/// Every scene the device renders.
+pub const SCENES: [SceneJob; 2] = [
+    SceneJob {
+        name: "floor",
+        size: (WIDTH, HEIGHT),
+        m4f: true,
+        run: floor,
+    },
+    SceneJob {
+        name: "overlay",
+        size: (WIDTH, HEIGHT),
+        m4f: true,
+        run: overlay,
+    },
+];
+
+/// The built-in scenes of `texcore::scene::builtin`, ready as workloads but **not registered on
+/// the device yet**: a frame needs one 8 KB texture per slot (`Texture<8, 256>` is sized for the
+/// three-times-long csat) and [`builtin`] builds them on the stack, which takes more than the
+/// device's ~110 KB of stack (its frame is ~126 KB on the Cortex-M4F). Registering them needs
+/// the textures in static storage first. The heavier ones also exceed the Cortex-M4F counter's
+/// window (`m4f: false`).
+pub const BUILTIN_SCENES: [SceneJob; 8] = [
+    SceneJob {
+        name: "wood",
+        size: (builtin::WIDTH, builtin::HEIGHT),
+        m4f: false,
+        run: builtin_wood,
+    },
+    SceneJob {
+        name: "marble",
+        size: (builtin::WIDTH, builtin::HEIGHT),
+        m4f: false,
+        run: builtin_marble,
+    },
+    SceneJob {
+        name: "seascape",
+        size: (builtin::WIDTH, builtin::HEIGHT),
+        m4f: false,
+        run: builtin_seascape,
+    },
+    SceneJob {
+        name: "fire",
+        size: (builtin::WIDTH, builtin::HEIGHT),
+        m4f: true,
+        run: builtin_fire,
+    },
+    SceneJob {
+        name: "planet",
+        size: (builtin::WIDTH, builtin::HEIGHT),
+        m4f: false,
+        run: builtin_planet,
+    },
+    SceneJob {
+        name: "moonrise",
+        size: (builtin::WIDTH, builtin::HEIGHT),
+        m4f: false,
+        run: builtin_moonrise,
+    },
+    SceneJob {
+        name: "zoneplate",
+        size: (builtin::WIDTH, builtin::HEIGHT),
+        m4f: true,
+        run: builtin_zoneplate,
+    },
+    SceneJob {
+        name: "torus",
+        size: (builtin::WIDTH, builtin::HEIGHT),
+        m4f: false,
+        run: builtin_torus,
+    },
+];
+
+/// The scene called `name`.
+pub fn scene(name: &str) -> Option<&'static SceneJob> {
+    SCENES.iter().find(|s| s.name == name)
+}
+
+/// Renders `scene` with `textures` in bands of [`BAND_ROWS`] rows through `band` and `depth`;
+/// returns the image checksum (0 if the renderer refused the scene).
+#[inline(never)]
+pub fn render_checksum<S: TriangleSource>(
+    scene: &S,
+    textures: &[DeviceTexture],
+    band: &mut [Rgba8888],
+    depth: &mut [u16],
+) -> u32 {
+    let mut sink = ChecksumSink::new();
+    match Renderer::new(textures).render_banded(scene, band, depth, BAND_ROWS, &mut sink) {
+        Ok(_) => sink.checksum(),
+        Err(_) => 0,
+    }
+}
+
+/// Quads (two triangles each) with one draw object per quad.
+pub struct Quads<const Q: usize> {
+    /// Image size.
+    pub size: (u16, u16),
+    /// Background.
+    pub background: Rgba8888,
+    /// Per quad: how it is drawn and its corners (clockwise from top left).
+    pub quads: [(DrawObject, [ScreenVertex; 4]); Q],
+}
+
+impl<const Q: usize> TriangleSource for Quads<Q> {
+    fn size(&self) -> (u16, u16) {
+        self.size
+    }
+    fn background(&self) -> Rgba8888 {
+        self.background
+    }
+    fn object_count(&self) -> usize {
+        Q
+    }
+    fn object(&self, i: usize) -> Option<DrawObject> {
+        self.quads.get(i).map(|q| q.0)
+    }
+    fn for_each_triangle<F: FnMut(usize, &[ScreenVertex; 3])>(&self, mut f: F) {
+        for (i, (_, v)) in self.quads.iter().enumerate() {
+            f(i, &[v[0], v[1], v[2]]);
+            f(i, &[v[0], v[2], v[3]]);
+        }
+    }
+}
+
+/// A vertex at pixel `(x, y)` (whole pixels), depth `z`, `1/w` raw `w`, texture raw 16.16 `s`.
+fn v(x: i32, y: i32, z: u16, w: u32, s: [i32; 3]) -> ScreenVertex {
+    ScreenVertex::from_bits(x << 4, y << 4, z, w, TexPoint::from_bits(s[0], s[1], s[2]))
+}
+
+const FAR: u32 = 1 << 29;
+const NEAR: u32 = (1 << 31) - 1;
+
+/// A ground plane from the horizon (row 60) to the bottom of the screen, in perspective.
+fn floor_quad(z: u16) -> [ScreenVertex; 4] {
+    let (w, h) = (i32::from(WIDTH), i32::from(HEIGHT));
+    [
+        v(-w, 60, z, FAR, [-4 << 16, 8 << 16, 0]),
+        v(2 * w, 60, z, FAR, [4 << 16, 8 << 16, 0]),
+        v(w, h, z, NEAR, [1 << 16, 0, 0]),
+        v(0, h, z, NEAR, [-1 << 16, 0, 0]),
+    ]
+}
+
+fn tex(name: &str, hash: HashKind) -> Option<DeviceTexture> {
+    texture(material(name, hash)?, Antialias::Csat)
+}
+
+/// A marble floor in perspective (`Every16`), opaque, no depth: one texture, two triangles.
+pub fn floor(hash: HashKind, work: bool, band: &mut [Rgba8888], depth: &mut [u16]) -> u32 {
+    let Some(tex) = tex("marble", hash).map(|t| [t]) else {
+        return 0;
+    };
+    let scene = Quads {
+        size: (WIDTH, HEIGHT),
+        background: Rgba8888::rgb(40, 60, 90),
+        quads: [(
+            DrawObject {
+                texture: 0,
+                blend: Blend::Opaque,
+                depth: false,
+                raster: TriangleOptions::new(Perspective::Every16),
+            },
+            floor_quad(0),
+        )],
+    };
+    let (tex, scene) = core::hint::black_box((&tex, &scene));
+    if !work {
+        return scene.quads.len() as u32 ^ tex.len() as u32;
+    }
+    render_checksum(scene, tex, band, depth)
+}
+
+/// A wood floor (perspective, depth-tested), a planet disc-like quad standing on it (affine,
+/// depth-tested, partly behind the floor's near part) and the planet's clouds blended over the
+/// upper half of the screen: depth buffer and alpha blending in every band.
+pub fn overlay(hash: HashKind, work: bool, band: &mut [Rgba8888], depth: &mut [u16]) -> u32 {
+    let (Some(a), Some(b), Some(c)) = (
+        tex("wood", hash),
+        tex("planet", hash),
+        tex("planet-clouds", hash),
+    ) else {
+        return 0;
+    };
+    let tex = [a, b, c];
+    let depth_obj = |t: usize, p: Perspective| DrawObject {
+        texture: t,
+        blend: Blend::Opaque,
+        depth: true,
+        raster: TriangleOptions::new(p),
+    };
+    let (w, h) = (i32::from(WIDTH), i32::from(HEIGHT));
+    let s = |a: i32, b: i32| [a << 14, b << 14, 0];
+    let scene = Quads {
+        size: (WIDTH, HEIGHT),
+        background: Rgba8888::rgb(8, 8, 24),
+        quads: [
+            (depth_obj(0, Perspective::Every16), floor_quad(30000)),
+            (
+                depth_obj(1, Perspective::Affine),
+                [
+                    v(90, 20, 20000, NEAR, s(-8, -8)),
+                    v(230, 20, 20000, NEAR, s(8, -8)),
+                    v(230, 200, 40000, NEAR, s(8, 8)),
+                    v(90, 200, 40000, NEAR, s(-8, 8)),
+                ],
+            ),
+            (
+                DrawObject {
+                    texture: 2,
+                    blend: Blend::Over,
+                    depth: false,
+                    raster: TriangleOptions::new(Perspective::Affine),
+                },
+                [
+                    v(0, 0, 0, NEAR, s(-8, -6)),
+                    v(w, 0, 0, NEAR, s(8, -6)),
+                    v(w, h / 2, 0, NEAR, s(8, 0)),
+                    v(0, h / 2, 0, NEAR, s(-8, 0)),
+                ],
+            ),
+        ],
+    };
+    let (tex, scene) = core::hint::black_box((&tex, &scene));
+    if !work {
+        return scene.quads.len() as u32 ^ tex.len() as u32;
+    }
+    render_checksum(scene, tex, band, depth)
+}
+
+/// The texture of a scene's slot: the preset with the slot's amplitude factor, phase and keys
+/// (as `host_sim::scenes::slot_material`), csat.
+pub fn slot_texture(slot: &TextureSlot, hash: HashKind) -> Option<DeviceTexture> {
+    let factor = i64::from(slot.amplitude);
+    let scale = |a: Amplitude| -> Amplitude {
+        Amplitude::from_bits(
+            ((i64::from(a.to_bits()) * factor) >> 16).clamp(i32::MIN.into(), i32::MAX.into())
+                as i32,
+        )
+    };
+    let m = if let Some(p) = presets::by_name(slot.material, hash) {
+        let mut model = p.model;
+        if factor != 1 << 16 {
+            for k in 0..model.terms().len() {
+                let a = scale(model.terms().get(k)?.amplitude);
+                model.set_amplitude(k, a).ok()?;
+            }
+        }
+        if slot.phase != 0 && slot.material == "fire" {
+            presets::set_fire_phase(&mut model, slot.phase);
+        }
+        Material {
+            wrap: model.wrap(),
+            shader: Shader::Model(model),
+            keys: p.keys,
+            squared: p.squared_keys,
+            plane: p.plane,
+        }
+    } else {
+        let (mut params, keys, wrap, squared): (_, &'static [Key], _, _) = match slot.material {
+            "mn-marble" => (
+                presets::mn_marble(hash),
+                &presets::MARBLE_KEYS,
+                TableWrap::Mod,
+                false,
+            ),
+            "mn-wood" => (
+                presets::mn_wood(hash),
+                &presets::WOOD_KEYS,
+                TableWrap::Clamp,
+                true,
+            ),
+            _ => return None,
+        };
+        for a in &mut params.alpha {
+            *a = scale(*a);
+        }
+        Material {
+            shader: Shader::Perturbed(PerturbedMaterial::new(&params, wrap).ok()?),
+            keys,
+            squared,
+            wrap,
+            plane: PERTURBED_PLANE,
+        }
+    };
+    let keys = slot.keys.unwrap_or(m.keys);
+    texture(Material { keys, ..m }, Antialias::Csat)
+}
+
+/// Renders frame 0 of the built-in scene `name` (0 if it or one of its textures cannot be built).
+#[inline(never)]
+pub fn builtin(
+    name: &str,
+    hash: HashKind,
+    work: bool,
+    band: &mut [Rgba8888],
+    depth: &mut [u16],
+) -> u32 {
+    let Some(scene) = builtin::by_name(name).map(|s| s.at_frame(0)) else {
+        return 0;
+    };
+    let n = scene.slots.len().min(MAX_SLOTS);
+    // One array of MAX_SLOTS textures (about 8 KB each) built in place; slots past `n` repeat
+    // slot 0 and are never drawn (the renderer gets `textures[..n]`). One array only: the stack
+    // (about 110 KB on the device) holds the scene, the textures and the renderer's state.
+    let Some(first) = scene.slots.first().and_then(|s| slot_texture(s, hash)) else {
+        return 0;
+    };
+    let mut ok = true;
+    let textures: [DeviceTexture; MAX_SLOTS] = core::array::from_fn(|i| {
+        if i == 0 || i >= n {
+            return first.clone();
+        }
+        match scene.slots.get(i).and_then(|s| slot_texture(s, hash)) {
+            Some(t) => t,
+            None => {
+                ok = false;
+                first.clone()
+            }
+        }
+    });
+    drop(first);
+    if !ok {
+        return 0;
+    }
+    let (textures, scene) = core::hint::black_box((&textures, &scene));
+    let Some(textures) = textures.get(..n) else {
+        return 0;
+    };
+    if !work {
+        return scene.objects.len() as u32 ^ textures.len() as u32;
+    }
+    render_checksum(scene, textures, band, depth)
+}
+
+macro_rules! builtin_fns {
+    ($($f:ident => $name:literal;)*) => {$(
+        #[doc = concat!("The built-in scene `", $name, "` (see [`builtin`]).")]
+        pub fn $f(hash: HashKind, work: bool, band: &mut [Rgba8888], depth: &mut [u16]) -> u32 {
+            builtin($name, hash, work, band, depth)
+        }
+    )*};
+}
+
+builtin_fns! {
+    builtin_wood => "wood";
+    builtin_marble => "marble";
+    builtin_seascape => "seascape";
+    builtin_fire => "fire";
+    builtin_planet => "planet";
+    builtin_moonrise => "moonrise";
+    builtin_zoneplate => "zoneplate";
+    builtin_torus => "torus";
+}

@@ -1,0 +1,170 @@
+//! The firmware side of the texture-unit workloads: job wrappers around [`crate::planes`],
+//! [`crate::stages`] and [`crate::scenes`] (which the host shares), the per-target lattice hash,
+//! and the static band buffers of the scene renders.
+//!
+//! Job names (registered in [`crate::jobs::JOBS`] with [`job!`]):
+//! - `config:hash`: checksum 1 when this build shades with the permutation hash, 2 with the
+//!   integer hash (the host computes its expected checksums with the same hash);
+//! - `plane:<material>`: a material's 64 x 64 check plane with csat ([`crate::planes`]);
+//! - `stage:<stage>`: one stage of the pixel path alone ([`crate::stages`]);
+//! - `scene:<scene>`: a scene at display size through the banded renderer ([`crate::scenes`]);
+//! - `<job>/setup`: the same job's set-up alone (textures, tables, inputs); the host subtracts
+//!   its count to get the per-pixel cost of the work itself.
+
+use crate::jobs::Ctx;
+use crate::scenes::{self, BAND_PIXELS};
+use crate::{planes, stages};
+use texcore::color::Rgba8888;
+use texcore::hash::HashKind;
+
+/// The lattice hash of this build: Perlin's permutation table on the Cortex-M4F (with the
+/// default `perm-hash` feature), the table-free integer hash on rv32imc (an FPGA soft-core
+/// without ROM tables; texcore is built without `perm-hash` there).
+#[cfg(all(target_arch = "arm", feature = "perm-hash"))]
+pub const HASH: HashKind = HashKind::Permutation;
+/// See above.
+#[cfg(not(all(target_arch = "arm", feature = "perm-hash")))]
+pub const HASH: HashKind = HashKind::Integer;
+
+/// Whether the suite's jobs are stubbed out (return 0 without running texcore): only in the
+/// strict `panic-never` link check without `panic-never-pixel-path`, until every panic path of
+/// texcore's pixel path is gone (see `firmware/check-panic-never.sh`).
+const STUBBED: bool = cfg!(all(
+    feature = "panic-never",
+    not(feature = "panic-never-pixel-path")
+));
+
+/// [`HASH`], opaque to the optimiser (so no job is computed at compile time).
+#[inline(always)]
+fn hash() -> HashKind {
+    core::hint::black_box(HASH)
+}
+
+/// A [`crate::jobs::Job`] named `$name` running `suite::$f`.
+macro_rules! job {
+    ($name:literal, $f:ident) => {
+        $crate::jobs::Job {
+            name: $name,
+            run: $crate::suite::$f,
+        }
+    };
+}
+pub(crate) use job;
+
+/// `config:hash`: 1 = permutation hash, 2 = integer hash.
+pub fn config_hash(_: &mut Ctx) -> u32 {
+    #[allow(unreachable_patterns)]
+    match hash() {
+        HashKind::Integer => 2,
+        _ => 1,
+    }
+}
+
+macro_rules! plane_jobs {
+    ($($name:literal => $job:ident, $setup:ident;)*) => {$(
+        #[doc = concat!("`plane:", $name, "`.")]
+        pub fn $job(_: &mut Ctx) -> u32 {
+            if STUBBED {
+                return 0;
+            }
+            planes::plane_checksum($name, hash())
+        }
+        #[doc = concat!("`plane:", $name, "/setup`.")]
+        pub fn $setup(_: &mut Ctx) -> u32 {
+            if STUBBED {
+                return 0;
+            }
+            planes::setup_checksum($name, hash())
+        }
+    )*};
+}
+
+plane_jobs! {
+    "wood" => plane_wood, plane_wood_setup;
+    "marble" => plane_marble, plane_marble_setup;
+    "clouds" => plane_clouds, plane_clouds_setup;
+    "water" => plane_water, plane_water_setup;
+    "fire" => plane_fire, plane_fire_setup;
+    "planet" => plane_planet, plane_planet_setup;
+    "planet-clouds" => plane_planet_clouds, plane_planet_clouds_setup;
+    "zoneplate" => plane_zoneplate, plane_zoneplate_setup;
+    "mn-marble" => plane_mn_marble, plane_mn_marble_setup;
+    "mn-wood" => plane_mn_wood, plane_mn_wood_setup;
+}
+
+macro_rules! stage_jobs {
+    ($($f:ident => $job:ident, $setup:ident;)*) => {$(
+        #[doc = concat!("`stage:", stringify!($f), "`.")]
+        pub fn $job(_: &mut Ctx) -> u32 {
+            if STUBBED {
+                return 0;
+            }
+            stages::$f(hash(), true)
+        }
+        #[doc = concat!("`stage:", stringify!($f), "/setup`.")]
+        pub fn $setup(_: &mut Ctx) -> u32 {
+            if STUBBED {
+                return 0;
+            }
+            stages::$f(hash(), false)
+        }
+    )*};
+}
+
+stage_jobs! {
+    noise_octave => stage_noise_octave, stage_noise_octave_setup;
+    noise_octave_grad => stage_noise_octave_grad, stage_noise_octave_grad_setup;
+    quadric => stage_quadric, stage_quadric_setup;
+    color_lookup => stage_color_lookup, stage_color_lookup_setup;
+    csat => stage_csat, stage_csat_setup;
+    raster_setup => stage_raster_setup, stage_raster_setup_setup;
+    perspective_every16 => stage_perspective_every16, stage_perspective_every16_setup;
+    perspective_affine => stage_perspective_affine, stage_perspective_affine_setup;
+}
+
+/// The RGBA band and the depth band of the scene renders: one band of [`scenes::BAND_ROWS`] rows
+/// of the widest scene, in static RAM (no frame buffer anywhere).
+struct Bands {
+    rgba: [Rgba8888; BAND_PIXELS],
+    depth: [u16; BAND_PIXELS],
+}
+
+static mut BANDS: Bands = Bands {
+    rgba: [Rgba8888::TRANSPARENT; BAND_PIXELS],
+    depth: [0; BAND_PIXELS],
+};
+
+/// Runs `f` with the band buffers.
+#[allow(unsafe_code)]
+fn with_bands(f: impl FnOnce(&mut [Rgba8888], &mut [u16]) -> u32) -> u32 {
+    // SAFETY: the firmware is single-threaded, no interrupt handler touches `BANDS`, and jobs
+    // run one at a time and never re-enter this function, so this is the only live reference.
+    let bands = unsafe { &mut *core::ptr::addr_of_mut!(BANDS) };
+    f(&mut bands.rgba, &mut bands.depth)
+}
+
+macro_rules! scene_jobs {
+    ($($f:ident => $job:ident, $setup:ident;)*) => {$(
+        #[allow(dead_code)] // the scenes too heavy for the Cortex-M counter are not registered there
+        #[doc = concat!("`scene:", stringify!($f), "`.")]
+        pub fn $job(_: &mut Ctx) -> u32 {
+            if STUBBED {
+                return 0;
+            }
+            with_bands(|b, d| scenes::$f(hash(), true, b, d))
+        }
+        #[doc = concat!("`scene:", stringify!($f), "/setup`.")]
+        #[allow(dead_code)]
+        pub fn $setup(_: &mut Ctx) -> u32 {
+            if STUBBED {
+                return 0;
+            }
+            with_bands(|b, d| scenes::$f(hash(), false, b, d))
+        }
+    )*};
+}
+
+scene_jobs! {
+    floor => scene_floor, scene_floor_setup;
+    overlay => scene_overlay, scene_overlay_setup;
+}

@@ -1,0 +1,246 @@
+//! `texsim report cycles`: instructions per pixel of every device job on both targets.
+//!
+//! Builds the firmware (release) for the Cortex-M4F and rv32imc, runs it under QEMU with
+//! `-icount shift=0` (exact instruction counts, see `host_sim::device`), and for every job of the
+//! texture-unit suite ([`super::suite`]) reports
+//!
+//! - `instructions`: the job's count minus its `/setup` job's count (textures, tables and inputs
+//!   built, nothing shaded), i.e. the instructions of the work itself;
+//! - `instructions_per_pixel`: that divided by the job's units (pixels; look-ups or triangles
+//!   for the stages whose `unit` says so);
+//! - `checksum_match`: the device's checksum equals the host's checksum of the same job with the
+//!   same lattice hash (the one the device reports in its `config:hash` job), and the set-up
+//!   checksums match too.
+
+use std::fmt::Write as _;
+use std::path::PathBuf;
+use std::time::Duration;
+
+use serde::Serialize;
+use texcore::hash::HashKind;
+
+use super::{hash_from_config, host_checksum, suite_for, write_atomic, JobKind, SuiteJob};
+use crate::device::{self, DeviceError, DeviceRun, DeviceTarget, RunOptions};
+
+/// One row of the report.
+#[derive(Clone, Debug, Serialize)]
+pub struct CycleRow {
+    /// Target triple.
+    pub target: String,
+    /// Job name: `plane:<material>`, `stage:<stage>` or `scene:<scene>`.
+    pub scene: String,
+    /// What the job is.
+    pub kind: JobKind,
+    /// The stage marker: `true` for the per-stage rows (`stage:*`).
+    pub stage: bool,
+    /// What one unit of work is (`pixel`, `lookup`, `triangle`).
+    pub unit: String,
+    /// Units of work.
+    pub units: u64,
+    /// Net instructions per unit (`instructions / units`).
+    pub instructions_per_pixel: f64,
+    /// Net instructions: the job minus its set-up job.
+    pub instructions: u64,
+    /// Instructions of the set-up job alone.
+    pub setup_instructions: u64,
+    /// Lattice hash the device shaded with.
+    pub hash: String,
+    /// Device checksum (hex).
+    pub device_checksum: String,
+    /// Host checksum of the same job (hex).
+    pub host_checksum: String,
+    /// Device and host agree on the job and on its set-up.
+    pub checksum_match: bool,
+}
+
+/// Options of the report.
+#[derive(Clone, Debug)]
+pub struct CyclesOptions {
+    /// Only the reference subset of jobs ([`QUICK_JOBS`]).
+    pub quick: bool,
+    /// Targets to run.
+    pub targets: Vec<DeviceTarget>,
+    /// Where to write the markdown table (`None`: do not write).
+    pub markdown: Option<PathBuf>,
+    /// Build and run options.
+    pub run: RunOptions,
+}
+
+impl Default for CyclesOptions {
+    fn default() -> Self {
+        CyclesOptions {
+            quick: false,
+            targets: DeviceTarget::ALL.to_vec(),
+            markdown: Some(device::workspace_root().join("docs/cycles.md")),
+            run: RunOptions {
+                timeout: Duration::from_secs(900),
+                ..RunOptions::default()
+            },
+        }
+    }
+}
+
+/// The jobs of `--quick`: the fast-path reference (marble check plane with csat), one octave of
+/// noise, the csat filter and one scene.
+pub const QUICK_JOBS: [&str; 4] = [
+    "plane:marble",
+    "stage:noise-octave",
+    "stage:csat",
+    "scene:floor",
+];
+
+/// Why the report could not be made.
+#[derive(Debug, thiserror::Error)]
+pub enum CyclesError {
+    /// Building or running the firmware failed.
+    #[error("{0}")]
+    Device(#[from] DeviceError),
+    /// A job of the suite is missing from the device's report.
+    #[error("{target}: the firmware did not report job `{job}`")]
+    MissingJob {
+        /// Target.
+        target: DeviceTarget,
+        /// Job.
+        job: String,
+    },
+    /// The host has no computation for a job.
+    #[error("no host computation for job `{0}`")]
+    NoHost(String),
+    /// Writing the markdown failed.
+    #[error("writing {path}: {source}")]
+    Write {
+        /// File.
+        path: PathBuf,
+        /// Error.
+        source: std::io::Error,
+    },
+}
+
+fn hash_name(h: HashKind) -> &'static str {
+    match h {
+        HashKind::Permutation => "permutation",
+        HashKind::Integer => "integer",
+    }
+}
+
+/// The rows of one target's run.
+pub fn rows_for_run(
+    target: DeviceTarget,
+    run: &DeviceRun,
+    jobs: &[SuiteJob],
+) -> Result<Vec<CycleRow>, CyclesError> {
+    let missing = |job: &str| CyclesError::MissingJob {
+        target,
+        job: job.to_string(),
+    };
+    let hash = run
+        .job("config:hash")
+        .and_then(|j| hash_from_config(j.checksum))
+        .ok_or_else(|| missing("config:hash"))?;
+    let mut rows = Vec::new();
+    for job in jobs {
+        let setup_name = format!("{}/setup", job.name);
+        let main = run.job(&job.name).ok_or_else(|| missing(&job.name))?;
+        let setup = run.job(&setup_name).ok_or_else(|| missing(&setup_name))?;
+        let host =
+            host_checksum(&job.name, hash).ok_or_else(|| CyclesError::NoHost(job.name.clone()))?;
+        let host_setup = host_checksum(&setup_name, hash)
+            .ok_or_else(|| CyclesError::NoHost(setup_name.clone()))?;
+        let net = main.instructions.saturating_sub(setup.instructions);
+        rows.push(CycleRow {
+            target: target.triple().to_string(),
+            scene: job.name.clone(),
+            kind: job.kind,
+            stage: job.kind == JobKind::Stage,
+            unit: job.unit.to_string(),
+            units: job.units,
+            instructions_per_pixel: net as f64 / job.units.max(1) as f64,
+            instructions: net,
+            setup_instructions: setup.instructions,
+            hash: hash_name(hash).to_string(),
+            device_checksum: format!("{:#010x}", main.checksum),
+            host_checksum: format!("{host:#010x}"),
+            checksum_match: main.checksum == host && setup.checksum == host_setup,
+        });
+    }
+    Ok(rows)
+}
+
+/// Builds, runs and compares on every target of `opts`; writes the markdown when asked.
+pub fn report(opts: &CyclesOptions) -> Result<Vec<CycleRow>, CyclesError> {
+    let mut rows = Vec::new();
+    for &target in &opts.targets {
+        let mut jobs = suite_for(target);
+        if opts.quick {
+            jobs.retain(|j| QUICK_JOBS.contains(&j.name.as_str()));
+        }
+        let run = match device::run_firmware(target, &opts.run) {
+            Ok(run) => run,
+            // A completed run whose own checks failed still has counts and checksums to report.
+            Err(DeviceError::Failed(run)) => *run,
+            Err(e) => return Err(e.into()),
+        };
+        rows.extend(rows_for_run(target, &run, &jobs)?);
+    }
+    if let Some(path) = &opts.markdown {
+        write_atomic(path, &markdown(&rows, opts.quick)).map_err(|source| CyclesError::Write {
+            path: path.clone(),
+            source,
+        })?;
+    }
+    Ok(rows)
+}
+
+/// The markdown table of the rows.
+pub fn markdown(rows: &[CycleRow], quick: bool) -> String {
+    let mut s = String::new();
+    let _ = writeln!(s, "# Device instruction counts");
+    let _ = writeln!(s);
+    let _ = writeln!(
+        s,
+        "<!-- Generated by `texsim report cycles{}`; do not edit. -->",
+        if quick { " --quick" } else { "" }
+    );
+    let _ = writeln!(s);
+    let _ = writeln!(
+        s,
+        "Exact instruction counts under QEMU (`-icount shift=0`: RISC-V `minstret`, Cortex-M \
+         SysTick vernier; see `firmware/src/counter.rs`), release build. `instr/unit` is the \
+         job's count minus its `/setup` job's count (textures, tables and inputs built, nothing \
+         shaded), divided by its units. Check planes are 64 x 64 pixels in spans of 16 with a \
+         256-entry colour table and csat; scenes are rendered at display size through \
+         `Renderer::render_banded` with 8-row bands into a `ChecksumSink`. `match`: the device's \
+         checksum equals the host's for the same job and lattice hash (Cortex-M4F: permutation \
+         table, rv32imc: integer hash). The Cortex-M4F counter (SysTick vernier) measures at most \
+         671 088 640 instructions per job, so the M4F renders only the scenes whose frame fits; \
+         rv32imc renders every built-in scene."
+    );
+    let mut targets: Vec<&str> = rows.iter().map(|r| r.target.as_str()).collect();
+    targets.dedup();
+    for t in targets {
+        let _ = writeln!(s);
+        let _ = writeln!(s, "## {t}");
+        let _ = writeln!(s);
+        let _ = writeln!(
+            s,
+            "| job | unit | units | instr/unit | instructions | set-up | hash | checksum | match |"
+        );
+        let _ = writeln!(s, "|---|---|---:|---:|---:|---:|---|---|---|");
+        for r in rows.iter().filter(|r| r.target == t) {
+            let _ = writeln!(
+                s,
+                "| `{}` | {} | {} | {:.1} | {} | {} | {} | `{}` | {} |",
+                r.scene,
+                r.unit,
+                super::group(r.units),
+                r.instructions_per_pixel,
+                super::group(r.instructions),
+                super::group(r.setup_instructions),
+                r.hash,
+                r.device_checksum,
+                if r.checksum_match { "yes" } else { "**NO**" }
+            );
+        }
+    }
+    s
+}

@@ -1,0 +1,722 @@
+//! `texsim report size`: firmware section sizes per target and feature set, texcore's share of
+//! `.text`, and the RAM of a texture-unit instance.
+//!
+//! Two kinds of builds, both for the Cortex-M4F and rv32imc:
+//! - `texcore-probe` (`firmware/src/probe.rs`, profile `release-size`, `--no-default-features`
+//!   plus each [`FEATURE_SETS`] entry): texcore's pixel path linked as a product would, with every
+//!   compiled-in path reachable. `minimal` is texcore without features (value noise, integer
+//!   hash, mod/clamp table, no antialiasing); `full` is every basis, csat, MIP, perturbed
+//!   materials, and the banded renderer with perspective, depth and blending. These are the rows
+//!   the budgets apply to.
+//! - the job-suite `firmware` (profile `release`, default features, feature set `firmware`): for
+//!   reference; it links every job and the counter self-test sleds.
+//!
+//! Per ELF: `text` (`.vector_table`, `.init*`, `.text*`, `.trap*`), `rodata` (`.rodata*`,
+//! `.srodata*`, `.eh_frame*`), `data` (`.data*`, `.sdata*`), `bss` (`.bss*`, `.sbss*`), in bytes;
+//! RAM regions that are only reserved (`.stack`, `.heap`, `.uninit`) are not counted.
+//!
+//! texcore's share of `.text` is measured two ways: `texcore_text` attributes every byte of
+//! `.text` to the source file of its DWARF line-table row (so texcore code inlined into the
+//! caller counts as texcore), and `texcore_symbols` sums the sizes of the symbols whose demangled
+//! name names a texcore item (out-of-line texcore functions only).
+//!
+//! The RAM of a texture-unit instance comes from the probe's `TEXCORE_PROBE_SIZES` table
+//! (`core::mem::size_of` on the target itself): a 256-entry colour table, its csat (summed-area
+//! table), the model with its noise terms (capacity 8) and the texture evaluator (span evaluator
+//! state). The evaluator's per-span working state lives on the stack during `shade` and is not
+//! included.
+
+use std::borrow::Cow;
+use std::collections::BTreeMap;
+use std::fmt::Write as _;
+use std::path::{Path, PathBuf};
+use std::process::{Command, Stdio};
+
+use object::{Object, ObjectSection, ObjectSymbol, SectionKind, SymbolKind};
+use serde::Serialize;
+
+use super::write_atomic;
+use crate::device::{self, DeviceTarget, RunOptions};
+
+/// A feature set of the probe: report name and firmware features.
+#[derive(Clone, Copy, Debug)]
+pub struct FeatureSet {
+    /// Name in the report.
+    pub name: &'static str,
+    /// `firmware` crate features (with `--no-default-features`).
+    pub features: &'static [&'static str],
+    /// What it adds.
+    pub what: &'static str,
+}
+
+/// The probe's feature sets, from `minimal` to `full`. `perm-hash` only takes effect on the
+/// Cortex-M4F (the rv32imc build is table-free in every set).
+pub const FEATURE_SETS: [FeatureSet; 7] = [
+    FeatureSet {
+        name: "minimal",
+        features: &[],
+        what: "value noise, integer hash, mod/clamp table, no antialiasing",
+    },
+    FeatureSet {
+        name: "csat",
+        features: &["csat"],
+        what: "minimal + summed-area colour-table filters",
+    },
+    FeatureSet {
+        name: "mip",
+        features: &["mip"],
+        what: "minimal + colour-table MIP map",
+    },
+    FeatureSet {
+        name: "bases",
+        features: &["smooth-fade", "gradient-noise", "mnoise", "perm-hash"],
+        what: "minimal + smooth fades, gradient noise, mNoise, permutation hash (M4F)",
+    },
+    FeatureSet {
+        name: "perturb",
+        features: &["perturb"],
+        what: "minimal + Miné & Neyret perturbed materials",
+    },
+    FeatureSet {
+        name: "render",
+        features: &["render"],
+        what: "minimal + banded renderer (rasterizer, perspective, depth, blending)",
+    },
+    FeatureSet {
+        name: "full",
+        features: &["full", "perm-hash"],
+        what: "every basis, csat, MIP, perturbed materials, renderer with perspective and blending",
+    },
+];
+
+/// The sets of `--quick`.
+pub const QUICK_SETS: [&str; 2] = ["minimal", "full"];
+
+/// Budgets on the Cortex-M4F: texcore `.text` of `minimal` and of `full`, and the RAM of one
+/// texture-unit instance.
+pub const BUDGET_TEXT_MINIMAL: u64 = 4 * 1024;
+/// See [`BUDGET_TEXT_MINIMAL`].
+pub const BUDGET_TEXT_FULL: u64 = 24 * 1024;
+/// See [`BUDGET_TEXT_MINIMAL`].
+pub const BUDGET_UNIT_RAM: u64 = 4 * 1024;
+
+/// `core::mem::size_of` of the parts of a texture unit on the target (probe table order).
+#[derive(Clone, Debug, Default, PartialEq, Eq, Serialize)]
+pub struct UnitSizes {
+    /// `ColorTable<256>`.
+    pub color_table: u64,
+    /// `Csat<256>` (0 without `csat`).
+    pub csat: u64,
+    /// `ColorStage<256>` (sized for the largest filter compiled in).
+    pub color_stage: u64,
+    /// `TextureModel<8>`: quadric and up to 8 noise terms.
+    pub model: u64,
+    /// One `NoiseTerm`.
+    pub noise_term: u64,
+    /// `SpanEvaluator<8>`.
+    pub span_evaluator: u64,
+    /// `TextureEvaluator<8, 256>` (contains the span evaluator).
+    pub texture_evaluator: u64,
+    /// `Texture<8, 256>` as typed (model, `ColorStage`, options).
+    pub texture: u64,
+    /// `PerturbedMaterial<8>` (0 without `perturb`).
+    pub perturbed_material: u64,
+    /// `Span`.
+    pub span: u64,
+    /// One texture-unit instance: colour table + csat + model + texture evaluator.
+    pub unit_ram: u64,
+}
+
+/// One row of the report.
+#[derive(Clone, Debug, Serialize)]
+pub struct SizeRow {
+    /// Target triple.
+    pub target: String,
+    /// Feature set (`minimal` .. `full`, or `firmware` for the job-suite firmware).
+    pub features: String,
+    /// The firmware features built.
+    pub cargo_features: Vec<String>,
+    /// Binary and profile.
+    pub binary: String,
+    /// Code bytes.
+    pub text: u64,
+    /// Read-only data bytes.
+    pub rodata: u64,
+    /// Initialised data bytes (flash and RAM).
+    pub data: u64,
+    /// Zero-initialised RAM bytes.
+    pub bss: u64,
+    /// `.text` bytes attributed to texcore by the DWARF line tables (inlined code included).
+    pub texcore_text: u64,
+    /// `.text` bytes of out-of-line texcore symbols.
+    pub texcore_symbols: u64,
+    /// texcore's `.text` budget for this set on this target, if one applies.
+    pub texcore_text_budget: Option<u64>,
+    /// `texcore_text <= texcore_text_budget` (`None` without a budget).
+    pub within_budget: Option<bool>,
+    /// Texture-unit sizes (probe builds only).
+    pub unit: Option<UnitSizes>,
+    /// `unit.unit_ram <= 4 KB` (probe builds only).
+    pub unit_ram_within_budget: Option<bool>,
+}
+
+/// The report: rows plus the largest texcore contributors of the `full` probe on each target.
+#[derive(Clone, Debug, Serialize)]
+pub struct SizeReport {
+    /// One row per target and feature set.
+    pub rows: Vec<SizeRow>,
+    /// Per target: the texcore source files with the most `.text` in the `full` probe.
+    pub top_files: BTreeMap<String, Vec<(String, u64)>>,
+}
+
+/// Options of the report.
+#[derive(Clone, Debug)]
+pub struct SizeOptions {
+    /// Only `minimal` and `full`, and no job-suite firmware.
+    pub quick: bool,
+    /// Targets.
+    pub targets: Vec<DeviceTarget>,
+    /// Where to write the markdown (`None`: nowhere).
+    pub markdown: Option<PathBuf>,
+    /// Workspace root and cargo.
+    pub run: RunOptions,
+}
+
+impl Default for SizeOptions {
+    fn default() -> Self {
+        SizeOptions {
+            quick: false,
+            targets: DeviceTarget::ALL.to_vec(),
+            markdown: Some(device::workspace_root().join("docs/size.md")),
+            run: RunOptions::default(),
+        }
+    }
+}
+
+/// Why the report failed.
+#[derive(Debug, thiserror::Error)]
+pub enum SizeError {
+    /// A build failed.
+    #[error("building {what} for {target}: {message}")]
+    Build {
+        /// Target.
+        target: DeviceTarget,
+        /// What was built.
+        what: String,
+        /// Cargo's diagnostics.
+        message: String,
+    },
+    /// The ELF could not be read.
+    #[error("reading {path}: {message}")]
+    Elf {
+        /// File.
+        path: PathBuf,
+        /// What went wrong.
+        message: String,
+    },
+    /// Writing the markdown failed.
+    #[error("writing {path}: {source}")]
+    Write {
+        /// File.
+        path: PathBuf,
+        /// Error.
+        source: std::io::Error,
+    },
+}
+
+/// Builds `bin` of the firmware crate; returns the ELF.
+fn build(
+    opts: &RunOptions,
+    target: DeviceTarget,
+    bin: &str,
+    profile: &str,
+    features: Option<&[&str]>,
+) -> Result<PathBuf, SizeError> {
+    let mut cmd = Command::new(&opts.cargo);
+    cmd.current_dir(&opts.workspace).args([
+        "build",
+        "--profile",
+        profile,
+        "-p",
+        "firmware",
+        "--bin",
+        bin,
+        "--target",
+        target.triple(),
+        "--message-format=json-render-diagnostics",
+    ]);
+    if let Some(f) = features {
+        cmd.arg("--no-default-features");
+        if !f.is_empty() {
+            cmd.arg("--features").arg(f.join(","));
+        }
+    }
+    // As host_sim::device::build_firmware: the device build depends on the repository alone.
+    for (k, _) in std::env::vars_os() {
+        let k = k.to_string_lossy().into_owned();
+        if k == "RUSTFLAGS"
+            || k == "CARGO_ENCODED_RUSTFLAGS"
+            || k == "CARGO_BUILD_RUSTFLAGS"
+            || k.starts_with("CARGO_PKG_")
+            || k.starts_with("CARGO_CRATE_")
+            || k.starts_with("CARGO_BIN_")
+            || k == "CARGO_MANIFEST_DIR"
+            || k == "CARGO_MANIFEST_PATH"
+            || k == "CARGO_PRIMARY_PACKAGE"
+        {
+            cmd.env_remove(&k);
+        }
+    }
+    let what = format!("{bin} ({profile}, features {features:?})");
+    let out = cmd
+        .stdin(Stdio::null())
+        .output()
+        .map_err(|e| SizeError::Build {
+            target,
+            what: what.clone(),
+            message: format!("could not run {}: {e}", opts.cargo.display()),
+        })?;
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    if !out.status.success() {
+        return Err(SizeError::Build {
+            target,
+            what,
+            message: format!("cargo exited {}\n{stderr}", out.status),
+        });
+    }
+    let stdout = String::from_utf8_lossy(&out.stdout);
+    let mut elf = None;
+    for line in stdout.lines() {
+        let Ok(msg) = serde_json::from_str::<serde_json::Value>(line) else {
+            continue;
+        };
+        if msg["reason"] == "compiler-artifact" && msg["target"]["name"] == bin {
+            if let Some(exe) = msg["executable"].as_str() {
+                elf = Some(PathBuf::from(exe));
+            }
+        }
+    }
+    elf.ok_or_else(|| SizeError::Build {
+        target,
+        what,
+        message: format!("cargo reported no executable\n{stderr}"),
+    })
+}
+
+/// Section totals of an ELF.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct Sections {
+    /// Code.
+    pub text: u64,
+    /// Read-only data.
+    pub rodata: u64,
+    /// Initialised data.
+    pub data: u64,
+    /// Zero-initialised data.
+    pub bss: u64,
+}
+
+fn classify(name: &str) -> Option<usize> {
+    let is = |p: &str| name == p || name.starts_with(&format!("{p}."));
+    if is(".vector_table")
+        || is(".init")
+        || name.starts_with(".init.")
+        || is(".text")
+        || is(".trap")
+    {
+        Some(0)
+    } else if is(".rodata") || is(".srodata") || is(".eh_frame") || is(".eh_frame_hdr") {
+        Some(1)
+    } else if is(".data") || is(".sdata") {
+        Some(2)
+    } else if is(".bss") || is(".sbss") {
+        Some(3)
+    } else {
+        None
+    }
+}
+
+/// Section totals of `elf`.
+pub fn sections(file: &object::File<'_>) -> Sections {
+    let mut s = [0u64; 4];
+    for sec in file.sections() {
+        if let Some(i) = sec.name().ok().and_then(classify) {
+            s[i] += sec.size();
+        }
+    }
+    Sections {
+        text: s[0],
+        rodata: s[1],
+        data: s[2],
+        bss: s[3],
+    }
+}
+
+/// Address ranges of the code sections.
+fn code_ranges(file: &object::File<'_>) -> Vec<(u64, u64)> {
+    file.sections()
+        .filter(|s| s.kind() == SectionKind::Text || s.name().ok().and_then(classify) == Some(0))
+        .filter(|s| s.size() > 0)
+        .map(|s| (s.address(), s.address() + s.size()))
+        .collect()
+}
+
+/// `.text` bytes per source file, from the DWARF line tables.
+pub fn text_by_file(file: &object::File<'_>) -> Result<BTreeMap<String, u64>, String> {
+    let code = code_ranges(file);
+    let load = |id: gimli::SectionId| -> Result<Cow<'_, [u8]>, gimli::Error> {
+        Ok(file
+            .section_by_name(id.name())
+            .and_then(|s| s.uncompressed_data().ok())
+            .unwrap_or(Cow::Borrowed(&[])))
+    };
+    let owned = gimli::DwarfSections::load(load).map_err(|e| e.to_string())?;
+    let dwarf = owned.borrow(|s| gimli::EndianSlice::new(s, gimli::LittleEndian));
+    let mut out: BTreeMap<String, u64> = BTreeMap::new();
+    let mut units = dwarf.units();
+    while let Some(header) = units.next().map_err(|e| e.to_string())? {
+        let unit = dwarf.unit(header).map_err(|e| e.to_string())?;
+        let Some(program) = unit.line_program.clone() else {
+            continue;
+        };
+        let mut rows = program.rows();
+        let mut prev: Option<(u64, String)> = None;
+        while let Some((header, row)) = rows.next_row().map_err(|e| e.to_string())? {
+            let addr = row.address();
+            if let Some((pa, name)) = prev.take() {
+                if addr > pa {
+                    let bytes: u64 = code
+                        .iter()
+                        .map(|&(lo, hi)| addr.min(hi).saturating_sub(pa.max(lo)))
+                        .sum();
+                    *out.entry(name).or_default() += bytes;
+                }
+            }
+            if row.end_sequence() {
+                continue;
+            }
+            let mut path = String::new();
+            if let Some(f) = row.file(header) {
+                if let Some(dir) = f.directory(header) {
+                    if let Ok(d) = dwarf.attr_string(&unit, dir) {
+                        path.push_str(&d.to_string_lossy());
+                        path.push('/');
+                    }
+                }
+                if let Ok(n) = dwarf.attr_string(&unit, f.path_name()) {
+                    path.push_str(&n.to_string_lossy());
+                }
+            }
+            prev = Some((addr, path));
+        }
+    }
+    Ok(out)
+}
+
+/// Whether a source path is texcore's.
+fn is_texcore_path(p: &str) -> bool {
+    p.contains("texcore/src/")
+}
+
+/// Bytes of out-of-line texcore symbols in code sections.
+pub fn texcore_symbol_bytes(file: &object::File<'_>) -> u64 {
+    let code = code_ranges(file);
+    file.symbols()
+        .filter(|s| s.kind() == SymbolKind::Text)
+        .filter(|s| {
+            code.iter()
+                .any(|&(lo, hi)| s.address() >= lo && s.address() < hi)
+        })
+        .filter(|s| {
+            s.name()
+                .map(|n| format!("{:#}", rustc_demangle::demangle(n)).contains("texcore::"))
+                .unwrap_or(false)
+        })
+        .map(|s| s.size())
+        .sum()
+}
+
+/// The probe's `TEXCORE_PROBE_SIZES` table.
+pub fn probe_sizes(file: &object::File<'_>) -> Option<UnitSizes> {
+    let sym = file
+        .symbols()
+        .find(|s| s.name() == Ok("TEXCORE_PROBE_SIZES"))?;
+    let sec = file.section_by_index(sym.section_index()?).ok()?;
+    let data = sec.data().ok()?;
+    let off = usize::try_from(sym.address().checked_sub(sec.address())?).ok()?;
+    let bytes = data.get(off..off + 40)?;
+    let v: Vec<u64> = bytes
+        .chunks_exact(4)
+        .map(|c| u64::from(u32::from_le_bytes([c[0], c[1], c[2], c[3]])))
+        .collect();
+    let mut u = UnitSizes {
+        color_table: v[0],
+        csat: v[1],
+        color_stage: v[2],
+        model: v[3],
+        noise_term: v[4],
+        span_evaluator: v[5],
+        texture_evaluator: v[6],
+        texture: v[7],
+        perturbed_material: v[8],
+        span: v[9],
+        unit_ram: 0,
+    };
+    u.unit_ram = u.color_table + u.csat + u.model + u.texture_evaluator;
+    Some(u)
+}
+
+/// Everything the report reads from one ELF.
+pub struct ElfFacts {
+    /// Section totals.
+    pub sections: Sections,
+    /// `.text` per source file.
+    pub by_file: BTreeMap<String, u64>,
+    /// Out-of-line texcore symbol bytes.
+    pub texcore_symbols: u64,
+    /// The probe's size table, if present.
+    pub unit: Option<UnitSizes>,
+}
+
+impl ElfFacts {
+    /// texcore's `.text` bytes by line attribution.
+    pub fn texcore_text(&self) -> u64 {
+        self.by_file
+            .iter()
+            .filter(|(p, _)| is_texcore_path(p))
+            .map(|(_, b)| b)
+            .sum()
+    }
+}
+
+/// Reads an ELF.
+pub fn analyse(path: &Path) -> Result<ElfFacts, SizeError> {
+    let err = |message: String| SizeError::Elf {
+        path: path.to_path_buf(),
+        message,
+    };
+    let bytes = std::fs::read(path).map_err(|e| err(e.to_string()))?;
+    let file = object::File::parse(&*bytes).map_err(|e| err(e.to_string()))?;
+    Ok(ElfFacts {
+        sections: sections(&file),
+        by_file: text_by_file(&file).map_err(err)?,
+        texcore_symbols: texcore_symbol_bytes(&file),
+        unit: probe_sizes(&file),
+    })
+}
+
+fn row(
+    target: DeviceTarget,
+    set: &str,
+    cargo_features: &[&str],
+    binary: &str,
+    facts: &ElfFacts,
+) -> SizeRow {
+    let budget = match (target, set) {
+        (DeviceTarget::CortexM4F, "minimal") => Some(BUDGET_TEXT_MINIMAL),
+        (DeviceTarget::CortexM4F, "full") => Some(BUDGET_TEXT_FULL),
+        _ => None,
+    };
+    let texcore_text = facts.texcore_text();
+    SizeRow {
+        target: target.triple().to_string(),
+        features: set.to_string(),
+        cargo_features: cargo_features.iter().map(|s| s.to_string()).collect(),
+        binary: binary.to_string(),
+        text: facts.sections.text,
+        rodata: facts.sections.rodata,
+        data: facts.sections.data,
+        bss: facts.sections.bss,
+        texcore_text,
+        texcore_symbols: facts.texcore_symbols,
+        texcore_text_budget: budget,
+        within_budget: budget.map(|b| texcore_text <= b),
+        unit_ram_within_budget: facts.unit.as_ref().map(|u| u.unit_ram <= BUDGET_UNIT_RAM),
+        unit: facts.unit.clone(),
+    }
+}
+
+/// Builds and measures everything; writes the markdown when asked.
+pub fn report(opts: &SizeOptions) -> Result<SizeReport, SizeError> {
+    let mut rows = Vec::new();
+    let mut top_files = BTreeMap::new();
+    for &target in &opts.targets {
+        for set in FEATURE_SETS
+            .iter()
+            .filter(|s| !opts.quick || QUICK_SETS.contains(&s.name))
+        {
+            let elf = build(
+                &opts.run,
+                target,
+                "texcore-probe",
+                "release-size",
+                Some(set.features),
+            )?;
+            let facts = analyse(&elf)?;
+            if set.name == "full" {
+                let mut files: Vec<(String, u64)> = facts
+                    .by_file
+                    .iter()
+                    .filter(|(p, _)| is_texcore_path(p))
+                    .map(|(p, b)| {
+                        let short = p.rsplit_once("texcore/src/").map_or(p.as_str(), |x| x.1);
+                        (short.to_string(), *b)
+                    })
+                    .collect();
+                files.sort_by_key(|f| std::cmp::Reverse(f.1));
+                files.truncate(12);
+                top_files.insert(target.triple().to_string(), files);
+            }
+            rows.push(row(
+                target,
+                set.name,
+                set.features,
+                "texcore-probe (release-size)",
+                &facts,
+            ));
+        }
+        if !opts.quick {
+            let elf = build(&opts.run, target, "firmware", "release", None)?;
+            let facts = analyse(&elf)?;
+            rows.push(row(
+                target,
+                "firmware",
+                &["default"],
+                "firmware job suite (release)",
+                &facts,
+            ));
+        }
+    }
+    let report = SizeReport { rows, top_files };
+    if let Some(path) = &opts.markdown {
+        write_atomic(path, &markdown(&report, opts.quick)).map_err(|source| SizeError::Write {
+            path: path.clone(),
+            source,
+        })?;
+    }
+    Ok(report)
+}
+
+fn kb(b: u64) -> String {
+    format!("{:.1} KB", b as f64 / 1024.0)
+}
+
+/// The markdown of the report.
+pub fn markdown(r: &SizeReport, quick: bool) -> String {
+    let mut s = String::new();
+    let _ = writeln!(s, "# Device firmware sizes");
+    let _ = writeln!(s);
+    let _ = writeln!(
+        s,
+        "<!-- Generated by `texsim report size{}`; do not edit. -->",
+        if quick { " --quick" } else { "" }
+    );
+    let _ = writeln!(s);
+    let _ = writeln!(
+        s,
+        "`texcore-probe` (`firmware/src/probe.rs`, profile `release-size`) links texcore's pixel \
+         path as a product would, with the texture hidden from the optimiser so that every path \
+         the feature set compiles in stays linked: it shades a check plane (and renders a \
+         blended, depth-tested perspective scene with `render`). `firmware` is the job-suite \
+         firmware (profile `release`, every job and the counter self-test) for reference. Sizes \
+         in bytes from the ELF sections. `texcore .text` attributes each code byte to its source \
+         file through the DWARF line tables (texcore code inlined into callers counts as \
+         texcore); `texcore symbols` counts only out-of-line texcore functions. Budgets (Cortex-M4F): \
+         texcore `.text` <= 4 KB for `minimal`, <= 24 KB for `full`; a texture-unit instance \
+         <= 4 KB of RAM."
+    );
+    let _ = writeln!(s);
+    let _ = writeln!(s, "Feature sets:");
+    let _ = writeln!(s);
+    for f in FEATURE_SETS {
+        let _ = writeln!(
+            s,
+            "- `{}` (`--no-default-features --features {}`): {}",
+            f.name,
+            if f.features.is_empty() {
+                "\"\"".to_string()
+            } else {
+                f.features.join(",")
+            },
+            f.what
+        );
+    }
+    let _ = writeln!(s);
+    let _ = writeln!(
+        s,
+        "| target | features | text | rodata | data | bss | texcore .text | texcore symbols | budget |"
+    );
+    let _ = writeln!(s, "|---|---|---:|---:|---:|---:|---:|---:|---|");
+    for row in &r.rows {
+        let budget = match (row.texcore_text_budget, row.within_budget) {
+            (Some(b), Some(true)) => format!("<= {}: within", kb(b)),
+            (Some(b), Some(false)) => format!("<= {}: **OVER**", kb(b)),
+            _ => String::new(),
+        };
+        let _ = writeln!(
+            s,
+            "| {} | `{}` | {} | {} | {} | {} | {} ({}) | {} | {} |",
+            row.target,
+            row.features,
+            row.text,
+            row.rodata,
+            row.data,
+            row.bss,
+            row.texcore_text,
+            kb(row.texcore_text),
+            row.texcore_symbols,
+            budget
+        );
+    }
+    let _ = writeln!(s);
+    let _ = writeln!(s, "## RAM of a texture-unit instance");
+    let _ = writeln!(s);
+    let _ = writeln!(
+        s,
+        "`core::mem::size_of` on each target (from the probe's `TEXCORE_PROBE_SIZES`). Instance = \
+         256-entry colour table + its csat + `TextureModel<8>` (quadric and up to 8 noise terms) \
+         + `TextureEvaluator<8, 256>` (span-evaluator state); the span evaluator's per-span \
+         working state is on the stack during `shade`. `ColorStage<256>` and `Texture<8, 256>` \
+         are sized for the largest filter compiled in (with `csat`, the three-times-long table), \
+         so an instance held in them is larger than the sum."
+    );
+    let _ = writeln!(s);
+    let _ = writeln!(
+        s,
+        "| target | features | table | csat | model | evaluator | **instance** | budget | ColorStage | Texture |"
+    );
+    let _ = writeln!(s, "|---|---|---:|---:|---:|---:|---:|---|---:|---:|");
+    for row in &r.rows {
+        if let Some(u) = &row.unit {
+            let _ = writeln!(
+                s,
+                "| {} | `{}` | {} | {} | {} | {} | **{}** | {} | {} | {} |",
+                row.target,
+                row.features,
+                u.color_table,
+                u.csat,
+                u.model,
+                u.texture_evaluator,
+                u.unit_ram,
+                if u.unit_ram <= BUDGET_UNIT_RAM {
+                    "<= 4 KB: within"
+                } else {
+                    "<= 4 KB: **OVER**"
+                },
+                u.color_stage,
+                u.texture
+            );
+        }
+    }
+    for (target, files) in &r.top_files {
+        let _ = writeln!(s);
+        let _ = writeln!(s, "## Largest texcore sources in `full`, {target}");
+        let _ = writeln!(s);
+        let _ = writeln!(s, "| file | .text bytes |");
+        let _ = writeln!(s, "|---|---:|");
+        for (f, b) in files {
+            let _ = writeln!(s, "| `{f}` | {b} |");
+        }
+    }
+    s
+}
