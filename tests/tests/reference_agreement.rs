@@ -315,3 +315,41 @@ fn steep_quadric_rings_match_reference() {
     );
     assert!(worst < 1e-3, "worst {worst}");
 }
+
+/// Every built-in scene (still frame, default knobs) against the f64 reference rendered over the
+/// same geometry: at least 99.9% of pixels within one 8-bit step, the largest error bounded
+/// (measured values in the comments).
+#[test]
+fn builtin_scenes_within_one_step() {
+    let bounds = [
+        ("wood", 1.5),      // measured 0.56
+        ("marble", 1.5),    // 0.86
+        ("seascape", 1.5),  // 0.68
+        ("fire", 2.0),      // 1.00
+        ("planet", 3.0),    // 1.72 (the sharp coastline of the legend)
+        ("moonrise", 3.0),  // 1.85
+        ("zoneplate", 2.0), // 1.34
+        ("torus", 1.5),     // 0.54
+    ];
+    assert_eq!(bounds.len(), texcore::scene::BUILTIN.len());
+    for (name, bound) in bounds {
+        let scene = texcore::scene::by_name(name).unwrap();
+        let m = host_sim::scenes::check_scene(
+            &scene,
+            scene.still,
+            &UnitConfig::default(),
+            HashKind::Permutation,
+        )
+        .unwrap();
+        assert!(
+            m.within_one_step >= 0.999,
+            "{name}: within one step {}",
+            m.within_one_step
+        );
+        assert!(
+            m.max_error <= bound,
+            "{name}: max error {} > {bound}",
+            m.max_error
+        );
+    }
+}
