@@ -38,12 +38,8 @@ pub const SEGMENT: u32 = 16;
 /// Every material with a check plane, in `texsim presets` order.
 pub const MATERIALS: [&str; 10] = presets::NAMES;
 
-/// The check plane of the perturbed materials (`host_sim::unit::preset_material`).
-pub const PERTURBED_PLANE: CheckPlane = CheckPlane {
-    origin: [-65536, -65536, -65536],
-    step_x: [512, 0, 0],
-    step_y: [0, 0, 512],
-};
+/// The check plane of the perturbed materials.
+pub use texcore::presets::PERTURBED_PLANE;
 
 /// A material: what computes `f`, its colour keys and its check plane.
 pub struct Material {
@@ -71,28 +67,13 @@ pub fn material(name: &str, hash: HashKind) -> Option<Material> {
             plane: p.plane,
         });
     }
-    let (params, keys, wrap, squared): (_, &'static [Key], _, _) = match name {
-        "mn-marble" => (
-            presets::mn_marble(hash),
-            &presets::MARBLE_KEYS,
-            TableWrap::Mod,
-            false,
-        ),
-        "mn-wood" => (
-            presets::mn_wood(hash),
-            &presets::WOOD_KEYS,
-            TableWrap::Clamp,
-            true,
-        ),
-        _ => return None,
-    };
-    let shader = Shader::Perturbed(PerturbedMaterial::new(&params, wrap).ok()?);
+    let p = presets::perturbed_by_name(name, hash)?;
     Some(Material {
-        shader,
-        keys,
-        squared,
-        wrap,
-        plane: PERTURBED_PLANE,
+        shader: Shader::Perturbed(PerturbedMaterial::new(&p.params, p.wrap).ok()?),
+        keys: p.keys,
+        squared: p.squared_keys,
+        wrap: p.wrap,
+        plane: p.plane,
     })
 }
 

@@ -13,16 +13,15 @@ use texcore::filter::Antialias;
 use texcore::format::Amplitude;
 use texcore::hash::HashKind;
 use texcore::material::PerturbedMaterial;
-use texcore::presets::{self, Key};
+use texcore::presets;
 use texcore::raster::{Perspective, ScreenVertex, TriangleOptions};
 use texcore::render::{Blend, DrawObject, Renderer, TriangleSource};
 use texcore::scene::{builtin, TextureSlot, MAX_SLOTS};
 use texcore::sink::ChecksumSink;
-use texcore::table::TableWrap;
 use texcore::texture::Shader;
 use texcore::TexPoint;
 
-use super::planes::{material, texture, DeviceTexture, Material, PERTURBED_PLANE};
+use super::planes::{material, texture, DeviceTexture, Material};
 
 /// Display width.
 pub const WIDTH: u16 = 320;
@@ -308,30 +307,17 @@ pub fn slot_texture(slot: &TextureSlot, hash: HashKind) -> Option<DeviceTexture>
             plane: p.plane,
         }
     } else {
-        let (mut params, keys, wrap, squared): (_, &'static [Key], _, _) = match slot.material {
-            "mn-marble" => (
-                presets::mn_marble(hash),
-                &presets::MARBLE_KEYS,
-                TableWrap::Mod,
-                false,
-            ),
-            "mn-wood" => (
-                presets::mn_wood(hash),
-                &presets::WOOD_KEYS,
-                TableWrap::Clamp,
-                true,
-            ),
-            _ => return None,
-        };
+        let p = presets::perturbed_by_name(slot.material, hash)?;
+        let mut params = p.params;
         for a in &mut params.alpha {
             *a = scale(*a);
         }
         Material {
-            shader: Shader::Perturbed(PerturbedMaterial::new(&params, wrap).ok()?),
-            keys,
-            squared,
-            wrap,
-            plane: PERTURBED_PLANE,
+            shader: Shader::Perturbed(PerturbedMaterial::new(&params, p.wrap).ok()?),
+            keys: p.keys,
+            squared: p.squared_keys,
+            wrap: p.wrap,
+            plane: p.plane,
         }
     };
     let keys = slot.keys.unwrap_or(m.keys);

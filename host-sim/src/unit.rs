@@ -117,32 +117,15 @@ pub fn preset_material(name: &str, hash: HashKind) -> Result<MaterialSpec, UnitE
             plane: p.plane,
         });
     }
-    let (params, keys, wrap, squared): (_, &[Key], _, _) = match name {
-        "mn-marble" => (
-            presets::mn_marble(hash),
-            &presets::MARBLE_KEYS,
-            TableWrap::Mod,
-            false,
-        ),
-        "mn-wood" => (
-            presets::mn_wood(hash),
-            &presets::WOOD_KEYS,
-            TableWrap::Clamp,
-            true,
-        ),
-        _ => return Err(UnitError::UnknownPreset(name.to_string())),
-    };
+    let p = presets::perturbed_by_name(name, hash)
+        .ok_or_else(|| UnitError::UnknownPreset(name.to_string()))?;
     Ok(MaterialSpec {
         name: name.to_string(),
-        shader: ShaderSpec::Perturbed(params),
-        keys: keys.to_vec(),
-        squared_keys: squared,
-        wrap,
-        plane: CheckPlane {
-            origin: [-65536, -65536, -65536],
-            step_x: [512, 0, 0],
-            step_y: [0, 0, 512],
-        },
+        shader: ShaderSpec::Perturbed(p.params),
+        keys: p.keys.to_vec(),
+        squared_keys: p.squared_keys,
+        wrap: p.wrap,
+        plane: p.plane,
     })
 }
 

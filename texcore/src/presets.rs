@@ -411,6 +411,55 @@ pub fn by_name(name: &str, hash: HashKind) -> Option<Preset> {
     })
 }
 
+/// The check plane of the perturbed materials: the `(s, r)` square `[-1, 1]^2` at `t = -1`.
+pub const PERTURBED_PLANE: CheckPlane = CheckPlane {
+    origin: [-65536, -65536, -65536],
+    step_x: [512, 0, 0],
+    step_y: [0, 0, 512],
+};
+
+/// A perturbed-material preset: parameters, colour keys, table wrap and key spacing.
+#[cfg(feature = "perturb")]
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct PerturbedPreset {
+    /// Name (`mn-marble`, `mn-wood`).
+    pub name: &'static str,
+    /// The material's parameters.
+    pub params: crate::material::PerturbedParams,
+    /// Key colours of the colour table.
+    pub keys: &'static [Key],
+    /// Colour-table wrap of `f`.
+    pub wrap: TableWrap,
+    /// Whether the keys are placed at `c^2` (wood without a square root).
+    pub squared_keys: bool,
+    /// The check plane for a 256x256 image ([`PERTURBED_PLANE`]).
+    pub plane: CheckPlane,
+}
+
+/// The perturbed-material preset `name` (`mn-marble`, `mn-wood`), `None` for other names.
+#[cfg(feature = "perturb")]
+pub fn perturbed_by_name(name: &str, hash: HashKind) -> Option<PerturbedPreset> {
+    let (name, params, keys, wrap, squared_keys): (_, _, &'static [Key], _, _) = match name {
+        "mn-marble" => (
+            "mn-marble",
+            mn_marble(hash),
+            &MARBLE_KEYS,
+            TableWrap::Mod,
+            false,
+        ),
+        "mn-wood" => ("mn-wood", mn_wood(hash), &WOOD_KEYS, TableWrap::Clamp, true),
+        _ => return None,
+    };
+    Some(PerturbedPreset {
+        name,
+        params,
+        keys,
+        wrap,
+        squared_keys,
+        plane: PERTURBED_PLANE,
+    })
+}
+
 /// Miné & Neyret's marble: planes `x[0]` perturbed by 4-octave vector turbulence.
 #[cfg(feature = "perturb")]
 pub fn mn_marble(hash: HashKind) -> crate::material::PerturbedParams {
