@@ -135,7 +135,9 @@ impl PixelSink for RgbaBuffer<'_> {
         let width = self.width;
         if let (Some(row), Some((x0, off, n))) = (self.row_mut(y), clip_run(x, colors.len(), width))
         {
-            row[x0..x0 + n].copy_from_slice(&colors[off..off + n]);
+            if let (Some(dst), Some(src)) = (row.get_mut(x0..x0 + n), colors.get(off..off + n)) {
+                dst.copy_from_slice(src);
+            }
         }
     }
 
@@ -144,7 +146,7 @@ impl PixelSink for RgbaBuffer<'_> {
         if let (Some(row), Some((x0, _, n))) =
             (self.row_mut(y), clip_run(x, usize::from(len), width))
         {
-            for p in &mut row[x0..x0 + n] {
+            for p in row.iter_mut().skip(x0).take(n) {
                 *p = color;
             }
         }

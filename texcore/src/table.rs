@@ -288,9 +288,12 @@ impl<const N: usize> ColorTable<N> {
             } else if k == last {
                 keys[last].1
             } else {
-                let d = key_pos(keys[k + 1].0, spacing) * two_n - pk; // > 0: pos_{k+1} > p >= pos_k
+                // k < last here, so k + 1 < keys.len(); the test lets the compiler see it (no
+                // bounds-check panic path).
+                let k1 = if k + 1 < keys.len() { k + 1 } else { last };
+                let d = key_pos(keys[k1].0, spacing) * two_n - pk; // > 0: pos_{k+1} > p >= pos_k
                 let t = p - pk;
-                let (a, b) = (keys[k].1, keys[k + 1].1);
+                let (a, b) = (keys[k].1, keys[k1].1);
                 Rgba8888::new(
                     lerp_exact(a.r, b.r, t, d),
                     lerp_exact(a.g, b.g, t, d),
