@@ -17,7 +17,12 @@ fn main() {
     let os = env::var("CARGO_CFG_TARGET_OS").unwrap_or_default();
 
     let cortex_m = manifest.join("../memory.x");
-    let riscv = manifest.join("memory-riscv.x");
+    // The accuracy firmware's scene part needs more rv32imc program memory (see that file).
+    let riscv = if env::var_os("CARGO_FEATURE_ACCURACY").is_some() {
+        manifest.join("memory-riscv-accuracy.x")
+    } else {
+        manifest.join("memory-riscv.x")
+    };
     println!("cargo:rerun-if-changed={}", cortex_m.display());
     println!("cargo:rerun-if-changed={}", riscv.display());
     println!("cargo:rerun-if-changed=build.rs");

@@ -16,6 +16,9 @@
 //! Per target: the RISC-V soft-core class build runs only table-free code (no ROM tables); the
 //! Cortex-M build additionally runs the 256-byte permutation-table hash.
 
+// With feature `accuracy` the firmware runs the accuracy report's jobs instead of these.
+#![cfg_attr(feature = "accuracy", allow(dead_code, unused_macros))]
+
 use texcore::hash::{hash61, int_hash, lattice_value, HashKind};
 use texcore::model::TextureModel;
 use texcore::span::{EvalMode, EvalOptions, Sample, SpanEvaluator};
@@ -119,7 +122,12 @@ macro_rules! job {
     };
 }
 
+/// With feature `accuracy`: the accuracy report's jobs (`crate::accuracy`).
+#[cfg(feature = "accuracy")]
+pub use crate::accuracy::JOBS;
+
 /// Every job the firmware runs, in order.
+#[cfg(not(feature = "accuracy"))]
 pub static JOBS: &[Job] = &[
     Job {
         name: "int_hash_256x256",

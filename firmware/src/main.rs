@@ -56,6 +56,8 @@
 #[cfg(not(target_os = "none"))]
 fn main() {}
 
+#[cfg(all(target_os = "none", feature = "accuracy"))]
+pub mod accuracy;
 #[cfg(target_os = "none")]
 pub mod counter;
 #[cfg(target_os = "none")]

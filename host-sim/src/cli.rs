@@ -207,6 +207,7 @@ impl KnobArgs {
                 EvalArg::Reanchored => EvalMode::Reanchored,
             },
             cull: !self.no_cull,
+            precision: texcore::model::Precision::NATIVE,
         }
     }
 

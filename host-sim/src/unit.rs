@@ -8,7 +8,7 @@ use texcore::filter::{Antialias, ColorStage, GradientNorm};
 use texcore::format::TexPoint;
 use texcore::hash::HashKind;
 use texcore::material::PerturbedParams;
-use texcore::model::TextureModel;
+use texcore::model::{Precision, TextureModel};
 use texcore::presets::{self, CheckPlane, Key, PRESET_TERMS};
 use texcore::span::{EvalMode, Span};
 use texcore::table::{ColorTable, KeySpacing, TableError, TableLookup, TableWrap};
@@ -66,6 +66,17 @@ pub struct UnitConfig {
     pub mode: EvalMode,
     /// Cull octaves past Nyquist.
     pub cull: bool,
+    /// Arithmetic precision of the noise terms (`docs/model.md` 3.2; default 16/16, native).
+    #[serde(serialize_with = "ser_precision")]
+    pub precision: Precision,
+}
+
+fn ser_precision<S: serde::Serializer>(p: &Precision, s: S) -> Result<S::Ok, S::Error> {
+    use serde::ser::SerializeStruct;
+    let mut st = s.serialize_struct("Precision", 2)?;
+    st.serialize_field("coord_bits", &p.coord_bits())?;
+    st.serialize_field("value_bits", &p.value_bits())?;
+    st.end()
 }
 
 fn ser_debug<T: core::fmt::Debug, S: serde::Serializer>(v: &T, s: S) -> Result<S::Ok, S::Error> {
@@ -81,6 +92,7 @@ impl Default for UnitConfig {
             norm: GradientNorm::L2,
             mode: EvalMode::Auto,
             cull: true,
+            precision: Precision::NATIVE,
         }
     }
 }
@@ -157,9 +169,17 @@ pub fn texture<const N: usize>(
     let stage =
         ColorStage::new(table::<N>(m)?, m.wrap, cfg.lookup, cfg.aa).map_err(UnitError::Table)?;
     let shader = match &m.shader {
-        ShaderSpec::Model(model) => Shader::Model((**model).clone()),
+        ShaderSpec::Model(model) => {
+            let mut model = (**model).clone();
+            if !cfg.precision.is_native() {
+                model.set_precision(cfg.precision);
+            }
+            Shader::Model(model)
+        }
         ShaderSpec::Perturbed(p) => Shader::Perturbed(
-            texcore::material::PerturbedMaterial::new(p, m.wrap).map_err(UnitError::Model)?,
+            texcore::material::PerturbedMaterial::new(p, m.wrap)
+                .map_err(UnitError::Model)?
+                .with_precision(cfg.precision),
         ),
     };
     Ok(Texture::new(shader, stage, cfg.norm, cfg.mode).with_culling(cfg.cull))

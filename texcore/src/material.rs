@@ -15,7 +15,7 @@
 //!   positions), covering `R` rings. `f` saturates (I16F16); its gradient is `2 (y_0 grad y_0 + y_2 grad y_2) / R^2`.
 
 use crate::format::{Amplitude, MatrixEntry, QuadricCoeff, TexValue};
-use crate::model::{ModelError, Octaves, TextureModel};
+use crate::model::{ModelError, Octaves, Precision, TextureModel};
 use crate::noise::NoiseBasis;
 use crate::quadric::Quadric;
 use crate::span::{EvalOptions, Sample, Span, SpanEvaluator, SpanInfo, SpanStats};
@@ -152,6 +152,26 @@ impl<const T: usize> PerturbedMaterial<T> {
     /// The colour-table wrap flag of `f`.
     pub const fn wrap(&self) -> TableWrap {
         self.wrap
+    }
+
+    /// The arithmetic precision of the turbulence channels (`docs/model.md` 3.2; all channels
+    /// carry the same).
+    pub const fn precision(&self) -> Precision {
+        self.y0.precision()
+    }
+
+    /// Sets the arithmetic precision of every channel.
+    pub fn set_precision(&mut self, precision: Precision) {
+        self.y0.set_precision(precision);
+        if let Some(y2) = &mut self.y2 {
+            y2.set_precision(precision);
+        }
+    }
+
+    /// The same material at another arithmetic precision (builder style).
+    pub fn with_precision(mut self, precision: Precision) -> Self {
+        self.set_precision(precision);
+        self
     }
 
     /// The channel models (`y_0`, and `y_2` for wood).

@@ -107,6 +107,106 @@ pub struct Octaves {
     pub turbulence: bool,
 }
 
+/// The arithmetic precision of a model's noise terms: the precision study of Hart et al. (1999,
+/// section 4.3 and Fig. 10) and Kameya & Hart's bit-width tests (`docs/model.md` 3.2).
+///
+/// - `coord_bits` (`F`): fraction bits of the lattice coordinates. A span's lattice origin `U0`
+///   and step `DU` are rounded half up to multiples of `2^-F` cell at span set-up, so the lattice
+///   point `U0 + i DU` stays linear in the pixel index (forward differencing stays exact).
+/// - `value_bits` (`V`): bits of the value-noise corner values (`v / 32768`, rounded half up to
+///   multiples of `2^(16-V)` and saturated). Gradient noise and mNoise have small integer corner
+///   gradients (2 bits), which this does not change.
+///
+/// Both are `1..=16`; 16 is the native format ([`Precision::NATIVE`], the default), where the
+/// model is exactly the unquantised one. More than 16 coordinate bits (e.g. 24) is not offered:
+/// `LatticeCoord` is I16F16 in a 32-bit word and the exact forward differences are sized for it
+/// (16 bits of cell index for the 2^16 lattice period, 16 fraction bits; the trilinear cubic's
+/// coefficients reach 48 + `fv` + 16 bits in i64); 24 fraction bits would need a 40-bit lattice
+/// coordinate and 72-bit difference accumulators, i.e. a wider format on both devices.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
+pub struct Precision {
+    coord_bits: u8,
+    value_bits: u8,
+}
+
+impl Default for Precision {
+    fn default() -> Self {
+        Self::NATIVE
+    }
+}
+
+impl Precision {
+    /// The native format: 16 coordinate fraction bits, 16-bit corner values (no quantisation).
+    pub const NATIVE: Precision = Precision {
+        coord_bits: 16,
+        value_bits: 16,
+    };
+    /// The most bits of either kind (the native format).
+    pub const MAX_BITS: u32 = 16;
+
+    /// A precision with `coord_bits` lattice-coordinate fraction bits and `value_bits`-bit corner
+    /// values, each in `1..=16`.
+    pub const fn new(coord_bits: u32, value_bits: u32) -> Result<Self, ModelError> {
+        if coord_bits == 0 || coord_bits > Self::MAX_BITS {
+            return Err(ModelError::OutOfRange {
+                what: "coordinate fraction bits (1..=16)",
+            });
+        }
+        if value_bits == 0 || value_bits > Self::MAX_BITS {
+            return Err(ModelError::OutOfRange {
+                what: "lattice value bits (1..=16)",
+            });
+        }
+        Ok(Precision {
+            coord_bits: coord_bits as u8,
+            value_bits: value_bits as u8,
+        })
+    }
+
+    /// Lattice-coordinate fraction bits `F`.
+    pub const fn coord_bits(&self) -> u32 {
+        self.coord_bits as u32
+    }
+
+    /// Corner-value bits `V`.
+    pub const fn value_bits(&self) -> u32 {
+        self.value_bits as u32
+    }
+
+    /// The same precision with `F = bits` (`1..=16`).
+    pub const fn with_coord_bits(self, bits: u32) -> Result<Self, ModelError> {
+        Self::new(bits, self.value_bits as u32)
+    }
+
+    /// The same precision with `V = bits` (`1..=16`).
+    pub const fn with_value_bits(self, bits: u32) -> Result<Self, ModelError> {
+        Self::new(self.coord_bits as u32, bits)
+    }
+
+    /// Whether this is the native format (nothing is quantised).
+    pub const fn is_native(&self) -> bool {
+        self.coord_bits == 16 && self.value_bits == 16
+    }
+
+    /// A lattice coordinate (raw 16.16, wrapping) rounded half up to `F` fraction bits.
+    #[inline(always)]
+    pub const fn quantize_coord(&self, u: i32) -> i32 {
+        quantize_coord(u, self.coord_bits as u32)
+    }
+}
+
+/// `u` (raw 16.16, wrapping) rounded half up to a multiple of `2^(16 - bits)` raw units
+/// (`bits` fraction bits), wrapping; the identity for `bits >= 16`.
+#[inline(always)]
+pub const fn quantize_coord(u: i32, bits: u32) -> i32 {
+    if bits >= 16 {
+        return u;
+    }
+    let sh = 16 - bits;
+    u.wrapping_add(1 << (sh - 1)) & !((1i32 << sh) - 1)
+}
+
 /// The parameterized texture model with capacity for `T` noise terms.
 #[derive(Clone, Debug, PartialEq, Eq)]
 pub struct TextureModel<const T: usize> {
@@ -114,6 +214,7 @@ pub struct TextureModel<const T: usize> {
     terms: Vec<NoiseTerm, T>,
     wrap: TableWrap,
     fv: u8,
+    precision: Precision,
 }
 
 /// The largest `fv <= 16` with `sum_raw * 2^fv <= 2^29` (`sum |a| * 2^fv <= 2^13`).
@@ -136,7 +237,36 @@ impl<const T: usize> TextureModel<T> {
             terms: Vec::new(),
             wrap,
             fv: 16,
+            precision: Precision::NATIVE,
         }
+    }
+
+    /// The same model at another arithmetic precision (builder style).
+    pub const fn with_precision(mut self, precision: Precision) -> Self {
+        self.precision = precision;
+        self
+    }
+
+    /// Sets the arithmetic precision of the noise terms.
+    pub fn set_precision(&mut self, precision: Precision) {
+        self.precision = precision;
+    }
+
+    /// Sets the lattice-coordinate fraction bits (`1..=16`); unchanged on error.
+    pub fn set_coord_bits(&mut self, bits: u32) -> Result<(), ModelError> {
+        self.precision = self.precision.with_coord_bits(bits)?;
+        Ok(())
+    }
+
+    /// Sets the corner-value bits (`1..=16`); unchanged on error.
+    pub fn set_value_bits(&mut self, bits: u32) -> Result<(), ModelError> {
+        self.precision = self.precision.with_value_bits(bits)?;
+        Ok(())
+    }
+
+    /// The arithmetic precision of the noise terms.
+    pub const fn precision(&self) -> Precision {
+        self.precision
     }
 
     /// Adds a term (builder style).

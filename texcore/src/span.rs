@@ -33,8 +33,8 @@
 //! for any span (any coordinates, any `ds`, any length up to 65535).
 
 use crate::format::{TexPoint, TexValue};
-use crate::model::{NoiseTerm, TextureModel};
-use crate::noise::value::{directional, scaled_corners};
+use crate::model::{quantize_coord, NoiseTerm, TextureModel};
+use crate::noise::value::{directional, scaled_corners_bits};
 use crate::noise::{split, CellData};
 use crate::quadric::QuadraticSpan;
 use crate::table::TableWrap;
@@ -357,6 +357,9 @@ impl<'m, const T: usize> SpanEvaluator<'m, T> {
         };
         let mut terms = [TermSetup::default(); T];
         let mut extra: i64 = 0;
+        // Coordinate precision (`docs/model.md` 3.2): `U0` and `DU` rounded to `F` fraction bits,
+        // so `u(i) = U0 + i DU` stays linear in `i`; the Nyquist test uses the unrounded step.
+        let cb = m.precision().coord_bits();
         for (ts, term) in terms.iter_mut().zip(m.terms()) {
             let (du, dyl, beyond) = lattice_steps(term, span);
             if beyond {
@@ -366,8 +369,14 @@ impl<'m, const T: usize> SpanEvaluator<'m, T> {
                     continue;
                 }
             }
+            let mut u0 = term.transform.apply_point(span.s0);
+            let mut du = du;
+            if cb < 16 {
+                u0 = u0.map(|c| quantize_coord(c, cb));
+                du = du.map(|c| quantize_coord(c, cb));
+            }
             *ts = TermSetup {
-                u0: term.transform.apply_point(span.s0),
+                u0,
                 du,
                 dy: dyl,
                 active: true,
@@ -513,6 +522,7 @@ impl<'m, const T: usize> SpanEvaluator<'m, T> {
         let m = self.model;
         let terms = m.terms();
         let fv = m.noise_frac_bits();
+        let vb = m.precision().value_bits();
         let grads = self.opts.gradients;
         let clamp = m.wrap() == TableWrap::Clamp;
         let len = u32::from(len);
@@ -570,7 +580,13 @@ impl<'m, const T: usize> SpanEvaluator<'m, T> {
                 Strategy::Fd | Strategy::Fd32 => {
                     let g = grads && ts.gradient;
                     let (cell, frac) = split(ts.u0);
-                    let v = scaled_corners(term.basis.hash, cell, term.amplitude.to_bits(), fv);
+                    let v = scaled_corners_bits(
+                        term.basis.hash,
+                        cell,
+                        term.amplitude.to_bits(),
+                        fv,
+                        vb,
+                    );
                     setups += 1;
                     let poly = cubic_poly(&v, frac, ts.du, ts.dy, g);
                     sum.add(&fd_start(&poly, g));
@@ -623,7 +639,7 @@ impl<'m, const T: usize> SpanEvaluator<'m, T> {
                             };
                             let (amp, neg) = amp_and_sign(term);
                             let (cell, frac) = split(*u);
-                            let v = scaled_corners(term.basis.hash, cell, amp, fv);
+                            let v = scaled_corners_bits(term.basis.hash, cell, amp, fv, vb);
                             let w = [i64::from(frac[0]), i64::from(frac[1]), i64::from(frac[2])];
                             let mut p = crate::noise::value::interpolate(&v, w);
                             let g = grads && ts.gradient;
@@ -672,7 +688,8 @@ impl<'m, const T: usize> SpanEvaluator<'m, T> {
                     ts.u0[2].wrapping_add(ts.du[2].wrapping_mul(at)),
                 ];
                 let (cell, frac) = split(u);
-                let v = scaled_corners(term.basis.hash, cell, term.amplitude.to_bits(), fv);
+                let v =
+                    scaled_corners_bits(term.basis.hash, cell, term.amplitude.to_bits(), fv, vb);
                 setups += 1;
                 *poly = cubic_poly(&v, frac, ts.du, ts.dy, g);
                 sum.add(&fd_start(poly, g));
@@ -702,6 +719,7 @@ impl<'m, const T: usize> SpanEvaluator<'m, T> {
     {
         let m = self.model;
         let fv = m.noise_frac_bits();
+        let vb = m.precision().value_bits();
         let wrap = m.wrap();
         let grads = self.opts.gradients;
         let terms = m.terms();
@@ -755,7 +773,7 @@ impl<'m, const T: usize> SpanEvaluator<'m, T> {
                     let (amp, _) = amp_and_sign(term);
                     let (cell, frac) = split(r.u);
                     if !r.cached || cell != r.cell {
-                        r.data = term.basis.cell(cell, amp, fv);
+                        r.data = term.basis.cell_bits(cell, amp, fv, vb);
                         r.cell = cell;
                         r.cached = true;
                         self.stats.cell_setups += 1;
@@ -852,7 +870,7 @@ impl<'m, const T: usize> SpanEvaluator<'m, T> {
                         }
                         Strategy::Direct => {
                             let (cell, frac) = split(r.u);
-                            let data = term.basis.cell(cell, amp, fv);
+                            let data = term.basis.cell_bits(cell, amp, fv, vb);
                             self.stats.cell_setups += 1;
                             eval_term(term, &data, frac, ts, amp, fv, want_g)
                         }

@@ -5,7 +5,7 @@
 use proptest::prelude::*;
 use texcore::format::{Amplitude, MatrixEntry, QuadricCoeff, TexPoint};
 use texcore::hash::HashKind;
-use texcore::model::{NoiseTerm, Octaves, TextureModel};
+use texcore::model::{NoiseTerm, Octaves, Precision, TextureModel};
 use texcore::noise::{BasisKind, Fade, NoiseBasis};
 use texcore::quadric::Quadric;
 use texcore::span::{EvalMode, EvalOptions, Sample, Span, SpanEvaluator, SpanStats};
@@ -393,6 +393,118 @@ proptest! {
         }
         assert_exact(&m, &span);
     }
+
+    /// Every coordinate and value precision keeps forward differencing bit-identical to direct
+    /// evaluation (random precisions, models and spans).
+    #[test]
+    fn random_precisions_are_exact(
+        terms in proptest::collection::vec(arb_term(), 1..4),
+        q in proptest::array::uniform10(-50.0f64..50.0),
+        wrap in prop_oneof![Just(TableWrap::Mod), Just(TableWrap::Clamp)],
+        span in arb_span(),
+        coord_bits in 1u32..=16,
+        value_bits in 1u32..=16,
+    ) {
+        let mut m: TextureModel<4> = TextureModel::new(Quadric::from_f64(q).unwrap(), wrap);
+        for t in terms.into_iter().take(4) {
+            m.push(t).unwrap();
+        }
+        m.set_precision(Precision::new(coord_bits, value_bits).unwrap());
+        assert_exact(&m, &span);
+    }
+}
+
+/// The precision study's settings (coordinate fraction bits and lattice value bits in
+/// {4, 8, 12, 16}, every pair): forward differencing, auto and (for trilinear octaves) fd32 equal
+/// direct evaluation on marble-like octaves, zoomed in, at the check-plane scale and far out.
+#[test]
+fn precision_settings_keep_fd_exact() {
+    for bits_c in [4u32, 8, 12, 16] {
+        for bits_v in [4u32, 8, 12, 16] {
+            let prec = Precision::new(bits_c, bits_v).unwrap();
+            for basis in [
+                NoiseBasis::trilinear(HashKind::Permutation),
+                NoiseBasis::trilinear(HashKind::Integer),
+                NoiseBasis {
+                    kind: BasisKind::Value,
+                    fade: Fade::Smooth,
+                    hash: HashKind::Permutation,
+                },
+                NoiseBasis {
+                    kind: BasisKind::Gradient,
+                    fade: Fade::Linear,
+                    hash: HashKind::Permutation,
+                },
+            ] {
+                let m: TextureModel<8> = octaves(
+                    Quadric::from_f64([0., 0., 0., 0., 0., 0., 0., 0., 0.5, 0.]).unwrap(),
+                    TableWrap::Mod,
+                    4,
+                    1.0,
+                    basis,
+                )
+                .with_precision(prec);
+                for (s0, ds, len) in [
+                    (p(3.0, 5.0, 7.0), TexPoint::from_bits(16, 0, 0), 4095u16),
+                    (p(0.0, 0.5, 0.0), TexPoint::from_bits(512, 0, 0), 16),
+                    (
+                        p(-1.5, -0.25, -2.0),
+                        TexPoint::from_bits(128, 64, 256),
+                        1000,
+                    ),
+                    (p(0.1, 0.2, 0.3), p(0.31, 0.02, -0.1), 300),
+                ] {
+                    let span = Span {
+                        s0,
+                        ds,
+                        dsdy: p(0.0, 0.0, 0.0078125),
+                        len,
+                    };
+                    assert_exact(&m, &span);
+                    if basis.is_cubic() {
+                        let (d, _) = eval(&m, EvalMode::Direct, true, &span);
+                        let (f, _) = eval(&m, EvalMode::Fd32, true, &span);
+                        assert_eq!(d, f, "fd32 {bits_c}/{bits_v} {basis:?}");
+                    }
+                }
+            }
+        }
+    }
+}
+
+/// 16/16 is the native format: a model with `Precision::NATIVE` set explicitly is the default
+/// model and gives the same samples; fewer bits change them.
+#[test]
+fn native_precision_is_the_default() {
+    let m = marble();
+    assert_eq!(m.precision(), Precision::NATIVE);
+    assert_eq!(m.precision(), Precision::default());
+    let explicit = m.clone().with_precision(Precision::new(16, 16).unwrap());
+    assert_eq!(explicit, m);
+    let span = Span {
+        s0: p(0.1, 0.2, 0.3),
+        ds: p(0.0031, -0.0007, 0.0019),
+        dsdy: p(0.0005, 0.003, -0.0001),
+        len: 600,
+    };
+    let (a, _) = eval(&m, EvalMode::Auto, true, &span);
+    let (b, _) = eval(&explicit, EvalMode::Auto, true, &span);
+    assert_eq!(a, b);
+    for prec in [
+        Precision::new(12, 16).unwrap(),
+        Precision::new(16, 12).unwrap(),
+    ] {
+        let (c, _) = eval(&m.clone().with_precision(prec), EvalMode::Auto, true, &span);
+        assert_ne!(a, c, "{prec:?}");
+    }
+    assert!(Precision::new(24, 16).is_err());
+    assert!(Precision::new(16, 0).is_err());
+    let mut q = m.clone();
+    assert!(q.set_coord_bits(17).is_err());
+    assert_eq!(q.precision(), Precision::NATIVE);
+    q.set_coord_bits(8).unwrap();
+    q.set_value_bits(4).unwrap();
+    assert_eq!(q.precision(), Precision::new(8, 4).unwrap());
 }
 
 /// Largest |a - b| over two sample runs, in raw `f` units (2^-16) and raw gx units (2^-48).

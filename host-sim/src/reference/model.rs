@@ -9,7 +9,7 @@
 
 use texcore::hash::HashKind;
 
-use super::noise::{noise, Basis, Fade, NoiseSample, MNOISE_SCALE};
+use super::noise::{noise, noise_bits, Basis, Fade, NoiseSample, MNOISE_SCALE};
 use super::quadric;
 use super::table::{Filter, Lookup, RefTable, Rgba, Wrap};
 
@@ -83,6 +83,38 @@ impl RefTerm {
         }
     }
 
+    /// The term's contribution at pixel `i` of a span starting at `s0` with step `ds`, at
+    /// precision `p`: the lattice point is `Q_F(M s0 + t) + i Q_F(M ds)` (exactly `M s(i) + t`
+    /// for `F = 16`), corner values quantised to `V` bits.
+    pub fn value_on_span(
+        &self,
+        s0: [f64; 3],
+        ds: [f64; 3],
+        i: u32,
+        p: RefPrecision,
+        mnoise_scale: f64,
+    ) -> f64 {
+        let u = if p.coord_bits >= 16 {
+            let s = [0, 1, 2].map(|k| s0[k] + f64::from(i) * ds[k]);
+            self.lattice_point(s)
+        } else {
+            let u0 = self.lattice_point(s0).map(|c| p.quantize_coord(c));
+            let du = self.lattice_step(ds).map(|c| p.quantize_coord(c));
+            [0, 1, 2].map(|k| u0[k] + f64::from(i) * du[k])
+        };
+        let n = noise_bits(
+            self.basis,
+            u,
+            self.fade,
+            self.hash,
+            mnoise_scale,
+            p.value_bits,
+        )
+        .value;
+        let n = if self.turbulence { n.abs() } else { n };
+        self.amplitude * n
+    }
+
     /// The term's contribution `a n(T s)` to `f` and its gradient `a M^T grad n` with respect to `s`.
     pub fn eval(&self, s: [f64; 3], mnoise_scale: f64) -> (f64, [f64; 3]) {
         let n = self.basis_at(s, mnoise_scale);
@@ -95,6 +127,43 @@ impl RefTerm {
                     + self.matrix[2][j] * n.grad[2]);
         }
         (a * n.value, g)
+    }
+}
+
+/// The arithmetic precision the reference models (`docs/model.md` 3.2): coordinate fraction
+/// bits `F` and lattice value bits `V`. At 16 (the native format) nothing is quantised: the
+/// reference is the ideal model, as without this.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub struct RefPrecision {
+    /// Lattice-coordinate fraction bits `F` (16: exact).
+    pub coord_bits: u32,
+    /// Corner-value bits `V` (16: the lattice values as they are).
+    pub value_bits: u32,
+}
+
+impl RefPrecision {
+    /// The ideal (unquantised) reference.
+    pub const IDEAL: RefPrecision = RefPrecision {
+        coord_bits: 16,
+        value_bits: 16,
+    };
+
+    /// A lattice coordinate as the quantised span set-up has it: `x` rounded half up to 16
+    /// fraction bits (the native `U0`, `DU`), then to `F` (`docs/model.md` 3.2); the identity at
+    /// `F >= 16`, where the reference stays ideal.
+    pub fn quantize_coord(&self, x: f64) -> f64 {
+        if self.coord_bits >= 16 {
+            return x;
+        }
+        let x16 = (x * 65536.0 + 0.5).floor() / 65536.0;
+        let k = 2f64.powi(self.coord_bits as i32);
+        (x16 * k + 0.5).floor() / k
+    }
+}
+
+impl Default for RefPrecision {
+    fn default() -> Self {
+        Self::IDEAL
     }
 }
 
@@ -233,6 +302,31 @@ impl RefModel {
             }
             Nyquist::Evaluate | Nyquist::Widen => self.f(fp.s),
         }
+    }
+
+    /// `f` at pixel `i` of a span (`s(i) = s0 + i ds`, screen steps `ds` and `dsdy` for the
+    /// Nyquist test) at precision `p` (`docs/model.md` 3.2): the quadric at `s(i)` exactly, every
+    /// term at its quantised lattice point ([`RefTerm::value_on_span`]); with [`Nyquist::Cull`]
+    /// terms past the Nyquist limit are left out. At [`RefPrecision::IDEAL`] this is
+    /// [`RefModel::f_at`] of the pixel's footprint.
+    pub fn f_on_span(
+        &self,
+        s0: [f64; 3],
+        ds: [f64; 3],
+        dsdy: [f64; 3],
+        i: u32,
+        p: RefPrecision,
+        nyquist: Nyquist,
+    ) -> f64 {
+        let s = [0, 1, 2].map(|k| s0[k] + f64::from(i) * ds[k]);
+        let mut f = quadric::value(&self.quadric, s);
+        for term in &self.terms {
+            if nyquist == Nyquist::Cull && term.past_nyquist(ds, dsdy) {
+                continue;
+            }
+            f += term.value_on_span(s0, ds, i, p, self.mnoise_scale);
+        }
+        f
     }
 
     /// The table argument `g` (`f mod 1` or `clamp(f, 0, 1)`) of a value `f`.

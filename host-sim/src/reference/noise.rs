@@ -225,6 +225,26 @@ pub fn value_noise(u: [f64; 3], fade: Fade, hash: HashKind) -> NoiseSample {
     })
 }
 
+/// A corner value `v` (an integer in `[-32768, 32767]`) quantised to `bits` bits as
+/// `docs/model.md` 3.2 defines it: rounded half up to a multiple of `2^(16 - bits)`, saturated to
+/// `32768 - 2^(16 - bits)`; unchanged for `bits >= 16`.
+pub fn quantize_value(v: f64, bits: u32) -> f64 {
+    if bits >= 16 {
+        return v;
+    }
+    let step = 2f64.powi(16 - bits as i32);
+    let q = ((v + step / 2.0) / step).floor() * step;
+    q.min(32768.0 - step)
+}
+
+/// [`value_noise`] with corner values quantised to `value_bits` bits ([`quantize_value`]).
+pub fn value_noise_bits(u: [f64; 3], fade: Fade, hash: HashKind, value_bits: u32) -> NoiseSample {
+    lattice3(u, fade, |c, _| Dual {
+        v: quantize_value(f64::from(lattice_value(hash, c[0], c[1], c[2])), value_bits) / 32768.0,
+        g: [0.0; 3],
+    })
+}
+
 /// Perlin's improved gradient noise at `u` (unnormalised: the contract uses it as is).
 pub fn gradient_noise(u: [f64; 3], fade: Fade, hash: HashKind) -> NoiseSample {
     lattice3(u, fade, |c, d| {
@@ -296,6 +316,22 @@ pub fn noise(
         Basis::Value => value_noise(u, fade, hash),
         Basis::Gradient => gradient_noise(u, fade, hash),
         Basis::MNoise => mnoise_scaled(u, fade, mnoise_scale),
+    }
+}
+
+/// [`noise`] with value-noise corner values quantised to `value_bits` bits (the other bases have
+/// integer corner gradients, which the precision knob leaves alone).
+pub fn noise_bits(
+    basis: Basis,
+    u: [f64; 3],
+    fade: Fade,
+    hash: HashKind,
+    mnoise_scale: f64,
+    value_bits: u32,
+) -> NoiseSample {
+    match basis {
+        Basis::Value => value_noise_bits(u, fade, hash, value_bits),
+        _ => noise(basis, u, fade, hash, mnoise_scale),
     }
 }
 

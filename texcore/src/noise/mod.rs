@@ -113,10 +113,17 @@ impl NoiseBasis {
     /// Hashes the corners of `cell`. `amp_raw` (raw I16F16) and `fv` scale value-noise corners.
     #[inline]
     pub fn cell(&self, cell: [u16; 3], amp_raw: i32, fv: u32) -> CellData {
+        self.cell_bits(cell, amp_raw, fv, 16)
+    }
+
+    /// [`NoiseBasis::cell`] with value-noise corner values quantised to `value_bits` bits
+    /// ([`value::quantize_value`]; 16 is native). Gradient corners are unaffected.
+    #[inline]
+    pub fn cell_bits(&self, cell: [u16; 3], amp_raw: i32, fv: u32, value_bits: u32) -> CellData {
         match self.kind {
-            BasisKind::Value => {
-                CellData::Value(value::scaled_corners(self.hash, cell, amp_raw, fv))
-            }
+            BasisKind::Value => CellData::Value(value::scaled_corners_bits(
+                self.hash, cell, amp_raw, fv, value_bits,
+            )),
             #[cfg(feature = "gradient-noise")]
             BasisKind::Gradient => {
                 let mut g = [[0i8; 3]; 8];

@@ -16,9 +16,45 @@ use crate::hash::HashKind;
 /// `amp_raw` is the raw I16F16 amplitude, `fv` (<= 16) the model's noise fraction bits.
 #[inline]
 pub fn scaled_corners(hash: HashKind, cell: [u16; 3], amp_raw: i32, fv: u32) -> [i32; 8] {
+    scaled_corners_bits(hash, cell, amp_raw, fv, 16)
+}
+
+/// A corner value `v` (`v / 32768` in `[-1, 1)`) quantised to `bits` bits (`docs/model.md` 3.2):
+/// rounded half up to a multiple of `2^(16 - bits)` and saturated to the largest such value below
+/// 32768; the identity for `bits >= 16`.
+#[inline(always)]
+pub const fn quantize_value(v: i16, bits: u32) -> i16 {
+    if bits >= 16 {
+        return v;
+    }
+    let sh = 16 - bits;
+    let step = 1i32 << sh;
+    let q = (v as i32 + (step >> 1)) & !(step - 1);
+    if q > 32768 - step {
+        (32768 - step) as i16
+    } else {
+        q as i16
+    }
+}
+
+/// [`scaled_corners`] with the corner values quantised to `value_bits` bits first
+/// ([`quantize_value`]; `16` is the native format, no quantisation).
+#[inline]
+pub fn scaled_corners_bits(
+    hash: HashKind,
+    cell: [u16; 3],
+    amp_raw: i32,
+    fv: u32,
+    value_bits: u32,
+) -> [i32; 8] {
     let shift = 31 - fv.min(16);
     let round = 1i64 << (shift - 1);
-    let raw = corner_values(hash, cell);
+    let mut raw = corner_values(hash, cell);
+    if value_bits < 16 {
+        for v in raw.iter_mut() {
+            *v = quantize_value(*v, value_bits);
+        }
+    }
     let mut out = [0i32; 8];
     for (o, v) in out.iter_mut().zip(raw) {
         *o = ((i64::from(amp_raw) * i64::from(v) + round) >> shift) as i32;
@@ -201,6 +237,37 @@ mod tests {
                 }
             }
         }
+    }
+
+    #[test]
+    fn value_quantisation() {
+        assert_eq!(quantize_value(12345, 16), 12345);
+        // 4 bits: multiples of 4096, half up, saturated below 32768.
+        assert_eq!(quantize_value(2047, 4), 0);
+        assert_eq!(quantize_value(2048, 4), 4096);
+        assert_eq!(quantize_value(-2048, 4), 0);
+        assert_eq!(quantize_value(-2049, 4), -4096);
+        assert_eq!(quantize_value(32767, 4), 28672);
+        assert_eq!(quantize_value(-32768, 4), -32768);
+        assert_eq!(quantize_value(32767, 8), 32512);
+        for bits in 1..=16u32 {
+            let step = 1i32 << (16 - bits);
+            for v in (-32768i32..32768).step_by(7) {
+                let q = i32::from(quantize_value(v as i16, bits));
+                assert_eq!(q % step, 0, "{v} {bits}");
+                assert!((q - v).abs() <= step, "{v} {bits} {q}");
+                assert!(q >= -32768 && q <= 32768 - step);
+            }
+        }
+        let a = scaled_corners(HashKind::Integer, [5, 6, 7], 1 << 16, 13);
+        assert_eq!(
+            a,
+            scaled_corners_bits(HashKind::Integer, [5, 6, 7], 1 << 16, 13, 16)
+        );
+        assert_ne!(
+            a,
+            scaled_corners_bits(HashKind::Integer, [5, 6, 7], 1 << 16, 13, 4)
+        );
     }
 
     #[test]
