@@ -370,36 +370,39 @@ pub fn build_firmware(target: DeviceTarget, opts: &RunOptions) -> Result<PathBuf
             cmd.env_remove(&k);
         }
     }
+    cargo_artifact(&mut cmd, &opts.cargo, "firmware")
+        .map_err(|message| DeviceError::Build { target, message })
+}
+
+/// Runs a `cargo build --message-format=json` command and returns the executable it built for
+/// binary `bin`; on failure, a message with cargo's diagnostics.
+pub(crate) fn cargo_artifact(
+    cmd: &mut Command,
+    cargo: &Path,
+    bin: &str,
+) -> Result<PathBuf, String> {
     let out = cmd
         .stdin(Stdio::null())
         .output()
-        .map_err(|e| DeviceError::Build {
-            target,
-            message: format!("could not run {}: {e}", opts.cargo.display()),
-        })?;
+        .map_err(|e| format!("could not run {}: {e}", cargo.display()))?;
     let stderr = String::from_utf8_lossy(&out.stderr);
     if !out.status.success() {
-        return Err(DeviceError::Build {
-            target,
-            message: format!("cargo exited {}\n{stderr}", out.status),
-        });
+        return Err(format!("cargo exited {}\n{stderr}", out.status));
     }
     let stdout = String::from_utf8_lossy(&out.stdout);
-    let mut elf = None;
     for line in stdout.lines() {
         let Ok(msg) = serde_json::from_str::<serde_json::Value>(line) else {
             continue;
         };
-        if msg["reason"] == "compiler-artifact" && msg["target"]["name"] == "firmware" {
+        if msg["reason"] == "compiler-artifact" && msg["target"]["name"] == bin {
             if let Some(exe) = msg["executable"].as_str() {
-                elf = Some(PathBuf::from(exe));
+                return Ok(PathBuf::from(exe));
             }
         }
     }
-    elf.ok_or_else(|| DeviceError::Build {
-        target,
-        message: format!("cargo reported no firmware executable\n{stderr}"),
-    })
+    Err(format!(
+        "cargo reported no executable for `{bin}`\n{stderr}"
+    ))
 }
 
 /// Runs an already built firmware ELF under QEMU and parses its report.

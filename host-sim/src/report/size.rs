@@ -30,7 +30,7 @@ use std::borrow::Cow;
 use std::collections::BTreeMap;
 use std::fmt::Write as _;
 use std::path::{Path, PathBuf};
-use std::process::{Command, Stdio};
+use std::process::Command;
 
 use object::{Object, ObjectSection, ObjectSymbol, SectionKind, SymbolKind};
 use serde::Serialize;
@@ -268,38 +268,10 @@ fn build(
         }
     }
     let what = format!("{bin} ({profile}, features {features:?})");
-    let out = cmd
-        .stdin(Stdio::null())
-        .output()
-        .map_err(|e| SizeError::Build {
-            target,
-            what: what.clone(),
-            message: format!("could not run {}: {e}", opts.cargo.display()),
-        })?;
-    let stderr = String::from_utf8_lossy(&out.stderr);
-    if !out.status.success() {
-        return Err(SizeError::Build {
-            target,
-            what,
-            message: format!("cargo exited {}\n{stderr}", out.status),
-        });
-    }
-    let stdout = String::from_utf8_lossy(&out.stdout);
-    let mut elf = None;
-    for line in stdout.lines() {
-        let Ok(msg) = serde_json::from_str::<serde_json::Value>(line) else {
-            continue;
-        };
-        if msg["reason"] == "compiler-artifact" && msg["target"]["name"] == bin {
-            if let Some(exe) = msg["executable"].as_str() {
-                elf = Some(PathBuf::from(exe));
-            }
-        }
-    }
-    elf.ok_or_else(|| SizeError::Build {
+    crate::device::cargo_artifact(&mut cmd, &opts.cargo, bin).map_err(|message| SizeError::Build {
         target,
         what,
-        message: format!("cargo reported no executable\n{stderr}"),
+        message,
     })
 }
 
