@@ -38,6 +38,21 @@ pub enum Command {
     Check(CheckArgs),
     /// List the presets.
     Presets,
+    /// Reports: `texsim report accuracy` (what each accuracy knob costs in time).
+    Report {
+        /// Which report.
+        #[command(subcommand)]
+        what: ReportCmd,
+    },
+}
+
+/// `texsim report` subcommands.
+#[derive(Debug, Subcommand)]
+pub enum ReportCmd {
+    /// Error and cost (host time, exact device instructions) of every accuracy knob, the Pareto
+    /// front; writes docs/accuracy.md, docs/accuracy.png, docs/precision.png and the README
+    /// summary.
+    Accuracy(crate::accuracy::AccuracyArgs),
 }
 
 /// What the pixels show (`--show`).
@@ -266,6 +281,9 @@ pub fn run(cli: Cli) -> ExitCode {
             ExitCode::SUCCESS
         }
         Command::Check(a) => check(&a),
+        Command::Report { what } => match what {
+            ReportCmd::Accuracy(a) => crate::accuracy::cli(&a),
+        },
         Command::Presets => {
             let mut out = std::io::stdout().lock();
             for name in texcore::presets::NAMES {
