@@ -413,7 +413,7 @@ pub const ROWS: [Row; N_ROWS] = [
         TableSize,
         "table_size",
         "16",
-        true,
+        false,
         Config {
             table_size: 16,
             ..B
@@ -474,7 +474,7 @@ pub const ROWS: [Row; N_ROWS] = [
         TableSize,
         "table_size",
         "256-linear",
-        false,
+        true,
         Config {
             lookup: TableLookup::Linear,
             ..B

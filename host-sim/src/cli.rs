@@ -38,7 +38,8 @@ pub enum Command {
     Check(CheckArgs),
     /// List the presets.
     Presets,
-    /// Device reports: instruction counts (`cycles`) and firmware sizes (`size`).
+    /// Reports: device instruction counts (`cycles`), firmware sizes (`size`) and what each
+    /// accuracy knob costs (`accuracy`).
     #[command(subcommand)]
     Report(crate::report::cli::ReportCommand),
 }

@@ -1,6 +1,7 @@
 //! Host simulator for texcore: the f64 reference model, scene loading, rendering and reports.
 #![deny(missing_docs, unsafe_code)]
 
+pub mod accuracy;
 pub mod bridge;
 pub mod cli;
 pub mod device;

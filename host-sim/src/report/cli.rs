@@ -18,6 +18,10 @@ pub enum ReportCommand {
     /// Firmware section sizes per target and feature set, texcore's share of .text and the RAM
     /// of a texture-unit instance; writes docs/size.md.
     Size(SizeArgs),
+    /// Error and cost (host time, exact device instructions) of every accuracy knob, the Pareto
+    /// front; writes docs/accuracy.md, docs/accuracy.png, docs/precision.png and the README
+    /// summary.
+    Accuracy(crate::accuracy::AccuracyArgs),
 }
 
 /// A device target on the command line.
@@ -108,6 +112,7 @@ fn print_json<T: serde::Serialize>(rows: &T) {
 /// host's or a build or run fails, 2 for bad input.
 pub fn run(cmd: &ReportCommand) -> ExitCode {
     match cmd {
+        ReportCommand::Accuracy(a) => crate::accuracy::cli(a),
         ReportCommand::Cycles(a) => {
             let opts = cycles::CyclesOptions {
                 quick: a.common.quick,

@@ -1,0 +1,293 @@
+//! `texsim report accuracy` and the precision knobs.
+//!
+//! - The command itself (`report accuracy --quick --json`, in a child process of this test
+//!   binary, writing its docs and README summary into a temporary directory): every knob present,
+//!   every numeric field finite, and with QEMU both device targets in every row with matching
+//!   checksums. Without QEMU the device checks are skipped with a message, unless `CI` is set:
+//!   then the command (and so this test) fails.
+//! - The precision knobs: 16/16 is exactly the default, and fewer bits never improve the error
+//!   against the f64 reference by more than noise.
+
+use std::io::Write;
+use std::path::PathBuf;
+use std::process::{Command, ExitCode};
+
+use clap::Parser;
+use host_sim::cli::Cli;
+use host_sim::metrics::compare_to_reference;
+use host_sim::unit::{self, UnitConfig};
+use texcore::hash::HashKind;
+use texcore::model::Precision;
+
+const CHILD_ARGS: &str = "TEXSIM_ACCURACY_TEST_ARGS";
+const MARKER: &str = "--- texsim output ---";
+
+const KNOBS: [&str; 11] = [
+    "coordinate_bits",
+    "value_bits",
+    "interpolation",
+    "evaluation",
+    "octaves",
+    "table_size",
+    "antialiasing",
+    "gradient_norm",
+    "perspective",
+    "basis",
+    "hash",
+];
+const TARGETS: [&str; 2] = ["thumbv7em-none-eabihf", "riscv32imc-unknown-none-elf"];
+
+/// In the child process: run the command line given in the environment and exit with its status.
+#[test]
+fn texsim_child() {
+    let Ok(args) = std::env::var(CHILD_ARGS) else {
+        return;
+    };
+    let args: Vec<String> = serde_json::from_str(&args).unwrap();
+    println!("{MARKER}");
+    let code = match Cli::try_parse_from(std::iter::once("texsim".to_string()).chain(args)) {
+        Ok(cli) => host_sim::cli::run(cli),
+        Err(e) => {
+            let _ = e.print();
+            ExitCode::from(2)
+        }
+    };
+    let _ = std::io::stdout().flush();
+    let _ = std::io::stderr().flush();
+    let status = [0u8, 1, 2]
+        .into_iter()
+        .find(|&k| code == ExitCode::from(k))
+        .map_or(101, i32::from);
+    std::process::exit(status);
+}
+
+fn texsim(args: &[&str]) -> (i32, String, String) {
+    let exe = std::env::current_exe().unwrap();
+    let out = Command::new(exe)
+        .args([
+            "texsim_child",
+            "--exact",
+            "--nocapture",
+            "--test-threads=1",
+            "-q",
+        ])
+        .env(CHILD_ARGS, serde_json::to_string(args).unwrap())
+        .output()
+        .unwrap();
+    let stdout = String::from_utf8_lossy(&out.stdout);
+    let stdout = stdout
+        .split_once(MARKER)
+        .map(|(_, s)| s.trim_start_matches('\n').to_string())
+        .unwrap_or_else(|| panic!("no child output for {args:?}: {stdout}"));
+    (
+        out.status.code().unwrap_or(-1),
+        stdout,
+        String::from_utf8_lossy(&out.stderr).into_owned(),
+    )
+}
+
+fn qemu_available() -> bool {
+    host_sim::device::DeviceTarget::ALL
+        .iter()
+        .all(|&t| host_sim::device::check_qemu(t).is_ok())
+}
+
+fn finite(v: &serde_json::Value, path: &str) {
+    match v {
+        serde_json::Value::Number(n) => {
+            let f = n.as_f64().unwrap_or(f64::NAN);
+            assert!(f.is_finite(), "{path} = {n} is not finite");
+        }
+        serde_json::Value::Object(m) => {
+            for (k, x) in m {
+                finite(x, &format!("{path}.{k}"));
+            }
+        }
+        serde_json::Value::Array(a) => {
+            for (i, x) in a.iter().enumerate() {
+                finite(x, &format!("{path}[{i}]"));
+            }
+        }
+        _ => {}
+    }
+}
+
+#[test]
+fn report_accuracy_quick_json_schema() {
+    let dir = std::env::temp_dir().join(format!("texsim-accuracy-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let readme: PathBuf = dir.join("README.md");
+    std::fs::write(
+        &readme,
+        "# t\n\n<!-- accuracy:begin -->\nold\n<!-- accuracy:end -->\n\n## after\n",
+    )
+    .unwrap();
+    let (status, stdout, stderr) = texsim(&[
+        "report",
+        "accuracy",
+        "--quick",
+        "--json",
+        "--out",
+        dir.to_str().unwrap(),
+        "--readme",
+        readme.to_str().unwrap(),
+    ]);
+    assert_eq!(status, 0, "texsim report accuracy failed:\n{stderr}");
+    let rows: Vec<serde_json::Value> = serde_json::from_str(&stdout)
+        .unwrap_or_else(|e| panic!("not a JSON array ({e}):\n{stdout}"));
+    assert!(!rows.is_empty());
+    for knob in KNOBS {
+        assert!(
+            rows.iter().any(|r| r["knob"] == knob),
+            "knob {knob} missing"
+        );
+    }
+    let device = qemu_available();
+    if !device {
+        assert!(
+            std::env::var_os("CI").is_none(),
+            "CI is set: QEMU must be installed"
+        );
+        let _ = writeln!(
+            std::io::stderr(),
+            "\nSKIPPED device checks of report_accuracy_quick_json_schema: QEMU is not installed\n"
+        );
+    }
+    for r in &rows {
+        let id = r["id"].as_str().unwrap_or("?").to_string();
+        assert!(KNOBS.contains(&r["knob"].as_str().unwrap_or("")), "{id}");
+        assert!(r["setting"].is_string(), "{id}");
+        for k in ["psnr", "max_error", "within_one_step", "host_ns_per_pixel"] {
+            assert!(r[k].is_number(), "{id}: {k} missing");
+        }
+        finite(r, &id);
+        assert!(r["host_ns_per_pixel"].as_f64().unwrap() > 0.0, "{id}");
+        let w = r["within_one_step"].as_f64().unwrap();
+        assert!((0.0..=1.0).contains(&w), "{id}");
+        let d = r["device_instructions_per_pixel"]
+            .as_object()
+            .unwrap_or_else(|| panic!("{id}: device object"));
+        if device {
+            for t in TARGETS {
+                let v = d
+                    .get(t)
+                    .and_then(|v| v.as_f64())
+                    .unwrap_or_else(|| panic!("{id}: no count for {t}"));
+                assert!(v > 10.0, "{id} {t}: {v}");
+                assert_eq!(r["device_checksum_match"][t], true, "{id} {t}");
+            }
+            assert_eq!(d.len(), 2, "{id}");
+        }
+        assert!(r["pareto"].is_boolean(), "{id}");
+    }
+    // The baseline is exact where it must be: direct, fd and auto give the same image.
+    let psnr = |id: &str| {
+        rows.iter()
+            .find(|r| r["id"] == id)
+            .map(|r| r["psnr"].as_f64().unwrap())
+    };
+    assert_eq!(psnr("acc:evaluation=direct"), psnr("acc:evaluation=auto"));
+    assert!(rows.iter().any(|r| r["pareto"] == true));
+    // Generated files.
+    for f in ["accuracy.md", "accuracy.png", "precision.png"] {
+        let p = dir.join(f);
+        assert!(
+            std::fs::metadata(&p)
+                .map(|m| m.len() > 100)
+                .unwrap_or(false),
+            "{} not written",
+            p.display()
+        );
+    }
+    let md = std::fs::read_to_string(dir.join("accuracy.md")).unwrap();
+    for knob in KNOBS {
+        assert!(md.contains(&format!("## `{knob}`")), "accuracy.md: {knob}");
+    }
+    assert!(md.contains("## Pareto front"));
+    let img = image::open(dir.join("accuracy.png")).unwrap().to_rgb8();
+    // The front is drawn in red.
+    assert!(img
+        .pixels()
+        .any(|p| p.0[0] > 200 && p.0[1] < 60 && p.0[2] < 60));
+    let sheet = image::open(dir.join("precision.png")).unwrap().to_rgb8();
+    assert_eq!(sheet.width() % 2, 0);
+    let text = std::fs::read_to_string(&readme).unwrap();
+    assert!(!text.contains("\nold\n"), "README section not replaced");
+    assert!(text.contains("## after"));
+    assert!(text.contains("Cortex-M4F"));
+    std::fs::remove_dir_all(&dir).unwrap();
+}
+
+/// The marble preset's check plane at `bits` coordinate or value bits against the ideal f64
+/// reference: PSNR.
+fn plane_psnr(name: &str, cfg: &UnitConfig, size: u32) -> (f64, Vec<[u8; 4]>) {
+    let m = unit::preset_material(name, HashKind::Permutation).unwrap();
+    let (img, _) = unit::render_plane(&m, cfg, size).unwrap();
+    let reference = unit::reference_plane(&m, cfg, size).unwrap();
+    (
+        compare_to_reference(&img.pixels, &reference).unwrap().psnr,
+        img.pixels,
+    )
+}
+
+/// 16/16 is the native format: setting it explicitly changes no pixel of any preset, and the
+/// knob is applied to perturbed materials too.
+#[test]
+fn sixteen_sixteen_equals_the_default() {
+    let native = UnitConfig {
+        precision: Precision::new(16, 16).unwrap(),
+        ..UnitConfig::default()
+    };
+    assert_eq!(native, UnitConfig::default());
+    for name in texcore::presets::NAMES {
+        let (a, ia) = plane_psnr(name, &UnitConfig::default(), 64);
+        let (b, ib) = plane_psnr(name, &native, 64);
+        assert_eq!(ia, ib, "{name}");
+        assert_eq!(a, b, "{name}");
+    }
+    // Perturbed materials carry the precision on their channels.
+    let coarse = UnitConfig {
+        precision: Precision::new(4, 4).unwrap(),
+        ..UnitConfig::default()
+    };
+    let (_, fine) = plane_psnr("mn-marble", &UnitConfig::default(), 64);
+    let (_, rough) = plane_psnr("mn-marble", &coarse, 64);
+    assert_ne!(fine, rough);
+}
+
+/// Fewer coordinate or value bits never improve the error against the f64 reference by more than
+/// noise (0.25 dB) on the check planes of marble, clouds and wood.
+#[test]
+fn fewer_bits_never_help() {
+    for name in ["marble", "clouds", "wood"] {
+        for coord in [true, false] {
+            let psnr: Vec<f64> = [4u32, 8, 12, 16]
+                .iter()
+                .map(|&b| {
+                    let p = if coord {
+                        Precision::new(b, 16)
+                    } else {
+                        Precision::new(16, b)
+                    }
+                    .unwrap();
+                    let cfg = UnitConfig {
+                        precision: p,
+                        ..UnitConfig::default()
+                    };
+                    plane_psnr(name, &cfg, 128).0
+                })
+                .collect();
+            for w in psnr.windows(2) {
+                assert!(
+                    w[0] <= w[1] + 0.25,
+                    "{name} ({}): PSNR by bits 4, 8, 12, 16 = {psnr:?}",
+                    if coord { "coordinates" } else { "values" }
+                );
+            }
+            assert!(
+                psnr[0] < psnr[3],
+                "{name}: 4 bits should lose accuracy: {psnr:?}"
+            );
+        }
+    }
+}
