@@ -262,6 +262,10 @@ impl ChunkSink<'_, '_> {
     }
 }
 
+/// Shortest segment (pixels between two cell events) that the merged loop evaluates in component
+/// passes; shorter ones take one fused per-pixel pass (each pass has a fixed start-up cost).
+const PASS_MIN: u32 = 4;
+
 /// Half a cell per pixel (raw 16.16): the Nyquist limit of a lattice noise.
 pub const NYQUIST_STEP: i32 = 1 << 15;
 
@@ -702,7 +706,7 @@ impl<'m, const T: usize> SpanEvaluator<'m, T> {
         while i < len {
             let end = merged.iter().take(nm).fold(len, |e, t| e.min(t.3));
             let seg = end - i;
-            if nd == 0 {
+            if nd == 0 && seg >= PASS_MIN {
                 // Component passes over the chunk: value, then each gradient.
                 let mut left = seg as usize;
                 while left > 0 {
@@ -732,6 +736,18 @@ impl<'m, const T: usize> SpanEvaluator<'m, T> {
                     sink.advance(k);
                     left -= k;
                 }
+            } else if nd == 0 {
+                // Short segments (cells of a few pixels): one fused pass costs less than three.
+                pixel_loop(
+                    seg,
+                    fv,
+                    grads,
+                    affine,
+                    &mut sum,
+                    &mut quad,
+                    &mut |smp: Sample| sink.push(smp),
+                    |_, _, _| {},
+                );
             } else {
                 let direct = &mut direct;
                 pixel_loop(
@@ -1181,7 +1197,12 @@ fn pixels<const G: bool, const AFFINE: bool, F, X>(
 /// affine). State: 20 words, which fits a 32-bit core's registers (the whole merged state does
 /// not).
 #[inline(always)]
-fn value_pass<const AFFINE: bool>(out: &mut [TexValue], fv: u32, p: &mut [i64; 4], q: &mut QuadStep) {
+fn value_pass<const AFFINE: bool>(
+    out: &mut [TexValue],
+    fv: u32,
+    p: &mut [i64; 4],
+    q: &mut QuadStep,
+) {
     let fv = fv & 31;
     let (mut p0, mut p1, mut p2, p3) = (p[0], p[1], p[2], p[3]);
     let (mut qq, mut dq, ddq) = (q.q, q.dq, q.ddq);
@@ -1206,7 +1227,13 @@ fn value_pass<const AFFINE: bool>(out: &mut [TexValue], fv: u32, p: &mut [i64; 4
 /// A gradient pass of the merged loop: `g_out = qg + (G >> fv)` per pixel, stepping the merged
 /// quadratic `g` (two additions) and the quadric's gradient `qg` (constant when affine).
 #[inline(always)]
-fn grad_pass<const AFFINE: bool>(out: &mut [i64], fv: u32, g: &mut [i64; 3], qg: &mut i64, dqg: i64) {
+fn grad_pass<const AFFINE: bool>(
+    out: &mut [i64],
+    fv: u32,
+    g: &mut [i64; 3],
+    qg: &mut i64,
+    dqg: i64,
+) {
     let fv = fv & 31;
     let (mut g0, mut g1, g2) = (g[0], g[1], g[2]);
     let mut q = *qg;

@@ -244,7 +244,7 @@ impl<const T: usize, const N: usize> TextureEvaluator<'_, T, N> {
 /// - The marble preset with its colour table (`N = 256`, nearest) and the summed-area table
 ///   filter, L2 gradient norm, on the preset's check plane (feature `csat`).
 pub mod workload {
-    use crate::format::{Amplitude, MatrixEntry, QuadricCoeff, TexPoint, TexValue};
+    use crate::format::{Amplitude, MatrixEntry, QuadricCoeff, TexPoint};
     use crate::hash::HashKind;
     use crate::model::{Octaves, TextureModel};
     use crate::noise::NoiseBasis;
@@ -367,15 +367,15 @@ pub mod workload {
     const fn marble_stage() -> Option<crate::filter::ColorStage<256>> {
         use crate::color::Rgba8888;
         use crate::filter::{Antialias, ColorStage};
-                use crate::table::{ColorTable, TableLookup};
+        use crate::table::{ColorTable, TableLookup};
         const N_KEYS: usize = crate::presets::MARBLE_KEYS.len();
         let k = &crate::presets::MARBLE_KEYS;
-        let mut keys = [(TexValue::ZERO, Rgba8888::BLACK); N_KEYS];
+        let mut keys = [(crate::format::TexValue::ZERO, Rgba8888::BLACK); N_KEYS];
         let mut i = 0;
         while i < N_KEYS {
             let c = k[i].1;
             keys[i] = (
-                TexValue::from_bits(k[i].0 as i32),
+                crate::format::TexValue::from_bits(k[i].0 as i32),
                 Rgba8888::new(c[0], c[1], c[2], c[3]),
             );
             i += 1;

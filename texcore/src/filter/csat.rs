@@ -517,7 +517,10 @@ mod tests {
                 U16F16::from_bits(w),
                 wrap,
             );
-            assert_eq!(fast, want, "csat (entries) N={N} x={x:#x} w={w:#x} {wrap:?}");
+            assert_eq!(
+                fast, want,
+                "csat (entries) N={N} x={x:#x} w={w:#x} {wrap:?}"
+            );
         }
     }
 

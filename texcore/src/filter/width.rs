@@ -65,11 +65,14 @@ pub const fn isqrt32(v: u32) -> u32 {
     }
 }
 
-/// `floor((x + floor(v / x)) / 2)` for `x >= 1`, without overflow: one integer Newton step.
+/// `floor((x + floor(v / x)) / 2)` without overflow: one integer Newton step (`None` for `x = 0`,
+/// which the callers never pass).
 #[inline(always)]
-const fn newton_step(v: u32, x: u32) -> u32 {
-    let q = v / x;
-    (x >> 1) + (q >> 1) + (x & q & 1)
+const fn newton_step(v: u32, x: u32) -> Option<u32> {
+    match v.checked_div(x) {
+        Some(q) => Some((x >> 1) + (q >> 1) + (x & q & 1)),
+        None => None,
+    }
 }
 
 /// Exact integer square root of a `u32`, `floor(sqrt(v))`, by Newton's iteration started from
@@ -95,9 +98,14 @@ pub const fn isqrt32_from(v: u32, guess: u32) -> u32 {
     } else {
         guess
     };
-    let mut x = newton_step(v, x); // >= floor(sqrt(v)) >= 1
+    // After one step the iterate is >= floor(sqrt(v)) >= 1, so no later step divides by zero.
+    let Some(mut x) = newton_step(v, x) else {
+        return 0;
+    };
     loop {
-        let y = newton_step(v, x);
+        let Some(y) = newton_step(v, x) else {
+            return x;
+        };
         if y >= x {
             return x;
         }
@@ -282,9 +290,23 @@ mod tests {
 
     #[test]
     fn isqrt32_from_guesses() {
-        for v in (0..=u32::MAX).step_by(65_521).chain([u32::MAX, 1, 2, 3, 4, 65535 * 65535]) {
+        for v in (0..=u32::MAX)
+            .step_by(65_521)
+            .chain([u32::MAX, 1, 2, 3, 4, 65535 * 65535])
+        {
             let r = isqrt(u64::from(v)) as u32;
-            for g in [0, 1, 2, r.saturating_sub(1), r, r + 1, r * 2, 65535, 65536, u32::MAX] {
+            for g in [
+                0,
+                1,
+                2,
+                r.saturating_sub(1),
+                r,
+                r + 1,
+                r * 2,
+                65535,
+                65536,
+                u32::MAX,
+            ] {
                 assert_eq!(isqrt32_from(v, g), r, "{v} from {g}");
             }
         }
