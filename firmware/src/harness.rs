@@ -24,6 +24,20 @@ use defmt::println;
 
 const TARGET: &str = env!("FIRMWARE_TARGET");
 
+/// Jobs whose name contains `TEXFW_ONLY` (set at build time; unset: every job). For profiling one
+/// job (`firmware/profile.sh`).
+fn selected(name: &str) -> bool {
+    match option_env!("TEXFW_ONLY") {
+        Some(only) if !only.is_empty() => contains(name, only),
+        _ => true,
+    }
+}
+
+fn contains(hay: &str, needle: &str) -> bool {
+    let (h, n) = (hay.as_bytes(), needle.as_bytes());
+    n.len() <= h.len() && (0..=h.len() - n.len()).any(|i| h.get(i..i + n.len()) == Some(n))
+}
+
 fn empty(_: &mut Ctx) -> u32 {
     0
 }
@@ -95,7 +109,7 @@ pub fn run() -> bool {
     }
 
     let mut count = 0u32;
-    for job in JOBS {
+    for job in JOBS.iter().filter(|j| selected(j.name)) {
         let (Some(a), Some(b)) = (
             measure(&mut counter, job.run, &mut ctx),
             measure(&mut counter, job.run, &mut ctx),

@@ -158,6 +158,114 @@ impl SpanStats {
 /// Samples handed over per call by [`SpanEvaluator::eval_chunks`].
 pub const SAMPLE_CHUNK: usize = 32;
 
+/// Up to [`SAMPLE_CHUNK`] consecutive samples of a span, stored by component (`f`, `gx`, `gy`
+/// arrays), as [`SpanEvaluator::eval_chunks`] hands them over. The forward-differencing fast path
+/// fills each component in its own pass over the chunk, so the state of each pass fits a 32-bit
+/// core's registers. The gradient arrays hold zeros when gradients are off.
+#[derive(Clone, Debug)]
+pub struct SampleChunk {
+    f: [TexValue; SAMPLE_CHUNK],
+    gx: [i64; SAMPLE_CHUNK],
+    gy: [i64; SAMPLE_CHUNK],
+    /// Samples held, `<= SAMPLE_CHUNK`.
+    len: usize,
+}
+
+impl SampleChunk {
+    const fn new() -> Self {
+        SampleChunk {
+            f: [TexValue::ZERO; SAMPLE_CHUNK],
+            gx: [0; SAMPLE_CHUNK],
+            gy: [0; SAMPLE_CHUNK],
+            len: 0,
+        }
+    }
+
+    /// Number of samples.
+    pub const fn len(&self) -> usize {
+        self.len
+    }
+
+    /// Whether the chunk holds no sample.
+    pub const fn is_empty(&self) -> bool {
+        self.len == 0
+    }
+
+    /// `f` of each sample.
+    pub fn f(&self) -> &[TexValue] {
+        self.f.get(..self.len).unwrap_or(&[])
+    }
+
+    /// `gx` of each sample.
+    pub fn gx(&self) -> &[i64] {
+        self.gx.get(..self.len).unwrap_or(&[])
+    }
+
+    /// `gy` of each sample.
+    pub fn gy(&self) -> &[i64] {
+        self.gy.get(..self.len).unwrap_or(&[])
+    }
+
+    /// The samples in order.
+    pub fn iter(&self) -> impl Iterator<Item = Sample> + '_ {
+        self.f()
+            .iter()
+            .zip(self.gx())
+            .zip(self.gy())
+            .map(|((&f, &gx), &gy)| Sample { f, gx, gy })
+    }
+}
+
+/// A chunk being filled and the consumer it goes to when full (and at the end of the span).
+struct ChunkSink<'o, 'c> {
+    chunk: SampleChunk,
+    out: &'o mut (dyn FnMut(&SampleChunk) + 'c),
+}
+
+impl ChunkSink<'_, '_> {
+    /// Appends one sample.
+    #[inline(always)]
+    fn push(&mut self, s: Sample) {
+        let c = &mut self.chunk;
+        let i = c.len;
+        if let (Some(f), Some(gx), Some(gy)) = (c.f.get_mut(i), c.gx.get_mut(i), c.gy.get_mut(i)) {
+            *f = s.f;
+            *gx = s.gx;
+            *gy = s.gy;
+        }
+        self.advance(1);
+    }
+
+    /// Free slots before the chunk is handed over (at least 1).
+    #[inline(always)]
+    fn room(&self) -> usize {
+        SAMPLE_CHUNK - self.chunk.len
+    }
+
+    /// Marks `k <= room()` more slots as filled, handing the chunk over when it is full.
+    #[inline(always)]
+    fn advance(&mut self, k: usize) {
+        self.chunk.len += k;
+        if self.chunk.len >= SAMPLE_CHUNK {
+            self.chunk.len = SAMPLE_CHUNK;
+            (self.out)(&self.chunk);
+            self.chunk.len = 0;
+        }
+    }
+
+    /// Hands over what is left.
+    fn finish(&mut self) {
+        if self.chunk.len > 0 {
+            (self.out)(&self.chunk);
+            self.chunk.len = 0;
+        }
+    }
+}
+
+/// Shortest segment (pixels between two cell events) that the merged loop evaluates in component
+/// passes; shorter ones take one fused per-pixel pass (each pass has a fixed start-up cost).
+const PASS_MIN: u32 = 4;
+
 /// Half a cell per pixel (raw 16.16): the Nyquist limit of a lattice noise.
 pub const NYQUIST_STEP: i32 = 1 << 15;
 
@@ -412,40 +520,28 @@ impl<'m, const T: usize> SpanEvaluator<'m, T> {
     /// many call sites carries one copy of the evaluator (code size on the device).
     #[inline]
     pub fn eval<F: FnMut(Sample)>(&mut self, span: &Span, mut emit: F) -> SpanInfo {
-        self.eval_chunks(span, &mut |chunk: &[Sample]| {
-            for s in chunk {
-                emit(*s);
+        self.eval_chunks(span, &mut |chunk: &SampleChunk| {
+            for s in chunk.iter() {
+                emit(s);
             }
         })
     }
 
     /// Evaluates `span`, handing the samples to `out` in order, in chunks of at most
-    /// [`SAMPLE_CHUNK`].
+    /// [`SAMPLE_CHUNK`] (every chunk but the last of a span is full).
     #[inline(never)]
-    pub fn eval_chunks(&mut self, span: &Span, out: &mut dyn FnMut(&[Sample])) -> SpanInfo {
-        let mut buf = [Sample::default(); SAMPLE_CHUNK];
-        let mut n = 0usize;
-        let info = self.eval_inner(span, |s| {
-            if let Some(slot) = buf.get_mut(n) {
-                *slot = s;
-            }
-            n += 1;
-            if n >= SAMPLE_CHUNK {
-                out(&buf);
-                n = 0;
-            }
-        });
-        if let Some(rest) = buf.get(..n) {
-            if !rest.is_empty() {
-                out(rest);
-            }
-        }
+    pub fn eval_chunks(&mut self, span: &Span, out: &mut dyn FnMut(&SampleChunk)) -> SpanInfo {
+        let mut sink = ChunkSink {
+            chunk: SampleChunk::new(),
+            out,
+        };
+        let info = self.eval_inner(span, &mut sink);
+        sink.finish();
         info
     }
 
-    /// The evaluation proper (instantiated once, for the chunking closure of
-    /// [`SpanEvaluator::eval_chunks`]).
-    fn eval_inner<F: FnMut(Sample)>(&mut self, span: &Span, emit: F) -> SpanInfo {
+    /// The evaluation proper.
+    fn eval_inner(&mut self, span: &Span, sink: &mut ChunkSink<'_, '_>) -> SpanInfo {
         let setup = self.setup(span);
         self.stats.spans += 1;
         self.stats.pixels += u64::from(span.len);
@@ -492,7 +588,7 @@ impl<'m, const T: usize> SpanEvaluator<'m, T> {
                     }
                 }
             },
-            emit,
+            sink,
         );
         info
     }
@@ -512,12 +608,12 @@ impl<'m, const T: usize> SpanEvaluator<'m, T> {
     /// most `3 * 2^48 * max|v'|` per pixel step of at most half a cell (terms past Nyquist have no
     /// gradient), and `sum_k max|v'_k| <= 2^13 + T` (model 4.4), so the sum stays below 2^63 and
     /// the general loop's saturating sum never saturates: wrapping and saturating sums agree.
-    fn run_merged<F: FnMut(Sample)>(
+    fn run_merged(
         &mut self,
         len: u16,
         setup: &Setup<T>,
         strategies: &[Strategy; T],
-        emit: &mut F,
+        sink: &mut ChunkSink<'_, '_>,
     ) -> bool {
         let m = self.model;
         let terms = m.terms();
@@ -610,7 +706,38 @@ impl<'m, const T: usize> SpanEvaluator<'m, T> {
         while i < len {
             let end = merged.iter().take(nm).fold(len, |e, t| e.min(t.3));
             let seg = end - i;
-            if nd == 0 {
+            if nd == 0 && seg >= PASS_MIN {
+                // Component passes over the chunk: value, then each gradient.
+                let mut left = seg as usize;
+                while left > 0 {
+                    let k = left.min(sink.room());
+                    let at = sink.chunk.len;
+                    let c = &mut sink.chunk;
+                    if let Some(out) = c.f.get_mut(at..at + k) {
+                        if affine {
+                            value_pass::<true>(out, fv, &mut sum.p, &mut quad);
+                        } else {
+                            value_pass::<false>(out, fv, &mut sum.p, &mut quad);
+                        }
+                    }
+                    if grads {
+                        if let (Some(ox), Some(oy)) =
+                            (c.gx.get_mut(at..at + k), c.gy.get_mut(at..at + k))
+                        {
+                            if affine {
+                                grad_pass::<true>(ox, fv, &mut sum.gx, &mut quad.gx, quad.dgx);
+                                grad_pass::<true>(oy, fv, &mut sum.gy, &mut quad.gy, quad.dgy);
+                            } else {
+                                grad_pass::<false>(ox, fv, &mut sum.gx, &mut quad.gx, quad.dgx);
+                                grad_pass::<false>(oy, fv, &mut sum.gy, &mut quad.gy, quad.dgy);
+                            }
+                        }
+                    }
+                    sink.advance(k);
+                    left -= k;
+                }
+            } else if nd == 0 {
+                // Short segments (cells of a few pixels): one fused pass costs less than three.
                 pixel_loop(
                     seg,
                     fv,
@@ -618,7 +745,7 @@ impl<'m, const T: usize> SpanEvaluator<'m, T> {
                     affine,
                     &mut sum,
                     &mut quad,
-                    emit,
+                    &mut |smp: Sample| sink.push(smp),
                     |_, _, _| {},
                 );
             } else {
@@ -630,7 +757,7 @@ impl<'m, const T: usize> SpanEvaluator<'m, T> {
                     affine,
                     &mut sum,
                     &mut quad,
-                    emit,
+                    &mut |smp: Sample| sink.push(smp),
                     |n: &mut i64, gx: &mut i64, gy: &mut i64| {
                         for (k, u) in direct.iter_mut().take(nd) {
                             let (Some(term), Some(ts)) = (terms.get(*k), setup.terms.get(*k))
@@ -712,10 +839,9 @@ impl<'m, const T: usize> SpanEvaluator<'m, T> {
     }
 
     /// The evaluation loop. `choose(term setup, is_cubic)` picks each term's strategy.
-    fn run<D, F>(&mut self, len: u16, setup: &Setup<T>, choose: D, mut emit: F)
+    fn run<D>(&mut self, len: u16, setup: &Setup<T>, choose: D, sink: &mut ChunkSink<'_, '_>)
     where
         D: Fn(&TermSetup, bool) -> Strategy,
-        F: FnMut(Sample),
     {
         let m = self.model;
         let fv = m.noise_frac_bits();
@@ -732,7 +858,7 @@ impl<'m, const T: usize> SpanEvaluator<'m, T> {
                 *st = choose(ts, term.basis.is_cubic());
             }
         }
-        if self.run_merged(len, setup, &strategies, &mut emit) {
+        if self.run_merged(len, setup, &strategies, sink) {
             return;
         }
 
@@ -919,7 +1045,7 @@ impl<'m, const T: usize> SpanEvaluator<'m, T> {
                 } else {
                     Sample { f, gx: 0, gy: 0 }
                 };
-                emit(sample);
+                sink.push(sample);
 
                 if !setup.quad_zero {
                     q = q.wrapping_add(dq);
@@ -1064,6 +1190,64 @@ fn pixels<const G: bool, const AFFINE: bool, F, X>(
             }
         }
     }
+}
+
+/// The value pass of the merged loop over `out.len()` pixels: `f = (q + (N >> fv)) >> 32` per
+/// pixel, stepping the merged cubic `p` (three additions) and the quadric (one, or two when not
+/// affine). State: 20 words, which fits a 32-bit core's registers (the whole merged state does
+/// not).
+#[inline(always)]
+fn value_pass<const AFFINE: bool>(
+    out: &mut [TexValue],
+    fv: u32,
+    p: &mut [i64; 4],
+    q: &mut QuadStep,
+) {
+    let fv = fv & 31;
+    let (mut p0, mut p1, mut p2, p3) = (p[0], p[1], p[2], p[3]);
+    let (mut qq, mut dq, ddq) = (q.q, q.dq, q.ddq);
+    for o in out.iter_mut() {
+        let f48 = qq.wrapping_add(p0 >> fv);
+        *o = TexValue::from_bits((f48 >> 32) as i32);
+        p0 = p0.wrapping_add(p1);
+        p1 = p1.wrapping_add(p2);
+        p2 = p2.wrapping_add(p3);
+        qq = qq.wrapping_add(dq);
+        if !AFFINE {
+            dq = dq.wrapping_add(ddq);
+        }
+    }
+    p[0] = p0;
+    p[1] = p1;
+    p[2] = p2;
+    q.q = qq;
+    q.dq = dq;
+}
+
+/// A gradient pass of the merged loop: `g_out = qg + (G >> fv)` per pixel, stepping the merged
+/// quadratic `g` (two additions) and the quadric's gradient `qg` (constant when affine).
+#[inline(always)]
+fn grad_pass<const AFFINE: bool>(
+    out: &mut [i64],
+    fv: u32,
+    g: &mut [i64; 3],
+    qg: &mut i64,
+    dqg: i64,
+) {
+    let fv = fv & 31;
+    let (mut g0, mut g1, g2) = (g[0], g[1], g[2]);
+    let mut q = *qg;
+    for o in out.iter_mut() {
+        *o = q.wrapping_add(g0 >> fv);
+        g0 = g0.wrapping_add(g1);
+        g1 = g1.wrapping_add(g2);
+        if !AFFINE {
+            q = q.wrapping_add(dqg);
+        }
+    }
+    g[0] = g0;
+    g[1] = g1;
+    *qg = q;
 }
 
 /// Amplitude used for the corner values and the sign applied afterwards (turbulence).

@@ -13,12 +13,14 @@
 //! [`EvalMode::Fd`] give the same colours.
 
 use crate::color::Rgba8888;
-use crate::filter::{filter_width, Antialias, ColorStage, GradientNorm};
+use crate::filter::{Antialias, ColorStage, GradientNorm, WidthStream};
 use crate::format::FilterWidth;
 #[cfg(feature = "perturb")]
 use crate::material::{MaterialEvaluator, PerturbedMaterial};
 use crate::model::TextureModel;
-use crate::span::{EvalMode, EvalOptions, Span, SpanEvaluator, SpanStats};
+use crate::span::{
+    EvalMode, EvalOptions, SampleChunk, Span, SpanEvaluator, SpanStats, SAMPLE_CHUNK,
+};
 
 /// What computes `f`.
 #[derive(Clone, Debug, PartialEq, Eq)]
@@ -205,17 +207,26 @@ impl<const T: usize, const N: usize> TextureEvaluator<'_, T, N> {
         };
         let e16 = (extra48 >> 32).clamp(0, i64::from(u32::MAX)) as u64;
         let extra_raw = (e16 << lg).min(u64::from(u32::MAX)) as u32;
-        let mut shade = |s: crate::span::Sample| {
-            let w = filter_width(s.gx, s.gy, norm, lg).to_bits();
-            emit(stage.shade(s.f, FilterWidth::from_bits(w.saturating_add(extra_raw))))
-        };
+        // The L2 root of each pixel starts from its neighbour's (exact for any start).
+        let mut widths = WidthStream::new(norm, lg);
+        let widen = |w: FilterWidth| FilterWidth::from_bits(w.to_bits().saturating_add(extra_raw));
         match &mut self.inner {
             Inner::Model(e) => {
-                e.eval(span, &mut shade);
+                // The model's samples arrive by component, a chunk at a time: widths for the
+                // chunk, then its colours with the filter chosen once.
+                e.eval_chunks(span, &mut |c: &SampleChunk| {
+                    let mut w = [FilterWidth::ZERO; SAMPLE_CHUNK];
+                    for ((w, &gx), &gy) in w.iter_mut().zip(c.gx()).zip(c.gy()) {
+                        *w = widen(widths.width(gx, gy));
+                    }
+                    stage.shade_each(c.f(), &w, &mut emit);
+                });
             }
             #[cfg(feature = "perturb")]
             Inner::Perturbed(e) => {
-                e.eval(span, &mut shade);
+                e.eval(span, |s| {
+                    emit(stage.shade(s.f, widen(widths.width(s.gx, s.gy))));
+                });
             }
         }
     }
@@ -356,16 +367,15 @@ pub mod workload {
     const fn marble_stage() -> Option<crate::filter::ColorStage<256>> {
         use crate::color::Rgba8888;
         use crate::filter::{Antialias, ColorStage};
-        use crate::format::TexValue;
         use crate::table::{ColorTable, TableLookup};
         const N_KEYS: usize = crate::presets::MARBLE_KEYS.len();
         let k = &crate::presets::MARBLE_KEYS;
-        let mut keys = [(TexValue::ZERO, Rgba8888::BLACK); N_KEYS];
+        let mut keys = [(crate::format::TexValue::ZERO, Rgba8888::BLACK); N_KEYS];
         let mut i = 0;
         while i < N_KEYS {
             let c = k[i].1;
             keys[i] = (
-                TexValue::from_bits(k[i].0 as i32),
+                crate::format::TexValue::from_bits(k[i].0 as i32),
                 Rgba8888::new(c[0], c[1], c[2], c[3]),
             );
             i += 1;

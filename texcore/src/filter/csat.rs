@@ -276,6 +276,80 @@ impl<const N: usize> Csat<N> {
     }
 }
 
+impl<const N: usize> Csat<N> {
+    /// [`Csat::box_filter`] for tables of at most 256 entries, with the two end entries read from
+    /// `entries` (the table these sums were built from) instead of recovered from prefix-sum
+    /// differences, and `mod` windows crossing an end of the table resolved by periodicity
+    /// instead of case analysis: the window's whole entries are `S(kb mod N) - S(ka mod N)`, plus
+    /// `S(N)` when the window wraps (it wraps at most once, as `w < N`). The same result as
+    /// [`Csat::box_filter`] for every input (tested exhaustively on small tables and by property
+    /// tests), in about half the instructions. Longer tables and `clamp` windows reaching past an
+    /// end take [`Csat::box_filter`].
+    #[inline(always)]
+    pub(crate) fn box_filter_in(
+        &self,
+        entries: &[Rgba8888; N],
+        x: TableCoord,
+        w: FilterWidth,
+        wrap: TableWrap,
+    ) -> Rgba8888 {
+        if N > PIECE || !N.is_power_of_two() {
+            return self.box_filter(x, w, wrap);
+        }
+        let n_log2 = N.trailing_zeros();
+        let wb = w.to_bits();
+        if wb >= 1u32 << (16 + n_log2) {
+            return self.mean;
+        }
+        let xn = normalise_x(x.to_bits(), n_log2, wrap);
+        let (lo, hi) = endpoints(xn, wb);
+        let mask = N - 1;
+        if hi == lo {
+            let k = (xn >> 16) as usize;
+            let k = match wrap {
+                TableWrap::Mod => k & mask,
+                TableWrap::Clamp => k.min(mask),
+            };
+            return match entries.get(k) {
+                Some(&c) => c,
+                None => self.mean,
+            };
+        }
+        if wrap == TableWrap::Clamp && (lo < 0 || hi > (N as i32) << 8) {
+            return self.box_filter(x, w, wrap);
+        }
+        // Entries ka .. kb of the periodic table (for `clamp`, 0 <= ka <= kb <= N here, and
+        // kb == N only with rb == 0: its "wrap" adds S(N) to S(0), and its entry weighs 0).
+        let (ka, kb) = (lo >> 8, hi >> 8);
+        let (ra, rb) = ((lo & 255) as u32, (hi & 255) as u32);
+        let (ia, ib) = (ka as usize & mask, kb as usize & mask);
+        let sa = match self.sums.get(ia) {
+            Some(&v) => v,
+            None => 0,
+        };
+        let sb = match self.sums.get(ib) {
+            Some(&v) => v,
+            None => 0,
+        };
+        let mut whole = sb.wrapping_sub(sa);
+        if (kb >> n_log2) != (ka >> n_log2) {
+            whole = whole.wrapping_add(self.total);
+        }
+        let wl = unpack(whole);
+        let (ca, cb) = match (entries.get(ia), entries.get(ib)) {
+            (Some(a), Some(b)) => (a.to_array(), b.to_array()),
+            _ => return self.mean,
+        };
+        let mut num = [0u32; 4];
+        let mut i = 0;
+        while i < 4 {
+            num[i] = (wl[i] * 256 + rb * cb[i] as u32).wrapping_sub(ra * ca[i] as u32);
+            i += 1;
+        }
+        divide(num, (hi - lo) as u32)
+    }
+}
+
 /// Summed-area colour table over the three-times-long extended table (entries `-N .. 2N - 1`,
 /// extended by `wrap`): the same box filter as [`Csat`] without run-time case analysis.
 #[derive(Clone, Debug, PartialEq, Eq, Hash)]
@@ -437,6 +511,16 @@ mod tests {
             let got3 = c3.box_filter(U16F16::from_bits(x), U16F16::from_bits(w));
             assert_eq!(got, want, "csat N={N} x={x:#x} w={w:#x} {wrap:?}");
             assert_eq!(got3, want, "csat3 N={N} x={x:#x} w={w:#x} {wrap:?}");
+            let fast = c.box_filter_in(
+                t.entries(),
+                U16F16::from_bits(x),
+                U16F16::from_bits(w),
+                wrap,
+            );
+            assert_eq!(
+                fast, want,
+                "csat (entries) N={N} x={x:#x} w={w:#x} {wrap:?}"
+            );
         }
     }
 

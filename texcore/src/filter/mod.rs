@@ -26,7 +26,7 @@ pub mod width;
 pub use csat::{Csat, Csat3};
 #[cfg(feature = "mip")]
 pub use mip::ColorMip;
-pub use width::{filter_width, isqrt, GradientNorm};
+pub use width::{filter_width, isqrt, GradientNorm, WidthStream};
 
 use crate::color::Rgba8888;
 use crate::format::{FilterWidth, TexValue};
@@ -152,9 +152,53 @@ impl<const N: usize> ColorStage<N> {
             #[cfg(feature = "mip")]
             Filter::Mip(m) => m.lookup(m.table().coord(f, self.wrap), w, self.wrap, self.lookup),
             #[cfg(feature = "csat")]
-            Filter::Csat(t, c) => c.box_filter(t.coord(f, self.wrap), w, self.wrap),
+            Filter::Csat(t, c) => c.box_filter_in(t.entries(), t.coord(f, self.wrap), w, self.wrap),
             #[cfg(feature = "csat")]
             Filter::Csat3(t, c) => c.box_filter(t.coord(f, self.wrap), w),
+        }
+    }
+
+    /// [`ColorStage::shade`] of each pair `(f[i], w[i])` in order, handed to `emit`: the same
+    /// colours, with the filter (and for csat the wrap) chosen once for the whole run instead of
+    /// per pixel. Stops at the shorter slice.
+    #[cfg_attr(not(any(feature = "csat", feature = "mip")), allow(unused_variables))]
+    #[inline]
+    pub fn shade_each<F: FnMut(Rgba8888)>(&self, f: &[TexValue], w: &[FilterWidth], mut emit: F) {
+        let pairs = f.iter().zip(w);
+        let (wrap, lookup) = (self.wrap, self.lookup);
+        match &self.filter {
+            Filter::None(t) => {
+                for (&f, _) in pairs {
+                    emit(t.shade(f, wrap, lookup));
+                }
+            }
+            #[cfg(feature = "mip")]
+            Filter::Mip(m) => {
+                for (&f, &w) in pairs {
+                    emit(m.lookup(m.table().coord(f, wrap), w, wrap, lookup));
+                }
+            }
+            #[cfg(feature = "csat")]
+            Filter::Csat(t, c) => match wrap {
+                TableWrap::Mod => {
+                    for (&f, &w) in pairs {
+                        let x = t.coord(f, TableWrap::Mod);
+                        emit(c.box_filter_in(t.entries(), x, w, TableWrap::Mod));
+                    }
+                }
+                TableWrap::Clamp => {
+                    for (&f, &w) in pairs {
+                        let x = t.coord(f, TableWrap::Clamp);
+                        emit(c.box_filter_in(t.entries(), x, w, TableWrap::Clamp));
+                    }
+                }
+            },
+            #[cfg(feature = "csat")]
+            Filter::Csat3(t, c) => {
+                for (&f, &w) in pairs {
+                    emit(c.box_filter(t.coord(f, wrap), w));
+                }
+            }
         }
     }
 

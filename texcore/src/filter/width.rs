@@ -65,6 +65,128 @@ pub const fn isqrt32(v: u32) -> u32 {
     }
 }
 
+/// `floor((x + floor(v / x)) / 2)` without overflow: one integer Newton step (`None` for `x = 0`,
+/// which the callers never pass).
+#[inline(always)]
+const fn newton_step(v: u32, x: u32) -> Option<u32> {
+    match v.checked_div(x) {
+        Some(q) => Some((x >> 1) + (q >> 1) + (x & q & 1)),
+        None => None,
+    }
+}
+
+/// Exact integer square root of a `u32`, `floor(sqrt(v))`, by Newton's iteration started from
+/// `guess` (any value; a guess near the root makes it cheap). Equal to [`isqrt`] on every `u32`
+/// for every guess.
+///
+/// Why it is exact for any guess: for any integer `x >= 1`, one step
+/// `floor((x + floor(v / x)) / 2) = floor((x + v / x) / 2) >= floor(sqrt(v))` (arithmetic and
+/// geometric means), so after the first, unconditional step the iterate is at or above the root;
+/// from there every step strictly decreases the iterate while it is above `floor(sqrt(v))`
+/// (`v / x < x`), and a step from `floor(sqrt(v))` does not decrease, which stops the loop there.
+/// With the previous pixel's root as the guess (the filter width changes slowly along a span) this
+/// costs two or three divisions.
+pub const fn isqrt32_from(v: u32, guess: u32) -> u32 {
+    if v == 0 {
+        return 0;
+    }
+    // Any start in 1..=65535 (the root of a u32 is at most 65535).
+    let x = if guess == 0 {
+        1
+    } else if guess > 0xFFFF {
+        0xFFFF
+    } else {
+        guess
+    };
+    // After one step the iterate is >= floor(sqrt(v)) >= 1, so no later step divides by zero.
+    let Some(mut x) = newton_step(v, x) else {
+        return 0;
+    };
+    loop {
+        let Some(y) = newton_step(v, x) else {
+            return x;
+        };
+        if y >= x {
+            return x;
+        }
+        x = y;
+    }
+}
+
+/// The filter width of [`filter_width`] for a stream of pixels: the norm and table size are fixed
+/// once, and the L2 square root starts from the previous pixel's root ([`isqrt32_from`]), which is
+/// exact for any start. Every result equals [`filter_width`] of the same inputs.
+#[derive(Clone, Copy, Debug)]
+pub struct WidthStream {
+    norm: GradientNorm,
+    n_log2: u32,
+    root: u32,
+}
+
+impl WidthStream {
+    /// A stream for `norm` and a table of `2^n_log2` entries.
+    pub const fn new(norm: GradientNorm, n_log2: u32) -> Self {
+        WidthStream {
+            norm,
+            n_log2: if n_log2 > 15 { 16 } else { n_log2 },
+            root: 1 << 8,
+        }
+    }
+
+    /// [`filter_width`]`(gx, gy, norm, n_log2)`.
+    #[inline(always)]
+    pub fn width(&mut self, gx: i64, gy: i64) -> FilterWidth {
+        let n_log2 = self.n_log2;
+        if let (GradientNorm::L2, true) = (self.norm, n_log2 <= 15) {
+            let a = saturate_to_u16f16(gx);
+            let b = saturate_to_u16f16(gy);
+            // A norm of at least 1.0 (2^16 raw) gives the cap `N` (L2 >= max(a, b)); below it,
+            // `g << n_log2 < 2^31` is under the cap as it stands.
+            let cap = FilterWidth::from_bits(1 << (16 + n_log2));
+            if a >= 1 << 16 || b >= 1 << 16 {
+                return cap;
+            }
+            // a, b < 2^16: the sum of squares is below 2^33.
+            let (s, carry) = (a * a).overflowing_add(b * b);
+            let g = if carry {
+                isqrt(u64::from(s) + (1 << 32)) as u32
+            } else {
+                let r = isqrt32_from(s, self.root);
+                self.root = r;
+                r
+            };
+            return if g >= 1 << 16 {
+                cap
+            } else {
+                FilterWidth::from_bits(g << n_log2)
+            };
+        }
+        scale_width(gradient_norm(gx, gy, self.norm), n_log2)
+    }
+}
+
+/// `w = g << n_log2` saturating at `N` (and at `u32::MAX`), `n_log2 <= 16`.
+#[inline(always)]
+const fn scale_width(g: u64, n_log2: u32) -> FilterWidth {
+    let cap = 1u64 << (16 + n_log2);
+    // g >> (48 - n_log2) != 0 means g << n_log2 would overflow u64; it is then far above the cap.
+    let w = if g >> (48 - n_log2) != 0 {
+        cap
+    } else {
+        let w = g << n_log2;
+        if w > cap {
+            cap
+        } else {
+            w
+        }
+    };
+    FilterWidth::from_bits(if w > u32::MAX as u64 {
+        u32::MAX
+    } else {
+        w as u32
+    })
+}
+
 /// `|g|` (48 fraction bits) as `U16F16` raw, saturated to `u32::MAX` (floor).
 #[inline(always)]
 pub const fn saturate_to_u16f16(g: i64) -> u32 {
@@ -101,7 +223,6 @@ pub const fn gradient_norm(gx: i64, gy: i64, norm: GradientNorm) -> u64 {
 /// (model section 8). `gx`, `gy` have 48 fraction bits.
 pub const fn filter_width(gx: i64, gy: i64, norm: GradientNorm, n_log2: u32) -> FilterWidth {
     let n_log2 = if n_log2 > 15 { 16 } else { n_log2 };
-    let cap = 1u64 << (16 + n_log2);
     let g = match norm {
         // Fast path, same result: a norm of at least 1.0 (2^16 raw) always gives the cap, and L2 is
         // at least max(a, b); below that a^2 + b^2 < 2^33, almost always a u32 (isqrt32).
@@ -121,22 +242,7 @@ pub const fn filter_width(gx: i64, gy: i64, norm: GradientNorm, n_log2: u32) -> 
         }
         _ => gradient_norm(gx, gy, norm),
     };
-    // g >> (48 - n_log2) != 0 means g << n_log2 would overflow u64; it is then far above the cap.
-    let w = if g >> (48 - n_log2) != 0 {
-        cap
-    } else {
-        let w = g << n_log2;
-        if w > cap {
-            cap
-        } else {
-            w
-        }
-    };
-    FilterWidth::from_bits(if w > u32::MAX as u64 {
-        u32::MAX
-    } else {
-        w as u32
-    })
+    scale_width(g, n_log2)
 }
 
 #[cfg(test)]
@@ -183,6 +289,30 @@ mod tests {
     }
 
     #[test]
+    fn isqrt32_from_guesses() {
+        for v in (0..=u32::MAX)
+            .step_by(65_521)
+            .chain([u32::MAX, 1, 2, 3, 4, 65535 * 65535])
+        {
+            let r = isqrt(u64::from(v)) as u32;
+            for g in [
+                0,
+                1,
+                2,
+                r.saturating_sub(1),
+                r,
+                r + 1,
+                r * 2,
+                65535,
+                65536,
+                u32::MAX,
+            ] {
+                assert_eq!(isqrt32_from(v, g), r, "{v} from {g}");
+            }
+        }
+    }
+
+    #[test]
     fn isqrt32_exact() {
         for v in (0..=u32::MAX)
             .step_by(9973)
@@ -213,6 +343,25 @@ mod tests {
                     filter_width_reference(gx, gy, norm, n_log2)
                 );
             }
+        }
+
+        #[test]
+        fn width_stream_is_filter_width(
+            g in proptest::collection::vec((any::<i64>(), any::<i64>(), 0u32..40), 1..40),
+            n_log2 in 0u32..18,
+        ) {
+            for norm in [GradientNorm::L1, GradientNorm::L2, GradientNorm::Max] {
+                let mut st = WidthStream::new(norm, n_log2);
+                for &(gx, gy, shift) in &g {
+                    let (gx, gy) = (gx >> shift, gy >> shift);
+                    prop_assert_eq!(st.width(gx, gy), filter_width(gx, gy, norm, n_log2));
+                }
+            }
+        }
+
+        #[test]
+        fn isqrt32_from_any_guess(v in any::<u32>(), guess in any::<u32>()) {
+            prop_assert_eq!(u64::from(isqrt32_from(v, guess)), isqrt(u64::from(v)));
         }
 
         #[test]
