@@ -1,4 +1,4 @@
-//! `texsim report accuracy`: what each accuracy knob of the texture unit costs in time.
+//! `texsim report accuracy`: what each accuracy knob of the texture unit costs in time and code.
 //!
 //! For a documented baseline (the `marble` preset; see [`device_jobs::BASELINE`]) every knob is
 //! varied alone, plus a few combinations that are Pareto-front candidates. Each row gets:
