@@ -140,8 +140,20 @@ fn code_summary(report: &Report) -> Option<String> {
     let mut parts = Vec::new();
     let mut unmeasured = Vec::new();
     for (_, rows) in &sets {
-        let names: Vec<String> = rows.iter().map(|r| format!("`{}`", label(r))).collect();
-        let names = names.join(", ");
+        // "every `perspective` setting" when the set is that of all of a knob's settings.
+        let knob = rows[0].knob;
+        let of_knob = report
+            .rows
+            .iter()
+            .filter(|r| r.knob == knob && !r.combination)
+            .count();
+        let names =
+            if rows.len() > 1 && rows.iter().all(|r| r.knob == knob) && rows.len() == of_knob {
+                format!("every `{knob}` setting")
+            } else {
+                let names: Vec<String> = rows.iter().map(|r| format!("`{}`", label(r))).collect();
+                names.join(", ")
+            };
         let (Some(m), Some(v)) = (code(rows[0], M4F), code(rows[0], RV)) else {
             unmeasured.push(names);
             continue;
@@ -152,8 +164,13 @@ fn code_summary(report: &Report) -> Option<String> {
             delta(m.texcore_text, bm.texcore_text),
             delta(v.texcore_text, br.texcore_text)
         );
-        if m.rodata != bm.rodata {
-            let _ = write!(p, ", `.rodata` {}", delta(m.rodata, bm.rodata));
+        if m.rodata != bm.rodata || v.rodata != br.rodata {
+            let _ = write!(
+                p,
+                ", `.rodata` {} / {}",
+                delta(m.rodata, bm.rodata),
+                delta(v.rodata, br.rodata)
+            );
         }
         parts.push(p);
     }
