@@ -4,7 +4,9 @@
 //!   binary, writing its docs and README summary into a temporary directory): every knob present,
 //!   every numeric field finite, and with QEMU both device targets in every row with matching
 //!   checksums. Without QEMU the device checks are skipped with a message, unless `CI` is set:
-//!   then the command (and so this test) fails.
+//!   then the command (and so this test) fails. The code sizes (built without QEMU) are always
+//!   checked: `--quick` measures the baseline's feature set and that of `antialiasing=none` on
+//!   both targets; the csat filter adds code and RAM, and run-time knobs change neither.
 //! - The precision knobs: 16/16 is exactly the default, and fewer bits never improve the error
 //!   against the f64 reference by more than noise.
 
@@ -188,6 +190,7 @@ fn report_accuracy_quick_json_schema() {
     };
     assert_eq!(psnr("acc:evaluation=direct"), psnr("acc:evaluation=auto"));
     assert!(rows.iter().any(|r| r["pareto"] == true));
+    check_code_sizes(&rows);
     // Generated files.
     for f in ["accuracy.md", "accuracy.png", "precision.png"] {
         let p = dir.join(f);
@@ -204,6 +207,9 @@ fn report_accuracy_quick_json_schema() {
         assert!(md.contains(&format!("## `{knob}`")), "accuracy.md: {knob}");
     }
     assert!(md.contains("## Pareto front"));
+    assert!(md.contains("M4F texcore .text (diff)"));
+    assert!(md.contains("**Code size**: unchanged"));
+    assert!(md.contains("unit RAM (diff)"));
     let img = image::open(dir.join("accuracy.png")).unwrap().to_rgb8();
     // The front is drawn in red.
     assert!(img
@@ -216,6 +222,77 @@ fn report_accuracy_quick_json_schema() {
     assert!(text.contains("## after"));
     assert!(text.contains("Cortex-M4F"));
     std::fs::remove_dir_all(&dir).unwrap();
+}
+
+/// The `code_size` fields of a `--quick` run.
+fn check_code_sizes(rows: &[serde_json::Value]) {
+    let row = |id: &str| {
+        rows.iter()
+            .find(|r| r["id"] == id)
+            .unwrap_or_else(|| panic!("{id} missing"))
+    };
+    let base = rows
+        .iter()
+        .find(|r| r["baseline"] == true)
+        .expect("baseline");
+    let none = row("acc:antialiasing=none");
+    let quick_sets = [&base["code_features"], &none["code_features"]];
+    assert_ne!(quick_sets[0], quick_sets[1]);
+    for r in rows {
+        let id = r["id"].as_str().unwrap_or("?");
+        let set = &r["code_features"];
+        assert!(set.is_string(), "{id}: code_features");
+        let Some(c) = r.get("code_size") else {
+            panic!("{id}: code_size missing");
+        };
+        if !quick_sets.contains(&set) {
+            assert!(c.is_null(), "{id}: {set} is not a --quick set: {c}");
+            continue;
+        }
+        let c = c
+            .as_object()
+            .unwrap_or_else(|| panic!("{id}: code_size not measured"));
+        assert_eq!(c.len(), 2, "{id}");
+        for t in TARGETS {
+            let x = &c[t];
+            assert_eq!(&x["features"], set, "{id} {t}");
+            let n = |k: &str| {
+                x[k].as_u64()
+                    .unwrap_or_else(|| panic!("{id} {t}: code_size.{k}"))
+            };
+            assert!(n("texcore_text") > 1000, "{id} {t}");
+            assert!(n("text") > n("texcore_text"), "{id} {t}");
+            assert!(n("rodata") >= 256, "{id} {t}: the permutation table");
+            assert!(n("table_ram") >= 1024, "{id} {t}");
+            assert!(n("instance_ram") > n("table_ram"), "{id} {t}");
+        }
+    }
+    let at = |r: &serde_json::Value, t: &str, k: &str| r["code_size"][t][k].as_u64().unwrap();
+    for t in TARGETS {
+        // The csat filter adds code and RAM.
+        assert!(
+            at(base, t, "texcore_text") > at(none, t, "texcore_text"),
+            "{t}: csat adds code"
+        );
+        assert!(at(base, t, "instance_ram") > at(none, t, "instance_ram"));
+        // Run-time knobs: the baseline's code.
+        for r in rows.iter().filter(|r| {
+            r["combination"] == false
+                && [
+                    "coordinate_bits",
+                    "value_bits",
+                    "octaves",
+                    "gradient_norm",
+                    "evaluation",
+                    "table_size",
+                ]
+                .contains(&r["knob"].as_str().unwrap_or(""))
+        }) {
+            for k in ["texcore_text", "text", "rodata"] {
+                assert_eq!(at(r, t, k), at(base, t, k), "{} {t} {k}", r["id"]);
+            }
+        }
+    }
 }
 
 /// The marble preset's check plane at `bits` coordinate or value bits against the ideal f64

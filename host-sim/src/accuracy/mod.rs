@@ -1,4 +1,4 @@
-//! `texsim report accuracy`: what each accuracy knob of the texture unit costs in time.
+//! `texsim report accuracy`: what each accuracy knob of the texture unit costs in time and code.
 //!
 //! For a documented baseline (the `marble` preset; see [`device_jobs::BASELINE`]) every knob is
 //! varied alone, plus a few combinations that are Pareto-front candidates. Each row gets:
@@ -17,7 +17,8 @@
 //! - **cost**: host nanoseconds per pixel (median and range of repeated timed runs of the
 //!   device's own job code), and exact device instructions per pixel on the Cortex-M4F and
 //!   rv32imc under QEMU ([`device`]), with the device checksum compared against the same code
-//!   run here.
+//!   run here; and the **code size** of texcore on both targets for the features the row's
+//!   configuration needs, with the RAM of one texture-unit instance ([`codesize`]).
 //!
 //! It prints JSON rows (`--json`) or a summary, and writes `docs/accuracy.md`,
 //! `docs/accuracy.png` (error against device instructions, Pareto front highlighted),
@@ -25,6 +26,7 @@
 //! and a generated summary between the `<!-- accuracy:begin -->` and `<!-- accuracy:end -->`
 //! markers of `README.md`.
 
+pub mod codesize;
 pub mod device;
 pub mod font;
 pub mod measure;
@@ -72,7 +74,8 @@ pub struct AccuracyArgs {
     /// Write no files.
     #[arg(long)]
     pub no_write: bool,
-    /// No device measurements (not allowed when CI is set).
+    /// No device measurements: no instruction counts, no code size (not allowed when CI is
+    /// set).
     #[arg(long)]
     pub no_device: bool,
 }
@@ -202,6 +205,12 @@ pub struct RowReport {
     pub device_setup_instructions: BTreeMap<String, u64>,
     /// Whether the device's checksum equals the host's, by target triple.
     pub device_checksum_match: BTreeMap<String, bool>,
+    /// texcore's code size for the features this configuration needs, and the RAM of a
+    /// texture-unit instance, by target triple; `None` when not measured (`--no-device`, or a
+    /// feature set outside `--quick`'s).
+    pub code_size: Option<BTreeMap<String, codesize::CodeSize>>,
+    /// The feature set this configuration needs ([`codesize::feature_set`]), measured or not.
+    pub code_features: String,
     /// The job's checksum computed on the host.
     pub checksum: String,
     /// On the Pareto front (base error against M4F instructions).
@@ -219,8 +228,10 @@ pub struct Report {
     pub quick: bool,
     /// Targets not measured and why.
     pub device_skipped: Vec<String>,
-    /// Seconds: total, device part.
+    /// Seconds: total, device part (QEMU runs and their builds).
     pub seconds: (f64, f64),
+    /// Seconds of building the probe for the code sizes.
+    pub code_seconds: f64,
     /// The marble scene at each coordinate precision (for the contact sheet): bits, image.
     pub precision_images: Vec<(u8, Vec<[u8; 4]>)>,
 }
@@ -345,6 +356,8 @@ pub fn run(quick: bool, policy: DevicePolicy, log: &mut dyn FnMut(&str)) -> Resu
             device_instructions_per_pixel: BTreeMap::new(),
             device_setup_instructions: BTreeMap::new(),
             device_checksum_match: BTreeMap::new(),
+            code_size: None,
+            code_features: codesize::feature_set(cfg),
             checksum: String::new(),
             pareto: false,
         };
@@ -444,6 +457,15 @@ pub fn run(quick: bool, policy: DevicePolicy, log: &mut dyn FnMut(&str)) -> Resu
     log("accuracy: device runs (QEMU)");
     let dev = device::measure(&rows, policy)?;
     apply_device(&mut out, &rows, &dev);
+    let code = if policy == DevicePolicy::Off {
+        codesize::CodeSizes::default()
+    } else {
+        log("accuracy: code size (texcore-probe builds)");
+        codesize::measure(&rows, quick, log)?
+    };
+    for (r, row) in out.iter_mut().zip(&rows) {
+        r.code_size = code.of(&row.cfg);
+    }
     mark_pareto(&mut out, &rows);
     Ok(Report {
         rows: out,
@@ -451,6 +473,7 @@ pub fn run(quick: bool, policy: DevicePolicy, log: &mut dyn FnMut(&str)) -> Resu
         quick,
         device_skipped: dev.skipped.clone(),
         seconds: (start.elapsed().as_secs_f64(), dev.seconds),
+        code_seconds: code.seconds,
         precision_images,
     })
 }

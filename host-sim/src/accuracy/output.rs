@@ -3,6 +3,7 @@
 use std::fmt::Write as _;
 use std::path::Path;
 
+use super::codesize::CodeSize;
 use super::device_jobs::Knob;
 use super::{cost, plot, Report, RowReport, BASELINE_TEXT};
 
@@ -49,6 +50,143 @@ fn host(r: &RowReport) -> String {
         "{:.1} ({:.1}-{:.1})",
         r.host_ns_per_pixel, r.host_ns_min, r.host_ns_max
     )
+}
+
+fn code<'a>(r: &'a RowReport, t: &str) -> Option<&'a CodeSize> {
+    r.code_size.as_ref()?.get(t)
+}
+
+/// The baseline row (the first; it appears under several knobs).
+fn baseline(report: &Report) -> Option<&RowReport> {
+    report.rows.iter().find(|r| r.baseline)
+}
+
+/// A signed difference: `+12`, `-12`, `0`.
+fn delta(v: u64, base: u64) -> String {
+    match v.cmp(&base) {
+        std::cmp::Ordering::Greater => format!("+{}", v - base),
+        std::cmp::Ordering::Less => format!("-{}", base - v),
+        std::cmp::Ordering::Equal => "0".into(),
+    }
+}
+
+/// `value (difference from the baseline)` of a code-size field on target `t`, or `-`.
+fn code_cell(r: &RowReport, base: Option<&RowReport>, t: &str, f: fn(&CodeSize) -> u64) -> String {
+    let Some(c) = code(r, t) else {
+        return "-".into();
+    };
+    match base.and_then(|b| code(b, t)) {
+        Some(b) => format!("{} ({})", f(c), delta(f(c), f(b))),
+        None => f(c).to_string(),
+    }
+}
+
+/// The instance RAM of a row: `M4F (difference)`, with rv32imc's after a slash where it differs.
+fn ram_cell(r: &RowReport, base: Option<&RowReport>) -> String {
+    let m = code_cell(r, base, M4F, |c| c.instance_ram);
+    match (code(r, M4F), code(r, RV)) {
+        (Some(a), Some(b)) if a.instance_ram != b.instance_ram => {
+            format!("{m} / {}", code_cell(r, base, RV, |c| c.instance_ram))
+        }
+        _ => m,
+    }
+}
+
+/// The feature set of `r` as a difference from the baseline's: `+smooth-fade`, `-csat`, or
+/// `same` (the baseline's).
+fn set_change(r: &RowReport, base: &RowReport) -> String {
+    let of = |x: &RowReport| -> Vec<String> {
+        x.code_features
+            .split(',')
+            .filter(|f| *f != "minimal")
+            .map(str::to_string)
+            .collect()
+    };
+    let (a, b) = (of(r), of(base));
+    let mut parts: Vec<String> = a
+        .iter()
+        .filter(|f| !b.contains(f))
+        .map(|f| format!("+{f}"))
+        .collect();
+    parts.extend(b.iter().filter(|f| !a.contains(f)).map(|f| format!("-{f}")));
+    if parts.is_empty() {
+        "same".into()
+    } else {
+        parts.join(" ")
+    }
+}
+
+/// The code-size paragraph of the summary: the baseline's texcore code and every feature set of
+/// a single-knob row that differs from it.
+fn code_summary(report: &Report) -> Option<String> {
+    let base = baseline(report)?;
+    let (bm, br) = (code(base, M4F)?, code(base, RV)?);
+    let mut s = format!(
+        "Code size (texcore `.text` on the Cortex-M4F / rv32imc, for the features a \
+         configuration needs; not an axis of the front): the baseline (`{}`) is {} / {} bytes",
+        base.code_features, bm.texcore_text, br.texcore_text
+    );
+    // Distinct sets of single-knob rows other than the baseline's, in row order.
+    let mut sets: Vec<(&str, Vec<&RowReport>)> = Vec::new();
+    for r in report.rows.iter().filter(|r| !r.combination) {
+        if r.code_features == base.code_features {
+            continue;
+        }
+        match sets.iter_mut().find(|(f, _)| *f == r.code_features) {
+            Some((_, v)) => v.push(r),
+            None => sets.push((&r.code_features, vec![r])),
+        }
+    }
+    let mut parts = Vec::new();
+    let mut unmeasured = Vec::new();
+    for (_, rows) in &sets {
+        // "every `perspective` setting" when the set is that of all of a knob's settings.
+        let knob = rows[0].knob;
+        let of_knob = report
+            .rows
+            .iter()
+            .filter(|r| r.knob == knob && !r.combination)
+            .count();
+        let names =
+            if rows.len() > 1 && rows.iter().all(|r| r.knob == knob) && rows.len() == of_knob {
+                format!("every `{knob}` setting")
+            } else {
+                let names: Vec<String> = rows.iter().map(|r| format!("`{}`", label(r))).collect();
+                names.join(", ")
+            };
+        let (Some(m), Some(v)) = (code(rows[0], M4F), code(rows[0], RV)) else {
+            unmeasured.push(names);
+            continue;
+        };
+        let mut p = format!(
+            "{names} ({}): {} / {}",
+            set_change(rows[0], base),
+            delta(m.texcore_text, bm.texcore_text),
+            delta(v.texcore_text, br.texcore_text)
+        );
+        if m.rodata != bm.rodata || v.rodata != br.rodata {
+            let _ = write!(
+                p,
+                ", `.rodata` {} / {}",
+                delta(m.rodata, bm.rodata),
+                delta(v.rodata, br.rodata)
+            );
+        }
+        parts.push(p);
+    }
+    if parts.is_empty() {
+        s.push('.');
+    } else {
+        let _ = write!(s, "; the settings that change it: {}.", parts.join("; "));
+    }
+    if !unmeasured.is_empty() {
+        let _ = write!(s, " Not measured in this run: {}.", unmeasured.join(", "));
+    }
+    s.push_str(
+        " Every other setting is a run-time choice over the baseline's code; what the table size \
+         and the filter change is the RAM of a texture-unit instance (see their tables).",
+    );
+    Some(s)
 }
 
 /// The configurations the README calls "exact", "within one step" and "cheapest".
@@ -217,6 +355,9 @@ pub fn front_summary(report: &Report) -> String {
             lo.setting, ls.psnr, hs.psnr, hi.setting
         );
     }
+    if let Some(c) = code_summary(report) {
+        let _ = writeln!(s, "\n{c}");
+    }
     s
 }
 
@@ -285,7 +426,89 @@ fn knob_note(k: Knob) -> &'static str {
     }
 }
 
-fn table_for(s: &mut String, rows: &[&RowReport], knob: Option<Knob>) {
+/// The code-size note of a knob's table.
+fn code_note(rows: &[&RowReport], base: Option<&RowReport>) -> String {
+    let Some(base) = base else {
+        return String::new();
+    };
+    let mut sets: Vec<&str> = Vec::new();
+    for r in rows {
+        if !sets.contains(&r.code_features.as_str()) {
+            sets.push(&r.code_features);
+        }
+    }
+    let sizes = |r: &RowReport| match (code(r, M4F), code(r, RV)) {
+        (Some(m), Some(v)) => format!(
+            "texcore `.text` {} bytes on the Cortex-M4F, {} on rv32imc",
+            m.texcore_text, v.texcore_text
+        ),
+        _ => "not measured in this run".into(),
+    };
+    let mut s = match sets.as_slice() {
+        [one] if *one == base.code_features => format!(
+            "**Code size**: unchanged; every setting is a run-time choice over the same code \
+             (`{one}`: {}).",
+            sizes(base)
+        ),
+        [one] => format!(
+            "**Code size**: every setting is a run-time choice over the same code, `{one}` \
+             ({} against the baseline's `{}`): {}.",
+            set_change(rows[0], base),
+            base.code_features,
+            sizes(rows[0])
+        ),
+        _ => format!(
+            "**Code size**: the settings need different code; the texcore `.text` columns give \
+             each feature set's size and its difference from the baseline's (`{}`).",
+            base.code_features
+        ),
+    };
+    let rodata: Vec<String> = rows
+        .iter()
+        .filter_map(|r| {
+            let (m, v) = (code(r, M4F)?, code(r, RV)?);
+            let (bm, bv) = (code(base, M4F)?, code(base, RV)?);
+            (m.rodata != bm.rodata || v.rodata != bv.rodata).then(|| {
+                format!(
+                    "`{}` {} / {}",
+                    r.setting,
+                    delta(m.rodata, bm.rodata),
+                    delta(v.rodata, bv.rodata)
+                )
+            })
+        })
+        .collect();
+    if !rodata.is_empty() {
+        let _ = write!(
+            s,
+            " `.rodata` against the baseline (Cortex-M4F / rv32imc): {}.",
+            rodata.join(", ")
+        );
+    }
+    if ram_differs(rows, Some(base)) {
+        s.push_str(
+            " The settings change the RAM of a texture-unit instance (`unit RAM`): the colour \
+             table with its filter's data (csat sums, MIP levels) depends on the table size and \
+             the filter.",
+        );
+    }
+    s
+}
+
+/// Whether some measured row's instance RAM differs from the baseline's.
+fn ram_differs(rows: &[&RowReport], base: Option<&RowReport>) -> bool {
+    rows.iter().any(|r| {
+        r.code_size.is_some()
+            && [M4F, RV].iter().any(|t| {
+                code(r, t).map(|c| c.instance_ram)
+                    != base.and_then(|b| code(b, t)).map(|c| c.instance_ram)
+            })
+    })
+}
+
+fn table_for(s: &mut String, rows: &[&RowReport], knob: Option<Knob>, base: Option<&RowReport>) {
+    // The RAM column where some row's instance differs from the baseline's.
+    let ram = ram_differs(rows, base);
     let scene = matches!(knob, Some(Knob::CoordinateBits | Knob::ValueBits));
     let aa = matches!(knob, Some(Knob::Antialiasing));
     let mut head = String::from(
@@ -302,9 +525,16 @@ fn table_for(s: &mut String, rows: &[&RowReport], knob: Option<Knob>) {
         sep.push_str("---:|---:|---:|");
     }
     head.push_str(
-        " host ns/px (range) | M4F instr/px | rv32imc instr/px | device = host | front |",
+        " host ns/px (range) | M4F instr/px | rv32imc instr/px | device = host | features | \
+         M4F texcore .text (diff) | rv32imc texcore .text (diff) |",
     );
-    sep.push_str("---:|---:|---:|:-:|:-:|");
+    sep.push_str("---:|---:|---:|:-:|---|---:|---:|");
+    if ram {
+        head.push_str(" unit RAM (diff) |");
+        sep.push_str("---:|");
+    }
+    head.push_str(" front |");
+    sep.push_str(":-:|");
     let _ = writeln!(s, "{head}\n{sep}");
     for r in rows {
         let mut line = format!(
@@ -341,13 +571,19 @@ fn table_for(s: &mut String, rows: &[&RowReport], knob: Option<Knob>) {
         }
         let _ = write!(
             line,
-            " {} | {} | {} | {} | {} |",
+            " {} | {} | {} | {} | `{}` | {} | {} |",
             host(r),
             dev(r, M4F),
             dev(r, RV),
             matched(r),
-            if r.pareto { "yes" } else { "" }
+            r.code_features,
+            code_cell(r, base, M4F, |c| c.texcore_text),
+            code_cell(r, base, RV, |c| c.texcore_text),
         );
+        if ram {
+            let _ = write!(line, " {} |", ram_cell(r, base));
+        }
+        let _ = write!(line, " {} |", if r.pareto { "yes" } else { "" });
         let _ = writeln!(s, "{line}");
     }
     let _ = writeln!(s);
@@ -361,13 +597,15 @@ pub fn markdown(report: &Report) -> String {
     let _ = writeln!(
         s,
         "Generated by `texsim report accuracy`{} on {} rows in {:.0} s ({:.0} s of it building \
-         and running the firmware under QEMU); do not edit by hand. Reproduce with \
+         and running the firmware under QEMU, {:.0} s building the code-size probes); do not \
+         edit by hand. Reproduce with \
          `cargo run --release -p host-sim --bin texsim -- report accuracy`, which rewrites this \
          file, `docs/accuracy.png`, `docs/precision.png` and the summary in `README.md`.\n",
         if report.quick { " --quick" } else { "" },
         report.rows.len(),
         report.seconds.0,
-        report.seconds.1
+        report.seconds.1,
+        report.code_seconds
     );
     let _ = writeln!(s, "**Baseline**: {BASELINE_TEXT}.\n");
     let _ = writeln!(s, "## Method\n");
@@ -393,6 +631,17 @@ pub fn markdown(report: &Report) -> String {
          that builds the same texture, divided by 4096 (perspective rows: the {sw}x{sh} \
          seascape, divided by its pixels). **device = host**: the device's checksum equals the \
          same code run on the host, and the host's error image contains exactly those pixels.\n\
+         - **features / texcore .text**: the features the configuration needs, and the bytes \
+         of `.text` that the DWARF line tables attribute to texcore (inlined code included) on \
+         each target, with the difference from the baseline's, measured as `texsim report size` \
+         does: `texcore-probe` (`firmware/src/probe.rs`, profile `release-size`) built with \
+         exactly those features{quick_sets}. The probe keeps every compiled-in path linked, so \
+         a setting chosen at run time never changes it. Features: {features}; `minimal`: none \
+         of them (value noise, integer hash, no filter).\n\
+         - **unit RAM** (where a knob changes it): one texture-unit instance, i.e. the colour \
+         table with its csat sums or MIP levels at the row's table size, `TextureModel<8>` and \
+         the texture evaluator, in bytes on the Cortex-M4F (rv32imc after a slash where it \
+         differs), with the difference from the baseline's.\n\
          - **front**: on the Pareto front of base PSNR against M4F instructions (host ns when \
          QEMU is missing).\n",
         ps = st.plane_size,
@@ -401,6 +650,17 @@ pub fn markdown(report: &Report) -> String {
         runs = st.host_runs,
         sw = super::device_jobs::SCENE_W,
         sh = super::device_jobs::SCENE_H,
+        quick_sets = if report.quick {
+            " (`--quick`: only the sets of the baseline and of `antialiasing=none`; `-` \
+             elsewhere)"
+        } else {
+            ""
+        },
+        features = super::codesize::FEATURE_RULES
+            .iter()
+            .map(|f| format!("`{}` {}", f.name, f.what))
+            .collect::<Vec<_>>()
+            .join(", "),
     );
     if !report.device_skipped.is_empty() {
         let _ = writeln!(
@@ -426,7 +686,8 @@ pub fn markdown(report: &Report) -> String {
          configuration is on the front when no other is cheaper (M4F instructions) at a base \
          PSNR at most 0.1 dB lower.\n"
     );
-    table_for(&mut s, &fr, None);
+    let base = baseline(report);
+    table_for(&mut s, &fr, None, base);
     for k in Knob::ALL {
         let rows: Vec<&RowReport> = report
             .rows
@@ -437,7 +698,11 @@ pub fn markdown(report: &Report) -> String {
             continue;
         }
         let _ = writeln!(s, "## `{}`\n\n{}\n", k.name(), knob_note(k));
-        table_for(&mut s, &rows, Some(k));
+        let note = code_note(&rows, base);
+        if !note.is_empty() {
+            let _ = writeln!(s, "{note}\n");
+        }
+        table_for(&mut s, &rows, Some(k), base);
         if k == Knob::CoordinateBits && !report.precision_images.is_empty() {
             let _ = writeln!(s, "![marble at each coordinate precision](precision.png)\n");
         }
@@ -445,7 +710,7 @@ pub fn markdown(report: &Report) -> String {
     let combos: Vec<&RowReport> = report.rows.iter().filter(|r| r.combination).collect();
     if !combos.is_empty() {
         let _ = writeln!(s, "## Combinations\n");
-        table_for(&mut s, &combos, None);
+        table_for(&mut s, &combos, None, base);
     }
     s
 }
@@ -509,7 +774,8 @@ pub fn text_summary(report: &Report) -> String {
     for r in &report.rows {
         let _ = writeln!(
             s,
-            "{:<34} psnr {:>6.2} max {:>6.2} within {:>8} host {:>8.1} ns  m4f {:>7}  rv32 {:>7}{}",
+            "{:<34} psnr {:>6.2} max {:>6.2} within {:>8} host {:>8.1} ns  m4f {:>7}  rv32 {:>7}  \
+             code {:>6}{}",
             r.id,
             r.psnr,
             r.max_error,
@@ -517,6 +783,7 @@ pub fn text_summary(report: &Report) -> String {
             r.host_ns_per_pixel,
             dev(r, M4F),
             dev(r, RV),
+            code(r, M4F).map_or("-".into(), |c| c.texcore_text.to_string()),
             if r.pareto { "  front" } else { "" }
         );
     }

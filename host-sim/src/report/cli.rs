@@ -18,9 +18,9 @@ pub enum ReportCommand {
     /// Firmware section sizes per target and feature set, texcore's share of .text and the RAM
     /// of a texture-unit instance; writes docs/size.md.
     Size(SizeArgs),
-    /// Error and cost (host time, exact device instructions) of every accuracy knob, the Pareto
-    /// front; writes docs/accuracy.md, docs/accuracy.png, docs/precision.png and the README
-    /// summary.
+    /// Error and cost (host time, exact device instructions, code size) of every accuracy knob,
+    /// the Pareto front; writes docs/accuracy.md, docs/accuracy.png, docs/precision.png and the
+    /// README summary.
     Accuracy(crate::accuracy::AccuracyArgs),
 }
 

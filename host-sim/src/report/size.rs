@@ -508,6 +508,18 @@ fn row(
     }
 }
 
+/// Builds `texcore-probe` (profile `release-size`, `--no-default-features --features
+/// <features>`: `firmware` features, or texcore's as `texcore/<name>`) for `target` and reads
+/// its ELF. Every build of a feature set overwrites the same ELF, so it is read at once.
+pub(crate) fn probe_facts(
+    run: &RunOptions,
+    target: DeviceTarget,
+    features: &[&str],
+) -> Result<ElfFacts, SizeError> {
+    let elf = build(run, target, "texcore-probe", "release-size", Some(features))?;
+    analyse(&elf)
+}
+
 /// Builds and measures everything; writes the markdown when asked.
 pub fn report(opts: &SizeOptions) -> Result<SizeReport, SizeError> {
     let mut rows = Vec::new();
@@ -517,14 +529,7 @@ pub fn report(opts: &SizeOptions) -> Result<SizeReport, SizeError> {
             .iter()
             .filter(|s| !opts.quick || QUICK_SETS.contains(&s.name))
         {
-            let elf = build(
-                &opts.run,
-                target,
-                "texcore-probe",
-                "release-size",
-                Some(set.features),
-            )?;
-            let facts = analyse(&elf)?;
+            let facts = probe_facts(&opts.run, target, set.features)?;
             if set.name == "full" {
                 let mut files: Vec<(String, u64)> = facts
                     .by_file
