@@ -19,7 +19,7 @@
 //! checks the counter returns exactly `n`.
 
 use crate::counter::{Counter, Sample, NAME, UNIT};
-use crate::jobs::{Ctx, JobFn, JOBS};
+use crate::jobs::{Ctx, JobFn, JOBS, SCENE_JOBS};
 use defmt::println;
 
 const TARGET: &str = env!("FIRMWARE_TARGET");
@@ -95,7 +95,7 @@ pub fn run() -> bool {
     }
 
     let mut count = 0u32;
-    for job in JOBS {
+    for job in JOBS.iter().chain(SCENE_JOBS) {
         let (Some(a), Some(b)) = (
             measure(&mut counter, job.run, &mut ctx),
             measure(&mut counter, job.run, &mut ctx),

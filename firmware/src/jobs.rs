@@ -57,6 +57,9 @@ pub struct Ctx {
     /// The marble + csat texture (built outside the measured window); each marble job sets its
     /// evaluation mode (one texture, not three: the stack is shared with the scene jobs).
     pub marble: Option<Texture<{ workload::TERMS }, 256>>,
+    /// The slot textures of the built-in scene jobs (`crate::suite::scene_band`): here rather
+    /// than in the job's stack frame (about 8 KB per texture, up to six).
+    pub scene_textures: crate::scenes::SlotTextures,
 }
 
 impl Ctx {
@@ -73,6 +76,7 @@ impl Ctx {
                 core::hint::black_box(workload::value_fbm(4, HASH)),
             ],
             marble: core::hint::black_box(workload::marble_csat(HASH, EvalMode::Auto)),
+            scene_textures: heapless::Vec::new(),
         }
     }
 }
@@ -245,6 +249,19 @@ pub static JOBS: &[Job] = &[
         name: "panic_never_canary",
         run: panic_never_canary,
     },
+];
+
+/// The built-in scene jobs (see `crate::suite::scene_band`), run after [`JOBS`]: rows 0..60,
+/// 60..120, 120..180 and 180..240 of each scene, each with its `/setup` job.
+pub static SCENE_JOBS: &[Job] = &crate::suite::builtin_scene_jobs![
+    0 => "wood",
+    1 => "marble",
+    2 => "seascape",
+    3 => "fire",
+    4 => "planet",
+    5 => "moonrise",
+    6 => "zoneplate",
+    7 => "torus",
 ];
 
 /// A job with a bounds-checked index the optimiser cannot remove (only with feature

@@ -4,9 +4,10 @@
 //!
 //! [`render_checksum`] renders any [`TriangleSource`] this way. The device renders [`SCENES`]:
 //! two scenes defined here from the presets, a perspective floor and a depth-tested,
-//! alpha-blended overlay. The built-in scenes of `texcore::scene::builtin` (frame 0, 320 x 240,
-//! one csat texture per slot as `host_sim::scenes::slot_material` builds it) are ready as
-//! [`BUILTIN_SCENES`] / [`builtin`] but not yet registered on the device (see there).
+//! alpha-blended overlay; and the built-in scenes of `texcore::scene::builtin` ([`BUILTIN_SCENES`],
+//! frame 0, 320 x 240, one csat texture per slot as `host_sim::scenes::slot_material` builds it)
+//! in strips of rows ([`builtin_rows`], [`BUILTIN_BANDS`]) with their textures in caller-owned
+//! storage ([`SlotTextures`]).
 
 use texcore::color::Rgba8888;
 use texcore::filter::Antialias;
@@ -64,62 +65,35 @@ pub const SCENES: [SceneJob; 2] = [
     },
 ];
 
-/// The built-in scenes of `texcore::scene::builtin`, ready as workloads but **not registered on
-/// the device yet**: a frame needs one 8 KB texture per slot (`Texture<8, 256>` is sized for the
-/// three-times-long csat) and [`builtin`] builds them on the stack, which takes more than the
-/// device's ~110 KB of stack (its frame is ~126 KB on the Cortex-M4F). Registering them needs
-/// the textures in static storage first. The heavier ones also exceed the Cortex-M4F counter's
-/// window (`m4f: false`).
-pub const BUILTIN_SCENES: [SceneJob; 8] = [
-    SceneJob {
-        name: "wood",
-        size: (builtin::WIDTH, builtin::HEIGHT),
-        m4f: false,
-        run: builtin_wood,
-    },
-    SceneJob {
-        name: "marble",
-        size: (builtin::WIDTH, builtin::HEIGHT),
-        m4f: false,
-        run: builtin_marble,
-    },
-    SceneJob {
-        name: "seascape",
-        size: (builtin::WIDTH, builtin::HEIGHT),
-        m4f: false,
-        run: builtin_seascape,
-    },
-    SceneJob {
-        name: "fire",
-        size: (builtin::WIDTH, builtin::HEIGHT),
-        m4f: true,
-        run: builtin_fire,
-    },
-    SceneJob {
-        name: "planet",
-        size: (builtin::WIDTH, builtin::HEIGHT),
-        m4f: false,
-        run: builtin_planet,
-    },
-    SceneJob {
-        name: "moonrise",
-        size: (builtin::WIDTH, builtin::HEIGHT),
-        m4f: false,
-        run: builtin_moonrise,
-    },
-    SceneJob {
-        name: "zoneplate",
-        size: (builtin::WIDTH, builtin::HEIGHT),
-        m4f: true,
-        run: builtin_zoneplate,
-    },
-    SceneJob {
-        name: "torus",
-        size: (builtin::WIDTH, builtin::HEIGHT),
-        m4f: false,
-        run: builtin_torus,
-    },
-];
+/// The built-in scenes of `texcore::scene::builtin` (frame 0), in that module's order. Each runs
+/// on the device as [`BUILTIN_BANDS`]`.len()` jobs `scene:<name>@<y0>..<y1>`, one per horizontal
+/// strip of rows ([`builtin_rows`]): the Cortex-M4F counter (the SysTick vernier under QEMU)
+/// measures at most 2^24 * 40 = 671 088 640 instructions per job, and a whole frame of the
+/// heavier scenes needs more. The strips render the full scene geometry with the rasteriser
+/// clipped to their rows (`Renderer::render_banded_rows`), so together they are exactly the
+/// frame; each job's checksum is the `ChecksumSink` of its rows alone (the host checksums the
+/// same rows of its whole-frame render).
+pub const BUILTIN_SCENES: [&str; 8] = builtin::BUILTIN;
+
+/// The row strips `y0..y1` of the built-in scene jobs (full 320 x 240 frame, four strips of 60
+/// rows). The firmware's job names (`crate::suite::builtin_scene_jobs`) spell the same strips.
+pub const BUILTIN_BANDS: [(u16, u16); 4] = [(0, 60), (60, 120), (120, 180), (180, 240)];
+
+/// The built-in scene and strip of a job name's scene part (`wood@0..60`): the scene name and
+/// rows, if `what` names a built-in scene and one of [`BUILTIN_BANDS`].
+pub fn builtin_band(what: &str) -> Option<(&str, u16, u16)> {
+    let (name, rows) = what.split_once('@')?;
+    let (a, b) = rows.split_once("..")?;
+    let (a, b) = (a.parse().ok()?, b.parse().ok()?);
+    if !BUILTIN_SCENES.contains(&name) || !BUILTIN_BANDS.contains(&(a, b)) {
+        return None;
+    }
+    Some((name, a, b))
+}
+
+/// The textures of a built-in scene's slots: caller-owned storage (about 8 KB per texture, up to
+/// [`MAX_SLOTS`]), so that they live in the harness context and not in the job's stack frame.
+pub type SlotTextures = heapless::Vec<DeviceTexture, MAX_SLOTS>;
 
 /// The scene called `name`.
 pub fn scene(name: &str) -> Option<&'static SceneJob> {
@@ -324,68 +298,39 @@ pub fn slot_texture(slot: &TextureSlot, hash: HashKind) -> Option<DeviceTexture>
     texture(Material { keys, ..m }, Antialias::Csat)
 }
 
-/// Renders frame 0 of the built-in scene `name` (0 if it or one of its textures cannot be built).
+/// Renders the rows `rows` of frame 0 of the built-in scene `name`, building its slot textures
+/// into `textures` first (0 if the scene or one of its textures cannot be built, or the renderer
+/// refused it). With `work == false` only the textures and the scene are built.
 #[inline(never)]
-pub fn builtin(
+pub fn builtin_rows(
     name: &str,
     hash: HashKind,
     work: bool,
+    rows: core::ops::Range<u16>,
+    textures: &mut SlotTextures,
     band: &mut [Rgba8888],
     depth: &mut [u16],
 ) -> u32 {
     let Some(scene) = builtin::by_name(name).map(|s| s.at_frame(0)) else {
         return 0;
     };
-    let n = scene.slots.len().min(MAX_SLOTS);
-    // One array of MAX_SLOTS textures (about 8 KB each) built in place; slots past `n` repeat
-    // slot 0 and are never drawn (the renderer gets `textures[..n]`). One array only: the stack
-    // (about 110 KB on the device) holds the scene, the textures and the renderer's state.
-    let Some(first) = scene.slots.first().and_then(|s| slot_texture(s, hash)) else {
-        return 0;
-    };
-    let mut ok = true;
-    let textures: [DeviceTexture; MAX_SLOTS] = core::array::from_fn(|i| {
-        if i == 0 || i >= n {
-            return first.clone();
+    textures.clear();
+    for slot in &scene.slots {
+        let Some(t) = slot_texture(slot, hash) else {
+            return 0;
+        };
+        if textures.push(t).is_err() {
+            return 0;
         }
-        match scene.slots.get(i).and_then(|s| slot_texture(s, hash)) {
-            Some(t) => t,
-            None => {
-                ok = false;
-                first.clone()
-            }
-        }
-    });
-    drop(first);
-    if !ok {
-        return 0;
     }
-    let (textures, scene) = core::hint::black_box((&textures, &scene));
-    let Some(textures) = textures.get(..n) else {
-        return 0;
-    };
+    let (textures, scene) = core::hint::black_box((&textures[..], &scene));
     if !work {
         return scene.objects.len() as u32 ^ textures.len() as u32;
     }
-    render_checksum(scene, textures, band, depth)
-}
-
-macro_rules! builtin_fns {
-    ($($f:ident => $name:literal;)*) => {$(
-        #[doc = concat!("The built-in scene `", $name, "` (see [`builtin`]).")]
-        pub fn $f(hash: HashKind, work: bool, band: &mut [Rgba8888], depth: &mut [u16]) -> u32 {
-            builtin($name, hash, work, band, depth)
-        }
-    )*};
-}
-
-builtin_fns! {
-    builtin_wood => "wood";
-    builtin_marble => "marble";
-    builtin_seascape => "seascape";
-    builtin_fire => "fire";
-    builtin_planet => "planet";
-    builtin_moonrise => "moonrise";
-    builtin_zoneplate => "zoneplate";
-    builtin_torus => "torus";
+    let mut sink = ChecksumSink::new();
+    match Renderer::new(textures).render_banded_rows(scene, rows, band, depth, BAND_ROWS, &mut sink)
+    {
+        Ok(_) => sink.checksum(),
+        Err(_) => 0,
+    }
 }

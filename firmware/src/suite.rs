@@ -8,6 +8,9 @@
 //! - `plane:<material>`: a material's 64 x 64 check plane with csat ([`crate::planes`]);
 //! - `stage:<stage>`: one stage of the pixel path alone ([`crate::stages`]);
 //! - `scene:<scene>`: a scene at display size through the banded renderer ([`crate::scenes`]);
+//! - `scene:<builtin>@<y0>..<y1>`: rows `y0..y1` of frame 0 of a built-in scene
+//!   ([`crate::scenes::builtin_rows`], strips [`crate::scenes::BUILTIN_BANDS`]), its slot
+//!   textures built into [`Ctx::scene_textures`];
 //! - `<job>/setup`: the same job's set-up alone (textures, tables, inputs); the host subtracts
 //!   its count to get the per-pixel cost of the work itself.
 
@@ -168,3 +171,44 @@ scene_jobs! {
     floor => scene_floor, scene_floor_setup;
     overlay => scene_overlay, scene_overlay_setup;
 }
+
+/// `scene:<BUILTIN_SCENES[S]>@<BUILTIN_BANDS[B]>`.
+pub fn scene_band<const S: usize, const B: usize>(ctx: &mut Ctx) -> u32 {
+    builtin_band(ctx, S, B, true)
+}
+
+/// `scene:<BUILTIN_SCENES[S]>@<BUILTIN_BANDS[B]>/setup`.
+pub fn scene_band_setup<const S: usize, const B: usize>(ctx: &mut Ctx) -> u32 {
+    builtin_band(ctx, S, B, false)
+}
+
+/// The body of [`scene_band`] and [`scene_band_setup`], shared by every instance.
+#[inline(never)]
+fn builtin_band(ctx: &mut Ctx, s: usize, b: usize, work: bool) -> u32 {
+    if STUBBED {
+        return 0;
+    }
+    let (Some(name), Some(&(y0, y1))) =
+        (scenes::BUILTIN_SCENES.get(s), scenes::BUILTIN_BANDS.get(b))
+    else {
+        return 0;
+    };
+    let textures = &mut ctx.scene_textures;
+    with_bands(|bd, d| scenes::builtin_rows(name, hash(), work, y0..y1, textures, bd, d))
+}
+
+/// The jobs (and `/setup` jobs) of the built-in scenes: `$s` is the index in
+/// [`scenes::BUILTIN_SCENES`] of the scene `$name`; the strips spell [`scenes::BUILTIN_BANDS`].
+macro_rules! builtin_scene_jobs {
+    ($($s:literal => $name:literal),* $(,)?) => {[$(
+        $crate::jobs::Job { name: concat!("scene:", $name, "@0..60"), run: $crate::suite::scene_band::<$s, 0> },
+        $crate::jobs::Job { name: concat!("scene:", $name, "@0..60/setup"), run: $crate::suite::scene_band_setup::<$s, 0> },
+        $crate::jobs::Job { name: concat!("scene:", $name, "@60..120"), run: $crate::suite::scene_band::<$s, 1> },
+        $crate::jobs::Job { name: concat!("scene:", $name, "@60..120/setup"), run: $crate::suite::scene_band_setup::<$s, 1> },
+        $crate::jobs::Job { name: concat!("scene:", $name, "@120..180"), run: $crate::suite::scene_band::<$s, 2> },
+        $crate::jobs::Job { name: concat!("scene:", $name, "@120..180/setup"), run: $crate::suite::scene_band_setup::<$s, 2> },
+        $crate::jobs::Job { name: concat!("scene:", $name, "@180..240"), run: $crate::suite::scene_band::<$s, 3> },
+        $crate::jobs::Job { name: concat!("scene:", $name, "@180..240/setup"), run: $crate::suite::scene_band_setup::<$s, 3> },
+    )*]};
+}
+pub(crate) use builtin_scene_jobs;

@@ -61,10 +61,9 @@ pub fn suite_for(target: DeviceTarget) -> Vec<SuiteJob> {
     jobs.retain(|j| {
         target != DeviceTarget::CortexM4F
             || j.kind != JobKind::Scene
-            || j.name
-                .strip_prefix("scene:")
-                .and_then(scenes::scene)
-                .is_some_and(|s| s.m4f)
+            || j.name.strip_prefix("scene:").is_some_and(|w| {
+                scenes::builtin_band(w).is_some() || scenes::scene(w).is_some_and(|s| s.m4f)
+            })
     });
     jobs
 }
@@ -95,6 +94,16 @@ pub fn suite() -> Vec<SuiteJob> {
             units: u64::from(s.size.0) * u64::from(s.size.1),
             unit: "pixel",
         });
+    }
+    for name in scenes::BUILTIN_SCENES {
+        for (y0, y1) in scenes::BUILTIN_BANDS {
+            jobs.push(SuiteJob {
+                name: format!("scene:{name}@{y0}..{y1}"),
+                kind: JobKind::Scene,
+                units: u64::from(texcore::scene::builtin::WIDTH) * u64::from(y1 - y0),
+                unit: "pixel",
+            });
+        }
     }
     jobs
 }
@@ -144,6 +153,57 @@ pub fn host_builtin_scene_checksum(name: &str, hash: HashKind) -> Option<u32> {
     Some(crate::scenes::checksum(&r.frame))
 }
 
+/// The host's checksum of rows `y0..y1` of frame 0 of built-in scene `name`: the rows of
+/// [`host_builtin_scene_checksum`]'s whole frame (rendered once per scene and hash, then kept),
+/// folded like the device's strip job (`ChecksumSink` over those rows, top to bottom).
+pub fn host_builtin_band_checksum(name: &str, y0: u16, y1: u16, hash: HashKind) -> Option<u32> {
+    use std::collections::HashMap;
+    use texcore::sink::PixelSink as _;
+    use std::sync::Mutex;
+    static FRAMES: Mutex<Option<HashMap<(String, bool), crate::output::Frame>>> = Mutex::new(None);
+    let key = (name.to_string(), hash == HashKind::Permutation);
+    let mut frames = FRAMES.lock().unwrap_or_else(|e| e.into_inner());
+    let frames = frames.get_or_insert_with(HashMap::new);
+    if !frames.contains_key(&key) {
+        let scene = texcore::scene::builtin::by_name(name)?;
+        let r = crate::scenes::render_frame(
+            &scene,
+            0,
+            &UnitConfig::default(),
+            hash,
+            texcore::render::Output::Color,
+        )
+        .ok()?;
+        frames.insert(key.clone(), r.frame);
+    }
+    let frame = frames.get(&key)?;
+    let w = frame.width as usize;
+    let rows = frame.pixels.get(usize::from(y0) * w..usize::from(y1) * w)?;
+    let mut c = ChecksumSink::new();
+    for (y, row) in (y0..).zip(rows.chunks(w.max(1))) {
+        let colors: Vec<Rgba8888> = row.iter().map(|p| Rgba8888::from_array(*p)).collect();
+        c.write_span(0, y, &colors);
+    }
+    Some(c.checksum())
+}
+
+/// The set-up checksum of a built-in scene strip job (textures and scene built, nothing
+/// rendered), through the device's own code.
+fn host_builtin_band_setup(name: &str, y0: u16, y1: u16, hash: HashKind) -> u32 {
+    let mut textures = Box::new(scenes::SlotTextures::new());
+    let mut band = vec![Rgba8888::TRANSPARENT; scenes::BAND_PIXELS];
+    let mut depth = vec![0u16; scenes::BAND_PIXELS];
+    scenes::builtin_rows(
+        name,
+        hash,
+        false,
+        y0..y1,
+        &mut textures,
+        &mut band,
+        &mut depth,
+    )
+}
+
 /// Runs a scene workload on the host with heap band buffers.
 fn host_scene(
     f: fn(HashKind, bool, &mut [Rgba8888], &mut [u16]) -> u32,
@@ -173,6 +233,14 @@ pub fn host_checksum(name: &str, hash: HashKind) -> Option<u32> {
         "plane" if work => host_plane_checksum(what, hash),
         "plane" => Some(planes::setup_checksum(what, hash)),
         "stage" => Some((stages::stage(what)?.run)(hash, work)),
+        "scene" if scenes::builtin_band(what).is_some() => {
+            let (n, y0, y1) = scenes::builtin_band(what)?;
+            if work {
+                host_builtin_band_checksum(n, y0, y1, hash)
+            } else {
+                Some(host_builtin_band_setup(n, y0, y1, hash))
+            }
+        }
         "scene" if work && texcore::scene::builtin::by_name(what).is_some() => {
             host_builtin_scene_checksum(what, hash)
         }
