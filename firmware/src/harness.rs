@@ -8,7 +8,7 @@
 //! TEXFW overhead raw=<u64> repeat=<u64>
 //! TEXFW selftest nops=<u32> measured=<u64> ok=<bool>
 //! TEXFW job name=<str> checksum=<0x........> count=<u64> repeat=<u64> ok=<bool>
-//! TEXFW error what=<str> ...
+//! TEXFW error what=<str> ...            (what=counter-overflow job=<str>: a job too long to count)
 //! TEXFW end pass=<bool> jobs=<u32>
 //! ```
 //!
@@ -50,11 +50,11 @@ static SLEDS: &[(u32, JobFn)] = &[
     (4099, sled::<4099>),
 ];
 
-fn measure(c: &mut Counter, f: JobFn, ctx: &mut Ctx) -> Option<Sample> {
+fn measure(c: &mut Counter, f: JobFn, ctx: &mut Ctx, name: &str) -> Option<Sample> {
     match c.measure(f, ctx) {
         Ok(s) => Some(s),
         Err(_) => {
-            println!("TEXFW error what=counter-overflow");
+            println!("TEXFW error what=counter-overflow job={=str}", name);
             None
         }
     }
@@ -71,8 +71,8 @@ pub fn run() -> bool {
     );
 
     let (Some(o1), Some(o2)) = (
-        measure(&mut counter, empty, &mut ctx),
-        measure(&mut counter, empty, &mut ctx),
+        measure(&mut counter, empty, &mut ctx, "overhead"),
+        measure(&mut counter, empty, &mut ctx, "overhead"),
     ) else {
         println!("TEXFW end pass=false jobs=0");
         return false;
@@ -82,7 +82,7 @@ pub fn run() -> bool {
     let overhead = o1.raw;
 
     for &(n, f) in SLEDS {
-        let measured = match measure(&mut counter, f, &mut ctx) {
+        let measured = match measure(&mut counter, f, &mut ctx, "selftest") {
             Some(s) => s.raw.wrapping_sub(overhead),
             None => u64::MAX,
         };
@@ -97,8 +97,8 @@ pub fn run() -> bool {
     let mut count = 0u32;
     for job in JOBS.iter().chain(SCENE_JOBS) {
         let (Some(a), Some(b)) = (
-            measure(&mut counter, job.run, &mut ctx),
-            measure(&mut counter, job.run, &mut ctx),
+            measure(&mut counter, job.run, &mut ctx, job.name),
+            measure(&mut counter, job.run, &mut ctx, job.name),
         ) else {
             pass = false;
             continue;

@@ -4,10 +4,11 @@
 //!
 //! [`render_checksum`] renders any [`TriangleSource`] this way. The device renders [`SCENES`]:
 //! two scenes defined here from the presets, a perspective floor and a depth-tested,
-//! alpha-blended overlay; and the built-in scenes of `texcore::scene::builtin` ([`BUILTIN_SCENES`],
-//! frame 0, 320 x 240, one csat texture per slot as `host_sim::scenes::slot_material` builds it)
-//! in strips of rows ([`builtin_rows`], [`BUILTIN_BANDS`]) with their textures in caller-owned
-//! storage ([`SlotTextures`]).
+//! alpha-blended overlay; and every built-in scene of `texcore::scene::builtin`
+//! ([`BUILTIN_SCENES`], at its still frame and own size, one csat texture per slot as
+//! `host_sim::scenes::slot_material` builds it) in [`STRIPS`] horizontal strips
+//! ([`builtin_strip`]), each continuing the previous strip's checksum so that the last strip's
+//! is the checksum of the whole frame.
 
 use texcore::color::Rgba8888;
 use texcore::filter::Antialias;
@@ -17,7 +18,7 @@ use texcore::material::PerturbedMaterial;
 use texcore::presets;
 use texcore::raster::{Perspective, ScreenVertex, TriangleOptions};
 use texcore::render::{Blend, DrawObject, Renderer, TriangleSource};
-use texcore::scene::{builtin, TextureSlot, MAX_SLOTS};
+use texcore::scene::{builtin, Scene, TextureSlot};
 use texcore::sink::ChecksumSink;
 use texcore::texture::Shader;
 use texcore::TexPoint;
@@ -65,35 +66,101 @@ pub const SCENES: [SceneJob; 2] = [
     },
 ];
 
-/// The built-in scenes of `texcore::scene::builtin` (frame 0), in that module's order. Each runs
-/// on the device as [`BUILTIN_BANDS`]`.len()` jobs `scene:<name>@<y0>..<y1>`, one per horizontal
-/// strip of rows ([`builtin_rows`]): the Cortex-M4F counter (the SysTick vernier under QEMU)
-/// measures at most 2^24 * 40 = 671 088 640 instructions per job, and a whole frame of the
-/// heavier scenes needs more. The strips render the full scene geometry with the rasteriser
-/// clipped to their rows (`Renderer::render_banded_rows`), so together they are exactly the
-/// frame; each job's checksum is the `ChecksumSink` of its rows alone (the host checksums the
-/// same rows of its whole-frame render).
+/// The built-in scenes of `texcore::scene::builtin`, in that module's order: every one runs on
+/// both devices, each frame as [`STRIPS`] jobs (see [`builtin_strip`]).
 pub const BUILTIN_SCENES: [&str; 8] = builtin::BUILTIN;
 
-/// The row strips `y0..y1` of the built-in scene jobs (full 320 x 240 frame, four strips of 60
-/// rows). The firmware's job names (`crate::suite::builtin_scene_jobs`) spell the same strips.
-pub const BUILTIN_BANDS: [(u16, u16); 4] = [(0, 60), (60, 120), (120, 180), (180, 240)];
+/// Horizontal strips per built-in scene frame, each one device job: the Cortex-M4F counter (the
+/// SysTick vernier under QEMU) measures at most 2^24 * 40 = 671 088 640 instructions per job,
+/// and a whole frame of the heavier scenes needs more (rv32imc's 64-bit `minstret` has no such
+/// limit; both devices run the same strips).
+pub const STRIPS: usize = 4;
 
-/// The built-in scene and strip of a job name's scene part (`wood@0..60`): the scene name and
-/// rows, if `what` names a built-in scene and one of [`BUILTIN_BANDS`].
-pub fn builtin_band(what: &str) -> Option<(&str, u16, u16)> {
-    let (name, rows) = what.split_once('@')?;
-    let (a, b) = rows.split_once("..")?;
-    let (a, b) = (a.parse().ok()?, b.parse().ok()?);
-    if !BUILTIN_SCENES.contains(&name) || !BUILTIN_BANDS.contains(&(a, b)) {
-        return None;
-    }
-    Some((name, a, b))
+/// Texture capacity of the built-in scene jobs: the most slots a built-in scene uses
+/// (`moonrise`). A scene with more would not render (its checksum would be 0); the host test
+/// `every_builtin_scene_fits_the_device` checks that none has.
+pub const SCENE_SLOTS: usize = 4;
+
+/// The textures of a built-in scene's slots (about 8 KB each, csat).
+pub type SlotTextures = heapless::Vec<DeviceTexture, SCENE_SLOTS>;
+
+/// The checksum a frame's first strip continues: the checksum of no pixels.
+pub const FRAME_START: u32 = 0x811C_9DC5;
+
+/// The frame of built-in scene `name` the device renders: its still frame, the one
+/// `texsim render <name>` renders by default.
+pub fn builtin_frame(name: &str) -> Option<Scene> {
+    builtin::by_name(name).map(|s| s.at_frame(s.still))
 }
 
-/// The textures of a built-in scene's slots: caller-owned storage (about 8 KB per texture, up to
-/// [`MAX_SLOTS`]), so that they live in the harness context and not in the job's stack frame.
-pub type SlotTextures = heapless::Vec<DeviceTexture, MAX_SLOTS>;
+/// The rows of strip `k` (of [`STRIPS`]) of an image `height` rows high: `height * k / STRIPS ..
+/// height * (k + 1) / STRIPS`.
+pub fn strip_rows(height: u16, k: usize) -> core::ops::Range<u16> {
+    let at = |k: usize| (usize::from(height) * k.min(STRIPS) / STRIPS) as u16;
+    at(k)..at(k + 1)
+}
+
+/// The built-in scene and strip of a job name's scene part (`wood@2`): the scene's name and the
+/// strip index, if `what` names a built-in scene and a strip below [`STRIPS`].
+pub fn builtin_strip_job(what: &str) -> Option<(&'static str, usize)> {
+    let (name, k) = what.split_once('@')?;
+    let k: usize = k.parse().ok()?;
+    let name = BUILTIN_SCENES.iter().find(|n| **n == name)?;
+    (k < STRIPS).then_some((name, k))
+}
+
+/// Builds the texture of every slot of `scene` into `textures` (false if one cannot be built or
+/// there are more than [`SCENE_SLOTS`]).
+#[inline(never)]
+fn slot_textures(scene: &Scene, hash: HashKind, textures: &mut SlotTextures) -> bool {
+    textures.clear();
+    for slot in &scene.slots {
+        let Some(t) = slot_texture(slot, hash) else {
+            return false;
+        };
+        if textures.push(t).is_err() {
+            return false;
+        }
+    }
+    true
+}
+
+/// Strip `k` of the frame of built-in scene `name` ([`builtin_frame`]): builds the scene and its
+/// slot textures, renders the strip's rows ([`strip_rows`]) through `Renderer::render_banded_rows`
+/// in bands of [`BAND_ROWS`] rows into a `ChecksumSink` that continues `above`, the checksum of
+/// every row above the strip ([`FRAME_START`] for the first strip), and returns its checksum:
+/// the checksum of rows `0 .. end of strip k`, so the last strip's is the whole frame's
+/// (`texsim render <name> --checksum`). 0 if the scene or a texture cannot be built or the
+/// renderer refuses it. With `work == false` only the scene and the textures are built.
+#[inline(never)]
+pub fn builtin_strip(
+    name: &str,
+    hash: HashKind,
+    work: bool,
+    k: usize,
+    above: u32,
+    band: &mut [Rgba8888],
+    depth: &mut [u16],
+) -> u32 {
+    let Some(scene) = builtin_frame(name) else {
+        return 0;
+    };
+    let mut textures = SlotTextures::new();
+    if !slot_textures(&scene, hash, &mut textures) {
+        return 0;
+    }
+    let (textures, scene) = core::hint::black_box((&textures[..], &scene));
+    if !work {
+        return scene.objects.len() as u32 ^ textures.len() as u32;
+    }
+    let rows = strip_rows(scene.size().1, k);
+    let mut sink = ChecksumSink::resume(above);
+    match Renderer::new(textures).render_banded_rows(scene, rows, band, depth, BAND_ROWS, &mut sink)
+    {
+        Ok(_) => sink.checksum(),
+        Err(_) => 0,
+    }
+}
 
 /// The scene called `name`.
 pub fn scene(name: &str) -> Option<&'static SceneJob> {
@@ -296,41 +363,4 @@ pub fn slot_texture(slot: &TextureSlot, hash: HashKind) -> Option<DeviceTexture>
     };
     let keys = slot.keys.unwrap_or(m.keys);
     texture(Material { keys, ..m }, Antialias::Csat)
-}
-
-/// Renders the rows `rows` of frame 0 of the built-in scene `name`, building its slot textures
-/// into `textures` first (0 if the scene or one of its textures cannot be built, or the renderer
-/// refused it). With `work == false` only the textures and the scene are built.
-#[inline(never)]
-pub fn builtin_rows(
-    name: &str,
-    hash: HashKind,
-    work: bool,
-    rows: core::ops::Range<u16>,
-    textures: &mut SlotTextures,
-    band: &mut [Rgba8888],
-    depth: &mut [u16],
-) -> u32 {
-    let Some(scene) = builtin::by_name(name).map(|s| s.at_frame(0)) else {
-        return 0;
-    };
-    textures.clear();
-    for slot in &scene.slots {
-        let Some(t) = slot_texture(slot, hash) else {
-            return 0;
-        };
-        if textures.push(t).is_err() {
-            return 0;
-        }
-    }
-    let (textures, scene) = core::hint::black_box((&textures[..], &scene));
-    if !work {
-        return scene.objects.len() as u32 ^ textures.len() as u32;
-    }
-    let mut sink = ChecksumSink::new();
-    match Renderer::new(textures).render_banded_rows(scene, rows, band, depth, BAND_ROWS, &mut sink)
-    {
-        Ok(_) => sink.checksum(),
-        Err(_) => 0,
-    }
 }
