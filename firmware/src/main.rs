@@ -71,6 +71,8 @@ pub mod planes;
 #[cfg(target_os = "none")]
 pub mod scenes;
 #[cfg(target_os = "none")]
+pub mod stack;
+#[cfg(target_os = "none")]
 pub mod stages;
 #[cfg(target_os = "none")]
 pub mod suite;

@@ -11,6 +11,7 @@
 //!   horizontal strips through the banded renderer into a checksum sink, no frame buffer), every
 //!   strip matches, and the frame's checksum is the host's: what `texsim render <scene>
 //!   --checksum` prints (`--hash int` for rv32imc);
+//! - the stack never came within [`STACK_MARGIN`] bytes of the static data;
 //! - the fast path stays fast: the marble check plane with csat costs at most
 //!   [`marble_bound`] instructions per pixel (exact counts: a regression past the bound fails).
 //!
@@ -324,6 +325,23 @@ fn check(target: DeviceTarget) {
             row.instructions_per_pixel
         );
     }
+    // The stack kept its margin above the static data.
+    let stack = a
+        .stack
+        .as_ref()
+        .expect("the firmware reports its stack use");
+    eprintln!(
+        "{target}: stack used {} of {} bytes (deepest: {})",
+        stack.used, stack.size, stack.job
+    );
+    assert!(
+        stack.used + STACK_MARGIN <= stack.size,
+        "{target}: the stack came within {} bytes of the static data ({} of {} bytes, job {})",
+        stack.size.saturating_sub(stack.used),
+        stack.used,
+        stack.size,
+        stack.job
+    );
     let marble = rows
         .iter()
         .find(|r| r.scene == "plane:marble")
@@ -347,6 +365,11 @@ fn check(target: DeviceTarget) {
     };
     assert_eq!(counts(&a), counts(&b), "{target}: second run differs");
 }
+
+/// Bytes of stack that must never have been used (of about 113 KiB between the static data and
+/// the top of the 128 KiB RAM): the deepest job (`scene:overlay`, three textures on its stack)
+/// used 91 352 bytes on the Cortex-M4F when this was set.
+const STACK_MARGIN: u64 = 8 * 1024;
 
 /// Upper bound of the net instructions per pixel of `plane:marble` (the marble preset's 64 x 64
 /// check plane: quadric + 4 octaves of trilinear value noise, forward differenced, filter-width
