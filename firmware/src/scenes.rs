@@ -93,10 +93,19 @@ pub fn builtin_frame(name: &str) -> Option<Scene> {
     builtin::by_name(name).map(|s| s.at_frame(s.still))
 }
 
-/// The rows of strip `k` (of [`STRIPS`]) of an image `height` rows high: `height * k / STRIPS ..
-/// height * (k + 1) / STRIPS`.
+/// The rows of strip `k` (of [`STRIPS`]) of an image `height` rows high: from `height * k /
+/// STRIPS` rounded down to a multiple of [`BAND_ROWS`] to the next strip's start (the image's
+/// end for the last). Strips start on band boundaries, so together they render exactly the
+/// bands of one `render_banded` call over the whole image (each band walks the whole scene;
+/// 240 rows are 56 + 64 + 56 + 64).
 pub fn strip_rows(height: u16, k: usize) -> core::ops::Range<u16> {
-    let at = |k: usize| (usize::from(height) * k.min(STRIPS) / STRIPS) as u16;
+    let at = |k: usize| {
+        if k >= STRIPS {
+            return height;
+        }
+        let y = usize::from(height) * k / STRIPS;
+        (y - y % usize::from(BAND_ROWS)) as u16
+    };
     at(k)..at(k + 1)
 }
 

@@ -323,15 +323,25 @@ mod tests {
 
     #[test]
     fn strips_cover_the_frame() {
-        for h in [1u16, 3, 4, 240, 256, 257] {
+        for h in [1u16, 3, 4, 31, 32, 240, 256, 257] {
             let mut y = 0;
             for k in 0..scenes::STRIPS {
                 let r = scenes::strip_rows(h, k);
-                assert_eq!(r.start, y);
+                assert_eq!(r.start, y, "{h} {k}");
+                assert!(r.start <= r.end, "{h} {k}");
+                assert_eq!(
+                    r.start % scenes::BAND_ROWS,
+                    0,
+                    "{h} {k}: not on a band boundary"
+                );
                 y = r.end;
             }
             assert_eq!(y, h);
         }
+        let rows: Vec<_> = (0..scenes::STRIPS)
+            .map(|k| scenes::strip_rows(240, k))
+            .collect();
+        assert_eq!(rows, [0..56, 56..120, 120..176, 176..240]);
         assert_eq!(scenes::builtin_strip_job("wood@3"), Some(("wood", 3)));
         assert_eq!(scenes::builtin_strip_job("wood@4"), None);
         assert_eq!(scenes::builtin_strip_job("floor@0"), None);
