@@ -8,7 +8,8 @@
 //! TEXFW overhead raw=<u64> repeat=<u64>
 //! TEXFW selftest nops=<u32> measured=<u64> ok=<bool>
 //! TEXFW job name=<str> checksum=<0x........> count=<u64> repeat=<u64> ok=<bool>
-//! TEXFW error what=<str> ...
+//! TEXFW error what=<str> ...            (what=counter-overflow job=<str>: a job too long to count)
+//! TEXFW stack used=<bytes> size=<bytes> job=<str>
 //! TEXFW end pass=<bool> jobs=<u32>
 //! ```
 //!
@@ -17,9 +18,16 @@
 //! job. `repeat` is a second measurement of the same thing, which must be identical. The self
 //! test measures nop sleds of known length (which compile to the empty job plus `n` nops) and
 //! checks the counter returns exactly `n`.
+//!
+//! `stack`: the deepest the stack has been during the jobs (`crate::stack`: the free stack is
+//! painted before the first job and checked after each), out of `size` bytes between the static
+//! data and the top of RAM, and the first job that reached that depth. The run does not fail on
+//! it (an overflow would already have corrupted the static data); the host test asserts a
+//! margin.
 
 use crate::counter::{Counter, Sample, NAME, UNIT};
-use crate::jobs::{Ctx, JobFn, JOBS};
+use crate::jobs::{Ctx, JobFn, JOBS, SCENE_JOBS};
+use crate::stack;
 use defmt::println;
 
 const TARGET: &str = env!("FIRMWARE_TARGET");
@@ -64,11 +72,11 @@ static SLEDS: &[(u32, JobFn)] = &[
     (4099, sled::<4099>),
 ];
 
-fn measure(c: &mut Counter, f: JobFn, ctx: &mut Ctx) -> Option<Sample> {
+fn measure(c: &mut Counter, f: JobFn, ctx: &mut Ctx, name: &str) -> Option<Sample> {
     match c.measure(f, ctx) {
         Ok(s) => Some(s),
         Err(_) => {
-            println!("TEXFW error what=counter-overflow");
+            println!("TEXFW error what=counter-overflow job={=str}", name);
             None
         }
     }
@@ -85,8 +93,8 @@ pub fn run() -> bool {
     );
 
     let (Some(o1), Some(o2)) = (
-        measure(&mut counter, empty, &mut ctx),
-        measure(&mut counter, empty, &mut ctx),
+        measure(&mut counter, empty, &mut ctx, "overhead"),
+        measure(&mut counter, empty, &mut ctx, "overhead"),
     ) else {
         println!("TEXFW end pass=false jobs=0");
         return false;
@@ -96,7 +104,7 @@ pub fn run() -> bool {
     let overhead = o1.raw;
 
     for &(n, f) in SLEDS {
-        let measured = match measure(&mut counter, f, &mut ctx) {
+        let measured = match measure(&mut counter, f, &mut ctx, "selftest") {
             Some(s) => s.raw.wrapping_sub(overhead),
             None => u64::MAX,
         };
@@ -108,11 +116,13 @@ pub fn run() -> bool {
         );
     }
 
+    stack::paint();
+    let mut peak = (stack::used(), "harness");
     let mut count = 0u32;
-    for job in JOBS.iter().filter(|j| selected(j.name)) {
+    for job in JOBS.iter().chain(SCENE_JOBS).filter(|j| selected(j.name)) {
         let (Some(a), Some(b)) = (
-            measure(&mut counter, job.run, &mut ctx),
-            measure(&mut counter, job.run, &mut ctx),
+            measure(&mut counter, job.run, &mut ctx, job.name),
+            measure(&mut counter, job.run, &mut ctx, job.name),
         ) else {
             pass = false;
             continue;
@@ -128,7 +138,17 @@ pub fn run() -> bool {
             b.raw.wrapping_sub(overhead),
             ok
         );
+        let used = stack::used();
+        if used > peak.0 {
+            peak = (used, job.name);
+        }
     }
+    println!(
+        "TEXFW stack used={=usize} size={=usize} job={=str}",
+        peak.0,
+        stack::size(),
+        peak.1
+    );
     println!("TEXFW end pass={=bool} jobs={=u32}", pass, count);
     pass
 }

@@ -57,13 +57,19 @@ pub struct Ctx {
     /// The marble + csat texture (built outside the measured window); each marble job sets its
     /// evaluation mode (one texture, not three: the stack is shared with the scene jobs).
     pub marble: Option<Texture<{ workload::TERMS }, 256>>,
+    /// Entry `k`: the built-in scene (index in `crate::scenes::BUILTIN_SCENES`) whose strip
+    /// `k - 1` ran last, and the checksum of its rows up to the end of that strip, which strip
+    /// `k` continues (`crate::suite::scene_strip`). Entry 0 is unused (strip 0 starts afresh).
+    pub frame_checksums: [Option<(usize, u32)>; crate::scenes::STRIPS],
 }
 
 impl Ctx {
     /// The `z` coordinate every hash-plane job uses (the host test uses the same).
     pub const PLANE_Z: u16 = 7;
 
-    /// A zeroed line and `z = PLANE_Z`, passed through `black_box`.
+    /// A zeroed line and `z = PLANE_Z`, passed through `black_box`. Not inlined: building the
+    /// textures takes stack that the harness's frame should not keep for the whole run.
+    #[inline(never)]
     pub fn new() -> Self {
         Ctx {
             line: [0; LINE],
@@ -73,6 +79,7 @@ impl Ctx {
                 core::hint::black_box(workload::value_fbm(4, HASH)),
             ],
             marble: core::hint::black_box(workload::marble_csat(HASH, EvalMode::Auto)),
+            frame_checksums: [None; crate::scenes::STRIPS],
         }
     }
 }
@@ -246,6 +253,24 @@ pub static JOBS: &[Job] = &[
         run: panic_never_canary,
     },
 ];
+
+/// The built-in scene jobs (see `crate::suite::scene_strip`), run after [`JOBS`]: the strips of
+/// each scene's frame, top to bottom, each with its `/setup` job.
+#[cfg(not(feature = "accuracy"))]
+pub static SCENE_JOBS: &[Job] = &crate::suite::builtin_scene_jobs![
+    0 => "wood",
+    1 => "marble",
+    2 => "seascape",
+    3 => "fire",
+    4 => "planet",
+    5 => "moonrise",
+    6 => "zoneplate",
+    7 => "torus",
+];
+
+/// With feature `accuracy`: none (the accuracy report's jobs are all in [`JOBS`]).
+#[cfg(feature = "accuracy")]
+pub static SCENE_JOBS: &[Job] = &[];
 
 /// A job with a bounds-checked index the optimiser cannot remove (only with feature
 /// `panic-never-canary`).

@@ -5,7 +5,7 @@
 //! - `thumbv7em-none-eabihf`: Cortex-M4F, QEMU machine `mps2-an386`, `cortex-m-rt`, memory map
 //!   `memory.x` at the repository root (512 KiB flash at 0, 128 KiB RAM at 0x2000_0000).
 //! - `riscv32imc-unknown-none-elf`: RISC-V soft-core class (no FPU, table-free code only), QEMU
-//!   `virt -bios none`, `riscv-rt`, memory map `firmware/memory-riscv.x` (256 KiB + 128 KiB in
+//!   `virt -bios none`, `riscv-rt`, memory map `firmware/memory-riscv.x` (512 KiB + 128 KiB in
 //!   the DRAM window at 0x8000_0000).
 //!
 //! On the host this crate is an empty program (so `cargo test --workspace` builds it).
@@ -42,6 +42,23 @@
 //! measure exactly that) checks that the subtraction is exact on every phase of the SysTick
 //! tick. A reported count is therefore "instructions executed by the job beyond an empty job".
 //!
+//! # What runs
+//!
+//! The hash and span benchmarks of [`jobs`], then the texture-unit suite of [`suite`]: preset
+//! check planes, single stages of the pixel path, two scenes of its own, and every built-in scene
+//! of `texcore::scene::builtin` at display size (320 x 240, the zone plate 256 x 256) with no frame
+//! buffer: each frame as [`scenes::STRIPS`] jobs, one per horizontal strip, rendered in 8-row
+//! bands into a checksum sink that continues the previous strip's checksum, so that the last
+//! strip reports the checksum of the whole frame (equal to `texsim render <scene> --checksum`).
+//!
+//! # Memory
+//!
+//! 128 KiB of RAM on both targets: the static data (the scene renderer's RGBA and depth bands,
+//! 15 KiB, and the logger) at the bottom and the stack above it, no heap. Textures are built on
+//! the stack of the job that uses them (about 8 KiB each with csat; a built-in scene has up to
+//! [`scenes::SCENE_SLOTS`]). The harness paints the free stack before the first job and reports
+//! its high-water mark ([`stack`]).
+//!
 //! # Features
 //!
 //! - `rtt`: log over RTT (`defmt-rtt`, real hardware with probe-rs) instead of semihosting.
@@ -70,6 +87,8 @@ mod logger;
 pub mod planes;
 #[cfg(target_os = "none")]
 pub mod scenes;
+#[cfg(target_os = "none")]
+pub mod stack;
 #[cfg(target_os = "none")]
 pub mod stages;
 #[cfg(target_os = "none")]

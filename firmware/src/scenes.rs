@@ -4,9 +4,11 @@
 //!
 //! [`render_checksum`] renders any [`TriangleSource`] this way. The device renders [`SCENES`]:
 //! two scenes defined here from the presets, a perspective floor and a depth-tested,
-//! alpha-blended overlay. The built-in scenes of `texcore::scene::builtin` (frame 0, 320 x 240,
-//! one csat texture per slot as `host_sim::scenes::slot_material` builds it) are ready as
-//! [`BUILTIN_SCENES`] / [`builtin`] but not yet registered on the device (see there).
+//! alpha-blended overlay; and every built-in scene of `texcore::scene::builtin`
+//! ([`BUILTIN_SCENES`], at its still frame and own size, one csat texture per slot as
+//! `host_sim::scenes::slot_material` builds it) in [`STRIPS`] horizontal strips
+//! ([`builtin_strip`]), each continuing the previous strip's checksum so that the last strip's
+//! is the checksum of the whole frame.
 
 use texcore::color::Rgba8888;
 use texcore::filter::Antialias;
@@ -16,7 +18,7 @@ use texcore::material::PerturbedMaterial;
 use texcore::presets;
 use texcore::raster::{Perspective, ScreenVertex, TriangleOptions};
 use texcore::render::{Blend, DrawObject, Renderer, TriangleSource};
-use texcore::scene::{builtin, TextureSlot, MAX_SLOTS};
+use texcore::scene::{builtin, Scene, TextureSlot};
 use texcore::sink::ChecksumSink;
 use texcore::texture::Shader;
 use texcore::TexPoint;
@@ -64,62 +66,110 @@ pub const SCENES: [SceneJob; 2] = [
     },
 ];
 
-/// The built-in scenes of `texcore::scene::builtin`, ready as workloads but **not registered on
-/// the device yet**: a frame needs one 8 KB texture per slot (`Texture<8, 256>` is sized for the
-/// three-times-long csat) and [`builtin`] builds them on the stack, which takes more than the
-/// device's ~110 KB of stack (its frame is ~126 KB on the Cortex-M4F). Registering them needs
-/// the textures in static storage first. The heavier ones also exceed the Cortex-M4F counter's
-/// window (`m4f: false`).
-pub const BUILTIN_SCENES: [SceneJob; 8] = [
-    SceneJob {
-        name: "wood",
-        size: (builtin::WIDTH, builtin::HEIGHT),
-        m4f: false,
-        run: builtin_wood,
-    },
-    SceneJob {
-        name: "marble",
-        size: (builtin::WIDTH, builtin::HEIGHT),
-        m4f: false,
-        run: builtin_marble,
-    },
-    SceneJob {
-        name: "seascape",
-        size: (builtin::WIDTH, builtin::HEIGHT),
-        m4f: false,
-        run: builtin_seascape,
-    },
-    SceneJob {
-        name: "fire",
-        size: (builtin::WIDTH, builtin::HEIGHT),
-        m4f: true,
-        run: builtin_fire,
-    },
-    SceneJob {
-        name: "planet",
-        size: (builtin::WIDTH, builtin::HEIGHT),
-        m4f: false,
-        run: builtin_planet,
-    },
-    SceneJob {
-        name: "moonrise",
-        size: (builtin::WIDTH, builtin::HEIGHT),
-        m4f: false,
-        run: builtin_moonrise,
-    },
-    SceneJob {
-        name: "zoneplate",
-        size: (builtin::WIDTH, builtin::HEIGHT),
-        m4f: true,
-        run: builtin_zoneplate,
-    },
-    SceneJob {
-        name: "torus",
-        size: (builtin::WIDTH, builtin::HEIGHT),
-        m4f: false,
-        run: builtin_torus,
-    },
-];
+/// The built-in scenes of `texcore::scene::builtin`, in that module's order: every one runs on
+/// both devices, each frame as [`STRIPS`] jobs (see [`builtin_strip`]).
+pub const BUILTIN_SCENES: [&str; 8] = builtin::BUILTIN;
+
+/// Horizontal strips per built-in scene frame, each one device job: the Cortex-M4F counter (the
+/// SysTick vernier under QEMU) measures at most 2^24 * 40 = 671 088 640 instructions per job,
+/// and a whole frame of the heavier scenes needs more (rv32imc's 64-bit `minstret` has no such
+/// limit; both devices run the same strips).
+pub const STRIPS: usize = 4;
+
+/// Texture capacity of the built-in scene jobs: the most slots a built-in scene uses
+/// (`moonrise`). A scene with more would not render (its checksum would be 0); the host test
+/// `every_builtin_scene_fits_the_device` checks that none has.
+pub const SCENE_SLOTS: usize = 4;
+
+/// The textures of a built-in scene's slots (about 8 KB each, csat).
+pub type SlotTextures = heapless::Vec<DeviceTexture, SCENE_SLOTS>;
+
+/// The checksum a frame's first strip continues: the checksum of no pixels.
+pub const FRAME_START: u32 = 0x811C_9DC5;
+
+/// The frame of built-in scene `name` the device renders: its still frame, the one
+/// `texsim render <name>` renders by default.
+pub fn builtin_frame(name: &str) -> Option<Scene> {
+    builtin::by_name(name).map(|s| s.at_frame(s.still))
+}
+
+/// The rows of strip `k` (of [`STRIPS`]) of an image `height` rows high: from `height * k /
+/// STRIPS` rounded down to a multiple of [`BAND_ROWS`] to the next strip's start (the image's
+/// end for the last). Strips start on band boundaries, so together they render exactly the
+/// bands of one `render_banded` call over the whole image (each band walks the whole scene;
+/// 240 rows are 56 + 64 + 56 + 64).
+pub fn strip_rows(height: u16, k: usize) -> core::ops::Range<u16> {
+    let at = |k: usize| {
+        if k >= STRIPS {
+            return height;
+        }
+        let y = usize::from(height) * k / STRIPS;
+        (y - y % usize::from(BAND_ROWS)) as u16
+    };
+    at(k)..at(k + 1)
+}
+
+/// The built-in scene and strip of a job name's scene part (`wood@2`): the scene's name and the
+/// strip index, if `what` names a built-in scene and a strip below [`STRIPS`].
+pub fn builtin_strip_job(what: &str) -> Option<(&'static str, usize)> {
+    let (name, k) = what.split_once('@')?;
+    let k: usize = k.parse().ok()?;
+    let name = BUILTIN_SCENES.iter().find(|n| **n == name)?;
+    (k < STRIPS).then_some((name, k))
+}
+
+/// Builds the texture of every slot of `scene` into `textures` (false if one cannot be built or
+/// there are more than [`SCENE_SLOTS`]).
+#[inline(never)]
+fn slot_textures(scene: &Scene, hash: HashKind, textures: &mut SlotTextures) -> bool {
+    textures.clear();
+    for slot in &scene.slots {
+        let Some(t) = slot_texture(slot, hash) else {
+            return false;
+        };
+        if textures.push(t).is_err() {
+            return false;
+        }
+    }
+    true
+}
+
+/// Strip `k` of the frame of built-in scene `name` ([`builtin_frame`]): builds the scene and its
+/// slot textures, renders the strip's rows ([`strip_rows`]) through `Renderer::render_banded_rows`
+/// in bands of [`BAND_ROWS`] rows into a `ChecksumSink` that continues `above`, the checksum of
+/// every row above the strip ([`FRAME_START`] for the first strip), and returns its checksum:
+/// the checksum of rows `0 .. end of strip k`, so the last strip's is the whole frame's
+/// (`texsim render <name> --checksum`). 0 if the scene or a texture cannot be built or the
+/// renderer refuses it. With `work == false` only the scene and the textures are built.
+#[inline(never)]
+pub fn builtin_strip(
+    name: &str,
+    hash: HashKind,
+    work: bool,
+    k: usize,
+    above: u32,
+    band: &mut [Rgba8888],
+    depth: &mut [u16],
+) -> u32 {
+    let Some(scene) = builtin_frame(name) else {
+        return 0;
+    };
+    let mut textures = SlotTextures::new();
+    if !slot_textures(&scene, hash, &mut textures) {
+        return 0;
+    }
+    let (textures, scene) = core::hint::black_box((&textures[..], &scene));
+    if !work {
+        return scene.objects.len() as u32 ^ textures.len() as u32;
+    }
+    let rows = strip_rows(scene.size().1, k);
+    let mut sink = ChecksumSink::resume(above);
+    match Renderer::new(textures).render_banded_rows(scene, rows, band, depth, BAND_ROWS, &mut sink)
+    {
+        Ok(_) => sink.checksum(),
+        Err(_) => 0,
+    }
+}
 
 /// The scene called `name`.
 pub fn scene(name: &str) -> Option<&'static SceneJob> {
@@ -322,70 +372,4 @@ pub fn slot_texture(slot: &TextureSlot, hash: HashKind) -> Option<DeviceTexture>
     };
     let keys = slot.keys.unwrap_or(m.keys);
     texture(Material { keys, ..m }, Antialias::Csat)
-}
-
-/// Renders frame 0 of the built-in scene `name` (0 if it or one of its textures cannot be built).
-#[inline(never)]
-pub fn builtin(
-    name: &str,
-    hash: HashKind,
-    work: bool,
-    band: &mut [Rgba8888],
-    depth: &mut [u16],
-) -> u32 {
-    let Some(scene) = builtin::by_name(name).map(|s| s.at_frame(0)) else {
-        return 0;
-    };
-    let n = scene.slots.len().min(MAX_SLOTS);
-    // One array of MAX_SLOTS textures (about 8 KB each) built in place; slots past `n` repeat
-    // slot 0 and are never drawn (the renderer gets `textures[..n]`). One array only: the stack
-    // (about 110 KB on the device) holds the scene, the textures and the renderer's state.
-    let Some(first) = scene.slots.first().and_then(|s| slot_texture(s, hash)) else {
-        return 0;
-    };
-    let mut ok = true;
-    let textures: [DeviceTexture; MAX_SLOTS] = core::array::from_fn(|i| {
-        if i == 0 || i >= n {
-            return first.clone();
-        }
-        match scene.slots.get(i).and_then(|s| slot_texture(s, hash)) {
-            Some(t) => t,
-            None => {
-                ok = false;
-                first.clone()
-            }
-        }
-    });
-    drop(first);
-    if !ok {
-        return 0;
-    }
-    let (textures, scene) = core::hint::black_box((&textures, &scene));
-    let Some(textures) = textures.get(..n) else {
-        return 0;
-    };
-    if !work {
-        return scene.objects.len() as u32 ^ textures.len() as u32;
-    }
-    render_checksum(scene, textures, band, depth)
-}
-
-macro_rules! builtin_fns {
-    ($($f:ident => $name:literal;)*) => {$(
-        #[doc = concat!("The built-in scene `", $name, "` (see [`builtin`]).")]
-        pub fn $f(hash: HashKind, work: bool, band: &mut [Rgba8888], depth: &mut [u16]) -> u32 {
-            builtin($name, hash, work, band, depth)
-        }
-    )*};
-}
-
-builtin_fns! {
-    builtin_wood => "wood";
-    builtin_marble => "marble";
-    builtin_seascape => "seascape";
-    builtin_fire => "fire";
-    builtin_planet => "planet";
-    builtin_moonrise => "moonrise";
-    builtin_zoneplate => "zoneplate";
-    builtin_torus => "torus";
 }

@@ -8,8 +8,14 @@
 //! - `plane:<material>`: a material's 64 x 64 check plane with csat ([`crate::planes`]);
 //! - `stage:<stage>`: one stage of the pixel path alone ([`crate::stages`]);
 //! - `scene:<scene>`: a scene at display size through the banded renderer ([`crate::scenes`]);
+//! - `scene:<builtin>@<k>`: strip `k` of a built-in scene's frame ([`crate::scenes::builtin_strip`],
+//!   [`crate::scenes::STRIPS`] strips), its checksum continuing strip `k - 1`'s, so that the last
+//!   strip's checksum is the whole frame's;
 //! - `<job>/setup`: the same job's set-up alone (textures, tables, inputs); the host subtracts
 //!   its count to get the per-pixel cost of the work itself.
+
+// With feature `accuracy` the firmware runs the accuracy report's jobs instead of these.
+#![cfg_attr(feature = "accuracy", allow(unused_macros, unused_imports))]
 
 use crate::jobs::Ctx;
 use crate::scenes::{self, BAND_PIXELS};
@@ -168,3 +174,60 @@ scene_jobs! {
     floor => scene_floor, scene_floor_setup;
     overlay => scene_overlay, scene_overlay_setup;
 }
+
+/// `scene:<BUILTIN_SCENES[S]>@<K>`: strip `K` of a built-in scene's frame.
+pub fn scene_strip<const S: usize, const K: usize>(ctx: &mut Ctx) -> u32 {
+    builtin_strip(ctx, S, K, true)
+}
+
+/// `scene:<BUILTIN_SCENES[S]>@<K>/setup`.
+pub fn scene_strip_setup<const S: usize, const K: usize>(ctx: &mut Ctx) -> u32 {
+    builtin_strip(ctx, S, K, false)
+}
+
+/// The body of [`scene_strip`] and [`scene_strip_setup`], shared by every instance. Strip `k`
+/// continues the checksum that strip `k - 1` of the same scene left in [`Ctx::frame_checksums`]
+/// (and returns 0 if there is none: the jobs run out of order) and leaves its own for strip
+/// `k + 1`; it never changes its own input, so its two measured runs compute the same.
+#[inline(never)]
+fn builtin_strip(ctx: &mut Ctx, s: usize, k: usize, work: bool) -> u32 {
+    if STUBBED {
+        return 0;
+    }
+    let Some(name) = scenes::BUILTIN_SCENES.get(s) else {
+        return 0;
+    };
+    let above = match k {
+        0 => scenes::FRAME_START,
+        _ => match ctx.frame_checksums.get(k) {
+            Some(&Some((scene, c))) if scene == s => c,
+            _ => return 0,
+        },
+    };
+    let c = with_bands(|b, d| scenes::builtin_strip(name, hash(), work, k, above, b, d));
+    if work {
+        if let Some(next) = ctx.frame_checksums.get_mut(k + 1) {
+            *next = Some((s, c));
+        }
+    }
+    c
+}
+
+/// The jobs (and `/setup` jobs) of the built-in scenes: `$s` is the index in
+/// [`scenes::BUILTIN_SCENES`] of the scene `$name`; one job per strip, in order.
+macro_rules! builtin_scene_jobs {
+    ($($s:literal => $name:literal),* $(,)?) => {[$(
+        $crate::jobs::Job { name: concat!("scene:", $name, "@0"), run: $crate::suite::scene_strip::<$s, 0> },
+        $crate::jobs::Job { name: concat!("scene:", $name, "@0/setup"), run: $crate::suite::scene_strip_setup::<$s, 0> },
+        $crate::jobs::Job { name: concat!("scene:", $name, "@1"), run: $crate::suite::scene_strip::<$s, 1> },
+        $crate::jobs::Job { name: concat!("scene:", $name, "@1/setup"), run: $crate::suite::scene_strip_setup::<$s, 1> },
+        $crate::jobs::Job { name: concat!("scene:", $name, "@2"), run: $crate::suite::scene_strip::<$s, 2> },
+        $crate::jobs::Job { name: concat!("scene:", $name, "@2/setup"), run: $crate::suite::scene_strip_setup::<$s, 2> },
+        $crate::jobs::Job { name: concat!("scene:", $name, "@3"), run: $crate::suite::scene_strip::<$s, 3> },
+        $crate::jobs::Job { name: concat!("scene:", $name, "@3/setup"), run: $crate::suite::scene_strip_setup::<$s, 3> },
+    )*]};
+}
+pub(crate) use builtin_scene_jobs;
+
+// `builtin_scene_jobs!` spells the strips out.
+const _: () = assert!(scenes::STRIPS == 4);

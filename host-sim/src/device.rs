@@ -169,6 +169,17 @@ pub struct SelfTest {
     pub pass: bool,
 }
 
+/// The firmware's stack high-water mark (the free stack is painted before the first job).
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub struct StackUse {
+    /// Bytes of stack ever used, from the top of RAM.
+    pub used: u64,
+    /// Bytes between the end of the static data and the top of RAM.
+    pub size: u64,
+    /// The first job that reached `used`.
+    pub job: String,
+}
+
 /// A complete, decoded firmware run.
 #[derive(Clone, Debug, PartialEq, Eq)]
 pub struct DeviceRun {
@@ -188,6 +199,9 @@ pub struct DeviceRun {
     pub selftests: Vec<SelfTest>,
     /// Per-job results, in firmware order.
     pub jobs: Vec<JobResult>,
+    /// The deepest the stack has been during the jobs (`TEXFW stack ..`; `None` if the
+    /// firmware did not report it).
+    pub stack: Option<StackUse>,
     /// The firmware's overall verdict (`TEXFW end pass=..`).
     pub firmware_pass: bool,
     /// QEMU's exit code (the firmware's semihosting exit code).
@@ -504,6 +518,7 @@ pub fn parse_report(target: DeviceTarget, log: &[String], exit_code: i32) -> Opt
         overhead_repeat: 0,
         selftests: Vec::new(),
         jobs: Vec::new(),
+        stack: None,
         firmware_pass: false,
         exit_code,
         log: log.to_vec(),
@@ -541,6 +556,13 @@ pub fn parse_report(target: DeviceTarget, log: &[String], exit_code: i32) -> Opt
                 repeat: get("repeat")?.parse().ok()?,
                 pass: get("ok")? == "true",
             }),
+            "stack" => {
+                run.stack = Some(StackUse {
+                    used: get("used")?.parse().ok()?,
+                    size: get("size")?.parse().ok()?,
+                    job: get("job")?.to_string(),
+                })
+            }
             "end" => {
                 run.firmware_pass = get("pass")? == "true";
                 end = true;
@@ -599,10 +621,19 @@ mod tests {
              TEXFW overhead raw=11 repeat=11\n\
              TEXFW selftest nops=40 measured=40 ok=true\n\
              TEXFW job name=a checksum=0x0000002a count=100 repeat=100 ok=true\n\
+             TEXFW stack used=9000 size=115564 job=a\n\
              TEXFW end pass=true jobs=1",
         );
         let run = parse_report(DeviceTarget::Riscv32imc, &log, 0).expect("complete report");
         assert!(run.pass());
+        assert_eq!(
+            run.stack,
+            Some(StackUse {
+                used: 9000,
+                size: 115_564,
+                job: "a".into()
+            })
+        );
         assert_eq!(run.overhead, 11);
         assert_eq!(
             run.job("a").map(|j| (j.checksum, j.instructions)),

@@ -210,6 +210,27 @@ fn forward_differencing_equals_direct_evaluation_for_every_builtin_scene() {
     let _ = std::fs::remove_dir_all(&dir);
 }
 
+/// `texsim render <scene> --checksum` prints the frame checksum the device's strip jobs must
+/// add up to (`host_sim::report::host_builtin_scene_checksum`, which `texsim report cycles` and
+/// the firmware test compare the device with), for both lattice hashes.
+#[test]
+fn render_checksum_is_the_device_frame_checksum() {
+    use texcore::hash::HashKind;
+    for name in texcore::scene::BUILTIN {
+        for (hash, args) in [
+            (HashKind::Permutation, &[][..]),
+            (HashKind::Integer, &["--hash", "int"][..]),
+        ] {
+            let mut cmd = vec!["render", name, "--checksum"];
+            cmd.extend_from_slice(args);
+            let r = texsim(&cmd);
+            ok(&r, name);
+            let want = host_sim::report::host_builtin_scene_checksum(name, hash).unwrap();
+            assert_eq!(r.stdout.trim(), format!("{want:08x}"), "{cmd:?}");
+        }
+    }
+}
+
 fn stats(args: &[&str]) -> serde_json::Value {
     let r = texsim(args);
     ok(&r, &args.join(" "));

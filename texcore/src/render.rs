@@ -281,8 +281,26 @@ impl<'t, const T: usize, const N: usize> Renderer<'t, T, N> {
         band_rows: u16,
         sink: &mut P,
     ) -> Result<RenderStats, RenderError> {
+        let h = scene.size().1;
+        self.render_banded_rows(scene, 0..h, band, depth, band_rows, sink)
+    }
+
+    /// [`Renderer::render_banded`] restricted to the image rows `rows` (clipped to the image):
+    /// the same scene geometry, with the rasteriser clipped to those rows, so the rows written to
+    /// `sink` are exactly the rows `rows` of the whole image (a frame can be rendered as several
+    /// independent horizontal strips, e.g. to bound the work of one call).
+    pub fn render_banded_rows<S: TriangleSource, P: PixelSink>(
+        &self,
+        scene: &S,
+        rows: core::ops::Range<u16>,
+        band: &mut [Rgba8888],
+        depth: &mut [u16],
+        band_rows: u16,
+        sink: &mut P,
+    ) -> Result<RenderStats, RenderError> {
         self.check(scene)?;
         let (w, h) = scene.size();
+        let (first, end) = (rows.start.min(h), rows.end.min(h));
         let uses_depth =
             (0..scene.object_count()).any(|i| scene.object(i).is_some_and(|o| o.depth));
         let rows = band_rows.max(1).min(h.max(1));
@@ -301,9 +319,9 @@ impl<'t, const T: usize, const N: usize> Renderer<'t, T, N> {
         let mut stats = RenderStats::default();
         let mut raster = Rasterizer::new(Rect::from_size(w, h));
         let bg = scene.background();
-        let mut y0 = 0u16;
-        while y0 < h {
-            let y1 = y0.saturating_add(rows).min(h);
+        let mut y0 = first;
+        while y0 < end {
+            let y1 = y0.saturating_add(rows).min(end);
             let band_rect = Rect::new(0, y0, w, y1);
             raster.set_clip(band_rect);
             buf.set_y0(y0);

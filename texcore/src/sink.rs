@@ -271,6 +271,10 @@ where
 /// (little-endian bytes) in the order they arrive. Rendering writes every row once, top to bottom
 /// (banded) or object by object (streamed), so compare checksums of the same render path; the
 /// device and the host use this same sink, so their checksums of a scene must be equal.
+///
+/// The checksum is the whole state of the hash, so an image written in several parts by
+/// separate calls (horizontal strips of a banded render, top to bottom) gets the checksum of the
+/// whole image when each part continues the previous one's with [`ChecksumSink::resume`].
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub struct ChecksumSink {
     hash: u32,
@@ -290,6 +294,16 @@ impl ChecksumSink {
     /// A fresh checksum.
     pub fn new() -> Self {
         Self::default()
+    }
+
+    /// Continues a checksum: the sink is in the state it was in when it returned `checksum`
+    /// (its pixel count starts again at 0). `resume(ChecksumSink::new().checksum())` is a fresh
+    /// sink.
+    pub fn resume(checksum: u32) -> Self {
+        ChecksumSink {
+            hash: checksum,
+            pixels: 0,
+        }
     }
 
     /// The checksum so far.
@@ -337,6 +351,27 @@ mod tests {
         }
         assert_eq!(c.checksum(), h);
         assert_eq!(c.pixels(), 2);
+    }
+
+    #[test]
+    fn checksum_resumes_across_parts() {
+        let rows = [
+            [Rgba8888::WHITE, Rgba8888::new(1, 2, 3, 255)],
+            [Rgba8888::new(200, 100, 50, 255), Rgba8888::BLACK],
+            [Rgba8888::new(9, 99, 199, 255), Rgba8888::WHITE],
+        ];
+        let mut whole = ChecksumSink::new();
+        for (y, r) in (0..).zip(&rows) {
+            whole.write_span(0, y, r);
+        }
+        let mut top = ChecksumSink::resume(ChecksumSink::new().checksum());
+        top.write_span(0, 0, &rows[0]);
+        let mut rest = ChecksumSink::resume(top.checksum());
+        rest.write_span(0, 1, &rows[1]);
+        rest.write_span(0, 2, &rows[2]);
+        assert_eq!(rest.checksum(), whole.checksum());
+        assert_eq!(rest.pixels(), 4);
+        assert_eq!(ChecksumSink::resume(0x811C_9DC5), ChecksumSink::new());
     }
 
     #[test]

@@ -1,16 +1,19 @@
 //! `texsim report cycles`: instructions per pixel of every device job on both targets.
 //!
 //! Builds the firmware (release) for the Cortex-M4F and rv32imc, runs it under QEMU with
-//! `-icount shift=0` (exact instruction counts, see `host_sim::device`), and for every job of the
+//! `-icount shift=0` (exact instruction counts, see `host_sim::device`), and for every row of the
 //! texture-unit suite ([`super::suite`]) reports
 //!
 //! - `instructions`: the job's count minus its `/setup` job's count (textures, tables and inputs
-//!   built, nothing shaded), i.e. the instructions of the work itself;
-//! - `instructions_per_pixel`: that divided by the job's units (pixels; look-ups or triangles
+//!   built, nothing shaded), i.e. the instructions of the work itself; a built-in scene's frame
+//!   is rendered as several jobs (horizontal strips, so that each fits the Cortex-M4F counter's
+//!   window, [`M4F_WINDOW`]) and its row adds them up;
+//! - `instructions_per_pixel`: that divided by the row's units (pixels; look-ups or triangles
 //!   for the stages whose `unit` says so);
 //! - `checksum_match`: the device's checksum equals the host's checksum of the same job with the
 //!   same lattice hash (the one the device reports in its `config:hash` job), and the set-up
-//!   checksums match too.
+//!   checksums match too; for a built-in scene every strip matches and the last strip's
+//!   checksum, the whole frame's, equals what `texsim render <scene> --checksum` prints.
 
 use std::fmt::Write as _;
 use std::path::PathBuf;
@@ -39,19 +42,31 @@ pub struct CycleRow {
     pub units: u64,
     /// Net instructions per unit (`instructions / units`).
     pub instructions_per_pixel: f64,
-    /// Net instructions: the job minus its set-up job.
+    /// Net instructions: the job minus its set-up job (summed over a built-in scene's strips).
     pub instructions: u64,
-    /// Instructions of the set-up job alone.
+    /// Instructions of the set-up job alone (summed over a built-in scene's strips: each strip
+    /// builds the scene and its textures again).
     pub setup_instructions: u64,
+    /// Device jobs the row adds up: 1, or a built-in scene's strips.
+    pub device_jobs: usize,
+    /// The largest count of one of those jobs (set-up included): what the Cortex-M4F counter
+    /// must measure in one window ([`M4F_WINDOW`]).
+    pub max_job_instructions: u64,
     /// Lattice hash the device shaded with.
     pub hash: String,
-    /// Device checksum (hex).
+    /// Device checksum (hex): a built-in scene's is its last strip's, the whole frame's.
     pub device_checksum: String,
-    /// Host checksum of the same job (hex).
+    /// Host checksum of the same job (hex): a built-in scene's is what
+    /// `texsim render <scene> --checksum` prints (`--hash int` for the integer hash).
     pub host_checksum: String,
-    /// Device and host agree on the job and on its set-up.
+    /// Device and host agree on the job and on its set-up (on every strip of a built-in scene
+    /// and its set-up, and on the whole frame).
     pub checksum_match: bool,
 }
+
+/// The most instructions the Cortex-M4F counter (the SysTick vernier under QEMU) measures in
+/// one job: 2^24 ticks of 40 instructions.
+pub const M4F_WINDOW: u64 = (1 << 24) * 40;
 
 /// Options of the report.
 #[derive(Clone, Debug)]
@@ -80,13 +95,14 @@ impl Default for CyclesOptions {
     }
 }
 
-/// The jobs of `--quick`: the fast-path reference (marble check plane with csat), one octave of
-/// noise, the csat filter and one scene.
-pub const QUICK_JOBS: [&str; 4] = [
+/// The rows of `--quick`: the fast-path reference (marble check plane with csat), one octave of
+/// noise, the csat filter, one suite scene and one built-in scene.
+pub const QUICK_JOBS: [&str; 5] = [
     "plane:marble",
     "stage:noise-octave",
     "stage:csat",
     "scene:floor",
+    "scene:fire",
 ];
 
 /// Why the report could not be made.
@@ -139,14 +155,29 @@ pub fn rows_for_run(
         .ok_or_else(|| missing("config:hash"))?;
     let mut rows = Vec::new();
     for job in jobs {
-        let setup_name = format!("{}/setup", job.name);
-        let main = run.job(&job.name).ok_or_else(|| missing(&job.name))?;
-        let setup = run.job(&setup_name).ok_or_else(|| missing(&setup_name))?;
-        let host =
-            host_checksum(&job.name, hash).ok_or_else(|| CyclesError::NoHost(job.name.clone()))?;
-        let host_setup = host_checksum(&setup_name, hash)
-            .ok_or_else(|| CyclesError::NoHost(setup_name.clone()))?;
-        let net = main.instructions.saturating_sub(setup.instructions);
+        let (mut net, mut setup_sum, mut max_job) = (0u64, 0u64, 0u64);
+        let (mut parts_match, mut last, mut last_host) = (true, 0u32, None);
+        for name in &job.device_jobs {
+            let setup_name = format!("{name}/setup");
+            let main = run.job(name).ok_or_else(|| missing(name))?;
+            let setup = run.job(&setup_name).ok_or_else(|| missing(&setup_name))?;
+            let host =
+                host_checksum(name, hash).ok_or_else(|| CyclesError::NoHost(name.clone()))?;
+            let host_setup = host_checksum(&setup_name, hash)
+                .ok_or_else(|| CyclesError::NoHost(setup_name.clone()))?;
+            net += main.instructions.saturating_sub(setup.instructions);
+            setup_sum += setup.instructions;
+            max_job = max_job.max(main.instructions).max(setup.instructions);
+            parts_match &= main.checksum == host && setup.checksum == host_setup;
+            (last, last_host) = (main.checksum, Some(host));
+        }
+        // A row of several jobs (a built-in scene's strips) is also checked as a whole: the last
+        // strip's checksum is the frame's, which the host computes from its own whole frame.
+        let host = match job.device_jobs.as_slice() {
+            [one] if *one == job.name => last_host,
+            _ => host_checksum(&job.name, hash),
+        }
+        .ok_or_else(|| CyclesError::NoHost(job.name.clone()))?;
         rows.push(CycleRow {
             target: target.triple().to_string(),
             scene: job.name.clone(),
@@ -156,11 +187,13 @@ pub fn rows_for_run(
             units: job.units,
             instructions_per_pixel: net as f64 / job.units.max(1) as f64,
             instructions: net,
-            setup_instructions: setup.instructions,
+            setup_instructions: setup_sum,
+            device_jobs: job.device_jobs.len(),
+            max_job_instructions: max_job,
             hash: hash_name(hash).to_string(),
-            device_checksum: format!("{:#010x}", main.checksum),
+            device_checksum: format!("{last:#010x}"),
             host_checksum: format!("{host:#010x}"),
-            checksum_match: main.checksum == host && setup.checksum == host_setup,
+            checksum_match: parts_match && !job.device_jobs.is_empty() && last == host,
         });
     }
     Ok(rows)
@@ -208,12 +241,20 @@ pub fn markdown(rows: &[CycleRow], quick: bool) -> String {
          SysTick vernier; see `firmware/src/counter.rs`), release build. `instr/unit` is the \
          job's count minus its `/setup` job's count (textures, tables and inputs built, nothing \
          shaded), divided by its units. Check planes are 64 x 64 pixels in spans of 16 with a \
-         256-entry colour table and csat; scenes are rendered at display size through \
-         `Renderer::render_banded` with 8-row bands into a `ChecksumSink`. `match`: the device's \
-         checksum equals the host's for the same job and lattice hash (Cortex-M4F: permutation \
-         table, rv32imc: integer hash). The Cortex-M4F counter (SysTick vernier) measures at most \
-         671 088 640 instructions per job, so the M4F renders only the scenes whose frame fits; \
-         rv32imc renders every built-in scene."
+         256-entry colour table and csat; scenes are rendered at display size (320 x 240; the \
+         zone plate 256 x 256) through `Renderer::render_banded` with 8-row bands into a \
+         `ChecksumSink` (FNV-1a over RGB565), no frame buffer. The built-in scenes (`scene:wood` \
+         to `scene:torus`, their still frame) are rendered in {} horizontal strips \
+         (`Renderer::render_banded_rows`), one device job each (their counts are summed here), \
+         each strip's checksum continuing the previous one's: \
+         the last strip's is the checksum of the whole frame, which must equal \
+         `texsim render <scene> --checksum` (with `--hash int` on rv32imc). `match`: the device's \
+         checksum equals the host's for the same job, its set-up and (built-in scenes) every \
+         strip, with the same lattice hash (Cortex-M4F: permutation table, rv32imc: integer \
+         hash). The Cortex-M4F counter (SysTick vernier) measures at most {} instructions per \
+         job; `largest job` is the largest single count (set-up included) of a row's jobs.",
+        super::scenes::STRIPS,
+        super::group(M4F_WINDOW),
     );
     let mut targets: Vec<&str> = rows.iter().map(|r| r.target.as_str()).collect();
     targets.dedup();
@@ -223,19 +264,20 @@ pub fn markdown(rows: &[CycleRow], quick: bool) -> String {
         let _ = writeln!(s);
         let _ = writeln!(
             s,
-            "| job | unit | units | instr/unit | instructions | set-up | hash | checksum | match |"
+            "| job | unit | units | instr/unit | instructions | set-up | largest job | hash | checksum | match |"
         );
-        let _ = writeln!(s, "|---|---|---:|---:|---:|---:|---|---|---|");
+        let _ = writeln!(s, "|---|---|---:|---:|---:|---:|---:|---|---|---|");
         for r in rows.iter().filter(|r| r.target == t) {
             let _ = writeln!(
                 s,
-                "| `{}` | {} | {} | {:.1} | {} | {} | {} | `{}` | {} |",
+                "| `{}` | {} | {} | {:.1} | {} | {} | {} | {} | `{}` | {} |",
                 r.scene,
                 r.unit,
                 super::group(r.units),
                 r.instructions_per_pixel,
                 super::group(r.instructions),
                 super::group(r.setup_instructions),
+                super::group(r.max_job_instructions),
                 r.hash,
                 r.device_checksum,
                 if r.checksum_match { "yes" } else { "**NO**" }

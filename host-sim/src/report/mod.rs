@@ -40,10 +40,12 @@ pub enum JobKind {
     Scene,
 }
 
-/// A device job of the texture-unit suite and its amount of work.
+/// A row of the texture-unit suite: a workload, its amount of work and the device jobs that
+/// measure it.
 #[derive(Clone, Debug, PartialEq, Eq)]
 pub struct SuiteJob {
-    /// Job name as the firmware reports it (`plane:marble`, `stage:csat`, `scene:floor`).
+    /// Row name: the job name as the firmware reports it (`plane:marble`, `stage:csat`,
+    /// `scene:floor`), or a built-in scene's (`scene:wood`) whose frame is several jobs.
     pub name: String,
     /// Kind.
     pub kind: JobKind,
@@ -51,48 +53,70 @@ pub struct SuiteJob {
     pub units: u64,
     /// What a unit is.
     pub unit: &'static str,
+    /// The device jobs whose counts add up to the row, in firmware order, each with its
+    /// `<job>/setup` job: `[name]`, or a built-in scene's strips `name@0 ..`
+    /// ([`scenes::STRIPS`] of them, see [`scenes::builtin_strip`]).
+    pub device_jobs: Vec<String>,
 }
 
-/// Every job of the suite on `target`, in firmware order (each also has a `<name>/setup` job).
-/// The Cortex-M4F runs the scenes whose frame fits its counter's window
-/// ([`scenes::SceneJob::m4f`]); rv32imc runs them all.
+/// Every row of the suite on `target`, in firmware order. The Cortex-M4F runs the scenes of
+/// [`scenes::SCENES`] whose frame fits its counter's window ([`scenes::SceneJob::m4f`]) and every
+/// built-in scene (in strips, each within the window); rv32imc runs them all.
 pub fn suite_for(target: DeviceTarget) -> Vec<SuiteJob> {
     let mut jobs = suite();
     jobs.retain(|j| {
         target != DeviceTarget::CortexM4F
             || j.kind != JobKind::Scene
-            || j.name
-                .strip_prefix("scene:")
-                .and_then(scenes::scene)
-                .is_some_and(|s| s.m4f)
+            || j.name.strip_prefix("scene:").is_some_and(|w| {
+                texcore::scene::builtin::by_name(w).is_some()
+                    || scenes::scene(w).is_some_and(|s| s.m4f)
+            })
     });
     jobs
 }
 
-/// Every job of the suite on any target, in firmware order (each also has a `<name>/setup` job).
+/// Every row of the suite on any target, in firmware order.
 pub fn suite() -> Vec<SuiteJob> {
+    let one = |name: String, kind: JobKind, units: u64, unit: &'static str| SuiteJob {
+        device_jobs: vec![name.clone()],
+        name,
+        kind,
+        units,
+        unit,
+    };
     let mut jobs = Vec::new();
     for m in planes::MATERIALS {
-        jobs.push(SuiteJob {
-            name: format!("plane:{m}"),
-            kind: JobKind::Plane,
-            units: u64::from(planes::SIZE * planes::SIZE),
-            unit: "pixel",
-        });
+        jobs.push(one(
+            format!("plane:{m}"),
+            JobKind::Plane,
+            u64::from(planes::SIZE * planes::SIZE),
+            "pixel",
+        ));
     }
     for s in stages::STAGES {
-        jobs.push(SuiteJob {
-            name: format!("stage:{}", s.name),
-            kind: JobKind::Stage,
-            units: u64::from(s.units),
-            unit: s.unit,
-        });
+        jobs.push(one(
+            format!("stage:{}", s.name),
+            JobKind::Stage,
+            u64::from(s.units),
+            s.unit,
+        ));
     }
     for s in scenes::SCENES {
+        jobs.push(one(
+            format!("scene:{}", s.name),
+            JobKind::Scene,
+            u64::from(s.size.0) * u64::from(s.size.1),
+            "pixel",
+        ));
+    }
+    for name in scenes::BUILTIN_SCENES {
+        let (w, h) = scenes::builtin_frame(name).map_or((0, 0), |s| s.size());
+        let name = format!("scene:{name}");
         jobs.push(SuiteJob {
-            name: format!("scene:{}", s.name),
+            device_jobs: (0..scenes::STRIPS).map(|k| format!("{name}@{k}")).collect(),
+            name,
             kind: JobKind::Scene,
-            units: u64::from(s.size.0) * u64::from(s.size.1),
+            units: u64::from(w) * u64::from(h),
             unit: "pixel",
         });
     }
@@ -129,19 +153,82 @@ pub fn host_plane_checksum(name: &str, hash: HashKind) -> Option<u32> {
     Some(sink.checksum())
 }
 
-/// The host's checksum of frame 0 of built-in scene `name` (csat, 256 entries), through
-/// [`crate::scenes::render_frame`]: the host's own scene textures and renderer, whole frame.
-pub fn host_builtin_scene_checksum(name: &str, hash: HashKind) -> Option<u32> {
+/// The frame of built-in scene `name` that `texsim render <name>` renders by default (its still
+/// frame, default knobs, `hash`), through the host's own scene textures and renderer
+/// ([`crate::scenes::render_frame`]).
+fn host_builtin_frame(name: &str, hash: HashKind) -> Option<crate::output::Frame> {
     let scene = texcore::scene::builtin::by_name(name)?;
     let r = crate::scenes::render_frame(
         &scene,
-        0,
+        scene.still,
         &UnitConfig::default(),
         hash,
         texcore::render::Output::Color,
     )
     .ok()?;
-    Some(crate::scenes::checksum(&r.frame))
+    Some(r.frame)
+}
+
+/// The host's checksum of built-in scene `name` as `texsim render <name> --checksum` prints it
+/// (with `--hash int` for [`HashKind::Integer`]): its still frame with the default knobs, FNV-1a
+/// over the RGB565 pixels, row-major ([`crate::scenes::checksum`]).
+pub fn host_builtin_scene_checksum(name: &str, hash: HashKind) -> Option<u32> {
+    host_frame_rows(name, hash).and_then(|rows| rows.last().copied())
+}
+
+/// The host's expected checksum of the device job for strip `k` of built-in scene `name`: the
+/// checksum of the rows of [`host_builtin_scene_checksum`]'s frame from the top to the end of
+/// the strip ([`scenes::strip_rows`]), so the last strip's is the whole frame's.
+pub fn host_builtin_strip_checksum(name: &str, k: usize, hash: HashKind) -> Option<u32> {
+    let rows = host_frame_rows(name, hash)?;
+    let h = u16::try_from(rows.len().checked_sub(1)?).ok()?;
+    rows.get(usize::from(scenes::strip_rows(h, k).end)).copied()
+}
+
+/// Entry `y`: the checksum of rows `0..y` of the host frame of built-in scene `name` (entry 0:
+/// no rows; the last: the whole frame). Rendered once per scene and hash, then kept.
+fn host_frame_rows(name: &str, hash: HashKind) -> Option<std::sync::Arc<Vec<u32>>> {
+    use std::collections::HashMap;
+    use std::sync::{Arc, Mutex};
+    type Cache = Mutex<HashMap<(String, bool), Arc<Vec<u32>>>>;
+    static ROWS: std::sync::OnceLock<Cache> = std::sync::OnceLock::new();
+    let key = (name.to_string(), hash == HashKind::Permutation);
+    let cache = ROWS.get_or_init(Cache::default);
+    if let Some(r) = cache.lock().unwrap_or_else(|e| e.into_inner()).get(&key) {
+        return Some(r.clone());
+    }
+    let frame = host_builtin_frame(name, hash)?;
+    let mut rows = vec![ChecksumSink::new().checksum()];
+    let mut c = ChecksumSink::new();
+    for row in frame.pixels.chunks(frame.width.max(1) as usize) {
+        for p in row {
+            c.add_rgb565(Rgba8888::from_array(*p).to_rgb565().to_bits());
+        }
+        rows.push(c.checksum());
+    }
+    debug_assert_eq!(rows.last().copied(), Some(crate::scenes::checksum(&frame)));
+    let rows = Arc::new(rows);
+    cache
+        .lock()
+        .unwrap_or_else(|e| e.into_inner())
+        .insert(key, rows.clone());
+    Some(rows)
+}
+
+/// The set-up checksum of a built-in scene strip job (scene and textures built, nothing
+/// rendered), through the device's own code.
+fn host_builtin_strip_setup(name: &str, k: usize, hash: HashKind) -> u32 {
+    let mut band = vec![Rgba8888::TRANSPARENT; scenes::BAND_PIXELS];
+    let mut depth = vec![0u16; scenes::BAND_PIXELS];
+    scenes::builtin_strip(
+        name,
+        hash,
+        false,
+        k,
+        scenes::FRAME_START,
+        &mut band,
+        &mut depth,
+    )
 }
 
 /// Runs a scene workload on the host with heap band buffers.
@@ -155,8 +242,9 @@ fn host_scene(
     f(hash, work, &mut band, &mut depth)
 }
 
-/// The host's checksum of suite job `name` (with or without the `/setup` suffix) for a device
-/// shading with `hash`; `None` for a name outside the suite.
+/// The host's checksum of device job `name` (with or without the `/setup` suffix) for a device
+/// shading with `hash`, or of a built-in scene's whole frame (`scene:<name>`, what the checksum
+/// of its last strip must be); `None` for a name outside the suite.
 pub fn host_checksum(name: &str, hash: HashKind) -> Option<u32> {
     let (base, work) = match name.strip_suffix("/setup") {
         Some(b) => (b, false),
@@ -173,8 +261,16 @@ pub fn host_checksum(name: &str, hash: HashKind) -> Option<u32> {
         "plane" if work => host_plane_checksum(what, hash),
         "plane" => Some(planes::setup_checksum(what, hash)),
         "stage" => Some((stages::stage(what)?.run)(hash, work)),
-        "scene" if work && texcore::scene::builtin::by_name(what).is_some() => {
-            host_builtin_scene_checksum(what, hash)
+        "scene" if scenes::builtin_strip_job(what).is_some() => {
+            let (n, k) = scenes::builtin_strip_job(what)?;
+            if work {
+                host_builtin_strip_checksum(n, k, hash)
+            } else {
+                Some(host_builtin_strip_setup(n, k, hash))
+            }
+        }
+        "scene" if texcore::scene::builtin::by_name(what).is_some() => {
+            work.then(|| host_builtin_scene_checksum(what, hash))?
         }
         "scene" => Some(host_scene(scenes::scene(what)?.run, hash, work)),
         _ => None,
@@ -203,4 +299,78 @@ pub fn group(n: u64) -> String {
         out.push(c);
     }
     out
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn every_builtin_scene_fits_the_device() {
+        for name in scenes::BUILTIN_SCENES {
+            let s = scenes::builtin_frame(name).expect("a built-in scene");
+            assert!(
+                s.slots.len() <= scenes::SCENE_SLOTS,
+                "{name}: {} texture slots, the device jobs hold {}",
+                s.slots.len(),
+                scenes::SCENE_SLOTS
+            );
+            let (w, _) = s.size();
+            assert!(usize::from(w) * usize::from(scenes::BAND_ROWS) <= scenes::BAND_PIXELS);
+        }
+        assert_eq!(scenes::BUILTIN_SCENES, texcore::scene::BUILTIN);
+    }
+
+    #[test]
+    fn strips_cover_the_frame() {
+        for h in [1u16, 3, 4, 31, 32, 240, 256, 257] {
+            let mut y = 0;
+            for k in 0..scenes::STRIPS {
+                let r = scenes::strip_rows(h, k);
+                assert_eq!(r.start, y, "{h} {k}");
+                assert!(r.start <= r.end, "{h} {k}");
+                assert_eq!(
+                    r.start % scenes::BAND_ROWS,
+                    0,
+                    "{h} {k}: not on a band boundary"
+                );
+                y = r.end;
+            }
+            assert_eq!(y, h);
+        }
+        let rows: Vec<_> = (0..scenes::STRIPS)
+            .map(|k| scenes::strip_rows(240, k))
+            .collect();
+        assert_eq!(rows, [0..56, 56..120, 120..176, 176..240]);
+        assert_eq!(scenes::builtin_strip_job("wood@3"), Some(("wood", 3)));
+        assert_eq!(scenes::builtin_strip_job("wood@4"), None);
+        assert_eq!(scenes::builtin_strip_job("floor@0"), None);
+        assert_eq!(scenes::FRAME_START, ChecksumSink::new().checksum());
+    }
+
+    /// The device's strip jobs, run here one after the other, give the host's frame checksum
+    /// (what `texsim render <scene> --checksum` prints), and each strip the host's prefix.
+    #[test]
+    fn device_strips_give_the_host_frame_checksum() {
+        let mut band = vec![Rgba8888::TRANSPARENT; scenes::BAND_PIXELS];
+        let mut depth = vec![0u16; scenes::BAND_PIXELS];
+        for hash in [HashKind::Permutation, HashKind::Integer] {
+            for name in scenes::BUILTIN_SCENES {
+                let mut c = scenes::FRAME_START;
+                for k in 0..scenes::STRIPS {
+                    c = scenes::builtin_strip(name, hash, true, k, c, &mut band, &mut depth);
+                    assert_eq!(
+                        Some(c),
+                        host_builtin_strip_checksum(name, k, hash),
+                        "{name} strip {k} {hash:?}"
+                    );
+                }
+                assert_eq!(
+                    Some(c),
+                    host_builtin_scene_checksum(name, hash),
+                    "{name} {hash:?}"
+                );
+            }
+        }
+    }
 }
