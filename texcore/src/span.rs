@@ -1245,12 +1245,10 @@ fn narrow(c: &Cubic) -> Cubic32 {
     )
 ))]
 fn div_round(x: i128, d: i128) -> i64 {
-    let q = if x >= 0 {
-        (x + d / 2) / d
-    } else {
-        (x - d / 2) / d
-    };
-    sat_i64(q)
+    // `(x + d/2) / d` for x >= 0 and `(x - d/2) / d` (truncating) for x < 0, i.e. the rounded
+    // magnitude with x's sign; the division is the crate's shared one (code size).
+    let (q, _) = crate::wide::div_rem_euclid_i128(x.unsigned_abs() as i128 + d / 2, d);
+    sat_i64(if x < 0 { q.wrapping_neg() } else { q })
 }
 
 /// Cubic Hermite segment over pixels `0..l` through the exact values and derivatives at pixels
