@@ -3,11 +3,17 @@
 # targets: features are additive, so every combination here must build without warnings.
 set -euo pipefail
 cd "$(dirname "$0")/.."
-features=(perm-hash smooth-fade gradient-noise mnoise csat mip perturb defmt embedded-graphics)
+features=(perm-hash smooth-fade gradient-noise mnoise csat mip perturb turbulence-fd fd32 reanchor defmt embedded-graphics)
 for target in x86_64-unknown-linux-gnu thumbv7em-none-eabihf riscv32imc-unknown-none-elf; do
   echo "-- $target: no features"
   RUSTFLAGS="-D warnings" cargo build -q -p texcore --no-default-features --target "$target"
   for f in "${features[@]}"; do
+    echo "-- $target: $f"
+    RUSTFLAGS="-D warnings" cargo build -q -p texcore --no-default-features --features "$f" --target "$target"
+  done
+  # The general span loop's strategies depend on pairs of features (`reanchor` needs a basis that is
+  # not a cubic to take effect).
+  for f in smooth-fade,reanchor gradient-noise,fd32 mnoise,turbulence-fd; do
     echo "-- $target: $f"
     RUSTFLAGS="-D warnings" cargo build -q -p texcore --no-default-features --features "$f" --target "$target"
   done

@@ -38,5 +38,6 @@ pub mod span;
 pub mod table;
 pub mod texture;
 pub mod transform;
+mod wide;
 
 pub use format::*;

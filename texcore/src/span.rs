@@ -27,6 +27,12 @@
 //! higher-degree bases); their error bounds are documented on the variants and priced in the
 //! accuracy report.
 //!
+//! How much of this is compiled in follows the crate features: `fd32` and `reanchor` carry the
+//! two approximate modes, `turbulence-fd` the general loop's per-term forward differencing
+//! (turbulent terms; terms of spans the merged path does not take). A mode or strategy that is
+//! not compiled in falls back to an exact one (documented on the variants), so every feature
+//! combination gives the samples described here.
+//!
 //! Octaves past the Nyquist limit (more than half a cell per pixel along either screen direction)
 //! are culled when [`EvalOptions::cull`] is set: they contribute nothing to `f` and `2 |a_k|` (in
 //! `f` units) to the span's extra filter width, [`SpanInfo::extra_width48`]. Nothing here panics,
@@ -71,6 +77,9 @@ pub enum EvalMode {
     /// Since the exact merged accumulators of `Fd` (one set for all cubic terms) cost less than
     /// per-term 32-bit ones, non-turbulent cubic terms take the exact merged path here too (error
     /// zero, within the bound); the 32-bit accumulators remain for turbulent cubic terms.
+    ///
+    /// The 32-bit accumulators are compiled in with the crate feature `fd32`; without it this mode
+    /// is [`EvalMode::Fd`] (exact, so within the bound above).
     Fd32,
     /// Terms that are not cubics along a span (smooth and quintic fades, gradient noise, mNoise:
     /// degree 9 or more) forward-differenced as cubic Hermite segments through exact values and
@@ -79,6 +88,10 @@ pub enum EvalMode {
     /// quarter of a cell along the span (the Hermite error grows with the fourth power of the
     /// segment's length in cells), so it pays only where cells span many pixels. Cubic terms as
     /// `Fd`.
+    ///
+    /// The Hermite segments are compiled in with the crate feature `reanchor` together with a
+    /// basis that is not a cubic (`smooth-fade`, `gradient-noise` or `mnoise`); otherwise this mode
+    /// is [`EvalMode::Fd`] (exact).
     Reanchored,
 }
 
@@ -341,6 +354,7 @@ struct Cubic {
 }
 
 /// Forward-difference state with 32-bit accumulators (the exact state's top 32 bits at the anchor).
+#[cfg(feature = "fd32")]
 #[derive(Clone, Copy, Debug, Default)]
 struct Cubic32 {
     p: [i32; 4],
@@ -350,6 +364,14 @@ struct Cubic32 {
 
 /// A re-anchored cubic Hermite segment: value (cubic), x-gradient (its derivative, quadratic) and
 /// y-gradient (linear between the anchors).
+#[cfg(all(
+    feature = "reanchor",
+    any(
+        feature = "smooth-fade",
+        feature = "gradient-noise",
+        feature = "mnoise"
+    )
+))]
 #[derive(Clone, Copy, Debug, Default)]
 struct Hermite {
     p: [i64; 4],
@@ -358,19 +380,81 @@ struct Hermite {
 }
 
 /// How one term is evaluated along the current span.
+///
+/// Which strategies the general loop ([`SpanEvaluator::run`]) carries depends on the features:
+/// `Direct` always; `Fd` (for terms the merged fast path does not take) with `turbulence-fd`;
+/// `Cached` with a basis that is not a cubic (`smooth-fade`, `gradient-noise`, `mnoise`); `Fd32`
+/// with `fd32`; `Hermite` with `reanchor` and a basis that is not a cubic. A strategy that is
+/// not compiled in is never chosen (see [`SpanEvaluator::eval_inner`] and
+/// [`SpanEvaluator::run`]).
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 enum Strategy {
     Off,
     /// Per-pixel hashing and interpolation.
     Direct,
     /// Cached cell, per-pixel interpolation (exact).
+    #[cfg_attr(
+        not(any(
+            feature = "smooth-fade",
+            feature = "gradient-noise",
+            feature = "mnoise"
+        )),
+        allow(dead_code)
+    )]
     Cached,
     /// Exact 64-bit forward differencing of the cubic.
     Fd,
     /// 32-bit forward differencing, re-anchored every [`FD32_ANCHOR`] pixels.
+    #[cfg_attr(not(feature = "fd32"), allow(dead_code))]
     Fd32,
     /// Cubic Hermite segments of at most [`HERMITE_SEGMENT`] pixels (approximate).
+    #[cfg_attr(
+        not(all(
+            feature = "reanchor",
+            any(
+                feature = "smooth-fade",
+                feature = "gradient-noise",
+                feature = "mnoise"
+            )
+        )),
+        allow(dead_code)
+    )]
     Hermite,
+}
+
+/// Whether the general loop forward-differences cubic terms itself (`Strategy::Fd`); without it
+/// they are evaluated per pixel there (identical samples) and turbulent cubic terms go through
+/// the merged loop's per-pixel path.
+const GENERAL_FD: bool = cfg!(feature = "turbulence-fd");
+
+/// Whether any strategy of the general loop keeps per-term state across pixels (cell caches,
+/// forward differences, segments); without one it only evaluates per pixel.
+const GENERAL_ANCHORS: bool = cfg!(any(
+    feature = "turbulence-fd",
+    feature = "fd32",
+    feature = "smooth-fade",
+    feature = "gradient-noise",
+    feature = "mnoise"
+));
+
+/// The evaluation mode actually run for `mode`: a mode whose code is not compiled in is
+/// [`EvalMode::Fd`] (see the variants' documentation).
+#[inline(always)]
+const fn compiled_mode(mode: EvalMode) -> EvalMode {
+    match mode {
+        #[cfg(not(feature = "fd32"))]
+        EvalMode::Fd32 => EvalMode::Fd,
+        #[cfg(not(all(
+            feature = "reanchor",
+            any(
+                feature = "smooth-fade",
+                feature = "gradient-noise",
+                feature = "mnoise"
+            )
+        )))]
+        EvalMode::Reanchored => EvalMode::Fd,
+        m => m,
+    }
 }
 
 /// Re-anchoring interval of [`EvalMode::Fd32`], in pixels.
@@ -386,8 +470,18 @@ struct TermRun {
     cached: bool,
     remaining: u32,
     u: [i32; 3],
+    #[cfg(feature = "turbulence-fd")]
     fd: Cubic,
+    #[cfg(feature = "fd32")]
     fd32: Cubic32,
+    #[cfg(all(
+        feature = "reanchor",
+        any(
+            feature = "smooth-fade",
+            feature = "gradient-noise",
+            feature = "mnoise"
+        )
+    ))]
     herm: Hermite,
 }
 
@@ -400,8 +494,18 @@ impl Default for TermRun {
             cached: false,
             remaining: 0,
             u: [0; 3],
+            #[cfg(feature = "turbulence-fd")]
             fd: Cubic::default(),
+            #[cfg(feature = "fd32")]
             fd32: Cubic32::default(),
+            #[cfg(all(
+                feature = "reanchor",
+                any(
+                    feature = "smooth-fade",
+                    feature = "gradient-noise",
+                    feature = "mnoise"
+                )
+            ))]
             herm: Hermite::default(),
         }
     }
@@ -548,7 +652,7 @@ impl<'m, const T: usize> SpanEvaluator<'m, T> {
         let info = SpanInfo {
             extra_width48: setup.extra_width48,
         };
-        let mode = self.opts.mode;
+        let mode = compiled_mode(self.opts.mode);
         self.run(
             span.len,
             &setup,
@@ -856,6 +960,11 @@ impl<'m, const T: usize> SpanEvaluator<'m, T> {
         for ((st, ts), term) in strategies.iter_mut().zip(setup.terms.iter()).zip(terms) {
             if ts.active {
                 *st = choose(ts, term.basis.is_cubic());
+                // Without the general loop's forward differencing, turbulent cubic terms are
+                // evaluated per pixel, which the merged loop does (identical samples).
+                if !GENERAL_FD && *st == Strategy::Fd && term.turbulence {
+                    *st = Strategy::Direct;
+                }
             }
         }
         if self.run_merged(len, setup, &strategies, sink) {
@@ -870,7 +979,11 @@ impl<'m, const T: usize> SpanEvaluator<'m, T> {
             .take(n)
         {
             if ts.active {
-                r.strategy = *st;
+                r.strategy = match *st {
+                    // Exact either way: per pixel is the direct computation.
+                    Strategy::Fd if !GENERAL_FD => Strategy::Direct,
+                    s => s,
+                };
                 r.u = ts.u0;
                 if r.strategy == Strategy::Direct {
                     r.remaining = u32::MAX;
@@ -892,7 +1005,9 @@ impl<'m, const T: usize> SpanEvaluator<'m, T> {
             // (Re-)anchor every term whose segment ended; the segment is the shortest of them.
             let mut seg = len - i;
             for ((r, ts), term) in runs.iter_mut().zip(setup.terms.iter()).zip(terms) {
-                if r.strategy == Strategy::Off {
+                // Without strategies that keep state, every term is `Off` or `Direct` (never
+                // re-anchored).
+                if !GENERAL_ANCHORS || r.strategy == Strategy::Off {
                     continue;
                 }
                 if r.remaining == 0 {
@@ -905,16 +1020,28 @@ impl<'m, const T: usize> SpanEvaluator<'m, T> {
                         self.stats.cell_setups += 1;
                     }
                     let in_cell = pixels_in_cell(frac, ts.du);
+                    // Unused when only the cell cache keeps state.
+                    #[allow(unused_variables)]
                     let want_g = grads && ts.gradient;
                     r.remaining = match (r.strategy, &r.data) {
+                        #[cfg(feature = "turbulence-fd")]
                         (Strategy::Fd, CellData::Value(v)) => {
                             r.fd = cubic_setup(v, frac, ts, want_g);
                             in_cell
                         }
+                        #[cfg(feature = "fd32")]
                         (Strategy::Fd32, CellData::Value(v)) => {
                             r.fd32 = narrow(&cubic_setup(v, frac, ts, want_g));
                             in_cell.min(FD32_ANCHOR)
                         }
+                        #[cfg(all(
+                            feature = "reanchor",
+                            any(
+                                feature = "smooth-fade",
+                                feature = "gradient-noise",
+                                feature = "mnoise"
+                            )
+                        ))]
                         (Strategy::Hermite, data) => {
                             // At most a quarter of a cell along the span, at most 16 pixels.
                             let step = ts.du.iter().map(|d| d.unsigned_abs()).max().unwrap_or(0);
@@ -936,12 +1063,15 @@ impl<'m, const T: usize> SpanEvaluator<'m, T> {
                 let mut nsum: i64 = 0;
                 let mut gxn: i64 = 0;
                 let mut gyn: i64 = 0;
+                // Never set when no forward-difference strategy is compiled in.
+                #[allow(unused_mut)]
                 let mut any_fd = false;
                 for ((r, ts), term) in runs.iter_mut().zip(setup.terms.iter()).zip(terms) {
                     let (amp, neg) = amp_and_sign(term);
                     let want_g = grads && ts.gradient;
                     let (mut v, mut gx, mut gy) = match r.strategy {
                         Strategy::Off => continue,
+                        #[cfg(feature = "turbulence-fd")]
                         Strategy::Fd => {
                             any_fd = true;
                             let c = &mut r.fd;
@@ -957,6 +1087,7 @@ impl<'m, const T: usize> SpanEvaluator<'m, T> {
                             }
                             out
                         }
+                        #[cfg(feature = "fd32")]
                         Strategy::Fd32 => {
                             any_fd = true;
                             let c = &mut r.fd32;
@@ -976,6 +1107,14 @@ impl<'m, const T: usize> SpanEvaluator<'m, T> {
                             }
                             out
                         }
+                        #[cfg(all(
+                            feature = "reanchor",
+                            any(
+                                feature = "smooth-fade",
+                                feature = "gradient-noise",
+                                feature = "mnoise"
+                            )
+                        ))]
                         Strategy::Hermite => {
                             any_fd = true;
                             let c = &mut r.herm;
@@ -990,6 +1129,11 @@ impl<'m, const T: usize> SpanEvaluator<'m, T> {
                             }
                             out
                         }
+                        #[cfg(any(
+                            feature = "smooth-fade",
+                            feature = "gradient-noise",
+                            feature = "mnoise"
+                        ))]
                         Strategy::Cached => {
                             let (_, frac) = split(r.u);
                             eval_term(term, &r.data, frac, ts, amp, fv, want_g)
@@ -1000,6 +1144,9 @@ impl<'m, const T: usize> SpanEvaluator<'m, T> {
                             self.stats.cell_setups += 1;
                             eval_term(term, &data, frac, ts, amp, fv, want_g)
                         }
+                        // Strategies that are not compiled in are never chosen.
+                        #[allow(unreachable_patterns)]
+                        _ => continue,
                     };
                     if term.turbulence {
                         if v < 0 {
@@ -1262,6 +1409,7 @@ fn amp_and_sign(term: &NoiseTerm) -> (i32, bool) {
 }
 
 /// The top 32 bits (floor) of an exact forward-difference state.
+#[cfg(feature = "fd32")]
 fn narrow(c: &Cubic) -> Cubic32 {
     let h = |x: i64| (x >> 32) as i32;
     Cubic32 {
@@ -1272,17 +1420,31 @@ fn narrow(c: &Cubic) -> Cubic32 {
 }
 
 /// Division of an i128 by a positive divisor, rounded to nearest (ties away from zero), saturated.
+#[cfg(all(
+    feature = "reanchor",
+    any(
+        feature = "smooth-fade",
+        feature = "gradient-noise",
+        feature = "mnoise"
+    )
+))]
 fn div_round(x: i128, d: i128) -> i64 {
-    let q = if x >= 0 {
-        (x + d / 2) / d
-    } else {
-        (x - d / 2) / d
-    };
-    sat_i64(q)
+    // `(x + d/2) / d` for x >= 0 and `(x - d/2) / d` (truncating) for x < 0, i.e. the rounded
+    // magnitude with x's sign; the division is the crate's shared one (code size).
+    let (q, _) = crate::wide::div_rem_euclid_i128(x.unsigned_abs() as i128 + d / 2, d);
+    sat_i64(if x < 0 { q.wrapping_neg() } else { q })
 }
 
 /// Cubic Hermite segment over pixels `0..l` through the exact values and derivatives at pixels
 /// `0` and `l - 1` (both inside the current cell).
+#[cfg(all(
+    feature = "reanchor",
+    any(
+        feature = "smooth-fade",
+        feature = "gradient-noise",
+        feature = "mnoise"
+    )
+))]
 #[allow(clippy::too_many_arguments)]
 fn hermite_setup(
     term: &NoiseTerm,
@@ -1577,6 +1739,7 @@ impl Cubic {
 }
 
 /// Forward-difference start values of a trilinear term in a new cell (see [`cubic_poly`]).
+#[cfg(any(feature = "turbulence-fd", feature = "fd32"))]
 #[inline]
 fn cubic_setup(v: &[i32; 8], frac: [u32; 3], ts: &TermSetup, grads: bool) -> Cubic {
     fd_start(&cubic_poly(v, frac, ts.du, ts.dy, grads), grads)

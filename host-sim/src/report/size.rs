@@ -2,11 +2,12 @@
 //! `.text`, and the RAM of a texture-unit instance.
 //!
 //! Two kinds of builds, both for the Cortex-M4F and rv32imc:
-//! - `texcore-probe` (`firmware/src/probe.rs`, profile `release-size`, `--no-default-features`
-//!   plus each [`FEATURE_SETS`] entry): texcore's pixel path linked as a product would, with every
-//!   compiled-in path reachable. `minimal` is texcore without features (value noise, integer
-//!   hash, mod/clamp table, no antialiasing); `full` is every basis, csat, MIP, perturbed
-//!   materials, and the banded renderer with perspective, depth and blending. These are the rows
+//! - `texcore-probe` (`firmware/src/probe.rs`, profile `release-size` (opt-level "z"),
+//!   `--no-default-features` plus each [`FEATURE_SETS`] entry): texcore's pixel path linked as a
+//!   product would, with every compiled-in path reachable. `minimal` is texcore without features
+//!   (value noise, integer hash, mod/clamp table, no antialiasing, the span evaluator's exact
+//!   strategies only); `full` is every basis, csat, MIP, perturbed materials, every evaluation
+//!   strategy, and the banded renderer with perspective, depth and blending. These are the rows
 //!   the budgets apply to.
 //! - the job-suite `firmware` (profile `release`, default features, feature set `firmware`): for
 //!   reference; it links every job and the counter self-test sleds.
@@ -18,7 +19,10 @@
 //! texcore's share of `.text` is measured two ways: `texcore_text` attributes every byte of
 //! `.text` to the source file of its DWARF line-table row (so texcore code inlined into the
 //! caller counts as texcore), and `texcore_symbols` sums the sizes of the symbols whose demangled
-//! name names a texcore item (out-of-line texcore functions only).
+//! name names a texcore item (out-of-line texcore functions only). For `minimal` the report also
+//! breaks texcore's share down by function (each line's bytes to the function declared last
+//! before it in its file, from the DWARF subprogram entries) and lists the rest of the probe's
+//! `.text` by source.
 //!
 //! The RAM of a texture-unit instance comes from the probe's `TEXCORE_PROBE_SIZES` table
 //! (`core::mem::size_of` on the target itself): a 256-entry colour table, its csat (summed-area
@@ -51,7 +55,7 @@ pub struct FeatureSet {
 
 /// The probe's feature sets, from `minimal` to `full`. `perm-hash` only takes effect on the
 /// Cortex-M4F (the rv32imc build is table-free in every set).
-pub const FEATURE_SETS: [FeatureSet; 7] = [
+pub const FEATURE_SETS: [FeatureSet; 8] = [
     FeatureSet {
         name: "minimal",
         features: &[],
@@ -73,6 +77,13 @@ pub const FEATURE_SETS: [FeatureSet; 7] = [
         what: "minimal + smooth fades, gradient noise, mNoise, permutation hash (M4F)",
     },
     FeatureSet {
+        name: "eval",
+        features: &["turbulence-fd", "fd32", "reanchor"],
+        what: "minimal + the span evaluator's optional strategies: forward differencing of \
+               turbulent terms, `EvalMode::Fd32` (`reanchor` takes effect only with a basis \
+               that is not a cubic, as in `full`)",
+    },
+    FeatureSet {
         name: "perturb",
         features: &["perturb"],
         what: "minimal + Miné & Neyret perturbed materials",
@@ -85,7 +96,8 @@ pub const FEATURE_SETS: [FeatureSet; 7] = [
     FeatureSet {
         name: "full",
         features: &["full", "perm-hash"],
-        what: "every basis, csat, MIP, perturbed materials, renderer with perspective and blending",
+        what: "every basis, csat, MIP, perturbed materials, every evaluation strategy, renderer \
+               with perspective and blending",
     },
 ];
 
@@ -167,6 +179,12 @@ pub struct SizeReport {
     pub rows: Vec<SizeRow>,
     /// Per target: the texcore source files with the most `.text` in the `full` probe.
     pub top_files: BTreeMap<String, Vec<(String, u64)>>,
+    /// texcore's `.text` of the `minimal` probe per function, largest first (Cortex-M4F, the
+    /// budget's target).
+    pub minimal_functions: BTreeMap<String, Vec<(String, u64)>>,
+    /// The `minimal` probe's `.text` per source file outside texcore (library code, the probe
+    /// itself), largest first (Cortex-M4F).
+    pub minimal_other: BTreeMap<String, Vec<(String, u64)>>,
 }
 
 /// Options of the report.
@@ -335,6 +353,15 @@ fn code_ranges(file: &object::File<'_>) -> Vec<(u64, u64)> {
 
 /// `.text` bytes per source file, from the DWARF line tables.
 pub fn text_by_file(file: &object::File<'_>) -> Result<BTreeMap<String, u64>, String> {
+    let mut out: BTreeMap<String, u64> = BTreeMap::new();
+    for ((path, _), b) in text_by_line(file)? {
+        *out.entry(path).or_default() += b;
+    }
+    Ok(out)
+}
+
+/// `.text` bytes per source line (file, line), from the DWARF line tables.
+pub fn text_by_line(file: &object::File<'_>) -> Result<BTreeMap<(String, u64), u64>, String> {
     let code = code_ranges(file);
     let load = |id: gimli::SectionId| -> Result<Cow<'_, [u8]>, gimli::Error> {
         Ok(file
@@ -344,7 +371,7 @@ pub fn text_by_file(file: &object::File<'_>) -> Result<BTreeMap<String, u64>, St
     };
     let owned = gimli::DwarfSections::load(load).map_err(|e| e.to_string())?;
     let dwarf = owned.borrow(|s| gimli::EndianSlice::new(s, gimli::LittleEndian));
-    let mut out: BTreeMap<String, u64> = BTreeMap::new();
+    let mut out: BTreeMap<(String, u64), u64> = BTreeMap::new();
     let mut units = dwarf.units();
     while let Some(header) = units.next().map_err(|e| e.to_string())? {
         let unit = dwarf.unit(header).map_err(|e| e.to_string())?;
@@ -352,7 +379,7 @@ pub fn text_by_file(file: &object::File<'_>) -> Result<BTreeMap<String, u64>, St
             continue;
         };
         let mut rows = program.rows();
-        let mut prev: Option<(u64, String)> = None;
+        let mut prev: Option<(u64, (String, u64))> = None;
         while let Some((header, row)) = rows.next_row().map_err(|e| e.to_string())? {
             let addr = row.address();
             if let Some((pa, name)) = prev.take() {
@@ -367,22 +394,125 @@ pub fn text_by_file(file: &object::File<'_>) -> Result<BTreeMap<String, u64>, St
             if row.end_sequence() {
                 continue;
             }
-            let mut path = String::new();
-            if let Some(f) = row.file(header) {
-                if let Some(dir) = f.directory(header) {
-                    if let Ok(d) = dwarf.attr_string(&unit, dir) {
-                        path.push_str(&d.to_string_lossy());
-                        path.push('/');
-                    }
-                }
-                if let Ok(n) = dwarf.attr_string(&unit, f.path_name()) {
-                    path.push_str(&n.to_string_lossy());
-                }
-            }
-            prev = Some((addr, path));
+            let path = row
+                .file(header)
+                .map(|f| file_path(&dwarf, &unit, header, f))
+                .unwrap_or_default();
+            let line = row.line().map_or(0, |l| l.get());
+            prev = Some((addr, (path, line)));
         }
     }
     Ok(out)
+}
+
+type Slice<'a> = gimli::EndianSlice<'a, gimli::LittleEndian>;
+
+/// `directory/name` of a line-table file entry (as the line rows name their files).
+fn file_path(
+    dwarf: &gimli::Dwarf<Slice<'_>>,
+    unit: &gimli::Unit<Slice<'_>>,
+    header: &gimli::LineProgramHeader<Slice<'_>>,
+    f: &gimli::FileEntry<Slice<'_>>,
+) -> String {
+    let mut path = String::new();
+    if let Some(dir) = f.directory(header) {
+        if let Ok(d) = dwarf.attr_string(unit, dir) {
+            path.push_str(&d.to_string_lossy());
+            path.push('/');
+        }
+    }
+    if let Ok(n) = dwarf.attr_string(unit, f.path_name()) {
+        path.push_str(&n.to_string_lossy());
+    }
+    path
+}
+
+/// Where the functions of each source file start: `(declaration line, name)` per file, sorted,
+/// from the DWARF subprogram entries (closures are left out: their lines count to the function
+/// that contains them).
+pub fn functions_by_file(
+    file: &object::File<'_>,
+) -> Result<BTreeMap<String, Vec<(u64, String)>>, String> {
+    let load = |id: gimli::SectionId| -> Result<Cow<'_, [u8]>, gimli::Error> {
+        Ok(file
+            .section_by_name(id.name())
+            .and_then(|s| s.uncompressed_data().ok())
+            .unwrap_or(Cow::Borrowed(&[])))
+    };
+    let owned = gimli::DwarfSections::load(load).map_err(|e| e.to_string())?;
+    let dwarf = owned.borrow(|s| gimli::EndianSlice::new(s, gimli::LittleEndian));
+    let mut out: BTreeMap<String, Vec<(u64, String)>> = BTreeMap::new();
+    let mut units = dwarf.units();
+    while let Some(header) = units.next().map_err(|e| e.to_string())? {
+        let unit = dwarf.unit(header).map_err(|e| e.to_string())?;
+        let Some(program) = unit.line_program.clone() else {
+            continue;
+        };
+        let lh = program.header();
+        let mut entries = unit.entries();
+        while let Some((_, e)) = entries.next_dfs().map_err(|e| e.to_string())? {
+            if e.tag() != gimli::DW_TAG_subprogram {
+                continue;
+            }
+            let attr = |a| e.attr_value(a).ok().flatten();
+            let (Some(name), Some(line), Some(gimli::AttributeValue::FileIndex(fi))) = (
+                attr(gimli::DW_AT_name),
+                attr(gimli::DW_AT_decl_line).and_then(|l| l.udata_value()),
+                attr(gimli::DW_AT_decl_file),
+            ) else {
+                continue;
+            };
+            let Ok(name) = dwarf.attr_string(&unit, name) else {
+                continue;
+            };
+            let name = name.to_string_lossy();
+            if name.starts_with('{') {
+                continue;
+            }
+            // One entry per function, whatever its instances.
+            let name = name.split('<').next().unwrap_or_default();
+            let Some(f) = lh.file(fi) else {
+                continue;
+            };
+            out.entry(file_path(&dwarf, &unit, lh, f))
+                .or_default()
+                .push((line, name.to_string()));
+        }
+    }
+    for v in out.values_mut() {
+        v.sort();
+        v.dedup();
+    }
+    Ok(out)
+}
+
+/// texcore's `.text` per function (`file::function`, file relative to `texcore/src/`): each
+/// line's bytes go to the function declared last at or before it in its file (inlined code
+/// counts where it was written).
+pub fn texcore_text_by_function(
+    by_line: &BTreeMap<(String, u64), u64>,
+    functions: &BTreeMap<String, Vec<(u64, String)>>,
+) -> BTreeMap<String, u64> {
+    let mut out: BTreeMap<String, u64> = BTreeMap::new();
+    for ((path, line), b) in by_line {
+        if !is_texcore_path(path) {
+            continue;
+        }
+        let short = path
+            .rsplit_once("texcore/src/")
+            .map_or(path.as_str(), |x| x.1);
+        let f = if *line == 0 {
+            // Code the compiler made without a source line (spills, merged tails).
+            "(line 0)"
+        } else {
+            functions
+                .get(path)
+                .and_then(|v| v.iter().take_while(|(l, _)| l <= line).last())
+                .map_or("(file scope)", |(_, n)| n.as_str())
+        };
+        *out.entry(format!("{short}::{f}")).or_default() += b;
+    }
+    out
 }
 
 /// Whether a source path is texcore's.
@@ -444,6 +574,8 @@ pub struct ElfFacts {
     pub sections: Sections,
     /// `.text` per source file.
     pub by_file: BTreeMap<String, u64>,
+    /// texcore's `.text` per function ([`texcore_text_by_function`]).
+    pub texcore_by_function: BTreeMap<String, u64>,
     /// Out-of-line texcore symbol bytes.
     pub texcore_symbols: u64,
     /// The probe's size table, if present.
@@ -469,9 +601,16 @@ pub fn analyse(path: &Path) -> Result<ElfFacts, SizeError> {
     };
     let bytes = std::fs::read(path).map_err(|e| err(e.to_string()))?;
     let file = object::File::parse(&*bytes).map_err(|e| err(e.to_string()))?;
+    let by_line = text_by_line(&file).map_err(err)?;
+    let functions = functions_by_file(&file).map_err(err)?;
+    let mut by_file: BTreeMap<String, u64> = BTreeMap::new();
+    for ((path, _), b) in &by_line {
+        *by_file.entry(path.clone()).or_default() += b;
+    }
     Ok(ElfFacts {
         sections: sections(&file),
-        by_file: text_by_file(&file).map_err(err)?,
+        texcore_by_function: texcore_text_by_function(&by_line, &functions),
+        by_file,
         texcore_symbols: texcore_symbol_bytes(&file),
         unit: probe_sizes(&file),
     })
@@ -524,6 +663,8 @@ pub(crate) fn probe_facts(
 pub fn report(opts: &SizeOptions) -> Result<SizeReport, SizeError> {
     let mut rows = Vec::new();
     let mut top_files = BTreeMap::new();
+    let mut minimal_functions = BTreeMap::new();
+    let mut minimal_other = BTreeMap::new();
     for &target in &opts.targets {
         for set in FEATURE_SETS
             .iter()
@@ -543,6 +684,22 @@ pub fn report(opts: &SizeOptions) -> Result<SizeReport, SizeError> {
                 files.sort_by_key(|f| std::cmp::Reverse(f.1));
                 files.truncate(12);
                 top_files.insert(target.triple().to_string(), files);
+            }
+            if set.name == "minimal" && target == DeviceTarget::CortexM4F {
+                let mut fns: Vec<(String, u64)> = facts
+                    .texcore_by_function
+                    .iter()
+                    .map(|(f, b)| (f.clone(), *b))
+                    .collect();
+                fns.sort_by_key(|f| std::cmp::Reverse(f.1));
+                minimal_functions.insert(target.triple().to_string(), fns);
+                let mut other: BTreeMap<String, u64> = BTreeMap::new();
+                for (p, b) in facts.by_file.iter().filter(|(p, _)| !is_texcore_path(p)) {
+                    *other.entry(short_library_path(p)).or_default() += b;
+                }
+                let mut other: Vec<(String, u64)> = other.into_iter().collect();
+                other.sort_by_key(|f| std::cmp::Reverse(f.1));
+                minimal_other.insert(target.triple().to_string(), other);
             }
             rows.push(row(
                 target,
@@ -564,7 +721,12 @@ pub fn report(opts: &SizeOptions) -> Result<SizeReport, SizeError> {
             ));
         }
     }
-    let report = SizeReport { rows, top_files };
+    let report = SizeReport {
+        rows,
+        top_files,
+        minimal_functions,
+        minimal_other,
+    };
     if let Some(path) = &opts.markdown {
         write_atomic(path, &markdown(&report, opts.quick)).map_err(|source| SizeError::Write {
             path: path.clone(),
@@ -572,6 +734,67 @@ pub fn report(opts: &SizeOptions) -> Result<SizeReport, SizeError> {
         })?;
     }
     Ok(report)
+}
+
+/// A source path outside texcore, shortened to `crate/path` (`core/num/int_macros.rs`,
+/// `fixed-1.31.0/src/...`, `firmware/src/probe.rs`); no line-table file is `(unknown)`.
+fn short_library_path(p: &str) -> String {
+    if p.is_empty() {
+        return "(unknown)".to_string();
+    }
+    for anchor in ["/library/", "/registry/src/"] {
+        if let Some((_, rest)) = p.split_once(anchor) {
+            // Registry paths start with the index directory.
+            let rest = if anchor == "/registry/src/" {
+                rest.split_once('/').map_or(rest, |x| x.1)
+            } else {
+                rest
+            };
+            return rest.to_string();
+        }
+    }
+    if let Some(rest) = p.strip_prefix("library/") {
+        return rest.to_string();
+    }
+    p.rsplit_once("firmware/")
+        .map_or(p.to_string(), |(_, r)| format!("firmware/{r}"))
+}
+
+/// The part of texcore a function of the `minimal` probe belongs to (`file::function` as in
+/// [`texcore_text_by_function`]).
+pub fn minimal_part(f: &str) -> &'static str {
+    let (file, func) = f.rsplit_once("::").unwrap_or((f, ""));
+    match file {
+        "span.rs" => match func {
+            "run_merged"
+            | "pixel_loop"
+            | "pixels"
+            | "cubic_poly"
+            | "fd_start"
+            | "fd_at"
+            | "add"
+            | "sub"
+            | "pixels_in_cell"
+            | "pixels_in_cell_axis"
+            | "fits"
+            | "wide"
+            | "wmul"
+            | "wadd"
+            | "wsub" => "span evaluator: merged forward-difference path",
+            "run" | "eval_term" | "amp_and_sign" | "combine" | "sat_i64" | "compiled_mode" => {
+                "span evaluator: general (per-pixel) loop"
+            }
+            "(line 0)" => "span evaluator: code without a source line",
+            _ => "span evaluator: per-span set-up and sample hand-over",
+        },
+        _ if file.starts_with("noise/") || file == "hash.rs" => "noise basis and lattice hash",
+        "table.rs" | "texture.rs" | "color.rs" | "sink.rs" => "colour table and shading",
+        _ if file.starts_with("filter/") => "colour table and shading",
+        "presets.rs" | "transform.rs" | "model.rs" | "quadric.rs" => {
+            "building the model (presets, transforms)"
+        }
+        _ => "other (formats, accessors)",
+    }
 }
 
 fn kb(b: u64) -> String {
@@ -591,8 +814,8 @@ pub fn markdown(r: &SizeReport, quick: bool) -> String {
     let _ = writeln!(s);
     let _ = writeln!(
         s,
-        "`texcore-probe` (`firmware/src/probe.rs`, profile `release-size`) links texcore's pixel \
-         path as a product would, with the texture hidden from the optimiser so that every path \
+        "`texcore-probe` (`firmware/src/probe.rs`, profile `release-size`: `release` with \
+         `opt-level = \"z\"`) links texcore's pixel path as a product would, with the texture hidden from the optimiser so that every path \
          the feature set compiles in stays linked: it shades a check plane (and renders a \
          blended, depth-tested perspective scene with `render`). `firmware` is the job-suite \
          firmware (profile `release`, every job and the counter self-test) for reference. Sizes \
@@ -626,8 +849,14 @@ pub fn markdown(r: &SizeReport, quick: bool) -> String {
     let _ = writeln!(s, "|---|---|---:|---:|---:|---:|---:|---:|---|");
     for row in &r.rows {
         let budget = match (row.texcore_text_budget, row.within_budget) {
-            (Some(b), Some(true)) => format!("<= {}: within", kb(b)),
-            (Some(b), Some(false)) => format!("<= {}: **OVER**", kb(b)),
+            (Some(b), Some(true)) => format!(
+                "<= {}: within ({} to spare)",
+                kb(b),
+                kb(b - row.texcore_text)
+            ),
+            (Some(b), Some(false)) => {
+                format!("<= {}: **OVER** by {}", kb(b), kb(row.texcore_text - b))
+            }
             _ => String::new(),
         };
         let _ = writeln!(
@@ -683,6 +912,87 @@ pub fn markdown(r: &SizeReport, quick: bool) -> String {
                 u.color_stage,
                 u.texture
             );
+        }
+    }
+    for (target, fns) in &r.minimal_functions {
+        let total: u64 = fns.iter().map(|f| f.1).sum();
+        let _ = writeln!(s);
+        let _ = writeln!(s, "## What `minimal` contains ({target})");
+        let _ = writeln!(s);
+        let _ = writeln!(
+            s,
+            "`minimal` is texcore without features: trilinear value noise with the table-free \
+             integer hash, a `mod`/`clamp` colour table (nearest or linear lookup), no \
+             antialiasing, the quadric, and the span evaluator with its merged forward-difference \
+             path (every non-turbulent trilinear term in one exact accumulator set; the pixel \
+             loop specialised for gradients on/off and affine/curved quadrics, each with and \
+             without per-pixel terms) and its per-pixel path (turbulent terms, terms past the \
+             Nyquist limit with culling off, and spans whose quadric or gradients are too large \
+             for 64-bit stepping, which step the quadric in i128). `EvalMode::Fd32` and \
+             `EvalMode::Reanchored` evaluate as `EvalMode::Fd` (features `fd32`, `reanchor`); \
+             turbulent terms are evaluated per pixel (feature `turbulence-fd` forward-differences \
+             them). The {} of texcore `.text` by function (the function whose source lines \
+             produced the bytes; inlined code counts where it was written; closures count to \
+             their function), by part:",
+            kb(total)
+        );
+        let mut parts: BTreeMap<&str, u64> = BTreeMap::new();
+        for (f, b) in fns {
+            *parts.entry(minimal_part(f)).or_default() += b;
+        }
+        let mut parts: Vec<(&str, u64)> = parts.into_iter().collect();
+        parts.sort_by_key(|p| std::cmp::Reverse(p.1));
+        let _ = writeln!(s);
+        let _ = writeln!(s, "| part | .text bytes |");
+        let _ = writeln!(s, "|---|---:|");
+        for (p, b) in &parts {
+            let _ = writeln!(s, "| {p} | {b} ({}) |", kb(*b));
+        }
+        let merged: u64 = parts
+            .iter()
+            .filter(|p| p.0 == "span evaluator: merged forward-difference path")
+            .map(|p| p.1)
+            .sum();
+        let _ = writeln!(s);
+        let _ = writeln!(
+            s,
+            "The budget is {}; the merged forward-difference path alone (its pixel loops and \
+             cell-change handling) takes {}.",
+            kb(BUDGET_TEXT_MINIMAL),
+            kb(merged)
+        );
+        let _ = writeln!(s);
+        let _ = writeln!(s, "By function:");
+        let _ = writeln!(s);
+        let _ = writeln!(s, "| function | .text bytes |");
+        let _ = writeln!(s, "|---|---:|");
+        let shown = 24;
+        for (f, b) in fns.iter().take(shown) {
+            let _ = writeln!(s, "| `{f}` | {b} |");
+        }
+        if fns.len() > shown {
+            let rest: u64 = fns.iter().skip(shown).map(|f| f.1).sum();
+            let _ = writeln!(s, "| {} other functions | {rest} |", fns.len() - shown);
+        }
+        if let Some(other) = r.minimal_other.get(target) {
+            let _ = writeln!(s);
+            let _ = writeln!(
+                s,
+                "The rest of the probe's `.text` (not counted as texcore): library code, including \
+                 `core` methods inlined into texcore functions (integer arithmetic is attributed to \
+                 `core/src/num/*`), the start-up code and the probe itself:"
+            );
+            let _ = writeln!(s);
+            let _ = writeln!(s, "| source | .text bytes |");
+            let _ = writeln!(s, "|---|---:|");
+            let shown = 10;
+            for (f, b) in other.iter().take(shown) {
+                let _ = writeln!(s, "| `{f}` | {b} |");
+            }
+            if other.len() > shown {
+                let rest: u64 = other.iter().skip(shown).map(|f| f.1).sum();
+                let _ = writeln!(s, "| {} other sources | {rest} |", other.len() - shown);
+            }
         }
     }
     for (target, files) in &r.top_files {

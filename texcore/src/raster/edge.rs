@@ -21,6 +21,7 @@
 //! (at the first row inside the clip), then only `i64` additions per row.
 
 use super::Rect;
+use crate::wide::div_rem_euclid_i128;
 
 /// Sub-pixel units per pixel.
 pub(crate) const SUB: i64 = 16;
@@ -110,12 +111,15 @@ impl EdgeWalker {
         // ceil(N / m) = floor((N + m - 1) / m).
         let n = (a[0] - HALF) as i128 * dy + (cy - a[1] as i128) * dx + (m - 1);
         let step = SUB as i128 * dx;
+        // m > 0; one shared out-of-line i128 division (code size on 32-bit targets).
+        let (x, r) = div_rem_euclid_i128(n, m);
+        let (step_q, step_r) = div_rem_euclid_i128(step, m);
         EdgeWalker {
-            x: n.div_euclid(m) as i64,
-            r: n.rem_euclid(m) as i64,
+            x: x as i64,
+            r: r as i64,
             m: m as i64,
-            step_q: step.div_euclid(m) as i64,
-            step_r: step.rem_euclid(m) as i64,
+            step_q: step_q as i64,
+            step_r: step_r as i64,
         }
     }
 

@@ -596,8 +596,7 @@ pub(crate) fn div_round_i128(n: i128, d: i128) -> i128 {
     } else {
         (n, d)
     };
-    let q = n.div_euclid(d);
-    let r = n.rem_euclid(d);
+    let (q, r) = crate::wide::div_rem_euclid_i128(n, d);
     if r >= d - r {
         q.saturating_add(1)
     } else {
