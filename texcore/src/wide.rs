@@ -5,14 +5,17 @@
 //! divides in i128 in several places, none of them per pixel, so they share the one out-of-line
 //! division here.
 //!
-//! The full-width division is a long software loop on 32-bit targets (thousands of instructions
-//! on the Cortex-M4F), while the operands the set-up code meets almost always fit narrower
-//! types (a triangle's edge on screen, a plane gradient). The division therefore takes the
-//! narrowest exact path its operands allow: the 32-bit hardware divide (`sdiv` on the Cortex-M4F,
-//! `div` on rv32imc), the 64-bit library division, a 128-by-64-bit long division in two 32-bit
-//! digits (Knuth's algorithm D as in *Hacker's Delight* `divlu`, whenever the divisor fits 64 bits
-//! and the quotient does too, as in the triangle set-up's plane equations), and only then the
-//! general 128-bit one. Every path gives the same quotient and remainder.
+//! The general 128-bit division is a long software loop on 32-bit targets (well over a thousand
+//! instructions on the Cortex-M4F), and even the 64-bit library division costs a couple of
+//! hundred, while the operands the set-up code meets almost always allow something narrower (a
+//! triangle edge on screen, a plane's gradient: divisors below 2^64, often below 2^32). The
+//! division therefore takes the narrowest exact path its operands allow: the 32-bit hardware
+//! divide (`sdiv` on the Cortex-M4F, `div` on rv32imc) when both fit 32 bits; for a divisor that
+//! fits 64 bits, schoolbook long division in 32-bit digits whose digit estimates are themselves
+//! long divisions in 16-bit digits on the 32-bit hardware divide (Knuth, TAOCP vol. 2, 4.3.1,
+//! algorithm D; *Hacker's Delight* 9-3, `divlu`); and only for wider divisors the general 128-bit
+//! division. Every path gives the exact quotient and remainder (tests compare them with the
+//! native operators over the edge cases and random operands).
 
 /// `(n.div_euclid(d), n.rem_euclid(d))` with a single division; `(0, 0)` where those would panic
 /// (`d == 0`, or `i128::MIN / -1`), which no caller reaches.
@@ -27,18 +30,10 @@ pub(crate) fn div_rem_euclid_i128(n: i128, d: i128) -> (i128, i128) {
             );
         }
     }
-    if let (Ok(n64), Ok(d64)) = (i64::try_from(n), i64::try_from(d)) {
-        if d64 != 0 && !(n64 == i64::MIN && d64 == -1) {
-            return (
-                i128::from(n64.div_euclid(d64)),
-                i128::from(n64.rem_euclid(d64)),
-            );
-        }
+    if n == i128::MIN && d == -1 {
+        return (0, 0);
     }
     if let Ok(dm) = u64::try_from(d.unsigned_abs()) {
-        if n == i128::MIN && d == -1 {
-            return (0, 0);
-        }
         if let Some((qm, rm)) = div_rem_u128_by_u64(n.unsigned_abs(), dm) {
             // Truncated quotient and remainder from the magnitudes (|q| <= |n| <= 2^127;
             // |q| = 2^127 only for n = i128::MIN, d = 1, where the wrap gives the right q).
@@ -70,64 +65,6 @@ fn euclid(q: i128, r: i128, d: i128) -> (i128, i128) {
     }
 }
 
-/// `(n / d, n % d)` for `d != 0` (`None` for `d == 0`): the high 64 bits of `n` by a 64-bit
-/// division, then a long division of the remainder and the low 64 bits, normalised, by the
-/// divisor's top 32-bit digit: two quotient digits, each estimated by one 64-by-32-bit division
-/// and corrected at most twice (Knuth, TAOCP vol. 2, 4.3.1, algorithm D; *Hacker's Delight* 9-3,
-/// `divlu`).
-fn div_rem_u128_by_u64(n: u128, d: u64) -> Option<(u128, u64)> {
-    let (hi, u0) = ((n >> 64) as u64, n as u64);
-    let q_hi = hi.checked_div(d)?;
-    let u1 = hi - q_hi * d;
-    let (q_lo, r) = div_rem_below(u1, u0, d);
-    Some(((u128::from(q_hi) << 64) | u128::from(q_lo), r))
-}
-
-/// `(u1:u0 / d, u1:u0 % d)` for `u1 < d` (so `d != 0` and the quotient fits 64 bits).
-fn div_rem_below(u1: u64, u0: u64, d: u64) -> (u64, u64) {
-    const B: u64 = 1 << 32;
-    const LO: u64 = B - 1;
-    if u1 == 0 {
-        // `max(1)`: d > u1 = 0 already.
-        let d = d.max(1);
-        return (u0 / d, u0 % d);
-    }
-    let s = d.leading_zeros();
-    let v = d << s;
-    // v's top bit is set, so vn1 >= 2^31 (`max(1)` only states that it is not 0).
-    let (vn1, vn0) = ((v >> 32).max(1), v & LO);
-    let un32 = if s == 0 {
-        u1
-    } else {
-        (u1 << s) | (u0 >> (64 - s))
-    };
-    let un10 = u0 << s;
-    let (un1, un0) = (un10 >> 32, un10 & LO);
-    let digit = |top: u64, next: u64| -> u64 {
-        let mut q = top / vn1;
-        let mut rhat = top - q * vn1;
-        // q >= B is tested first, so q * vn0 < 2^64; rhat < B, so B * rhat + next < 2^64.
-        while q >= B || q * vn0 > (rhat << 32) + next {
-            q = q.wrapping_sub(1);
-            rhat += vn1;
-            if rhat >= B {
-                break;
-            }
-        }
-        q
-    };
-    let q1 = digit(un32, un1);
-    let un21 = (un32 << 32)
-        .wrapping_add(un1)
-        .wrapping_sub(q1.wrapping_mul(v));
-    let q0 = digit(un21, un0);
-    let r = (un21 << 32)
-        .wrapping_add(un0)
-        .wrapping_sub(q0.wrapping_mul(v))
-        >> s;
-    ((q1 << 32) | q0, r)
-}
-
 /// The 128-bit path of [`div_rem_euclid_i128`].
 #[inline(never)]
 fn wide_div_rem_euclid(n: i128, d: i128) -> (i128, i128) {
@@ -136,6 +73,122 @@ fn wide_div_rem_euclid(n: i128, d: i128) -> (i128, i128) {
     };
     let r = n.wrapping_sub(q.wrapping_mul(d));
     euclid(q, r, d)
+}
+
+/// `(n / d, n % d)`, `None` for `d == 0`.
+fn div_rem_u128_by_u64(n: u128, d: u64) -> Option<(u128, u64)> {
+    if d == 0 {
+        return None;
+    }
+    if let Ok(d32) = u32::try_from(d) {
+        // Short division: one 32-bit digit of the quotient per word of `n`, high to low.
+        let mut r = 0u32;
+        let mut q = 0u128;
+        let mut seen = false;
+        for k in (0..4).rev() {
+            let w = (n >> (32 * k)) as u32;
+            seen |= w != 0;
+            if seen {
+                let (qd, rd) = div_rem_below_u32(r, w, d32);
+                q |= u128::from(qd) << (32 * k);
+                r = rd;
+            }
+        }
+        return Some((q, u64::from(r)));
+    }
+    let (hi, lo) = ((n >> 64) as u64, n as u64);
+    // d >= 2^32: the high word's quotient is below 2^32 (rarely not 0).
+    let (q_hi, u1) = if hi < d { (0, hi) } else { (hi / d, hi % d) };
+    let (q_lo, r) = div_rem_below_u64(u1, lo, d);
+    Some(((u128::from(q_hi) << 64) | u128::from(q_lo), r))
+}
+
+/// Generates `(u1:u0 / d, u1:u0 % d)` for `u1 < d` (so `d != 0` and the quotient fits one word)
+/// over words of `$w` (half-words `$h` bits), by algorithm D with two half-word quotient digits.
+/// Each digit is estimated as `$est(top, vn1)` (`top / vn1` with `vn1` the normalised divisor's
+/// top half-word, `top < vn1 << $h`... or a little above: see the correction) and corrected at
+/// most twice.
+macro_rules! div_rem_below {
+    ($name:ident, $w:ty, $h:literal, $est:expr, $doc:literal) => {
+        #[doc = $doc]
+        #[inline]
+        fn $name(u1: $w, u0: $w, d: $w) -> ($w, $w) {
+            const B: $w = 1 << $h;
+            const LO: $w = B - 1;
+            if u1 == 0 {
+                // d > u1 = 0: `max(1)` only states it.
+                let d = d.max(1);
+                return (u0 / d, u0 % d);
+            }
+            // d > u1 >= 1, so the shift keeps every bit of d.
+            let s = d.leading_zeros();
+            let v = d << s;
+            // v's top bit is set, so vn1 >= B / 2 (`max(1)` only states that it is not 0).
+            let (vn1, vn0) = ((v >> $h).max(1), v & LO);
+            let un32 = if s == 0 {
+                u1
+            } else {
+                (u1 << s) | (u0 >> (<$w>::BITS - s))
+            };
+            let un10 = u0 << s;
+            let (un1, un0) = (un10 >> $h, un10 & LO);
+            let est: fn($w, $w) -> ($w, $w) = $est;
+            let digit = |top: $w, next: $w| -> $w {
+                let (mut q, mut rhat) = est(top, vn1);
+                // q >= B is tested first, so q * vn0 does not overflow; rhat < B, so
+                // (rhat << h) + next does not either.
+                while q >= B || q * vn0 > (rhat << $h) + next {
+                    q = q.wrapping_sub(1);
+                    rhat += vn1;
+                    if rhat >= B {
+                        break;
+                    }
+                }
+                q
+            };
+            let q1 = digit(un32, un1);
+            let un21 = (un32 << $h)
+                .wrapping_add(un1)
+                .wrapping_sub(q1.wrapping_mul(v));
+            let q0 = digit(un21, un0);
+            let r = (un21 << $h)
+                .wrapping_add(un0)
+                .wrapping_sub(q0.wrapping_mul(v))
+                >> s;
+            ((q1 << $h) | q0, r)
+        }
+    };
+}
+
+div_rem_below!(
+    div_rem_below_u32,
+    u32,
+    16,
+    |top, vn1| (top / vn1, top % vn1),
+    "`(u1:u0 / d, u1:u0 % d)` for 32-bit words, `u1 < d`: the 32-bit hardware divide only."
+);
+
+div_rem_below!(
+    div_rem_below_u64,
+    u64,
+    32,
+    est_u64_by_u32,
+    "`(u1:u0 / d, u1:u0 % d)` for 64-bit words, `u1 < d`: digit estimates by [`est_u64_by_u32`]."
+);
+
+/// `(top / vn1, top % vn1)` for `2^31 <= vn1 < 2^32` (a normalised top half-word) by
+/// [`div_rem_below_u32`], except where the quotient does not fit 32 bits (the top half of
+/// `top` is not below `vn1`), which takes the 64-bit library division.
+#[inline]
+fn est_u64_by_u32(top: u64, vn1: u64) -> (u64, u64) {
+    let (th, tl, v) = ((top >> 32) as u32, top as u32, vn1 as u32);
+    if th < v {
+        let (q, r) = div_rem_below_u32(th, tl, v);
+        (u64::from(q), u64::from(r))
+    } else {
+        let vn1 = vn1.max(1);
+        (top / vn1, top % vn1)
+    }
 }
 
 #[cfg(test)]
@@ -251,6 +304,38 @@ mod tests {
             check(n >> nshift, i128::from(d));
             check(n >> nshift, (i128::from(d) << 64) >> shift);
             check(n >> nshift, i128::from(d >> (shift % 64)));
+        }
+    }
+
+    proptest::proptest! {
+        #[test]
+        fn long_divisions_match_native(
+            n in proptest::prelude::any::<u128>(),
+            d in 1u64..,
+            shift in 0u32..64,
+            nshift in 0u32..128,
+        ) {
+            for d in [d, (d >> shift).max(1)] {
+                let n = n >> nshift;
+                let q = div_rem_u128_by_u64(n, d);
+                proptest::prop_assert_eq!(q, Some((n / u128::from(d), (n % u128::from(d)) as u64)));
+                let u1 = ((n >> 64) as u64) % d;
+                let wide = (u128::from(u1) << 64) | u128::from(n as u64);
+                let (q, r) = div_rem_below_u64(u1, n as u64, d);
+                proptest::prop_assert_eq!(
+                    (u128::from(q), u128::from(r)),
+                    (wide / u128::from(d), wide % u128::from(d))
+                );
+                let d32 = (d as u32).max(1);
+                let u1 = ((n >> 32) as u32) % d32;
+                let wide = (u64::from(u1) << 32) | u64::from(n as u32);
+                let (q, r) = div_rem_below_u32(u1, n as u32, d32);
+                proptest::prop_assert_eq!(
+                    (u64::from(q), u64::from(r)),
+                    (wide / u64::from(d32), wide % u64::from(d32))
+                );
+            }
+            proptest::prop_assert_eq!(div_rem_u128_by_u64(n, 0), None);
         }
     }
 }
