@@ -13,9 +13,9 @@
 //! divide (`sdiv` on the Cortex-M4F, `div` on rv32imc) when both fit 32 bits; for a divisor that
 //! fits 64 bits, schoolbook long division in 32-bit digits whose digit estimates are themselves
 //! long divisions in 16-bit digits on the 32-bit hardware divide (Knuth, TAOCP vol. 2, 4.3.1,
-//! algorithm D; *Hacker's Delight* 9-3, `divlu`); and only for wider divisors the general 128-bit
-//! division. Every path gives the exact quotient and remainder (tests compare them with the
-//! native operators over the edge cases and random operands).
+//! algorithm D; *Hacker's Delight* 9-3, `divlu`); and only for wider divisors, which no set-up
+//! meets in practice, a small bit-by-bit long division. Every path gives the exact quotient and
+//! remainder (tests compare them with the native operators over edge cases and random operands).
 
 /// `(n.div_euclid(d), n.rem_euclid(d))` with a single division; `(0, 0)` where those would panic
 /// (`d == 0`, or `i128::MIN / -1`), which no caller reaches.
@@ -30,30 +30,26 @@ pub(crate) fn div_rem_euclid_i128(n: i128, d: i128) -> (i128, i128) {
             );
         }
     }
-    if n == i128::MIN && d == -1 {
+    if d == 0 || (n == i128::MIN && d == -1) {
         return (0, 0);
     }
-    if let Ok(dm) = u64::try_from(d.unsigned_abs()) {
-        if let Some((qm, rm)) = div_rem_u128_by_u64(n.unsigned_abs(), dm) {
-            // Truncated quotient and remainder from the magnitudes (|q| <= |n| <= 2^127;
-            // |q| = 2^127 only for n = i128::MIN, d = 1, where the wrap gives the right q).
-            let (qm, rm) = (qm as i128, i128::from(rm));
-            let q = if (n < 0) != (d < 0) {
-                qm.wrapping_neg()
-            } else {
-                qm
-            };
-            let r = if n < 0 { -rm } else { rm };
-            return euclid(q, r, d);
-        }
-    }
-    wide_div_rem_euclid(n, d)
-}
-
-/// The Euclidean quotient and remainder from the truncated ones (`n = q d + r`, `r` with the
-/// sign of `n`).
-#[inline]
-fn euclid(q: i128, r: i128, d: i128) -> (i128, i128) {
+    let (nm, dm) = (n.unsigned_abs(), d.unsigned_abs());
+    let (qm, rm) = match u64::try_from(dm) {
+        Ok(d64) => match div_rem_u128_by_u64(nm, d64) {
+            Some((q, r)) => (q, u128::from(r)),
+            None => return (0, 0),
+        },
+        Err(_) => div_rem_u128_binary(nm, dm),
+    };
+    // Truncated quotient and remainder from the magnitudes (|q| <= |n| <= 2^127; |q| = 2^127
+    // only for n = i128::MIN, d = 1, where the wrap gives the right q; |r| < |d|).
+    let (qm, rm) = (qm as i128, rm as i128);
+    let q = if (n < 0) != (d < 0) {
+        qm.wrapping_neg()
+    } else {
+        qm
+    };
+    let r = if n < 0 { rm.wrapping_neg() } else { rm };
     if r < 0 {
         if d > 0 {
             (q.wrapping_sub(1), r.wrapping_add(d))
@@ -65,14 +61,20 @@ fn euclid(q: i128, r: i128, d: i128) -> (i128, i128) {
     }
 }
 
-/// The 128-bit path of [`div_rem_euclid_i128`].
-#[inline(never)]
-fn wide_div_rem_euclid(n: i128, d: i128) -> (i128, i128) {
-    let Some(q) = n.checked_div(d) else {
-        return (0, 0);
-    };
-    let r = n.wrapping_sub(q.wrapping_mul(d));
-    euclid(q, r, d)
+/// `(n / d, n % d)` for `d >= 2^64` (never 0): restoring binary long division, one quotient bit
+/// per step. Slow (a few thousand instructions on a 32-bit core) but small, and no caller's
+/// divisor is that large in practice (the faster paths take everything below 2^64).
+fn div_rem_u128_binary(n: u128, d: u128) -> (u128, u128) {
+    let (mut q, mut r) = (0u128, 0u128);
+    for i in (0..u128::BITS - n.leading_zeros()).rev() {
+        // r < d <= 2^127, so the shift does not overflow.
+        r = (r << 1) | ((n >> i) & 1);
+        if r >= d {
+            r -= d;
+            q |= 1 << i;
+        }
+    }
+    (q, r)
 }
 
 /// `(n / d, n % d)`, `None` for `d == 0`.
