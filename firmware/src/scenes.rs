@@ -8,7 +8,8 @@
 //! ([`BUILTIN_SCENES`], at its still frame and own size, one csat texture per slot as
 //! `host_sim::scenes::slot_material` builds it) in [`STRIPS`] horizontal strips
 //! ([`builtin_strip`]), each continuing the previous strip's checksum so that the last strip's
-//! is the checksum of the whole frame.
+//! is the checksum of the whole frame; those render with their mesh quads binned into bands
+//! (`Renderer::render_banded_rows_binned`, [`SCENE_GROUPS`] bins), which changes no pixel.
 
 use texcore::color::Rgba8888;
 use texcore::filter::Antialias;
@@ -17,7 +18,7 @@ use texcore::hash::HashKind;
 use texcore::material::PerturbedMaterial;
 use texcore::presets;
 use texcore::raster::{Perspective, ScreenVertex, TriangleOptions};
-use texcore::render::{Blend, DrawObject, Renderer, TriangleSource};
+use texcore::render::{Blend, DrawObject, GroupRows, Renderer, TriangleSource};
 use texcore::scene::{builtin, Scene, TextureSlot};
 use texcore::sink::ChecksumSink;
 use texcore::texture::Shader;
@@ -81,6 +82,14 @@ pub const STRIPS: usize = 4;
 /// `every_builtin_scene_fits_the_device` checks that none has.
 pub const SCENE_SLOTS: usize = 4;
 
+/// Bins of the built-in scene jobs ([`GroupRows`], 4 bytes each): one per mesh quad of the
+/// built-in scene with the most (`planet`, 1024; `moonrise` 998, `seascape` 968). The renderer
+/// walks a scene once per strip to bin its quads into bands and then, per band, only the quads
+/// that can touch it; a scene with more quads than bins renders the same pixels, walking the
+/// quads past the bins in every band. The host test `every_builtin_scene_fits_the_device`
+/// checks that every built-in scene fits.
+pub const SCENE_GROUPS: usize = 1024;
+
 /// The textures of a built-in scene's slots (about 8 KB each, csat).
 pub type SlotTextures = heapless::Vec<DeviceTexture, SCENE_SLOTS>;
 
@@ -96,8 +105,8 @@ pub fn builtin_frame(name: &str) -> Option<Scene> {
 /// The rows of strip `k` (of [`STRIPS`]) of an image `height` rows high: from `height * k /
 /// STRIPS` rounded down to a multiple of [`BAND_ROWS`] to the next strip's start (the image's
 /// end for the last). Strips start on band boundaries, so together they render exactly the
-/// bands of one `render_banded` call over the whole image (each band walks the whole scene;
-/// 240 rows are 56 + 64 + 56 + 64).
+/// bands of one `render_banded` call over the whole image (240 rows are 56 + 64 + 56 + 64; each
+/// strip walks the whole scene once to bin its quads, see [`SCENE_GROUPS`]).
 pub fn strip_rows(height: u16, k: usize) -> core::ops::Range<u16> {
     let at = |k: usize| {
         if k >= STRIPS {
@@ -135,13 +144,15 @@ fn slot_textures(scene: &Scene, hash: HashKind, textures: &mut SlotTextures) -> 
 }
 
 /// Strip `k` of the frame of built-in scene `name` ([`builtin_frame`]): builds the scene and its
-/// slot textures, renders the strip's rows ([`strip_rows`]) through `Renderer::render_banded_rows`
-/// in bands of [`BAND_ROWS`] rows into a `ChecksumSink` that continues `above`, the checksum of
+/// slot textures, renders the strip's rows ([`strip_rows`]) through
+/// `Renderer::render_banded_rows_binned` (quads binned into `bins`, see [`SCENE_GROUPS`]) in
+/// bands of [`BAND_ROWS`] rows into a `ChecksumSink` that continues `above`, the checksum of
 /// every row above the strip ([`FRAME_START`] for the first strip), and returns its checksum:
 /// the checksum of rows `0 .. end of strip k`, so the last strip's is the whole frame's
 /// (`texsim render <name> --checksum`). 0 if the scene or a texture cannot be built or the
 /// renderer refuses it. With `work == false` only the scene and the textures are built.
 #[inline(never)]
+#[allow(clippy::too_many_arguments)]
 pub fn builtin_strip(
     name: &str,
     hash: HashKind,
@@ -150,6 +161,7 @@ pub fn builtin_strip(
     above: u32,
     band: &mut [Rgba8888],
     depth: &mut [u16],
+    bins: &mut [GroupRows],
 ) -> u32 {
     let Some(scene) = builtin_frame(name) else {
         return 0;
@@ -164,7 +176,8 @@ pub fn builtin_strip(
     }
     let rows = strip_rows(scene.size().1, k);
     let mut sink = ChecksumSink::resume(above);
-    match Renderer::new(textures).render_banded_rows(scene, rows, band, depth, BAND_ROWS, &mut sink)
+    match Renderer::new(textures)
+        .render_banded_rows_binned(scene, rows, band, depth, BAND_ROWS, bins, &mut sink)
     {
         Ok(_) => sink.checksum(),
         Err(_) => 0,

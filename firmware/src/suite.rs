@@ -18,10 +18,11 @@
 #![cfg_attr(feature = "accuracy", allow(unused_macros, unused_imports))]
 
 use crate::jobs::Ctx;
-use crate::scenes::{self, BAND_PIXELS};
+use crate::scenes::{self, BAND_PIXELS, SCENE_GROUPS};
 use crate::{planes, stages};
 use texcore::color::Rgba8888;
 use texcore::hash::HashKind;
+use texcore::render::GroupRows;
 
 /// The lattice hash of this build: Perlin's permutation table on the Cortex-M4F (with the
 /// default `perm-hash` feature), the table-free integer hash on rv32imc (an FPGA soft-core
@@ -129,24 +130,27 @@ stage_jobs! {
 }
 
 /// The RGBA band and the depth band of the scene renders: one band of [`scenes::BAND_ROWS`] rows
-/// of the widest scene, in static RAM (no frame buffer anywhere).
+/// of the widest scene, in static RAM (no frame buffer anywhere); and the bins of the built-in
+/// scene renders ([`SCENE_GROUPS`] entries of 4 bytes).
 struct Bands {
     rgba: [Rgba8888; BAND_PIXELS],
     depth: [u16; BAND_PIXELS],
+    bins: [GroupRows; SCENE_GROUPS],
 }
 
 static mut BANDS: Bands = Bands {
     rgba: [Rgba8888::TRANSPARENT; BAND_PIXELS],
     depth: [0; BAND_PIXELS],
+    bins: [GroupRows::EMPTY; SCENE_GROUPS],
 };
 
-/// Runs `f` with the band buffers.
+/// Runs `f` with the band buffers and the bins.
 #[allow(unsafe_code)]
-fn with_bands(f: impl FnOnce(&mut [Rgba8888], &mut [u16]) -> u32) -> u32 {
+fn with_bands(f: impl FnOnce(&mut [Rgba8888], &mut [u16], &mut [GroupRows]) -> u32) -> u32 {
     // SAFETY: the firmware is single-threaded, no interrupt handler touches `BANDS`, and jobs
     // run one at a time and never re-enter this function, so this is the only live reference.
     let bands = unsafe { &mut *core::ptr::addr_of_mut!(BANDS) };
-    f(&mut bands.rgba, &mut bands.depth)
+    f(&mut bands.rgba, &mut bands.depth, &mut bands.bins)
 }
 
 macro_rules! scene_jobs {
@@ -157,7 +161,7 @@ macro_rules! scene_jobs {
             if STUBBED {
                 return 0;
             }
-            with_bands(|b, d| scenes::$f(hash(), true, b, d))
+            with_bands(|b, d, _| scenes::$f(hash(), true, b, d))
         }
         #[doc = concat!("`scene:", stringify!($f), "/setup`.")]
         #[allow(dead_code)]
@@ -165,7 +169,7 @@ macro_rules! scene_jobs {
             if STUBBED {
                 return 0;
             }
-            with_bands(|b, d| scenes::$f(hash(), false, b, d))
+            with_bands(|b, d, _| scenes::$f(hash(), false, b, d))
         }
     )*};
 }
@@ -204,7 +208,7 @@ fn builtin_strip(ctx: &mut Ctx, s: usize, k: usize, work: bool) -> u32 {
             _ => return 0,
         },
     };
-    let c = with_bands(|b, d| scenes::builtin_strip(name, hash(), work, k, above, b, d));
+    let c = with_bands(|b, d, g| scenes::builtin_strip(name, hash(), work, k, above, b, d, g));
     if work {
         if let Some(next) = ctx.frame_checksums.get_mut(k + 1) {
             *next = Some((s, c));

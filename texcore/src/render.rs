@@ -12,7 +12,12 @@
 //!   pixels straight to the sink (no frame buffer, no depth buffer: a display driver receives rows);
 //! - [`Renderer::render_banded`]: scenes with overlap or alpha render band by band into a
 //!   caller-owned RGBA band and depth band, then flush each row to the sink; blending runs only for
-//!   [`Blend::Over`] objects, the depth test only for objects that ask for it;
+//!   [`Blend::Over`] objects, the depth test only for objects that ask for it; every band walks
+//!   the whole scene;
+//! - [`Renderer::render_banded_rows_binned`]: the same pixels, bit for bit, with the scene's
+//!   triangle groups (a [`crate::scene::Scene`]'s mesh quads) binned into bands once per call in
+//!   caller-owned [`GroupRows`] (4 bytes per group), so that each later band generates only the
+//!   groups that can touch it ([`TriangleSource::for_each_triangle_grouped`]);
 //! - a texture without antialiasing computes no gradients, a model without noise no noise, an
 //!   affine object no perspective divides (see [`crate::texture`], [`crate::span`],
 //!   [`crate::raster`]).
@@ -69,6 +74,135 @@ pub trait TriangleSource {
     fn object(&self, i: usize) -> Option<DrawObject>;
     /// Calls `f` with every screen triangle and its object index, in drawing order.
     fn for_each_triangle<F: FnMut(usize, &[ScreenVertex; 3])>(&self, f: F);
+
+    /// [`TriangleSource::for_each_triangle`] in groups, skipping the groups `keep` declines.
+    ///
+    /// A group is the unit a source can leave out before doing any work for it; groups are
+    /// numbered `0, 1, 2, ...` in drawing order. `keep(g)` is asked at most once per group, in
+    /// increasing order of `g`, before any of the group's triangles; when it answers `true`,
+    /// `f(g, object, triangle)` is called with each of the group's triangles, before the next
+    /// group is asked about; when it answers `false` the group emits nothing. A source may leave
+    /// out the question for a group it knows to emit nothing. Implementations must guarantee:
+    /// - with `keep` always `true`, exactly the calls of [`TriangleSource::for_each_triangle`]
+    ///   (same triangles, object indices and order);
+    /// - otherwise exactly the subsequence of those calls that belongs to the kept groups;
+    /// - the same grouping on every walk of the same source.
+    ///
+    /// The provided implementation makes each triangle its own group: it still generates every
+    /// triangle and only leaves out the calls of `f`. Sources that can skip work override it
+    /// (a [`crate::scene::Scene`] groups by mesh quad and skips a declined quad before
+    /// generating it).
+    fn for_each_triangle_grouped<K, F>(&self, mut keep: K, mut f: F)
+    where
+        K: FnMut(usize) -> bool,
+        F: FnMut(usize, usize, &[ScreenVertex; 3]),
+    {
+        let mut group = 0usize;
+        self.for_each_triangle(|object, t| {
+            if keep(group) {
+                f(group, object, t);
+            }
+            group = group.wrapping_add(1);
+        });
+    }
+}
+
+/// The image rows a group of triangles (see [`TriangleSource::for_each_triangle_grouped`]) can
+/// cover, as recorded by [`Renderer::render_banded_rows_binned`]: an inclusive row range, or
+/// empty. Four bytes.
+///
+/// Invariant: either [`GroupRows::EMPTY`] (the only empty value), or `first <= last`. As
+/// recorded by the renderer, every pixel centre of the rendered rows and columns that the
+/// group's triangles can cover lies on a row in `first..=last`.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub struct GroupRows {
+    first: u16,
+    last: u16,
+}
+
+impl GroupRows {
+    /// No rows: the group covers no pixel centre.
+    pub const EMPTY: GroupRows = GroupRows {
+        first: u16::MAX,
+        last: 0,
+    };
+
+    /// The rows `first..=last` (empty if `first > last`).
+    pub const fn new(first: u16, last: u16) -> GroupRows {
+        if first > last {
+            GroupRows::EMPTY
+        } else {
+            GroupRows { first, last }
+        }
+    }
+
+    /// Whether no row is covered.
+    pub const fn is_empty(&self) -> bool {
+        self.first > self.last
+    }
+
+    /// The first and last row covered (`None` when empty).
+    pub const fn rows(&self) -> Option<(u16, u16)> {
+        if self.is_empty() {
+            None
+        } else {
+            Some((self.first, self.last))
+        }
+    }
+
+    /// Whether a row of `y0..y1` is covered.
+    #[inline]
+    pub const fn touches(&self, y0: u16, y1: u16) -> bool {
+        // Empty is `first == u16::MAX >= y1`.
+        self.first < y1 && self.last >= y0 && y0 < y1
+    }
+
+    /// The smallest range covering both `self` and `first..=last` (`first <= last`).
+    #[inline]
+    fn include(&mut self, first: u16, last: u16) {
+        if self.is_empty() {
+            *self = GroupRows { first, last };
+        } else {
+            self.first = self.first.min(first);
+            self.last = self.last.max(last);
+        }
+    }
+}
+
+impl Default for GroupRows {
+    /// [`GroupRows::EMPTY`].
+    fn default() -> Self {
+        GroupRows::EMPTY
+    }
+}
+
+/// The rows of `rows` (non-empty) that triangle `t` can cover a pixel centre of, as a range
+/// that meets every band in which the rasterizer's bounding-box test
+/// (`Rasterizer::misses`, pixel centres at `16 p + 8` in 28.4 fixed point) lets `t` through: the
+/// rows from `ceil((y0 - 8) / 16)` to `floor((y1 - 8) / 16)` of its vertical extent `y0..=y1`,
+/// or, when that extent holds no pixel centre, the two rows whose centres bracket it; clamped
+/// to `rows`. `None` if the range misses `rows` or the horizontal extent misses every pixel
+/// centre of the columns `0..width`: then that test rejects `t` in every band of `rows`.
+fn triangle_rows(
+    t: &[ScreenVertex; 3],
+    rows: &core::ops::Range<u16>,
+    width: u16,
+) -> Option<(u16, u16)> {
+    let (mut x0, mut x1, mut y0, mut y1) = (i64::MAX, i64::MIN, i64::MAX, i64::MIN);
+    for p in t {
+        let (x, y) = (i64::from(p.x.to_bits()), i64::from(p.y.to_bits()));
+        x0 = x0.min(x);
+        x1 = x1.max(x);
+        y0 = y0.min(y);
+        y1 = y1.max(y);
+    }
+    if x1 < 8 || x0 > 16 * i64::from(width) - 8 {
+        return None;
+    }
+    let (below, above) = ((y0 + 7) >> 4, (y1 - 8) >> 4);
+    let first = below.min(above).max(i64::from(rows.start));
+    let last = below.max(above).min(i64::from(rows.end) - 1);
+    (first <= last).then_some((first as u16, last as u16))
 }
 
 /// What the pixels show.
@@ -132,6 +266,16 @@ impl TriangleSource for crate::scene::Scene {
     fn for_each_triangle<F: FnMut(usize, &[ScreenVertex; 3])>(&self, mut f: F) {
         self.for_each_triangle_static(&mut f);
     }
+
+    /// One group per mesh quad ([`crate::scene::Scene::for_each_triangle_by_quad`]): a declined
+    /// quad costs the `keep` call only.
+    fn for_each_triangle_grouped<K, F>(&self, mut keep: K, mut f: F)
+    where
+        K: FnMut(usize) -> bool,
+        F: FnMut(usize, usize, &[ScreenVertex; 3]),
+    {
+        self.for_each_triangle_by_quad(&mut keep, &mut f);
+    }
 }
 
 /// Counters of every stage of a frame.
@@ -146,6 +290,11 @@ pub struct RenderStats {
     pub blended_pixels: u64,
     /// Bands rendered (0 when streamed).
     pub bands: u32,
+    /// Triangle groups left out of a band by [`Renderer::render_banded_rows_binned`], summed
+    /// over bands (0 without bins). Their triangles were not generated for that band, so they
+    /// are missing from `raster.triangles` and `raster.offscreen` (unbinned, each of them
+    /// would have been counted as submitted and offscreen there).
+    pub skipped_groups: u64,
 }
 
 /// Pixels shaded per chunk before they are handed on: segments up to this length (any display
@@ -289,6 +438,9 @@ impl<'t, const T: usize, const N: usize> Renderer<'t, T, N> {
     /// the same scene geometry, with the rasteriser clipped to those rows, so the rows written to
     /// `sink` are exactly the rows `rows` of the whole image (a frame can be rendered as several
     /// independent horizontal strips, e.g. to bound the work of one call).
+    ///
+    /// Every band walks the whole scene; [`Renderer::render_banded_rows_binned`] renders the same
+    /// pixels walking it once.
     pub fn render_banded_rows<S: TriangleSource, P: PixelSink>(
         &self,
         scene: &S,
@@ -296,6 +448,42 @@ impl<'t, const T: usize, const N: usize> Renderer<'t, T, N> {
         band: &mut [Rgba8888],
         depth: &mut [u16],
         band_rows: u16,
+        sink: &mut P,
+    ) -> Result<RenderStats, RenderError> {
+        self.render_banded_rows_binned(scene, rows, band, depth, band_rows, &mut [], sink)
+    }
+
+    /// [`Renderer::render_banded_rows`] with the scene's triangle groups binned into bands in
+    /// `bins` (caller-owned, one entry per group; see
+    /// [`TriangleSource::for_each_triangle_grouped`]).
+    ///
+    /// The first band's walk over the scene takes every group and records in `bins[g]` the rows
+    /// (of `rows`) that group `g`'s triangles can cover ([`GroupRows`]: from their vertices'
+    /// vertical extent, the pixel-centre convention of the rasterizer's bounding-box
+    /// rejection); every later band asks the scene only for the groups whose rows meet the band,
+    /// so a [`crate::scene::Scene`] generates, transforms and projects each quad only for the
+    /// bands it can touch instead of for every band. Groups past `bins.len()` are always walked
+    /// (too few bins cost speed, not correctness; an empty slice is
+    /// [`Renderer::render_banded_rows`]); [`crate::scene::Scene::quad_count`] is the number a
+    /// scene needs.
+    ///
+    /// Guarantees: the pixels written to `sink` are bit-identical to
+    /// [`Renderer::render_banded_rows`]'s for every `bins` length, since a group left out of a
+    /// band cannot cover a pixel centre of it, and the groups a band walks reach the rasterizer
+    /// in the same order (same depth tests, same blending order). [`RenderStats`] differ only in
+    /// [`RenderStats::skipped_groups`] and in the triangles the skipped groups would have added
+    /// to `raster.triangles` and `raster.offscreen`. On return `bins` holds this call's bins.
+    /// The source must give the same triangles on every walk (as any deterministic source
+    /// does). No allocation, no panics.
+    #[allow(clippy::too_many_arguments)]
+    pub fn render_banded_rows_binned<S: TriangleSource, P: PixelSink>(
+        &self,
+        scene: &S,
+        rows: core::ops::Range<u16>,
+        band: &mut [Rgba8888],
+        depth: &mut [u16],
+        band_rows: u16,
+        bins: &mut [GroupRows],
         sink: &mut P,
     ) -> Result<RenderStats, RenderError> {
         self.check(scene)?;
@@ -319,6 +507,9 @@ impl<'t, const T: usize, const N: usize> Renderer<'t, T, N> {
         let mut stats = RenderStats::default();
         let mut raster = Rasterizer::new(Rect::from_size(w, h));
         let bg = scene.background();
+        // Shared by the `keep` and the triangle callbacks of one walk.
+        let bins = core::cell::Cell::from_mut(bins).as_slice_of_cells();
+        let rendered = first..end;
         let mut y0 = first;
         while y0 < end {
             let y1 = y0.saturating_add(rows).min(end);
@@ -330,8 +521,30 @@ impl<'t, const T: usize, const N: usize> Renderer<'t, T, N> {
                 d.set_rect(band_rect);
                 d.clear(u16::MAX);
             }
+            // The first band's walk takes every group and fills the bins.
+            let binning = y0 == first;
+            if binning {
+                for b in bins {
+                    b.set(GroupRows::EMPTY);
+                }
+            }
             let mut blended = 0u64;
-            scene.for_each_triangle(|obj, tri| {
+            let mut skipped = 0u64;
+            let keep = |g: usize| {
+                let take = binning || bins.get(g).is_none_or(|b| b.get().touches(y0, y1));
+                skipped += u64::from(!take);
+                take
+            };
+            scene.for_each_triangle_grouped(keep, |g, obj, tri| {
+                if binning {
+                    if let Some(b) = bins.get(g) {
+                        if let Some((r0, r1)) = triangle_rows(tri, &rendered, w) {
+                            let mut r = b.get();
+                            r.include(r0, r1);
+                            b.set(r);
+                        }
+                    }
+                }
                 let Some(o) = scene.object(obj) else { return };
                 let mut seg_sink = |seg: &Segment| {
                     shade_segment(&mut slots, o.texture, self.output, seg, |x, chunk| {
@@ -349,17 +562,25 @@ impl<'t, const T: usize, const N: usize> Renderer<'t, T, N> {
                 }
             });
             stats.blended_pixels += blended;
-            for y in y0..y1 {
-                if let Some(row) = buf.row(y) {
-                    sink.write_span(0, y, row);
-                }
-            }
+            stats.skipped_groups += skipped;
+            flush_rows(&buf, y0..y1, sink);
             stats.bands += 1;
             y0 = y1;
         }
         stats.raster = raster.counters();
         stats.shade = slots_stats(&slots);
         Ok(stats)
+    }
+}
+
+/// Writes the rows `rows` of `buf` to `sink`. Out of line, so that the sink's per-pixel loop is
+/// compiled apart from the band loop's state.
+#[inline(never)]
+fn flush_rows<P: PixelSink>(buf: &RgbaBuffer<'_>, rows: core::ops::Range<u16>, sink: &mut P) {
+    for y in rows {
+        if let Some(row) = buf.row(y) {
+            sink.write_span(0, y, row);
+        }
     }
 }
 
@@ -839,5 +1060,310 @@ mod tests {
         // background fill per row (fill_solid).
         assert!(disp.pixels == buf, "DrawTarget and buffer differ");
         assert_eq!(disp.calls, st.raster.segments as usize + 64);
+    }
+
+    /// A texture for every slot of `scene`: its preset's model and colour keys (the slot's own
+    /// keys if it has some), nearest look-up, no antialiasing; the zone plate for materials
+    /// that are not plain presets.
+    fn scene_textures(scene: &crate::scene::Scene) -> Vec<Texture<8, 256>> {
+        scene
+            .slots
+            .iter()
+            .map(|slot| {
+                let Some(p) = crate::presets::by_name(slot.material, HashKind::default()) else {
+                    return zone_texture(Antialias::None);
+                };
+                let keys: Vec<_> = slot
+                    .keys
+                    .unwrap_or(p.keys)
+                    .iter()
+                    .map(|(k, c)| {
+                        (
+                            crate::format::TexValue::from_bits(*k as i32),
+                            Rgba8888::from_array(*c),
+                        )
+                    })
+                    .collect();
+                let stage = ColorStage::new(
+                    ColorTable::from_keys(&keys).unwrap(),
+                    p.model.wrap(),
+                    TableLookup::Nearest,
+                    Antialias::None,
+                )
+                .unwrap();
+                Texture::new(
+                    Shader::Model(p.model),
+                    stage,
+                    GradientNorm::L2,
+                    EvalMode::Auto,
+                )
+            })
+            .collect()
+    }
+
+    /// Rows `rows` of `scene` in bands of `band_rows` with `bins` entries of bins (`None`:
+    /// [`Renderer::render_banded_rows`]): the whole image (rows outside `rows` black), its
+    /// checksum and the stats.
+    fn render_scene<S: TriangleSource>(
+        r: &Renderer<'_, 8, 256>,
+        scene: &S,
+        rows: core::ops::Range<u16>,
+        band_rows: u16,
+        bins: Option<usize>,
+    ) -> (Vec<Rgba8888>, u32, RenderStats) {
+        let (w, h) = scene.size();
+        let n = usize::from(w) * usize::from(band_rows);
+        let mut band = vec![Rgba8888::BLACK; n];
+        let mut depth = vec![0u16; n];
+        let mut img = vec![Rgba8888::BLACK; usize::from(w) * usize::from(h)];
+        struct Tee<'a, 'b>(RgbaBuffer<'a>, &'b mut crate::sink::ChecksumSink);
+        impl PixelSink for Tee<'_, '_> {
+            fn write_span(&mut self, x: u16, y: u16, px: &[Rgba8888]) {
+                self.0.write_span(x, y, px);
+                self.1.write_span(x, y, px);
+            }
+        }
+        let mut check = crate::sink::ChecksumSink::new();
+        let mut tee = Tee(RgbaBuffer::new(&mut img, w, 0, h).unwrap(), &mut check);
+        let stats = match bins {
+            None => r.render_banded_rows(scene, rows, &mut band, &mut depth, band_rows, &mut tee),
+            Some(k) => {
+                let mut bins = vec![GroupRows::EMPTY; k];
+                r.render_banded_rows_binned(
+                    scene, rows, &mut band, &mut depth, band_rows, &mut bins, &mut tee,
+                )
+            }
+        }
+        .unwrap();
+        (img, check.checksum(), stats)
+    }
+
+    /// Binning changes no pixel (nor the checksum) of the built-in scenes, for band heights of
+    /// 1, 7, 8 and 64 rows, whole frames and strips, and bins for all groups, half of them, one
+    /// or none; it only skips work, and the stats differ as documented.
+    #[test]
+    fn binned_equals_unbinned() {
+        for name in crate::scene::BUILTIN {
+            let s = crate::scene::by_name(name).unwrap();
+            let s = s.at_frame(s.still);
+            let tex = scene_textures(&s);
+            let r = Renderer::new(&tex);
+            let groups = s.quad_count();
+            let h = s.size().1;
+            for band_rows in [1u16, 7, 8, 64] {
+                for rows in [0..h, 56..120, 3..h - 5] {
+                    // Band height 1 walks the scene once per row: whole frames only.
+                    if band_rows == 1 && rows != (0..h) && name != "marble" {
+                        continue;
+                    }
+                    let (a, ca, sa) = render_scene(&r, &s, rows.clone(), band_rows, None);
+                    for k in [groups, groups + 5, groups / 2, 1, 0] {
+                        let what = format!("{name} rows {rows:?} band {band_rows} bins {k}");
+                        let (b, cb, sb) = render_scene(&r, &s, rows.clone(), band_rows, Some(k));
+                        assert!(a == b, "{what}: pixels differ");
+                        assert_eq!(ca, cb, "{what}");
+                        assert_eq!(sa.bands, sb.bands, "{what}");
+                        assert_eq!(sa.shade, sb.shade, "{what}");
+                        assert_eq!(sa.blended_pixels, sb.blended_pixels, "{what}");
+                        let (ra, rb) = (sa.raster, sb.raster);
+                        let fewer = ra.triangles - rb.triangles;
+                        assert_eq!(ra.offscreen - rb.offscreen, fewer, "{what}");
+                        assert_eq!(
+                            Counters {
+                                triangles: ra.triangles,
+                                offscreen: ra.offscreen,
+                                ..rb
+                            },
+                            ra,
+                            "{what}"
+                        );
+                        assert_eq!(sa.skipped_groups, 0);
+                        if k == 0 || sb.bands == 1 {
+                            assert_eq!(sb.skipped_groups, 0, "{what}");
+                            assert_eq!(fewer, 0, "{what}");
+                        }
+                        if k >= groups && sb.bands > 2 && s.quad_count() > 1 {
+                            assert!(sb.skipped_groups > 0, "{what}: nothing skipped");
+                            assert!(fewer > 0, "{what}");
+                        }
+                    }
+                }
+            }
+        }
+    }
+
+    /// The bins hold, for each group, the rows its triangles' pixel centres can lie on: every
+    /// segment the rasterizer emits for a group lies within them, and a group that emits no
+    /// triangle has none.
+    #[test]
+    fn bins_cover_every_segment() {
+        for name in ["marble", "moonrise", "seascape"] {
+            let s = crate::scene::by_name(name).unwrap();
+            let s = s.at_frame(s.still);
+            let (w, h) = s.size();
+            let tex = scene_textures(&s);
+            let mut bins = vec![GroupRows::new(7, 3); s.quad_count()];
+            let n = usize::from(w) * 8;
+            let (mut band, mut depth) = (vec![Rgba8888::BLACK; n], vec![0u16; n]);
+            let mut sink = crate::sink::ChecksumSink::new();
+            Renderer::new(&tex)
+                .render_banded_rows_binned(&s, 0..h, &mut band, &mut depth, 8, &mut bins, &mut sink)
+                .unwrap();
+            let mut emitted = vec![false; bins.len()];
+            let mut rast = Rasterizer::new(Rect::from_size(w, h));
+            s.for_each_triangle_grouped(
+                |_| true,
+                |g, o, t| {
+                    emitted[g] = true;
+                    let opts = s.objects[o].options();
+                    rast.draw(t, &opts, &mut |seg: &Segment| {
+                        let (a, b) = bins[g].rows().expect("a drawn group has rows");
+                        assert!((a..=b).contains(&seg.y), "{name}: group {g} row {}", seg.y);
+                    });
+                },
+            );
+            for (g, e) in emitted.iter().enumerate() {
+                if !e {
+                    assert!(bins[g].is_empty(), "{name}: group {g}");
+                }
+            }
+            if name == "seascape" {
+                // Part of the horizon plane lies outside the view.
+                assert!(bins.iter().any(|b| b.is_empty()), "{name}");
+            }
+            assert!(bins.iter().any(|b| !b.is_empty()), "{name}");
+        }
+    }
+
+    #[test]
+    fn group_rows() {
+        let e = GroupRows::EMPTY;
+        assert!(e.is_empty() && e.rows().is_none());
+        assert_eq!(GroupRows::default(), e);
+        assert_eq!(GroupRows::new(5, 4), e);
+        for (y0, y1) in [(0, 0), (0, 1), (0, u16::MAX), (u16::MAX - 1, u16::MAX)] {
+            assert!(!e.touches(y0, y1));
+        }
+        let r = GroupRows::new(8, 15);
+        assert_eq!(r.rows(), Some((8, 15)));
+        assert!(!r.touches(0, 8) && r.touches(0, 9) && r.touches(15, 16) && !r.touches(16, 24));
+        assert!(!r.touches(10, 10), "an empty band touches nothing");
+        let mut x = e;
+        x.include(3, 4);
+        assert_eq!(x, GroupRows::new(3, 4));
+        x.include(9, 9);
+        assert_eq!(x, GroupRows::new(3, 9));
+        x.include(0, 1);
+        assert_eq!(x, GroupRows::new(0, 9));
+        assert_eq!(core::mem::size_of::<GroupRows>(), 4);
+    }
+
+    /// `triangle_rows` follows the rasterizer's pixel-centre convention (centres at 16 p + 8).
+    #[test]
+    fn triangle_rows_pixel_centres() {
+        let t = |y0: i32, y1: i32, x0: i32, x1: i32| {
+            let v = |x, y| ScreenVertex::from_bits(x, y, 0, 1 << 30, TexPoint::ZERO);
+            [v(x0, y0), v(x1, y0), v(x0, y1)]
+        };
+        let all = 0..100u16;
+        // Exactly on a centre: included on both ends.
+        assert_eq!(triangle_rows(&t(8, 24, 0, 64), &all, 10), Some((0, 1)));
+        // Just past a centre: excluded.
+        assert_eq!(triangle_rows(&t(9, 39, 0, 64), &all, 10), Some((1, 1)));
+        assert_eq!(triangle_rows(&t(9, 40, 0, 64), &all, 10), Some((1, 2)));
+        // No centre between: the two rows around (the rasterizer's box test lets it through
+        // in a band holding both).
+        assert_eq!(triangle_rows(&t(9, 23, 0, 64), &all, 10), Some((0, 1)));
+        assert_eq!(triangle_rows(&t(9, 23, 0, 64), &(1..9), 10), Some((1, 1)));
+        assert_eq!(triangle_rows(&t(9, 23, 0, 64), &(2..9), 10), None);
+        // Negative coordinates round the right way; clamped to the rows.
+        assert_eq!(triangle_rows(&t(-100, 40, 0, 64), &all, 10), Some((0, 2)));
+        assert_eq!(
+            triangle_rows(&t(-100, 40, 0, 64), &(1..2), 10),
+            Some((1, 1))
+        );
+        assert_eq!(triangle_rows(&t(-100, 7, 0, 64), &all, 10), None);
+        assert_eq!(
+            triangle_rows(&t(0, 16 * 200, 0, 64), &(90..100), 10),
+            Some((90, 99))
+        );
+        // Left or right of every column centre of a 10-pixel row.
+        assert_eq!(triangle_rows(&t(0, 64, -50, 7), &all, 10), None);
+        assert_eq!(triangle_rows(&t(0, 64, -50, 8), &all, 10), Some((0, 3)));
+        assert_eq!(triangle_rows(&t(0, 64, 153, 400), &all, 10), None);
+        assert_eq!(triangle_rows(&t(0, 64, 152, 400), &all, 10), Some((0, 3)));
+        // Extremes do not overflow.
+        assert_eq!(
+            triangle_rows(&t(i32::MIN, i32::MAX, i32::MIN, i32::MAX), &all, u16::MAX),
+            Some((0, 99))
+        );
+    }
+
+    /// The provided grouped walk: one group per triangle, `keep` asked once per triangle in
+    /// order, declined triangles left out.
+    #[test]
+    fn default_grouped_walk() {
+        let obj = DrawObject::default();
+        let scene = Quads {
+            size: 16,
+            objects: vec![full(16, obj, 0), full(8, obj, 1)],
+        };
+        let mut all = Vec::new();
+        scene.for_each_triangle(|o, t| all.push((o, *t)));
+        let mut asked = Vec::new();
+        let mut got = Vec::new();
+        scene.for_each_triangle_grouped(
+            |g| {
+                asked.push(g);
+                g != 1
+            },
+            |g, o, t| got.push((g, o, *t)),
+        );
+        assert_eq!(asked, [0, 1, 2, 3]);
+        let want: Vec<_> = all
+            .iter()
+            .enumerate()
+            .filter(|(g, _)| *g != 1)
+            .map(|(g, (o, t))| (g, *o, *t))
+            .collect();
+        assert_eq!(got, want);
+    }
+
+    /// A source with the provided grouped walk renders the same binned (one bin per triangle).
+    #[cfg(feature = "csat")]
+    #[test]
+    fn binned_quads_equal_unbinned() {
+        let tex = [marble_texture(), zone_texture(Antialias::None)];
+        let r = Renderer::new(&tex);
+        let near = DrawObject {
+            texture: 0,
+            depth: true,
+            raster: affine(),
+            ..DrawObject::default()
+        };
+        let over = DrawObject {
+            texture: 1,
+            blend: Blend::Over,
+            raster: affine(),
+            ..DrawObject::default()
+        };
+        let mut small = full(12, over, 0);
+        for v in &mut small.1 {
+            v.y = crate::raster::ScreenCoord::from_bits(v.y.to_bits() + (20 << 4));
+        }
+        let scene = Quads {
+            size: 40,
+            objects: vec![full(40, near, 100), small],
+        };
+        for band_rows in [1u16, 7, 8, 64] {
+            let (a, ca, _) = render_scene(&r, &scene, 0..40, band_rows, None);
+            for k in [4usize, 3, 1, 0] {
+                let (b, cb, sb) = render_scene(&r, &scene, 0..40, band_rows, Some(k));
+                assert!(a == b && ca == cb, "band {band_rows} bins {k}");
+                if k == 4 && band_rows < 20 {
+                    assert!(sb.skipped_groups > 0);
+                }
+            }
+        }
     }
 }

@@ -220,6 +220,7 @@ fn host_frame_rows(name: &str, hash: HashKind) -> Option<std::sync::Arc<Vec<u32>
 fn host_builtin_strip_setup(name: &str, k: usize, hash: HashKind) -> u32 {
     let mut band = vec![Rgba8888::TRANSPARENT; scenes::BAND_PIXELS];
     let mut depth = vec![0u16; scenes::BAND_PIXELS];
+    let mut bins = vec![texcore::render::GroupRows::EMPTY; scenes::SCENE_GROUPS];
     scenes::builtin_strip(
         name,
         hash,
@@ -228,6 +229,7 @@ fn host_builtin_strip_setup(name: &str, k: usize, hash: HashKind) -> u32 {
         scenes::FRAME_START,
         &mut band,
         &mut depth,
+        &mut bins,
     )
 }
 
@@ -317,6 +319,12 @@ mod tests {
             );
             let (w, _) = s.size();
             assert!(usize::from(w) * usize::from(scenes::BAND_ROWS) <= scenes::BAND_PIXELS);
+            assert!(
+                s.quad_count() <= scenes::SCENE_GROUPS,
+                "{name}: {} quads, the device jobs bin {}",
+                s.quad_count(),
+                scenes::SCENE_GROUPS
+            );
         }
         assert_eq!(scenes::BUILTIN_SCENES, texcore::scene::BUILTIN);
     }
@@ -354,11 +362,14 @@ mod tests {
     fn device_strips_give_the_host_frame_checksum() {
         let mut band = vec![Rgba8888::TRANSPARENT; scenes::BAND_PIXELS];
         let mut depth = vec![0u16; scenes::BAND_PIXELS];
+        let mut bins = vec![texcore::render::GroupRows::EMPTY; scenes::SCENE_GROUPS];
         for hash in [HashKind::Permutation, HashKind::Integer] {
             for name in scenes::BUILTIN_SCENES {
                 let mut c = scenes::FRAME_START;
                 for k in 0..scenes::STRIPS {
-                    c = scenes::builtin_strip(name, hash, true, k, c, &mut band, &mut depth);
+                    c = scenes::builtin_strip(
+                        name, hash, true, k, c, &mut band, &mut depth, &mut bins,
+                    );
                     assert_eq!(
                         Some(c),
                         host_builtin_strip_checksum(name, k, hash),

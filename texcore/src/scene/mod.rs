@@ -7,7 +7,10 @@
 //!
 //! Everything is integer arithmetic (`no_std`, no allocation, no floating point), so a scene
 //! yields bit-identical triangles on the host, a Cortex-M4F and an rv32imc; nothing panics for any
-//! input. Meshes are generated on the fly every frame (a few hundred bytes of stack).
+//! input. Meshes are generated on the fly every frame (a few hundred bytes of stack), quad by
+//! quad; [`Scene::for_each_triangle_by_quad`] lets a caller skip quads before any work is done
+//! for them (the binned banded renderer, [`crate::render::Renderer::render_banded_rows_binned`],
+//! generates each quad only for the bands it can touch).
 //!
 //! | module | contents |
 //! |---|---|
@@ -321,10 +324,48 @@ impl Scene {
         &self,
         f: &mut F,
     ) -> SceneCounters {
+        self.for_each_triangle_by_quad(&mut |_| true, &mut |_, object, t| f(object, t))
+    }
+
+    /// Number of mesh quads of the scene (the sum of the objects' [`Mesh::quad_count`]): the
+    /// number of groups of [`Scene::for_each_triangle_by_quad`], e.g. to size a renderer's bins
+    /// ([`crate::render::GroupRows`]).
+    pub fn quad_count(&self) -> usize {
+        self.objects.iter().fold(0usize, |n, o| {
+            n.saturating_add(o.mesh.quad_count() as usize)
+        })
+    }
+
+    /// [`Scene::for_each_triangle_static`] in groups, one group per mesh quad: the quads of every
+    /// object in order are numbered `0, 1, 2, ...` (object `i`'s quad `q` is group
+    /// `q + ` the quad counts of the objects before `i`, see [`Scene::quad_count`]).
+    ///
+    /// Before the work for group `g` starts (generating the quad's corners, transforming,
+    /// classifying and projecting them) `keep(g)` is asked; when it answers `false` the quad is
+    /// skipped at the cost of that call. Otherwise `f(g, object, triangle)` is called for each of
+    /// the quad's screen triangles (none, one, two, or whatever near/far/guard-band clipping
+    /// emits from them). Guarantees:
+    /// - `keep` is asked once for every group, in increasing order (not at all when the camera
+    ///   has no valid view: then no object emits anything);
+    /// - a group's triangles come right after its `keep`, before the next group's;
+    /// - with `keep` always `true`, the triangles and object indices are exactly those of
+    ///   [`Scene::for_each_triangle_static`], in the same order; otherwise they are the
+    ///   subsequence belonging to the kept groups.
+    ///
+    /// The counters count the work of the kept groups only.
+    pub fn for_each_triangle_by_quad<K, F>(&self, keep: &mut K, f: &mut F) -> SceneCounters
+    where
+        K: FnMut(usize) -> bool,
+        F: FnMut(usize, usize, &[ScreenVertex; 3]),
+    {
         let mut c = SceneCounters::default();
         let view = self.camera.view();
+        let mut first_group = 0usize;
         for (index, o) in self.objects.iter().enumerate() {
             c.objects = c.objects.wrapping_add(1);
+            let quads = o.mesh.quad_count();
+            let groups = first_group;
+            first_group = first_group.wrapping_add(quads as usize);
             let Some(view) = view.as_ref() else {
                 let n = o.mesh.triangle_count();
                 c.input = c.input.wrapping_add(n);
@@ -333,7 +374,11 @@ impl Scene {
             };
             // Quad by quad (the order of `Mesh::triangles`), so that the four corners are
             // transformed, classified and projected once for both triangles.
-            for q in 0..o.mesh.quad_count() {
+            for q in 0..quads {
+                let group = groups.wrapping_add(q as usize);
+                if !keep(group) {
+                    continue;
+                }
                 let Some(corners) = o.mesh.quad(q) else {
                     break;
                 };
@@ -367,11 +412,11 @@ impl Scene {
                         };
                         let t = camera::assemble([p(a), p(b), p(d)]);
                         c.generated = c.generated.wrapping_add(1);
-                        f(index, &t);
+                        f(group, index, &t);
                     } else {
                         let mut emit = |t: &[ScreenVertex; 3]| {
                             c.generated = c.generated.wrapping_add(1);
-                            f(index, t);
+                            f(group, index, t);
                         };
                         let outcome = view.clip_project(&[cam[a], cam[b], cam[d]], &mut emit);
                         match outcome {
@@ -388,5 +433,89 @@ impl Scene {
             }
         }
         c
+    }
+}
+
+#[cfg(test)]
+mod quad_group_tests {
+    extern crate std;
+    use super::*;
+    use std::vec::Vec;
+
+    /// With every group kept, the walk by quad is exactly the plain walk (triangles, objects,
+    /// order, counters); `keep` is asked once per quad, in order; declined quads leave out
+    /// exactly their triangles.
+    #[test]
+    fn walk_by_quad_is_the_plain_walk() {
+        for name in BUILTIN {
+            let s = by_name(name).unwrap();
+            for frame in [0, s.still] {
+                let s = s.at_frame(frame);
+                let mut plain = Vec::new();
+                let cp = s.for_each_triangle_static(&mut |o, t| plain.push((o, *t)));
+                let asked = core::cell::RefCell::new(Vec::new());
+                let mut grouped = Vec::new();
+                let cg = s.for_each_triangle_by_quad(
+                    &mut |g| {
+                        asked.borrow_mut().push(g);
+                        true
+                    },
+                    &mut |g, o, t| {
+                        // Right after its own question.
+                        assert_eq!(asked.borrow().last(), Some(&g), "{name}");
+                        grouped.push((g, o, *t));
+                    },
+                );
+                let asked = asked.into_inner();
+                assert_eq!(cg, cp, "{name} frame {frame}");
+                let want: Vec<usize> = (0..s.quad_count()).collect();
+                assert_eq!(asked, want, "{name} frame {frame}");
+                let tris: Vec<_> = grouped.iter().map(|&(_, o, t)| (o, t)).collect();
+                assert_eq!(tris, plain, "{name} frame {frame}");
+                // Groups number the objects' quads one after the other.
+                let mut start = 0;
+                for (i, o) in s.objects.iter().enumerate() {
+                    let end = start + o.mesh.quad_count() as usize;
+                    assert!(grouped
+                        .iter()
+                        .filter(|&&(_, oi, _)| oi == i)
+                        .all(|&(g, _, _)| (start..end).contains(&g)));
+                    start = end;
+                }
+                // Every third quad declined: the rest, in order.
+                let mut asked = 0usize;
+                let mut some = Vec::new();
+                s.for_each_triangle_by_quad(
+                    &mut |g| {
+                        assert_eq!(g, asked);
+                        asked += 1;
+                        g % 3 != 1
+                    },
+                    &mut |g, o, t| some.push((g, o, *t)),
+                );
+                assert_eq!(asked, s.quad_count());
+                let kept: Vec<_> = grouped.into_iter().filter(|t| t.0 % 3 != 1).collect();
+                assert_eq!(some, kept, "{name} frame {frame}");
+            }
+        }
+    }
+
+    /// Without a valid view nothing is emitted and `keep` is never asked.
+    #[test]
+    fn no_view_asks_nothing() {
+        let mut s = by_name("marble").unwrap();
+        s.camera.width = 0;
+        if s.camera.view().is_some() {
+            return;
+        }
+        let (mut asked, mut emitted) = (0, 0);
+        s.for_each_triangle_by_quad(
+            &mut |_| {
+                asked += 1;
+                true
+            },
+            &mut |_, _, _| emitted += 1,
+        );
+        assert_eq!((asked, emitted), (0, 0));
     }
 }
