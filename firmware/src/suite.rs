@@ -141,7 +141,9 @@ struct Bands {
 static mut BANDS: Bands = Bands {
     rgba: [Rgba8888::TRANSPARENT; BAND_PIXELS],
     depth: [0; BAND_PIXELS],
-    bins: [GroupRows::EMPTY; SCENE_GROUPS],
+    // Any value: the renderer resets every bin it uses on each call. `new(0, 0)` is all zero bits,
+    // so the whole static stays in `.bss` (`EMPTY` is not, and would put ~20 KB into `.data`).
+    bins: [GroupRows::new(0, 0); SCENE_GROUPS],
 };
 
 /// Runs `f` with the band buffers and the bins.
