@@ -337,7 +337,8 @@ fn pixels_in_cell(frac: [u32; 3], d: [i32; 3]) -> u32 {
 
 /// The per-span part of the model evaluation shared by every mode.
 struct Setup<const T: usize> {
-    terms: [TermSetup; T],
+    /// One per model term, in order (inactive where culled).
+    terms: heapless::Vec<TermSetup, T>,
     quad: QuadraticSpan,
     quad_zero: bool,
     gqx: [i128; 2],
@@ -567,17 +568,20 @@ impl<'m, const T: usize> SpanEvaluator<'m, T> {
         } else {
             ([0, 0], [0, 0])
         };
-        let mut terms = [TermSetup::default(); T];
+        // A vector, not an array: nothing is written for the slots past the model's terms.
+        let mut terms: heapless::Vec<TermSetup, T> = heapless::Vec::new();
         let mut extra: i64 = 0;
         // Coordinate precision (`docs/model.md` 3.2): `U0` and `DU` rounded to `F` fraction bits,
         // so `u(i) = U0 + i DU` stays linear in `i`; the Nyquist test uses the unrounded step.
         let cb = m.precision().coord_bits();
-        for (ts, term) in terms.iter_mut().zip(m.terms()) {
+        for term in m.terms().iter().take(T) {
             let (du, dyl, beyond) = lattice_steps(term, span);
             if beyond {
                 extra = extra.saturating_add(culled_width48(term));
                 if self.opts.cull {
                     self.stats.culled_octaves += 1;
+                    // At most T terms: never full.
+                    let _ = terms.push(TermSetup::default());
                     continue;
                 }
             }
@@ -587,13 +591,13 @@ impl<'m, const T: usize> SpanEvaluator<'m, T> {
                 u0 = u0.map(|c| quantize_coord(c, cb));
                 du = du.map(|c| quantize_coord(c, cb));
             }
-            *ts = TermSetup {
+            let _ = terms.push(TermSetup {
                 u0,
                 du,
                 dy: dyl,
                 active: true,
                 gradient: grads && !beyond,
-            };
+            });
         }
         Setup {
             terms,
@@ -761,9 +765,9 @@ impl<'m, const T: usize> SpanEvaluator<'m, T> {
         };
 
         // Merged terms: their polynomials, entry pixel and exit pixel.
-        let mut merged = [(0usize, CubicPoly::default(), 0u32, 0u32); T];
-        let mut direct = [(0usize, [0i32; 3]); T];
-        let (mut nm, mut nd) = (0usize, 0usize);
+        // (Vectors, not arrays: nothing is written for the slots a span does not use.)
+        let mut merged: heapless::Vec<(usize, CubicPoly, u32, u32), T> = heapless::Vec::new();
+        let mut direct: heapless::Vec<(usize, [i32; 3]), T> = heapless::Vec::new();
         let mut sum = Cubic::default();
         let mut setups: u64 = 0;
         let mut grad_terms: u64 = 0;
@@ -790,25 +794,21 @@ impl<'m, const T: usize> SpanEvaluator<'m, T> {
                     setups += 1;
                     let poly = cubic_poly(&v, frac, ts.du, ts.dy, g);
                     sum.add(&fd_start(&poly, g));
-                    if let Some(slot) = merged.get_mut(nm) {
-                        *slot = (k, poly, 0, pixels_in_cell(frac, ts.du));
-                        nm += 1;
-                    }
+                    // At most T terms: never full.
+                    let _ = merged.push((k, poly, 0, pixels_in_cell(frac, ts.du)));
                 }
                 Strategy::Direct => {
-                    if let Some(slot) = direct.get_mut(nd) {
-                        *slot = (k, ts.u0);
-                        nd += 1;
-                    }
+                    let _ = direct.push((k, ts.u0));
                 }
                 _ => {}
             }
         }
+        let (nm, nd) = (merged.len(), direct.len());
         debug_assert_eq!((nm, nd), (n_fd, n_direct));
 
         let mut i = 0u32;
         while i < len {
-            let end = merged.iter().take(nm).fold(len, |e, t| e.min(t.3));
+            let end = merged.iter().fold(len, |e, t| e.min(t.3));
             let seg = end - i;
             if nd == 0 && seg >= PASS_MIN {
                 // Component passes over the chunk: value, then each gradient.
@@ -863,7 +863,7 @@ impl<'m, const T: usize> SpanEvaluator<'m, T> {
                     &mut quad,
                     &mut |smp: Sample| sink.push(smp),
                     |n: &mut i64, gx: &mut i64, gy: &mut i64| {
-                        for (k, u) in direct.iter_mut().take(nd) {
+                        for (k, u) in direct.iter_mut() {
                             let (Some(term), Some(ts)) = (terms.get(*k), setup.terms.get(*k))
                             else {
                                 continue;
@@ -903,7 +903,7 @@ impl<'m, const T: usize> SpanEvaluator<'m, T> {
             if i >= len {
                 break;
             }
-            for (k, poly, start, next) in merged.iter_mut().take(nm) {
+            for (k, poly, start, next) in merged.iter_mut() {
                 if *next != i {
                     continue;
                 }
