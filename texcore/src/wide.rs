@@ -77,6 +77,19 @@ fn div_rem_u128_binary(n: u128, d: u128) -> (u128, u128) {
     (q, r)
 }
 
+/// `(n / d, n % d)` for a 64-bit `n` and a divisor below 2^32 (`None` for `d == 0`): two steps of
+/// [`div_rem_below_u32`] on the 32-bit hardware divide instead of the 64-bit library division.
+#[inline(never)]
+pub(crate) fn div_rem_u64_by_u32(n: u64, d: u32) -> Option<(u64, u32)> {
+    if d == 0 {
+        return None;
+    }
+    let (hi, lo) = ((n >> 32) as u32, n as u32);
+    let (q_hi, r_hi) = (hi / d, hi % d);
+    let (q_lo, r) = div_rem_below_u32(r_hi, lo, d);
+    Some(((u64::from(q_hi) << 32) | u64::from(q_lo), r))
+}
+
 /// `(n / d, n % d)`, `None` for `d == 0`.
 fn div_rem_u128_by_u64(n: u128, d: u64) -> Option<(u128, u64)> {
     if d == 0 {
@@ -310,6 +323,14 @@ mod tests {
     }
 
     proptest::proptest! {
+        #[test]
+        fn u64_by_u32_matches_native(n in proptest::prelude::any::<u64>(), d in proptest::prelude::any::<u32>(), shift in 0u32..32) {
+            for d in [d, d >> shift, 1, u32::MAX] {
+                let want = (d != 0).then(|| (n / u64::from(d), (n % u64::from(d)) as u32));
+                proptest::prop_assert_eq!(div_rem_u64_by_u32(n, d), want);
+            }
+        }
+
         #[test]
         fn long_divisions_match_native(
             n in proptest::prelude::any::<u128>(),

@@ -576,8 +576,21 @@ pub(crate) fn div_round_i64(n: i64, d: i64) -> i64 {
     if d <= 0 {
         return n;
     }
-    let q = n.div_euclid(d);
-    let r = n.rem_euclid(d);
+    // A positive divisor below 2^32 (a perspective quotient's normalised `1/w`) divides on the
+    // 32-bit hardware divide; the Euclidean quotient from the magnitudes.
+    let (q, r) = match u32::try_from(d) {
+        Ok(d32) => match crate::wide::div_rem_u64_by_u32(n.unsigned_abs(), d32) {
+            Some((qm, rm)) if n >= 0 => (qm as i64, i64::from(rm)),
+            // n < 0: -|n| = -(qm d + rm) = -(qm + 1) d + (d - rm) when rm > 0.
+            Some((qm, 0)) => ((qm as i64).wrapping_neg(), 0),
+            Some((qm, rm)) => (
+                (qm as i64).wrapping_neg().wrapping_sub(1),
+                d - i64::from(rm),
+            ),
+            None => (n, 0),
+        },
+        Err(_) => (n.div_euclid(d), n.rem_euclid(d)),
+    };
     if r >= d - r {
         q.wrapping_add(1)
     } else {

@@ -796,3 +796,28 @@ fn degenerate_triangles_draw_nothing() {
     assert_eq!(r.counters().degenerate, 10);
     assert_eq!(r.counters().pixels, 0);
 }
+
+proptest! {
+    /// `div_round_i64` (32-bit divisors on the hardware divide) is `round(n / d)`, ties up,
+    /// computed in i128.
+    #[test]
+    fn div_round_i64_rounds_half_up(n in any::<i64>(), d in 1i64.., shift in 0u32..63) {
+        for d in [d, (d >> shift).max(1), 1, i64::from(u32::MAX), i64::from(u32::MAX) + 1] {
+            let (n128, d128) = (i128::from(n), i128::from(d));
+            let want = (2 * n128 + d128).div_euclid(2 * d128);
+            prop_assert_eq!(i128::from(div_round_i64(n, d)), want, "{} / {}", n, d);
+        }
+    }
+}
+
+#[test]
+fn div_round_i64_edges() {
+    for n in [i64::MIN, i64::MIN + 1, -3, -2, -1, 0, 1, 2, 3, i64::MAX] {
+        for d in [1i64, 2, 3, 7, i64::from(u32::MAX), 1 << 32, i64::MAX] {
+            let want = (2 * i128::from(n) + i128::from(d)).div_euclid(2 * i128::from(d));
+            assert_eq!(i128::from(div_round_i64(n, d)), want, "{n} / {d}");
+        }
+        assert_eq!(div_round_i64(n, 0), n);
+        assert_eq!(div_round_i64(n, -5), n);
+    }
+}

@@ -374,10 +374,10 @@ impl View {
         let (w8, h8) = (self.width as i128 * 8, self.height as i128 * 8);
         let (sx, sy, depth, q) = match self.proj {
             ViewProj::Perspective { k } => {
-                let zu = z.max(1) as u64;
-                let r = ((1u64 << 62) + (zu >> 1))
-                    .checked_div(zu)
-                    .unwrap_or_default();
+                // 1 <= z < 2^31: the 32-bit divisor takes the hardware-divide path.
+                let zu = u32::try_from(z.max(1)).unwrap_or(u32::MAX);
+                let r = crate::wide::div_rem_u64_by_u32((1u64 << 62) + u64::from(zu >> 1), zu)
+                    .map_or(0, |(q, _)| q);
                 let off = |a: i128| -> i128 {
                     if a.unsigned_abs() < 1 << 62 {
                         round_shift_128(a * r as i128, 74)
