@@ -77,6 +77,69 @@ fn div_rem_u128_binary(n: u128, d: u128) -> (u128, u128) {
     (q, r)
 }
 
+/// A divisor below 2^64 prepared once for many exact divisions by it (the triangle set-up divides
+/// fifteen plane numerators by the same doubled area): the normalised divisor and its
+/// reciprocal `v = floor((2^128 - 1) / d) - 2^64`, so that each two-word step is a multiplication
+/// and at most two corrections (Möller and Granlund, *Improved division by invariant integers*,
+/// IEEE Trans. Computers 2011, algorithm 4).
+#[derive(Clone, Copy, Debug)]
+pub(crate) struct Reciprocal64 {
+    /// The divisor shifted left until its top bit is set.
+    d: u64,
+    /// The reciprocal of `d`.
+    v: u64,
+    /// The shift.
+    s: u32,
+}
+
+impl Reciprocal64 {
+    /// The reciprocal of `d` (`None` for 0).
+    pub(crate) fn new(d: u64) -> Option<Reciprocal64> {
+        if d == 0 {
+            return None;
+        }
+        let s = d.leading_zeros();
+        let d = d << s;
+        // floor(((2^64 - 1 - d) 2^64 + 2^64 - 1) / d); !d < 2^63 <= d, as the long division needs.
+        let (v, _) = div_rem_below_u64(!d, u64::MAX, d);
+        Some(Reciprocal64 { d, v, s })
+    }
+
+    /// `(u1:u0 / d, u1:u0 % d)` of the normalised divisor, for `u1 < d`.
+    #[inline]
+    fn div_2by1(&self, u1: u64, u0: u64) -> (u64, u64) {
+        let d = self.d;
+        let q = (u128::from(self.v) * u128::from(u1))
+            .wrapping_add((u128::from(u1) << 64) | u128::from(u0));
+        let (mut q1, q0) = (((q >> 64) as u64).wrapping_add(1), q as u64);
+        let mut r = u0.wrapping_sub(q1.wrapping_mul(d));
+        if r > q0 {
+            q1 = q1.wrapping_sub(1);
+            r = r.wrapping_add(d);
+        }
+        if r >= d {
+            q1 = q1.wrapping_add(1);
+            r -= d;
+        }
+        (q1, r)
+    }
+
+    /// `(n / d, n % d)` of the original divisor.
+    pub(crate) fn div_rem(&self, n: u128) -> (u128, u64) {
+        let s = self.s;
+        // n << s as three words; the top one is below 2^s <= 2^63 <= d.
+        let (n2, n1, n0) = if s == 0 {
+            (0, (n >> 64) as u64, n as u64)
+        } else {
+            let m = n << s;
+            ((n >> (128 - s)) as u64, (m >> 64) as u64, m as u64)
+        };
+        let (q1, r1) = self.div_2by1(n2, n1);
+        let (q0, r0) = self.div_2by1(r1, n0);
+        ((u128::from(q1) << 64) | u128::from(q0), r0 >> s)
+    }
+}
+
 /// `(n / d, n % d)` for a 64-bit `n` and a divisor below 2^32 (`None` for `d == 0`): two steps of
 /// [`div_rem_below_u32`] on the 32-bit hardware divide instead of the 64-bit library division.
 #[inline(never)]
@@ -322,7 +385,50 @@ mod tests {
         }
     }
 
+    #[test]
+    fn reciprocal_edges() {
+        for d in [
+            1u64,
+            2,
+            3,
+            7,
+            u64::from(u32::MAX),
+            1 << 32,
+            (1 << 63) - 1,
+            1 << 63,
+            u64::MAX,
+        ] {
+            let r = Reciprocal64::new(d).expect("non-zero");
+            for n in [
+                0u128,
+                1,
+                u128::from(d) - 1,
+                u128::from(d),
+                u128::MAX,
+                u128::MAX - 1,
+                1 << 127,
+            ] {
+                assert_eq!(
+                    r.div_rem(n),
+                    (n / u128::from(d), (n % u128::from(d)) as u64),
+                    "{n} / {d}"
+                );
+            }
+        }
+        assert!(Reciprocal64::new(0).is_none());
+    }
+
     proptest::proptest! {
+        #[test]
+        fn reciprocal_matches_native(n in proptest::prelude::any::<u128>(), d in 1u64.., shift in 0u32..64, nshift in 0u32..128) {
+            for d in [d, (d >> shift).max(1)] {
+                let r = Reciprocal64::new(d).expect("non-zero");
+                for n in [n, n >> nshift] {
+                    proptest::prop_assert_eq!(r.div_rem(n), (n / u128::from(d), (n % u128::from(d)) as u64));
+                }
+            }
+        }
+
         #[test]
         fn u64_by_u32_matches_native(n in proptest::prelude::any::<u64>(), d in proptest::prelude::any::<u32>(), shift in 0u32..32) {
             for d in [d, d >> shift, 1, u32::MAX] {

@@ -27,6 +27,7 @@ use super::edge::{Coverage, HALF, SUB};
 use super::{
     div_round_i128, sat_i32, CullMode, Perspective, ScreenVertex, TriangleOptions, GUARD_BAND,
 };
+use crate::wide::Reciprocal64;
 
 /// Why a triangle was not set up.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
@@ -55,10 +56,62 @@ pub(crate) struct Plane {
     pub(crate) gy: i128,
 }
 
+/// `round(n / area2)` (half up, as [`div_round_i128`]) for the many plane numerators of one
+/// triangle: the doubled area's reciprocal is prepared once (`area2` is below 2^63 in magnitude
+/// inside the guard band), so each rounding division is a few multiplications instead of a long
+/// division. Gives exactly [`div_round_i128`]'s result.
+#[derive(Clone, Copy, Debug)]
+struct AreaDivisor {
+    area2: i128,
+    /// `|area2|` and its reciprocal (`None` only past 64 bits: then [`div_round_i128`]).
+    recip: Option<(i128, Reciprocal64)>,
+}
+
+impl AreaDivisor {
+    fn new(area2: i128) -> AreaDivisor {
+        let recip = u64::try_from(area2.unsigned_abs())
+            .ok()
+            .and_then(Reciprocal64::new)
+            .map(|r| (area2.saturating_abs(), r));
+        AreaDivisor { area2, recip }
+    }
+
+    /// `round(n / area2)`, ties up, exactly as `div_round_i128(n, area2)`.
+    #[inline]
+    fn div_round(&self, n: i128) -> i128 {
+        let Some((d, r)) = self.recip else {
+            return div_round_i128(n, self.area2);
+        };
+        // As div_round_i128: a negative divisor negates both (saturating).
+        let n = if self.area2 < 0 {
+            n.saturating_neg()
+        } else {
+            n
+        };
+        let (qm, rm) = r.div_rem(n.unsigned_abs());
+        // The Euclidean quotient and remainder by d > 0 from the magnitudes; |q| <= 2^127 wraps
+        // like the shared division (only n = i128::MIN, d = 1).
+        let (q, rem) = if n >= 0 || rm == 0 {
+            let q = qm as i128;
+            (if n >= 0 { q } else { q.wrapping_neg() }, i128::from(rm))
+        } else {
+            (
+                (qm as i128).wrapping_neg().wrapping_sub(1),
+                d - i128::from(rm),
+            )
+        };
+        if rem >= d - rem {
+            q.saturating_add(1)
+        } else {
+            q
+        }
+    }
+}
+
 impl Plane {
     /// The plane through the vertex values `l` (each `|l_i| <= 2^62`) at the raw vertex
-    /// positions `p` (guard band), `area2 != 0` the doubled signed area.
-    fn new(l: [i128; 3], p: &[[i64; 2]; 3], area2: i128) -> Plane {
+    /// positions `p` (guard band), `area` dividing by the doubled signed area `!= 0`.
+    fn new(l: [i128; 3], p: &[[i64; 2]; 3], area: &AreaDivisor) -> Plane {
         let (rx, ry) = (HALF as i128, HALF as i128);
         let mut num_c: i128 = 0;
         let mut num_x: i128 = 0;
@@ -75,10 +128,10 @@ impl Plane {
             num_x += li * (yj - yk) * SUB as i128;
             num_y += li * (xk - xj) * SUB as i128;
         }
-        let gx = div_round_i128(num_x, area2);
-        let gy = div_round_i128(num_y, area2);
+        let gx = area.div_round(num_x);
+        let gy = area.div_round(num_y);
         Plane {
-            c: div_round_i128(num_c, area2) as i64,
+            c: area.div_round(num_c) as i64,
             dx: gx as i64,
             dy: gy as i64,
             gx,
@@ -194,8 +247,9 @@ impl TriangleSetup {
             }
         }
 
+        let area = AreaDivisor::new(area2);
         let zs = v.map(|p| p.z as i64);
-        let z = Plane::new(zs.map(|z| (z as i128) << 32), &p, area2);
+        let z = Plane::new(zs.map(|z| (z as i128) << 32), &p, &area);
         let zlo = zs.iter().copied().min().unwrap_or(0);
         let zhi = zs.iter().copied().max().unwrap_or(0);
 
@@ -209,7 +263,7 @@ impl TriangleSetup {
             for c in 0..3 {
                 let a = 62 - bitlen(range[c]);
                 let l = tex.map(|t| ((t[c] - base[c]) as i128) << a);
-                let pl = Plane::new(l, &p, area2);
+                let pl = Plane::new(l, &p, &area);
                 let half = 1i128 << (a - 1);
                 let gx = pl.gx.saturating_add(half) >> a;
                 let gy = pl.gy.saturating_add(half) >> a;
@@ -238,13 +292,13 @@ impl TriangleSetup {
                     (w + (1 << (b - 31))) >> (b - 30)
                 }
             });
-            let qp = Plane::new(q.map(|q| (q as i128) << 32), &p, area2);
+            let qp = Plane::new(q.map(|q| (q as i128) << 32), &p, &area);
             let mut pp = [Plane::default(); 3];
             let mut qshift = [0u32; 3];
             for c in 0..3 {
                 let bl = bitlen(range[c]);
                 let l = [0, 1, 2].map(|i| (((tex[i][c] - base[c]) * q[i]) as i128) << (32 - bl));
-                pp[c] = Plane::new(l, &p, area2);
+                pp[c] = Plane::new(l, &p, &area);
                 qshift[c] = bl;
             }
             Interp::Persp(PerspInterp {
@@ -354,7 +408,7 @@ mod tests {
         let area2 = (p[1][0] - p[0][0]) as i128 * (p[2][1] - p[0][1]) as i128
             - (p[2][0] - p[0][0]) as i128 * (p[1][1] - p[0][1]) as i128;
         let l = [123_456_789i128 << 30, -(987_654_321i128 << 31), 5i128 << 40];
-        let pl = Plane::new(l, &p, area2);
+        let pl = Plane::new(l, &p, &AreaDivisor::new(area2));
         for (i, px) in [(0usize, (0, 0)), (1, (40, 0)), (2, (3, 29))] {
             let err = (pl.at(px.0, px.1) as i128 - l[i]).abs();
             assert!(err <= 1 + (px.0 + px.1) as i128 / 2 + 1, "{i} {err}");
@@ -381,5 +435,65 @@ mod tests {
         }
         v[2].inv_w = InvW::from_bits(u32::MAX);
         assert!(TriangleSetup::new(&v, &o).unwrap().is_perspective());
+    }
+
+    #[test]
+    fn area_divisor_rounds_as_div_round_i128() {
+        let ns = [
+            0i128,
+            1,
+            -1,
+            2,
+            -2,
+            3,
+            -3,
+            i128::MAX,
+            i128::MIN,
+            i128::MIN + 1,
+            1 << 100,
+            -(1 << 100) - 7,
+            (1 << 125) + 12345,
+        ];
+        let ds = [
+            1i128,
+            -1,
+            2,
+            -2,
+            3,
+            -3,
+            (1 << 62) + 1,
+            -(1 << 62) - 3,
+            i128::from(i64::MAX),
+            -i128::from(i64::MAX),
+            1 << 64,
+            -(1 << 64),
+            (1 << 70) + 5,
+        ];
+        for &d in &ds {
+            let a = AreaDivisor::new(d);
+            for &n in &ns {
+                assert_eq!(a.div_round(n), div_round_i128(n, d), "{n} / {d}");
+            }
+        }
+    }
+
+    proptest::proptest! {
+        #[test]
+        fn area_divisor_matches_div_round_i128(
+            n in proptest::prelude::any::<i128>(),
+            d in proptest::prelude::any::<i64>(),
+            nshift in 0u32..127,
+            dshift in 0u32..63,
+        ) {
+            for d in [i128::from(d), i128::from(d >> dshift)] {
+                if d == 0 {
+                    continue;
+                }
+                let a = AreaDivisor::new(d);
+                for n in [n, n >> nshift] {
+                    proptest::prop_assert_eq!(a.div_round(n), div_round_i128(n, d));
+                }
+            }
+        }
     }
 }
