@@ -1,7 +1,7 @@
 //! Lattice hashes: map an integer lattice cell corner to pseudo-random bits.
 //!
 //! Three hashes, all defined bit for bit in `docs/model.md` section 2:
-//! - [`perm_hash`]: Ken Perlin's 256-entry permutation table, chained three times (period 256);
+//! - `perm_hash`: Ken Perlin's 256-entry permutation table, chained three times (period 256);
 //!   needs a 256-byte ROM (feature `perm-hash`).
 //! - [`int_hash`]: a table-free integer mixer (period 2^16) for builds with no ROM tables, such as
 //!   FPGA soft-cores.

@@ -396,7 +396,8 @@ fn unreachable_model() -> TextureModel<PRESET_TERMS> {
 }
 
 /// A preset by name (`fire` at phase 0). `None` for unknown names and for the perturbed
-/// materials, which are [`crate::material`] values (see [`mn_marble`], [`mn_wood`]).
+/// materials, which are `crate::material` values (see `mn_marble`, `mn_wood`; feature
+/// `perturb`).
 pub fn by_name(name: &str, hash: HashKind) -> Option<Preset> {
     Some(match name {
         "wood" => wood(hash),

@@ -6,7 +6,7 @@
 //! - [`RgbaBuffer`]: an RGBA8888 buffer over a caller-owned slice (a whole frame, or a band);
 //! - [`Rgb565Buffer`]: an RGB565 buffer over a caller-owned `u16` slice;
 //! - [`ChecksumSink`]: only a checksum, for comparing device and host renders;
-//! - [`DrawTargetSink`] (feature `embedded-graphics`): one `fill_contiguous` per span, so a display
+//! - `DrawTargetSink` (feature `embedded-graphics`): one `fill_contiguous` per span, so a display
 //!   driver receives whole rows.
 //!
 //! Guarantees: sinks clip every write to their rectangle and never panic, whatever the

@@ -1,6 +1,6 @@
 //! Colour-table antialiasing (Hart et al. 1999 section 3.3; `docs/model.md` sections 7 and 8):
-//! the filter width from the gradient of `f` ([`width`]), the colour-table MIP map ([`mip`],
-//! feature `mip`) and the summed-area colour table in its two layouts ([`csat`], feature `csat`),
+//! the filter width from the gradient of `f` ([`width`]), the colour-table MIP map (`mip`,
+//! feature `mip`) and the summed-area colour table in its two layouts (`csat`, feature `csat`),
 //! combined with a colour table into a [`ColorStage`] that turns `(f, w)` into a colour.
 //!
 //! Guarantees:
@@ -13,7 +13,7 @@
 //!   bytes, MIP 2048, csat 3088, three-times-long csat 7184 (plus 3 bytes of configuration).
 //!   `size_of::<ColorStage<N>>()` is that of the largest filter compiled in (disable `csat` to drop
 //!   the csat variants); for the smallest footprint with a fixed filter, use the parts
-//!   ([`csat::Csat`], [`mip::ColorMip`]) directly. The stage and the filter structures are `Clone`
+//!   (`csat::Csat`, `mip::ColorMip`) directly. The stage and the filter structures are `Clone`
 //!   but deliberately not `Copy`, so a multi-kilobyte copy is never implicit.
 
 #[cfg(feature = "csat")]
