@@ -182,6 +182,8 @@ pub struct SampleChunk {
     gy: [i64; SAMPLE_CHUNK],
     /// Samples held, `<= SAMPLE_CHUNK`.
     len: usize,
+    /// The span's [`SpanInfo::extra_width48`].
+    extra_width48: i64,
 }
 
 impl SampleChunk {
@@ -191,7 +193,15 @@ impl SampleChunk {
             gx: [0; SAMPLE_CHUNK],
             gy: [0; SAMPLE_CHUNK],
             len: 0,
+            extra_width48: 0,
         }
+    }
+
+    /// The extra filter width of the chunk's span from octaves culled past the Nyquist limit
+    /// ([`SpanInfo::extra_width48`]; the same for every chunk of a span), known before the first
+    /// chunk is handed over, so a consumer need not ask [`SpanEvaluator::extra_width48`] first.
+    pub const fn extra_width48(&self) -> i64 {
+        self.extra_width48
     }
 
     /// Number of samples.
@@ -651,6 +661,7 @@ impl<'m, const T: usize> SpanEvaluator<'m, T> {
     /// The evaluation proper.
     fn eval_inner(&mut self, span: &Span, sink: &mut ChunkSink<'_, '_>) -> SpanInfo {
         let setup = self.setup(span);
+        sink.chunk.extra_width48 = setup.extra_width48;
         self.stats.spans += 1;
         self.stats.pixels += u64::from(span.len);
         let info = SpanInfo {
@@ -1898,6 +1909,31 @@ mod tests {
         assert_eq!(ev.stats().noise_evaluations, 0);
         // 2 * (1 + 1/2 + 1/4 + 1/8) = 3.75
         assert_eq!(info.extra_width48, (3 * 65536 + 49152) << 32);
+        assert_eq!(ev.extra_width48(&span), info.extra_width48);
+        // Every chunk carries its span's culled width: here a span of 3 chunks whose two finest
+        // octaves are past Nyquist (2 * (1/4 + 1/8) = 0.75), then one with none.
+        let near = Span {
+            ds: TexPoint::from_f64(1.0 / 16.0, 0.0, 0.0),
+            len: 3 * SAMPLE_CHUNK as u16 - 5,
+            ..span
+        };
+        let mut got = Vec::new();
+        let info = ev.eval_chunks(&near, &mut |c: &SampleChunk| {
+            got.push((c.len(), c.extra_width48()))
+        });
+        assert_eq!(info.extra_width48, 49152 << 32);
+        assert_eq!(ev.extra_width48(&near), info.extra_width48);
+        let lens: Vec<usize> = got.iter().map(|g| g.0).collect();
+        assert_eq!(lens, [SAMPLE_CHUNK, SAMPLE_CHUNK, SAMPLE_CHUNK - 5]);
+        assert!(got.iter().all(|g| g.1 == info.extra_width48));
+        let none = Span {
+            ds: TexPoint::from_f64(1.0 / 256.0, 0.0, 0.0),
+            ..near
+        };
+        let info = ev.eval_chunks(&none, &mut |c: &SampleChunk| {
+            assert_eq!(c.extra_width48(), 0)
+        });
+        assert_eq!(info.extra_width48, 0);
     }
 
     #[test]

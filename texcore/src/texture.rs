@@ -200,32 +200,33 @@ impl<const T: usize, const N: usize> TextureEvaluator<'_, T, N> {
         let norm = self.tex.norm;
         let lg = log2(N);
         // Width of the octaves culled past Nyquist: (2 sum |a_k|, 16 fraction bits) * N, saturating.
-        let extra48 = match &self.inner {
-            Inner::Model(e) => e.extra_width48(span),
-            #[cfg(feature = "perturb")]
-            Inner::Perturbed(e) => e.extra_width48(span),
+        let extra_raw = |extra48: i64| -> u32 {
+            let e16 = (extra48 >> 32).clamp(0, i64::from(u32::MAX)) as u64;
+            (e16 << lg).min(u64::from(u32::MAX)) as u32
         };
-        let e16 = (extra48 >> 32).clamp(0, i64::from(u32::MAX)) as u64;
-        let extra_raw = (e16 << lg).min(u64::from(u32::MAX)) as u32;
         // The L2 root of each pixel starts from its neighbour's (exact for any start).
         let mut widths = WidthStream::new(norm, lg);
-        let widen = |w: FilterWidth| FilterWidth::from_bits(w.to_bits().saturating_add(extra_raw));
+        let widen =
+            |w: FilterWidth, extra: u32| FilterWidth::from_bits(w.to_bits().saturating_add(extra));
         match &mut self.inner {
             Inner::Model(e) => {
                 // The model's samples arrive by component, a chunk at a time: widths for the
-                // chunk, then its colours with the filter chosen once.
+                // chunk, then its colours with the filter chosen once. Each chunk carries its
+                // span's culled width (the span's set-up computed it once).
                 e.eval_chunks(span, &mut |c: &SampleChunk| {
+                    let extra = extra_raw(c.extra_width48());
                     let mut w = [FilterWidth::ZERO; SAMPLE_CHUNK];
                     for ((w, &gx), &gy) in w.iter_mut().zip(c.gx()).zip(c.gy()) {
-                        *w = widen(widths.width(gx, gy));
+                        *w = widen(widths.width(gx, gy), extra);
                     }
                     stage.shade_each(c.f(), &w, &mut emit);
                 });
             }
             #[cfg(feature = "perturb")]
             Inner::Perturbed(e) => {
+                let extra = extra_raw(e.extra_width48(span));
                 e.eval(span, |s| {
-                    emit(stage.shade(s.f, widen(widths.width(s.gx, s.gy))));
+                    emit(stage.shade(s.f, widen(widths.width(s.gx, s.gy), extra)));
                 });
             }
         }
