@@ -188,14 +188,7 @@ fn triangle_rows(
     rows: &core::ops::Range<u16>,
     width: u16,
 ) -> Option<(u16, u16)> {
-    let (mut x0, mut x1, mut y0, mut y1) = (i64::MAX, i64::MIN, i64::MAX, i64::MIN);
-    for p in t {
-        let (x, y) = (i64::from(p.x.to_bits()), i64::from(p.y.to_bits()));
-        x0 = x0.min(x);
-        x1 = x1.max(x);
-        y0 = y0.min(y);
-        y1 = y1.max(y);
-    }
+    let [x0, x1, y0, y1] = crate::raster::bounding_box(t);
     if x1 < 8 || x0 > 16 * i64::from(width) - 8 {
         return None;
     }

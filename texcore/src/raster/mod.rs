@@ -530,14 +530,7 @@ impl Rasterizer {
 
     /// Conservative bounding-box rejection (counts the triangle as submitted and offscreen).
     fn misses(&mut self, v: &[ScreenVertex; 3], clip: Rect) -> bool {
-        let (mut x0, mut x1, mut y0, mut y1) = (i64::MAX, i64::MIN, i64::MAX, i64::MIN);
-        for p in v {
-            let (x, y) = (p.x.to_bits() as i64, p.y.to_bits() as i64);
-            x0 = x0.min(x);
-            x1 = x1.max(x);
-            y0 = y0.min(y);
-            y1 = y1.max(y);
-        }
+        let [x0, x1, y0, y1] = bounding_box(v);
         // Pixel centres are at 16 p + 8: the box covers a centre of the clip only if
         // x1 >= 16 clip.x0 + 8 and x0 <= 16 (clip.x1 - 1) + 8 (same for y).
         let miss = clip.is_empty()
@@ -552,6 +545,20 @@ impl Rasterizer {
         }
         miss
     }
+}
+
+/// The raw 28.4 bounding box `[x0, x1, y0, y1]` (inclusive) of a triangle's vertices.
+#[inline]
+pub(crate) fn bounding_box(v: &[ScreenVertex; 3]) -> [i64; 4] {
+    let (mut x0, mut x1, mut y0, mut y1) = (i64::MAX, i64::MIN, i64::MAX, i64::MIN);
+    for p in v {
+        let (x, y) = (i64::from(p.x.to_bits()), i64::from(p.y.to_bits()));
+        x0 = x0.min(x);
+        x1 = x1.max(x);
+        y0 = y0.min(y);
+        y1 = y1.max(y);
+    }
+    [x0, x1, y0, y1]
 }
 
 /// Builds a `TexPoint` from three raw `i64` values known to fit `i32`.
