@@ -64,6 +64,16 @@ for t in "${targets[@]}"; do
         tail -20 "$log" >&2
         status=1
     fi
+    # The same at opt-level "z" (profile release-size), where texcore compiles its size-lean
+    # code shape (cfg(texcore_lean)): the code the size report measures.
+    if cargo build --profile release-size -p firmware --target "$t" \
+        --features panic-never,panic-never-pixel-path --target-dir "$target_dir" >"$log" 2>&1; then
+        echo "panic-never: $t: pixel path OK at opt-level z (size-lean shape)"
+    else
+        echo "panic-never: $t: pixel path at opt-level z (release-size): FAILED:" >&2
+        grep -E "error|$symbol|>>>" "$log" >&2 || tail -20 "$log" >&2
+        status=1
+    fi
     if cargo build --release -p firmware --target "$t" --features panic-never \
         --target-dir "$target_dir" >"$log" 2>&1; then
         echo "panic-never: $t: OK (no reachable panic)"

@@ -231,14 +231,14 @@ pub const fn over(src: Rgba8888, dst: Rgba8888) -> Rgba8888 {
 }
 
 /// `round((s * ws + d * wd) / 255)` for `ws + wd = 255` (exact, no ties).
-#[inline(always)]
+#[cfg_attr(not(texcore_lean), inline(always))]
 const fn mix255(s: u8, d: u8, ws: u32, wd: u32) -> u8 {
     ((s as u32 * ws + d as u32 * wd + 127) / 255) as u8
 }
 
 /// `round((s * ws + d * wd) / a)`, ties up, for `a = ws + wd` in 255..=65025; the result is a
 /// weighted mean of `s` and `d`, so it fits a `u8`.
-#[inline(always)]
+#[cfg_attr(not(texcore_lean), inline(always))]
 const fn mix_general(s: u8, d: u8, ws: u32, wd: u32, a: u32) -> u8 {
     ((s as u32 * ws + d as u32 * wd + a / 2) / a) as u8
 }

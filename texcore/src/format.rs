@@ -86,7 +86,7 @@ impl TexPoint {
 }
 
 /// Rounds a value with 32 fraction bits to 16 fraction bits, half up (`(x + 2^15) >> 16`).
-#[inline(always)]
+#[cfg_attr(not(texcore_lean), inline(always))]
 pub(crate) const fn round_32_to_16(x: i64) -> i64 {
     (x + (1 << 15)) >> 16
 }

@@ -17,6 +17,19 @@
 //!
 //! Raw kernels (hashes, noise bases, fades) live apart from the configured wrappers
 //! ([`model::TextureModel`], [`table::ColorTable`]).
+//!
+//! ## Code size
+//!
+//! texcore follows the optimisation goal of the build. At `opt-level = "s"` or `"z"` (for
+//! example a `[profile.release] opt-level = "z"` in the firmware's workspace, or a
+//! `[profile.release.package.texcore]` override) it compiles its **size-lean** shape: small
+//! helpers are left to the compiler instead of forced inline, and the span evaluator's merged
+//! forward-difference loop is one loop that tests the span's shape per pixel instead of eight
+//! specialisations and the component passes over long cells. At every other level it compiles
+//! the fast shape. Both shapes give bit-identical samples (unit tests compare them in every
+//! build); the lean one is what `texsim report size` measures, and its price in instructions is in
+//! `docs/performance.md`. The build script sets `cfg(texcore_lean)` from cargo's `OPT_LEVEL`;
+//! passing `--cfg texcore_lean` in `RUSTFLAGS` selects it at any level.
 #![cfg_attr(not(test), no_std)]
 #![deny(missing_docs, unsafe_code)]
 

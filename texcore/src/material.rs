@@ -189,7 +189,7 @@ pub struct MaterialEvaluator<'m, const T: usize> {
 }
 
 /// Squares of I16F16 values in i64 with 16 fraction bits, combined and divided by `rings^2`.
-#[inline(always)]
+#[cfg_attr(not(texcore_lean), inline(always))]
 fn cylinder(y0: TexValue, y2: TexValue, rings: u8) -> TexValue {
     let a = i64::from(y0.to_bits());
     let b = i64::from(y2.to_bits());

@@ -190,7 +190,7 @@ impl Precision {
     }
 
     /// A lattice coordinate (raw 16.16, wrapping) rounded half up to `F` fraction bits.
-    #[inline(always)]
+    #[cfg_attr(not(texcore_lean), inline(always))]
     pub const fn quantize_coord(&self, u: i32) -> i32 {
         quantize_coord(u, self.coord_bits as u32)
     }
@@ -198,7 +198,7 @@ impl Precision {
 
 /// `u` (raw 16.16, wrapping) rounded half up to a multiple of `2^(16 - bits)` raw units
 /// (`bits` fraction bits), wrapping; the identity for `bits >= 16`.
-#[inline(always)]
+#[cfg_attr(not(texcore_lean), inline(always))]
 pub const fn quantize_coord(u: i32, bits: u32) -> i32 {
     if bits >= 16 {
         return u;

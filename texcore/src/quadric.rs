@@ -42,7 +42,7 @@ impl QuadraticSpan {
     }
 }
 
-#[inline(always)]
+#[cfg_attr(not(texcore_lean), inline(always))]
 fn homogeneous(p: [i64; 3], w: i64) -> [i128; 4] {
     [
         i128::from(p[0]),

@@ -247,7 +247,7 @@ struct ChunkSink<'o, 'c> {
 
 impl ChunkSink<'_, '_> {
     /// Appends one sample.
-    #[inline(always)]
+    #[cfg_attr(not(texcore_lean), inline(always))]
     fn push(&mut self, s: Sample) {
         let c = &mut self.chunk;
         let i = c.len;
@@ -260,13 +260,13 @@ impl ChunkSink<'_, '_> {
     }
 
     /// Free slots before the chunk is handed over (at least 1).
-    #[inline(always)]
+    #[cfg_attr(not(texcore_lean), inline(always))]
     fn room(&self) -> usize {
         SAMPLE_CHUNK - self.chunk.len
     }
 
     /// Marks `k <= room()` more slots as filled, handing the chunk over when it is full.
-    #[inline(always)]
+    #[cfg_attr(not(texcore_lean), inline(always))]
     fn advance(&mut self, k: usize) {
         self.chunk.len += k;
         if self.chunk.len >= SAMPLE_CHUNK {
@@ -304,20 +304,20 @@ struct TermSetup {
     gradient: bool,
 }
 
-#[inline(always)]
+#[cfg_attr(not(texcore_lean), inline(always))]
 fn exact(p: TexPoint) -> [i64; 3] {
     let b = p.to_bits();
     [i64::from(b[0]), i64::from(b[1]), i64::from(b[2])]
 }
 
-#[inline(always)]
+#[cfg_attr(not(texcore_lean), inline(always))]
 fn sat_i64(x: i128) -> i64 {
     crate::noise::saturate_i64(x)
 }
 
 /// Combines the exact quadric (48 fraction bits) and the noise sum (`48 + fv`) into `f`
 /// (`docs/model.md` section 6): wrapping for `mod`, saturating for `clamp`.
-#[inline(always)]
+#[cfg_attr(not(texcore_lean), inline(always))]
 fn combine(wrap: TableWrap, q48: i128, n: i64, fv: u32) -> TexValue {
     let f48 = match wrap {
         TableWrap::Mod => (q48 as i64).wrapping_add(n >> fv),
@@ -327,7 +327,7 @@ fn combine(wrap: TableWrap, q48: i128, n: i64, fv: u32) -> TexValue {
 }
 
 /// Pixels from fraction `f` (0..65535) until the lattice coordinate leaves the cell, stepping `d`.
-#[inline(always)]
+#[cfg_attr(not(texcore_lean), inline(always))]
 fn pixels_in_cell_axis(f: u32, d: i32) -> u32 {
     if d > 0 {
         (0xFFFF - f) / d as u32 + 1
@@ -338,7 +338,7 @@ fn pixels_in_cell_axis(f: u32, d: i32) -> u32 {
     }
 }
 
-#[inline(always)]
+#[cfg_attr(not(texcore_lean), inline(always))]
 fn pixels_in_cell(frac: [u32; 3], d: [i32; 3]) -> u32 {
     pixels_in_cell_axis(frac[0], d[0])
         .min(pixels_in_cell_axis(frac[1], d[1]))
@@ -438,6 +438,12 @@ enum Strategy {
 /// the merged loop's per-pixel path.
 const GENERAL_FD: bool = cfg!(feature = "turbulence-fd");
 
+/// The size-lean code shape (built at `opt-level = "s"` or `"z"`, `cfg(texcore_lean)`): the
+/// merged loop runs one pixel loop that tests the span's shape (gradients, affine quadric) per
+/// pixel, instead of its eight specialisations and the component passes over long cells. The
+/// samples are identical (unit tests compare both shapes in every build).
+const LEAN: bool = cfg!(texcore_lean);
+
 /// Whether any strategy of the general loop keeps per-term state across pixels (cell caches,
 /// forward differences, segments); without one it only evaluates per pixel.
 const GENERAL_ANCHORS: bool = cfg!(any(
@@ -450,7 +456,7 @@ const GENERAL_ANCHORS: bool = cfg!(any(
 
 /// The evaluation mode actually run for `mode`: a mode whose code is not compiled in is
 /// [`EvalMode::Fd`] (see the variants' documentation).
-#[inline(always)]
+#[cfg_attr(not(texcore_lean), inline(always))]
 const fn compiled_mode(mode: EvalMode) -> EvalMode {
     match mode {
         #[cfg(not(feature = "fd32"))]
@@ -528,6 +534,9 @@ pub struct SpanEvaluator<'m, const T: usize> {
     model: &'m TextureModel<T>,
     opts: EvalOptions,
     stats: SpanStats,
+    /// Tests only: run the size-lean loop shape ([`LEAN`]) whatever the build.
+    #[cfg(test)]
+    lean: bool,
 }
 
 impl<'m, const T: usize> SpanEvaluator<'m, T> {
@@ -537,7 +546,18 @@ impl<'m, const T: usize> SpanEvaluator<'m, T> {
             model,
             opts,
             stats: SpanStats::default(),
+            #[cfg(test)]
+            lean: LEAN,
         }
+    }
+
+    /// Whether the merged loop takes its size-lean shape ([`LEAN`]; tests choose either).
+    #[inline(always)]
+    fn lean(&self) -> bool {
+        #[cfg(test)]
+        return self.lean;
+        #[cfg(not(test))]
+        LEAN
     }
 
     /// The counters so far.
@@ -735,6 +755,7 @@ impl<'m, const T: usize> SpanEvaluator<'m, T> {
         sink: &mut ChunkSink<'_, '_>,
     ) -> bool {
         let m = self.model;
+        let lean = self.lean();
         let terms = m.terms();
         let fv = m.noise_frac_bits();
         let vb = m.precision().value_bits();
@@ -821,7 +842,7 @@ impl<'m, const T: usize> SpanEvaluator<'m, T> {
         while i < len {
             let end = merged.iter().fold(len, |e, t| e.min(t.3));
             let seg = end - i;
-            if nd == 0 && seg >= PASS_MIN {
+            if !lean && nd == 0 && seg >= PASS_MIN {
                 // Component passes over the chunk: value, then each gradient.
                 let mut left = seg as usize;
                 while left > 0 {
@@ -851,9 +872,10 @@ impl<'m, const T: usize> SpanEvaluator<'m, T> {
                     sink.advance(k);
                     left -= k;
                 }
-            } else if nd == 0 {
+            } else if !lean && nd == 0 {
                 // Short segments (cells of a few pixels): one fused pass costs less than three.
                 pixel_loop(
+                    lean,
                     seg,
                     fv,
                     grads,
@@ -866,6 +888,7 @@ impl<'m, const T: usize> SpanEvaluator<'m, T> {
             } else {
                 let direct = &mut direct;
                 pixel_loop(
+                    lean,
                     seg,
                     fv,
                     grads,
@@ -1250,7 +1273,7 @@ fn dot(v: &[i64; 4], w: &[i128; 4]) -> i128 {
     acc
 }
 
-#[inline(always)]
+#[cfg_attr(not(texcore_lean), inline(always))]
 fn wide(d: [i32; 3]) -> [i64; 3] {
     [i64::from(d[0]), i64::from(d[1]), i64::from(d[2])]
 }
@@ -1282,8 +1305,9 @@ fn fits(c: &[i128], len: u32) -> bool {
 /// not) so that nothing is tested per pixel; `extra` adds per-pixel (direct) terms. No addition
 /// here can saturate (see [`SpanEvaluator::run_merged`]), so all are wrapping.
 #[allow(clippy::too_many_arguments)]
-#[inline(always)]
+#[cfg_attr(not(texcore_lean), inline(always))]
 fn pixel_loop<F: FnMut(Sample), X: FnMut(&mut i64, &mut i64, &mut i64)>(
+    lean: bool,
     seg: u32,
     fv: u32,
     grads: bool,
@@ -1293,16 +1317,22 @@ fn pixel_loop<F: FnMut(Sample), X: FnMut(&mut i64, &mut i64, &mut i64)>(
     emit: &mut F,
     extra: X,
 ) {
+    if lean {
+        return pixels(grads, affine, seg, fv, s, q, emit, extra);
+    }
     match (grads, affine) {
-        (true, true) => pixels::<true, true, F, X>(seg, fv, s, q, emit, extra),
-        (true, false) => pixels::<true, false, F, X>(seg, fv, s, q, emit, extra),
-        (false, true) => pixels::<false, true, F, X>(seg, fv, s, q, emit, extra),
-        (false, false) => pixels::<false, false, F, X>(seg, fv, s, q, emit, extra),
+        (true, true) => pixels(true, true, seg, fv, s, q, emit, extra),
+        (true, false) => pixels(true, false, seg, fv, s, q, emit, extra),
+        (false, true) => pixels(false, true, seg, fv, s, q, emit, extra),
+        (false, false) => pixels(false, false, seg, fv, s, q, emit, extra),
     }
 }
 
-#[inline(always)]
-fn pixels<const G: bool, const AFFINE: bool, F, X>(
+#[allow(clippy::too_many_arguments)]
+#[cfg_attr(not(texcore_lean), inline(always))]
+fn pixels<F, X>(
+    #[allow(non_snake_case)] G: bool,
+    #[allow(non_snake_case)] AFFINE: bool,
     seg: u32,
     fv: u32,
     s: &mut Cubic,
@@ -1354,7 +1384,7 @@ fn pixels<const G: bool, const AFFINE: bool, F, X>(
 /// pixel, stepping the merged cubic `p` (three additions) and the quadric (one, or two when not
 /// affine). State: 20 words, which fits a 32-bit core's registers (the whole merged state does
 /// not).
-#[inline(always)]
+#[cfg_attr(not(texcore_lean), inline(always))]
 fn value_pass<const AFFINE: bool>(
     out: &mut [TexValue],
     fv: u32,
@@ -1384,7 +1414,7 @@ fn value_pass<const AFFINE: bool>(
 
 /// A gradient pass of the merged loop: `g_out = qg + (G >> fv)` per pixel, stepping the merged
 /// quadratic `g` (two additions) and the quadric's gradient `qg` (constant when affine).
-#[inline(always)]
+#[cfg_attr(not(texcore_lean), inline(always))]
 fn grad_pass<const AFFINE: bool>(
     out: &mut [i64],
     fv: u32,
@@ -1409,7 +1439,7 @@ fn grad_pass<const AFFINE: bool>(
 }
 
 /// Amplitude used for the corner values and the sign applied afterwards (turbulence).
-#[inline(always)]
+#[cfg_attr(not(texcore_lean), inline(always))]
 fn amp_and_sign(term: &NoiseTerm) -> (i32, bool) {
     let a = term.amplitude.to_bits();
     if term.turbulence {
@@ -1542,7 +1572,7 @@ fn culled_width48(term: &NoiseTerm) -> i64 {
 }
 
 /// Value and gradients of one term at a fraction of its cached cell.
-#[inline(always)]
+#[cfg_attr(not(texcore_lean), inline(always))]
 fn eval_term(
     term: &NoiseTerm,
     data: &CellData,
@@ -1577,17 +1607,17 @@ struct CubicPoly {
     h: [i64; 3],
 }
 
-#[inline(always)]
+#[cfg_attr(not(texcore_lean), inline(always))]
 fn wmul(a: i64, b: i64) -> i64 {
     a.wrapping_mul(b)
 }
 
-#[inline(always)]
+#[cfg_attr(not(texcore_lean), inline(always))]
 fn wadd(a: i64, b: i64) -> i64 {
     a.wrapping_add(b)
 }
 
-#[inline(always)]
+#[cfg_attr(not(texcore_lean), inline(always))]
 fn wsub(a: i64, b: i64) -> i64 {
     a.wrapping_sub(b)
 }
@@ -1665,7 +1695,7 @@ fn cubic_poly(v: &[i32; 8], frac: [u32; 3], du: [i32; 3], dy: [i32; 3], grads: b
 }
 
 /// Forward-difference state of `c` at local pixel 0 (gradient parts zero unless `grads`).
-#[inline(always)]
+#[cfg_attr(not(texcore_lean), inline(always))]
 fn fd_start(c: &CubicPoly, grads: bool) -> Cubic {
     let [g0, g1, g2, g3] = c.g;
     let [h0, h1, h2] = c.h;
@@ -1722,7 +1752,7 @@ fn fd_at(c: &CubicPoly, l: u32, grads: bool) -> Cubic {
 }
 
 impl Cubic {
-    #[inline(always)]
+    #[cfg_attr(not(texcore_lean), inline(always))]
     fn add(&mut self, o: &Cubic) {
         for (a, b) in self.p.iter_mut().zip(o.p) {
             *a = a.wrapping_add(b);
@@ -1735,7 +1765,7 @@ impl Cubic {
         }
     }
 
-    #[inline(always)]
+    #[cfg_attr(not(texcore_lean), inline(always))]
     fn sub(&mut self, o: &Cubic) {
         for (a, b) in self.p.iter_mut().zip(o.p) {
             *a = a.wrapping_sub(b);
@@ -2039,6 +2069,77 @@ mod tests {
                 let got = [dot(&vh, &qx).wrapping_mul(2), dot(&vh, &qd).wrapping_mul(2)];
                 assert_eq!(got, want);
             }
+        }
+    }
+
+    /// Samples and counters of `span` with the merged loop in its size-lean or fast shape.
+    fn run_shape<const T: usize>(
+        m: &TextureModel<T>,
+        opts: EvalOptions,
+        span: &Span,
+        lean: bool,
+    ) -> (Vec<Sample>, SpanStats) {
+        let mut ev = SpanEvaluator::new(m, opts);
+        ev.lean = lean;
+        let mut out = Vec::new();
+        ev.eval(span, |s| out.push(s));
+        (out, *ev.stats())
+    }
+
+    proptest::proptest! {
+        #![proptest_config(proptest::prelude::ProptestConfig::with_cases(96))]
+        /// The size-lean loop shape (`opt-level = "s"`/`"z"`) and the fast one give the same
+        /// samples and counters: long cells (the fast shape's component passes), short cells,
+        /// per-pixel terms mixed in (culling off past Nyquist), gradients on and off, `mod` and
+        /// `clamp`, affine and curved quadrics.
+        #[test]
+        fn lean_shape_equals_fast_shape(
+            s0 in proptest::array::uniform3(-4_000_000i32..4_000_000),
+            ds in proptest::array::uniform3(-40_000i32..40_000),
+            dy in proptest::array::uniform3(-9_000i32..9_000),
+            len in 0u16..300,
+            clamp: bool,
+            curved: bool,
+            gradients: bool,
+            cull: bool,
+            zoom in 0u32..4,
+            mode in 0usize..3,
+        ) {
+            let q = if curved {
+                Quadric::from_f64([0.7, 0.1, 0.0, -0.2, 0.3, 0.0, 0.05, 1.1, 0.25, 0.4]).unwrap()
+            } else {
+                Quadric::linear(
+                    QuadricCoeff::ONE,
+                    QuadricCoeff::ZERO,
+                    QuadricCoeff::from_num(0.5),
+                    QuadricCoeff::ZERO,
+                )
+            };
+            let wrap = if clamp { TableWrap::Clamp } else { TableWrap::Mod };
+            let mut m: TextureModel<8> = TextureModel::new(q, wrap);
+            m.push_octaves(&Octaves {
+                count: 5,
+                base: Affine3::scale(MatrixEntry::from_num(1u32 << zoom)),
+                amplitude: Amplitude::from_num(0.6),
+                rotate: true,
+                basis: NoiseBasis::trilinear(HashKind::Integer),
+                turbulence: false,
+            })
+            .unwrap();
+            let span = Span {
+                s0: TexPoint::from_bits(s0[0], s0[1], s0[2]),
+                ds: TexPoint::from_bits(ds[0] >> (2 * zoom), ds[1] >> (2 * zoom), ds[2]),
+                dsdy: TexPoint::from_bits(dy[0], dy[1], dy[2]),
+                len,
+            };
+            let opts = EvalOptions {
+                mode: [EvalMode::Direct, EvalMode::Fd, EvalMode::Auto][mode],
+                gradients,
+                cull,
+            };
+            let fast = run_shape(&m, opts, &span, false);
+            let lean = run_shape(&m, opts, &span, true);
+            proptest::prop_assert_eq!(fast, lean);
         }
     }
 

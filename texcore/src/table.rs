@@ -120,7 +120,7 @@ pub const fn check_size(n: usize) -> Result<u32, TableError> {
 }
 
 /// Per-channel `(a * (256 - t) + b * t + 128) >> 8` for `t` in 0..=256 (the model's 8-bit lerp).
-#[inline(always)]
+#[cfg_attr(not(texcore_lean), inline(always))]
 pub(crate) const fn lerp8(a: Rgba8888, b: Rgba8888, t: u32) -> Rgba8888 {
     let t = if t > 256 { 256 } else { t };
     let s = 256 - t;
@@ -165,7 +165,7 @@ pub(crate) const fn lookup_in(
     }
 }
 
-#[inline(always)]
+#[cfg_attr(not(texcore_lean), inline(always))]
 const fn min_usize(a: usize, b: usize) -> usize {
     if a < b {
         a
@@ -174,7 +174,7 @@ const fn min_usize(a: usize, b: usize) -> usize {
     }
 }
 
-#[inline(always)]
+#[cfg_attr(not(texcore_lean), inline(always))]
 const fn clamp_index(j: i64, last: usize) -> usize {
     if j < 0 {
         0
@@ -187,7 +187,7 @@ const fn clamp_index(j: i64, last: usize) -> usize {
 
 /// `entries[j]`, or black if `j` is out of range (never happens for the masked / clamped indices
 /// used here; this keeps the look-ups panic-free by construction).
-#[inline(always)]
+#[cfg_attr(not(texcore_lean), inline(always))]
 pub(crate) const fn get_or_black(entries: &[Rgba8888], j: usize) -> Rgba8888 {
     if j < entries.len() {
         entries[j]

@@ -267,13 +267,13 @@ pub mod workload {
     pub const FNV_OFFSET: u32 = 0x811C_9DC5;
 
     /// Folds one word into an FNV-1a checksum.
-    #[inline(always)]
+    #[cfg_attr(not(texcore_lean), inline(always))]
     pub fn fold(acc: u32, word: u32) -> u32 {
         (acc ^ word).wrapping_mul(0x0100_0193)
     }
 
     /// Folds a sample: `f` raw, then `gx` and `gy`, each as low word then high word.
-    #[inline(always)]
+    #[cfg_attr(not(texcore_lean), inline(always))]
     pub fn fold_sample(acc: u32, s: &Sample) -> u32 {
         let mut a = fold(acc, s.f.to_bits() as u32);
         for g in [s.gx, s.gy] {

@@ -84,19 +84,21 @@ impl Affine3 {
     pub fn then(&self, other: &Affine3) -> Affine3 {
         let mut m = [[Z; 3]; 3];
         let mut t = [Z; 3];
-        for (i, row) in m.iter_mut().enumerate() {
+        // Iterators rather than indices: no bounds check survives at any opt-level.
+        let bits = |e: &MatrixEntry| i64::from(e.to_bits());
+        for (((row, ti), orow), ot) in m.iter_mut().zip(&mut t).zip(&other.m).zip(&other.t) {
             for (j, e) in row.iter_mut().enumerate() {
                 let mut acc: i64 = 0;
-                for k in 0..3 {
-                    acc += i64::from(other.m[i][k].to_bits()) * i64::from(self.m[k][j].to_bits());
+                for (o, srow) in orow.iter().zip(&self.m) {
+                    acc += bits(o) * srow.get(j).map_or(0, bits);
                 }
                 *e = sat_entry(round_32_to_16(acc));
             }
-            let mut acc: i64 = i64::from(other.t[i].to_bits()) << 16;
-            for k in 0..3 {
-                acc += i64::from(other.m[i][k].to_bits()) * i64::from(self.t[k].to_bits());
+            let mut acc: i64 = bits(ot) << 16;
+            for (o, st) in orow.iter().zip(&self.t) {
+                acc += bits(o) * bits(st);
             }
-            t[i] = sat_entry(round_32_to_16(acc));
+            *ti = sat_entry(round_32_to_16(acc));
         }
         Affine3 { m, t }
     }
@@ -106,10 +108,10 @@ impl Affine3 {
     pub fn apply_point(&self, s: TexPoint) -> [i32; 3] {
         let b = s.to_bits();
         let mut out = [0i32; 3];
-        for (i, o) in out.iter_mut().enumerate() {
-            let mut acc: i64 = i64::from(self.t[i].to_bits()) << 16;
-            for (k, bk) in b.iter().enumerate() {
-                acc = acc.wrapping_add(i64::from(self.m[i][k].to_bits()) * i64::from(*bk));
+        for ((o, row), t) in out.iter_mut().zip(&self.m).zip(&self.t) {
+            let mut acc: i64 = i64::from(t.to_bits()) << 16;
+            for (m, bk) in row.iter().zip(&b) {
+                acc = acc.wrapping_add(i64::from(m.to_bits()) * i64::from(*bk));
             }
             *o = round_32_to_16(acc) as i32;
         }
@@ -121,10 +123,10 @@ impl Affine3 {
     pub fn apply_vector(&self, d: TexPoint) -> [i32; 3] {
         let b = d.to_bits();
         let mut out = [0i32; 3];
-        for (i, o) in out.iter_mut().enumerate() {
+        for (o, row) in out.iter_mut().zip(&self.m) {
             let mut acc: i64 = 0;
-            for (k, bk) in b.iter().enumerate() {
-                acc = acc.wrapping_add(i64::from(self.m[i][k].to_bits()) * i64::from(*bk));
+            for (m, bk) in row.iter().zip(&b) {
+                acc = acc.wrapping_add(i64::from(m.to_bits()) * i64::from(*bk));
             }
             *o = round_32_to_16(acc) as i32;
         }

@@ -250,7 +250,12 @@ div_rem_below!(
     div_rem_below_u32,
     u32,
     16,
-    |top, vn1| (top / vn1, top % vn1),
+    |top, vn1| {
+        // The caller's `vn1` is at least 1; restated here for builds that keep this closure
+        // out of line (opt-level "z"), where the divide's zero check would otherwise remain.
+        let vn1 = vn1.max(1);
+        (top / vn1, top % vn1)
+    },
     "`(u1:u0 / d, u1:u0 % d)` for 32-bit words, `u1 < d`: the 32-bit hardware divide only."
 );
 

@@ -36,13 +36,13 @@ use crate::format::{FilterWidth, TableCoord};
 use crate::table::{ColorTable, TableWrap};
 
 /// Packs `[r, g, b, a]` into four 16-bit lanes.
-#[inline(always)]
+#[cfg_attr(not(texcore_lean), inline(always))]
 const fn pack(c: Rgba8888) -> u64 {
     c.r as u64 | (c.g as u64) << 16 | (c.b as u64) << 32 | (c.a as u64) << 48
 }
 
 /// Unpacks four 16-bit lanes.
-#[inline(always)]
+#[cfg_attr(not(texcore_lean), inline(always))]
 const fn unpack(p: u64) -> [u32; 4] {
     [
         (p & 0xFFFF) as u32,
@@ -53,7 +53,7 @@ const fn unpack(p: u64) -> [u32; 4] {
 }
 
 /// Prefix sum `S(i)`: `s[i]` for `i < s.len()`, else `last` (`S(len)`).
-#[inline(always)]
+#[cfg_attr(not(texcore_lean), inline(always))]
 fn prefix(s: &[u64], last: u64, i: usize) -> u64 {
     match s.get(i) {
         Some(&v) => v,
@@ -62,12 +62,12 @@ fn prefix(s: &[u64], last: u64, i: usize) -> u64 {
 }
 
 /// The entry `k` recovered from the prefix sums, `S(k + 1) - S(k)` (paper eq. 14), per channel.
-#[inline(always)]
+#[cfg_attr(not(texcore_lean), inline(always))]
 fn entry(s: &[u64], last: u64, k: usize) -> [u32; 4] {
     unpack(prefix(s, last, k + 1).wrapping_sub(prefix(s, last, k)))
 }
 
-#[inline(always)]
+#[cfg_attr(not(texcore_lean), inline(always))]
 fn add4(a: [u32; 4], b: [u32; 4]) -> [u32; 4] {
     [
         a[0].wrapping_add(b[0]),
@@ -81,7 +81,7 @@ fn add4(a: [u32; 4], b: [u32; 4]) -> [u32; 4] {
 const PIECE: usize = 256;
 
 /// Per-channel sum of entries `ka .. kb` (`ka <= kb`), in pieces of at most [`PIECE`] entries.
-#[inline(always)]
+#[cfg_attr(not(texcore_lean), inline(always))]
 fn window(s: &[u64], last: u64, ka: usize, kb: usize) -> [u32; 4] {
     let mut a = ka;
     let mut acc = [0u32; 4];
@@ -107,7 +107,7 @@ fn window(s: &[u64], last: u64, ka: usize, kb: usize) -> [u32; 4] {
 /// `I(b) - I(a)` per channel, `0 <= a <= b`, positions in 1/256 entry from the start of the prefix
 /// array: `256 * sum(entries ka .. kb) + rb * c[kb] - ra * c[ka]`. Non-negative by construction
 /// (when `kb > ka` the whole entries cover `ra * c[ka]`; when `kb == ka`, `rb >= ra`).
-#[inline(always)]
+#[cfg_attr(not(texcore_lean), inline(always))]
 fn integral(s: &[u64], last: u64, a: u32, b: u32) -> [u32; 4] {
     let (ka, ra) = ((a >> 8) as usize, a & 255);
     let (kb, rb) = ((b >> 8) as usize, b & 255);
@@ -124,7 +124,7 @@ fn integral(s: &[u64], last: u64, a: u32, b: u32) -> [u32; 4] {
 }
 
 /// Final rounding `(num + d/2) / d` per channel (`d >= 1`, result <= 255).
-#[inline(always)]
+#[cfg_attr(not(texcore_lean), inline(always))]
 fn divide(num: [u32; 4], d: u32) -> Rgba8888 {
     let d = if d == 0 { 1 } else { d };
     let h = d / 2;
@@ -136,13 +136,13 @@ fn divide(num: [u32; 4], d: u32) -> Rgba8888 {
     )
 }
 
-#[inline(always)]
+#[cfg_attr(not(texcore_lean), inline(always))]
 fn from_lanes(c: [u32; 4]) -> Rgba8888 {
     Rgba8888::new(c[0] as u8, c[1] as u8, c[2] as u8, c[3] as u8)
 }
 
 /// Brings `x` (raw U16F16) into `[0, N)` (`mod`) or `[0, N]` (`clamp`).
-#[inline(always)]
+#[cfg_attr(not(texcore_lean), inline(always))]
 const fn normalise_x(x: u32, n_log2: u32, wrap: TableWrap) -> u32 {
     let full = 1u32 << (16 + n_log2);
     match wrap {
@@ -158,7 +158,7 @@ const fn normalise_x(x: u32, n_log2: u32, wrap: TableWrap) -> u32 {
 }
 
 /// The window `[lo, hi]` in 1/256 entry for a normalised `x` and `w < N` (so both fit `i32`).
-#[inline(always)]
+#[cfg_attr(not(texcore_lean), inline(always))]
 const fn endpoints(x: u32, w: u32) -> (i32, i32) {
     let x = x as i32;
     let half = (w / 2) as i32;
@@ -285,7 +285,7 @@ impl<const N: usize> Csat<N> {
     /// [`Csat::box_filter`] for every input (tested exhaustively on small tables and by property
     /// tests), in about half the instructions. Longer tables and `clamp` windows reaching past an
     /// end take [`Csat::box_filter`].
-    #[inline(always)]
+    #[cfg_attr(not(texcore_lean), inline(always))]
     pub(crate) fn box_filter_in(
         &self,
         entries: &[Rgba8888; N],

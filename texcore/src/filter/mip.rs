@@ -32,7 +32,7 @@ pub struct ColorMip<const N: usize> {
 }
 
 /// Offset of level `l >= 1` in `upper`.
-#[inline(always)]
+#[cfg_attr(not(texcore_lean), inline(always))]
 const fn level_offset(n: usize, l: u32) -> usize {
     n - (n >> (l - 1))
 }

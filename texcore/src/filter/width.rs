@@ -67,7 +67,7 @@ pub const fn isqrt32(v: u32) -> u32 {
 
 /// `floor((x + floor(v / x)) / 2)` without overflow: one integer Newton step (`None` for `x = 0`,
 /// which the callers never pass).
-#[inline(always)]
+#[cfg_attr(not(texcore_lean), inline(always))]
 const fn newton_step(v: u32, x: u32) -> Option<u32> {
     match v.checked_div(x) {
         Some(q) => Some((x >> 1) + (q >> 1) + (x & q & 1)),
@@ -134,7 +134,7 @@ impl WidthStream {
     }
 
     /// [`filter_width`]`(gx, gy, norm, n_log2)`.
-    #[inline(always)]
+    #[cfg_attr(not(texcore_lean), inline(always))]
     pub fn width(&mut self, gx: i64, gy: i64) -> FilterWidth {
         let n_log2 = self.n_log2;
         if let (GradientNorm::L2, true) = (self.norm, n_log2 <= 15) {
@@ -166,7 +166,7 @@ impl WidthStream {
 }
 
 /// `w = g << n_log2` saturating at `N` (and at `u32::MAX`), `n_log2 <= 16`.
-#[inline(always)]
+#[cfg_attr(not(texcore_lean), inline(always))]
 const fn scale_width(g: u64, n_log2: u32) -> FilterWidth {
     let cap = 1u64 << (16 + n_log2);
     // g >> (48 - n_log2) != 0 means g << n_log2 would overflow u64; it is then far above the cap.
@@ -188,7 +188,7 @@ const fn scale_width(g: u64, n_log2: u32) -> FilterWidth {
 }
 
 /// `|g|` (48 fraction bits) as `U16F16` raw, saturated to `u32::MAX` (floor).
-#[inline(always)]
+#[cfg_attr(not(texcore_lean), inline(always))]
 pub const fn saturate_to_u16f16(g: i64) -> u32 {
     let a = g.unsigned_abs() >> 32;
     if a > u32::MAX as u64 {

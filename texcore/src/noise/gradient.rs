@@ -46,17 +46,17 @@ pub const fn corner_gradient(m: u32) -> Grad {
     ]
 }
 
-#[inline(always)]
+#[cfg_attr(not(texcore_lean), inline(always))]
 fn lerp16(p: i64, q: i64, w: i64) -> i64 {
     p + (((q - p) * w) >> 16)
 }
 
-#[inline(always)]
+#[cfg_attr(not(texcore_lean), inline(always))]
 fn dot(g: Grad, o: [i64; 3]) -> i64 {
     i64::from(g[0]) * o[0] + i64::from(g[1]) * o[1] + i64::from(g[2]) * o[2]
 }
 
-#[inline(always)]
+#[cfg_attr(not(texcore_lean), inline(always))]
 fn offsets(frac: [u32; 3], c: usize) -> [i64; 3] {
     let f = |axis: usize| i64::from(frac[axis] & 0xFFFF) - (((c >> axis) & 1) as i64) * ONE;
     [f(0), f(1), f(2)]

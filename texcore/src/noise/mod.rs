@@ -58,7 +58,7 @@ pub enum CellData {
 }
 
 /// Splits a lattice point (raw 16.16 per axis, wrapping) into its cell and fraction.
-#[inline(always)]
+#[cfg_attr(not(texcore_lean), inline(always))]
 pub const fn split(u: [i32; 3]) -> ([u16; 3], [u32; 3]) {
     (
         [
@@ -75,7 +75,7 @@ pub const fn split(u: [i32; 3]) -> ([u16; 3], [u32; 3]) {
 }
 
 /// Saturates an i128 to the i64 range.
-#[inline(always)]
+#[cfg_attr(not(texcore_lean), inline(always))]
 pub(crate) fn saturate_i64(x: i128) -> i64 {
     if x > i128::from(i64::MAX) {
         i64::MAX
@@ -87,7 +87,7 @@ pub(crate) fn saturate_i64(x: i128) -> i64 {
 }
 
 #[cfg(any(feature = "gradient-noise", feature = "mnoise"))]
-#[inline(always)]
+#[cfg_attr(not(texcore_lean), inline(always))]
 fn scale_n16(n16: i64, amp_raw: i32, fv: u32) -> i64 {
     (i64::from(amp_raw) * n16) << (16 + fv)
 }
@@ -144,7 +144,7 @@ impl NoiseBasis {
     }
 
     /// Interpolation weights of a value-noise cell.
-    #[inline(always)]
+    #[cfg_attr(not(texcore_lean), inline(always))]
     fn weights(&self, frac: [u32; 3]) -> [i64; 3] {
         [
             self.fade.apply(frac[0]),
@@ -157,7 +157,7 @@ impl NoiseBasis {
     /// gradient noise is used as is (bounded by 1.065 for any hash, so the accumulator budget of
     /// `docs/model.md` 4.4 still holds).
     #[cfg(any(feature = "gradient-noise", feature = "mnoise"))]
-    #[inline(always)]
+    #[cfg_attr(not(texcore_lean), inline(always))]
     fn normalise(&self, n16: i64) -> i64 {
         match self.kind {
             #[cfg(feature = "mnoise")]

@@ -22,7 +22,7 @@ pub fn scaled_corners(hash: HashKind, cell: [u16; 3], amp_raw: i32, fv: u32) -> 
 /// A corner value `v` (`v / 32768` in `[-1, 1)`) quantised to `bits` bits (`docs/model.md` 3.2):
 /// rounded half up to a multiple of `2^(16 - bits)` and saturated to the largest such value below
 /// 32768; the identity for `bits >= 16`.
-#[inline(always)]
+#[cfg_attr(not(texcore_lean), inline(always))]
 pub const fn quantize_value(v: i16, bits: u32) -> i16 {
     if bits >= 16 {
         return v;
@@ -105,7 +105,7 @@ pub fn corner_values(hash: HashKind, cell: [u16; 3]) -> [i16; 8] {
     out
 }
 
-#[inline(always)]
+#[cfg_attr(not(texcore_lean), inline(always))]
 fn lerp_exact(p: i64, q: i64, w: i64) -> i64 {
     p.wrapping_mul(1 << 16)
         .wrapping_add(q.wrapping_sub(p).wrapping_mul(w))

@@ -297,7 +297,10 @@ impl TriangleSetup {
             let mut qshift = [0u32; 3];
             for c in 0..3 {
                 let bl = bitlen(range[c]);
-                let l = [0, 1, 2].map(|i| (((tex[i][c] - base[c]) * q[i]) as i128) << (32 - bl));
+                let mut l = [0i128; 3];
+                for ((li, t), qi) in l.iter_mut().zip(&tex).zip(&q) {
+                    *li = (((t[c] - base[c]) * qi) as i128) << (32 - bl);
+                }
                 pp[c] = Plane::new(l, &p, &area);
                 qshift[c] = bl;
             }

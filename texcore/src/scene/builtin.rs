@@ -267,7 +267,8 @@ pub fn seascape() -> Scene {
 pub fn fire() -> Scene {
     // Quad 4.6 x 3.5 at z = 0, seen from z = 5 with focal 3.03 (half-height 1.65 at distance 5):
     // its edges are just outside the image.
-    let focal = (5 * ONE as i64 * ONE as i64 / milli(1650) as i64) as i32;
+    const HALF_HEIGHT: i64 = milli(1650) as i64;
+    let focal = (5 * ONE as i64 * ONE as i64 / HALF_HEIGHT) as i32;
     let cam = Camera::perspective(
         Vec3::units(0, 0, 5),
         Vec3::ZERO,

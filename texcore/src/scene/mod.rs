@@ -383,9 +383,9 @@ impl Scene {
                     break;
                 };
                 let halves = [[0usize, 1, 2], [0, 2, 3]];
-                let live = halves.map(|[a, b, d]| {
-                    corners[a] != corners[b] && corners[b] != corners[d] && corners[d] != corners[a]
-                });
+                let [c0, c1, c2, c3] = corners;
+                let distinct = |a, b, d| a != b && b != d && d != a;
+                let live = [distinct(c0, c1, c2), distinct(c0, c2, c3)];
                 if !live[0] && !live[1] {
                     continue;
                 }
@@ -403,7 +403,8 @@ impl Scene {
                     }
                     c.input = c.input.wrapping_add(1);
                     // `& 3`: provably in bounds (no panic path).
-                    let [a, b, d] = tri.map(|i| i & 3);
+                    let [a, b, d] = *tri;
+                    let (a, b, d) = (a & 3, b & 3, d & 3);
                     if oc[a].0 & oc[b].0 & oc[d].0 != 0 {
                         c.rejected = c.rejected.wrapping_add(1);
                     } else if (oc[a].1 | oc[b].1 | oc[d].1) == 0 {
