@@ -270,11 +270,12 @@ impl<'m, const T: usize> MaterialEvaluator<'m, T> {
                                 >> 16;
                             crate::noise::saturate_i64(v)
                         };
-                        emit(Sample {
-                            f,
-                            gx: g(s0.gx, s2.gx),
-                            gy: g(s0.gy, s2.gy),
-                        });
+                        let (gx, gy) = if crate::span::GRADIENTS {
+                            (g(s0.gx, s2.gx), g(s0.gy, s2.gy))
+                        } else {
+                            (0, 0)
+                        };
+                        emit(Sample { f, gx, gy });
                     });
                     info.extra_width48 = info
                         .extra_width48

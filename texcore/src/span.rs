@@ -102,6 +102,8 @@ pub struct EvalOptions {
     /// Evaluation strategy.
     pub mode: EvalMode,
     /// Compute the filter-width gradients `gx`, `gy` (off: they are zero and cost nothing).
+    /// Needs the crate feature `gradients` (enabled by `csat` and `mip`); without it this has no
+    /// effect and the gradients are always zero.
     pub gradients: bool,
     /// Drop octaves past the Nyquist limit.
     pub cull: bool,
@@ -122,9 +124,11 @@ impl Default for EvalOptions {
 pub struct Sample {
     /// `f`.
     pub f: TexValue,
-    /// `df/dx` with 48 fraction bits (saturating); zero when gradients are off.
+    /// `df/dx` with 48 fraction bits (saturating); zero when gradients are off or not compiled
+    /// in (crate feature `gradients`).
     pub gx: i64,
-    /// `df/dy` with 48 fraction bits (saturating); zero when gradients are off.
+    /// `df/dy` with 48 fraction bits (saturating); zero when gradients are off or not compiled
+    /// in.
     pub gy: i64,
 }
 
@@ -438,6 +442,11 @@ enum Strategy {
 /// the merged loop's per-pixel path.
 const GENERAL_FD: bool = cfg!(feature = "turbulence-fd");
 
+/// Whether the filter-width gradients are compiled in (crate feature `gradients`, enabled by the
+/// colour-table filters); without it [`EvalOptions::gradients`] has no effect and every gradient
+/// is zero.
+pub(crate) const GRADIENTS: bool = cfg!(feature = "gradients");
+
 /// The size-lean code shape (built at `opt-level = "s"` or `"z"`, `cfg(texcore_lean)`): the
 /// merged loop runs one pixel loop that tests the span's shape (gradients, affine quadric) per
 /// pixel, instead of its eight specialisations and the component passes over long cells. The
@@ -578,7 +587,7 @@ impl<'m, const T: usize> SpanEvaluator<'m, T> {
         // The quadric along the span from two matrix-vector products, `Q x` and `Q d` (entries
         // 32 x 32 -> 64-bit, zero entries skipped), and five dot products: the same values mod
         // 2^128 as `Quadric::along` / `derivative_along` (`x^T Q d = d^T Q x`).
-        let grads = self.opts.gradients;
+        let grads = GRADIENTS && self.opts.gradients;
         let qm = quadric_matrix(m.quadric());
         let xh = [s0[0], s0[1], s0[2], 1 << 16];
         let dh = [ds[0], ds[1], ds[2], 0];
@@ -759,7 +768,7 @@ impl<'m, const T: usize> SpanEvaluator<'m, T> {
         let terms = m.terms();
         let fv = m.noise_frac_bits();
         let vb = m.precision().value_bits();
-        let grads = self.opts.gradients;
+        let grads = GRADIENTS && self.opts.gradients;
         let clamp = m.wrap() == TableWrap::Clamp;
         let len = u32::from(len);
         let mut n_fd = 0usize;
@@ -985,7 +994,7 @@ impl<'m, const T: usize> SpanEvaluator<'m, T> {
         let fv = m.noise_frac_bits();
         let vb = m.precision().value_bits();
         let wrap = m.wrap();
-        let grads = self.opts.gradients;
+        let grads = GRADIENTS && self.opts.gradients;
         let terms = m.terms();
         // A model holds at most T terms; `min` lets the compiler see it (no bounds checks).
         let n = terms.len().min(T);
@@ -1633,6 +1642,7 @@ fn wsub(a: i64, b: i64) -> i64 {
 /// x level as exact 32 x 32 -> 64-bit products.
 #[inline]
 fn cubic_poly(v: &[i32; 8], frac: [u32; 3], du: [i32; 3], dy: [i32; 3], grads: bool) -> CubicPoly {
+    let grads = GRADIENTS && grads;
     // Fractions are below 2^16, so as i32 they are exact.
     let f = [frac[0] as i32, frac[1] as i32, frac[2] as i32];
     // x level: e(j) = e0 + e1 j, derivative across de (constant). v' fits 26 bits (model 4.4),
@@ -1697,6 +1707,7 @@ fn cubic_poly(v: &[i32; 8], frac: [u32; 3], du: [i32; 3], dy: [i32; 3], grads: b
 /// Forward-difference state of `c` at local pixel 0 (gradient parts zero unless `grads`).
 #[cfg_attr(not(texcore_lean), inline(always))]
 fn fd_start(c: &CubicPoly, grads: bool) -> Cubic {
+    let grads = GRADIENTS && grads;
     let [g0, g1, g2, g3] = c.g;
     let [h0, h1, h2] = c.h;
     let d3 = wmul(g3, 6);
@@ -1718,6 +1729,7 @@ fn fd_start(c: &CubicPoly, grads: bool) -> Cubic {
 /// parts zero unless `grads`).
 #[inline]
 fn fd_at(c: &CubicPoly, l: u32, grads: bool) -> Cubic {
+    let grads = GRADIENTS && grads;
     let [g0, g1, g2, g3] = c.g;
     let [h0, h1, h2] = c.h;
     let l = i64::from(l.min(1 << 16));
@@ -1757,6 +1769,10 @@ impl Cubic {
         for (a, b) in self.p.iter_mut().zip(o.p) {
             *a = a.wrapping_add(b);
         }
+        // Without the feature the gradient parts stay zero.
+        if !GRADIENTS {
+            return;
+        }
         for (a, b) in self.gx.iter_mut().zip(o.gx) {
             *a = a.wrapping_add(b);
         }
@@ -1769,6 +1785,10 @@ impl Cubic {
     fn sub(&mut self, o: &Cubic) {
         for (a, b) in self.p.iter_mut().zip(o.p) {
             *a = a.wrapping_sub(b);
+        }
+        // Without the feature the gradient parts stay zero.
+        if !GRADIENTS {
+            return;
         }
         for (a, b) in self.gx.iter_mut().zip(o.gx) {
             *a = a.wrapping_sub(b);
@@ -2140,6 +2160,38 @@ mod tests {
             let fast = run_shape(&m, opts, &span, false);
             let lean = run_shape(&m, opts, &span, true);
             proptest::prop_assert_eq!(fast, lean);
+        }
+    }
+
+    #[test]
+    fn gradients_follow_the_feature() {
+        // Asked for, the gradients are computed exactly when the crate feature `gradients` is
+        // on; without it they are zero and nothing counts as a gradient evaluation. (CI runs
+        // these unit tests with and without features.)
+        let m = marble();
+        let span = Span {
+            s0: TexPoint::from_f64(0.1, 0.2, 0.3),
+            ds: TexPoint::from_f64(0.003, 0.001, 0.002),
+            dsdy: TexPoint::from_f64(0.0, 0.003, 0.0),
+            len: 100,
+        };
+        for mode in [EvalMode::Direct, EvalMode::Fd, EvalMode::Auto] {
+            let mut ev = SpanEvaluator::new(
+                &m,
+                EvalOptions {
+                    mode,
+                    ..EvalOptions::default()
+                },
+            );
+            let mut nonzero = 0;
+            ev.eval(&span, |s| nonzero += usize::from(s.gx != 0 || s.gy != 0));
+            if cfg!(feature = "gradients") {
+                assert!(nonzero > 90, "{mode:?}: {nonzero}");
+                assert!(ev.stats().gradient_evaluations > 0);
+            } else {
+                assert_eq!(nonzero, 0, "{mode:?}");
+                assert_eq!(ev.stats().gradient_evaluations, 0);
+            }
         }
     }
 
