@@ -27,7 +27,9 @@
 //! higher-degree bases); their error bounds are documented on the variants and priced in the
 //! accuracy report.
 //!
-//! How much of this is compiled in follows the crate features: `fd32` and `reanchor` carry the
+//! How much of this is compiled in follows the crate features: `fd` carries forward differencing
+//! itself (without it every mode evaluates per pixel, the smallest code), `gradients` the
+//! filter-width gradients, `fd32` and `reanchor` carry the
 //! two approximate modes, `turbulence-fd` the general loop's per-term forward differencing
 //! (turbulent terms; terms of spans the merged path does not take). A mode or strategy that is
 //! not compiled in falls back to an exact one (documented on the variants), so every feature
@@ -65,9 +67,10 @@ pub struct Span {
 pub enum EvalMode {
     /// Per-pixel evaluation.
     Direct,
-    /// Exact forward differencing.
+    /// Exact forward differencing (crate feature `fd`; without it, per pixel as `Direct`).
     Fd,
-    /// Forward differencing where cells are long, direct where they are short.
+    /// Forward differencing where cells are long, direct where they are short (without the
+    /// crate feature `fd`, per pixel as `Direct`).
     #[default]
     Auto,
     /// Cheaper forward differencing of the cubic terms with 32-bit accumulators, re-anchored to
@@ -442,6 +445,10 @@ enum Strategy {
 /// the merged loop's per-pixel path.
 const GENERAL_FD: bool = cfg!(feature = "turbulence-fd");
 
+/// Whether forward differencing is compiled in (crate feature `fd`); without it every mode
+/// evaluates per pixel (see [`compiled_mode`]).
+const FD: bool = cfg!(feature = "fd");
+
 /// Whether the filter-width gradients are compiled in (crate feature `gradients`, enabled by the
 /// colour-table filters); without it [`EvalOptions::gradients`] has no effect and every gradient
 /// is zero.
@@ -464,9 +471,13 @@ const GENERAL_ANCHORS: bool = cfg!(any(
 ));
 
 /// The evaluation mode actually run for `mode`: a mode whose code is not compiled in is
-/// [`EvalMode::Fd`] (see the variants' documentation).
+/// [`EvalMode::Fd`] (see the variants' documentation), and without the crate feature `fd` every
+/// mode is [`EvalMode::Direct`].
 #[cfg_attr(not(texcore_lean), inline(always))]
 const fn compiled_mode(mode: EvalMode) -> EvalMode {
+    if !FD {
+        return EvalMode::Direct;
+    }
     match mode {
         #[cfg(not(feature = "fd32"))]
         EvalMode::Fd32 => EvalMode::Fd,
@@ -1010,7 +1021,8 @@ impl<'m, const T: usize> SpanEvaluator<'m, T> {
                 }
             }
         }
-        if self.run_merged(len, setup, &strategies, sink) {
+        // Without forward differencing every term is `Direct` or `Cached`: the general loop.
+        if FD && self.run_merged(len, setup, &strategies, sink) {
             return;
         }
 
@@ -2160,6 +2172,40 @@ mod tests {
             let fast = run_shape(&m, opts, &span, false);
             let lean = run_shape(&m, opts, &span, true);
             proptest::prop_assert_eq!(fast, lean);
+        }
+    }
+
+    #[test]
+    fn forward_differencing_follows_the_feature() {
+        // `Fd` and `Auto` forward-difference exactly when the crate feature `fd` is on; without
+        // it they evaluate per pixel. The samples are the same either way.
+        let m = marble();
+        let span = Span {
+            s0: TexPoint::from_f64(0.1, 0.2, 0.3),
+            ds: TexPoint::from_f64(0.003, 0.001, 0.002),
+            dsdy: TexPoint::from_f64(0.0, 0.003, 0.0),
+            len: 200,
+        };
+        let direct = run(&m, EvalMode::Direct, &span);
+        for mode in [EvalMode::Fd, EvalMode::Auto] {
+            let mut ev = SpanEvaluator::new(
+                &m,
+                EvalOptions {
+                    mode,
+                    ..EvalOptions::default()
+                },
+            );
+            let mut out = Vec::new();
+            ev.eval(&span, |s| out.push(s));
+            assert_eq!(out, direct, "{mode:?}");
+            let st = ev.stats();
+            if cfg!(feature = "fd") {
+                assert_eq!(st.fd_pixels, 200, "{mode:?}");
+                assert!(st.cell_setups < 200, "{mode:?}: {st:?}");
+            } else {
+                assert_eq!(st.fd_pixels, 0, "{mode:?}");
+                assert_eq!(st.cell_setups, 800, "{mode:?}: {st:?}");
+            }
         }
     }
 

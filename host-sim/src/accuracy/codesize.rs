@@ -21,6 +21,7 @@ use std::time::Instant;
 use serde::Serialize;
 use texcore::filter::{Antialias, ColorStage, Csat};
 use texcore::hash::HashKind;
+use texcore::span::EvalMode;
 use texcore::table::ColorTable;
 
 use super::device_jobs::{BasisSel, Config, FadeSel, Row, BASELINE};
@@ -44,9 +45,15 @@ pub struct FeatureRule {
 
 /// Which features a configuration needs, in report order: the single place that maps knob
 /// settings to code. Everything a configuration sets that is not named here (coordinate and
-/// value bits, octaves, table size and look-up, gradient norm, evaluation mode, culling,
-/// perspective mode) is chosen at run time over the same compiled code.
-pub const FEATURE_RULES: [FeatureRule; 7] = [
+/// value bits, octaves, table size and look-up, gradient norm, the forward-differencing mode,
+/// culling, perspective mode) is chosen at run time over the same compiled code.
+pub const FEATURE_RULES: [FeatureRule; 8] = [
+    FeatureRule {
+        name: "fd",
+        cargo: "texcore?/fd",
+        needs: |c| c.mode != EvalMode::Direct,
+        what: "forward differencing (every evaluation mode but `direct`)",
+    },
     FeatureRule {
         name: "perm-hash",
         cargo: "texcore?/perm-hash",
@@ -290,24 +297,29 @@ mod tests {
 
     #[test]
     fn feature_sets_follow_the_knobs() {
-        assert_eq!(feature_set(&BASELINE), "perm-hash,csat");
+        assert_eq!(feature_set(&BASELINE), "fd,perm-hash,csat");
         let none = Config {
             aa: Antialias::None,
             hash: HashKind::Integer,
             ..BASELINE
         };
-        assert_eq!(feature_set(&none), "minimal");
+        assert_eq!(feature_set(&none), "fd");
+        let direct = Config {
+            mode: EvalMode::Direct,
+            ..none
+        };
+        assert_eq!(feature_set(&direct), "minimal");
         let smooth = Config {
             fade: FadeSel::Quintic,
             ..BASELINE
         };
-        assert_eq!(feature_set(&smooth), "perm-hash,smooth-fade,csat");
+        assert_eq!(feature_set(&smooth), "fd,perm-hash,smooth-fade,csat");
         let persp = Config {
             perspective: Some(Perspective::Affine),
             ..BASELINE
         };
-        assert_eq!(feature_set(&persp), "perm-hash,csat,render");
-        // Run-time knobs keep the baseline's set.
+        assert_eq!(feature_set(&persp), "fd,perm-hash,csat,render");
+        // Run-time knobs keep the baseline's set (per-pixel evaluation alone needs no `fd`).
         for row in ROWS.iter().filter(|r| {
             matches!(
                 r.knob.name(),
@@ -319,7 +331,12 @@ mod tests {
                     | "evaluation"
             ) && !r.combination
         }) {
-            assert_eq!(feature_set(&row.cfg), feature_set(&BASELINE), "{}", row.id);
+            let want = if row.cfg.mode == EvalMode::Direct {
+                "perm-hash,csat".to_string()
+            } else {
+                feature_set(&BASELINE)
+            };
+            assert_eq!(feature_set(&row.cfg), want, "{}", row.id);
         }
     }
 

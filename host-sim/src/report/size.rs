@@ -42,62 +42,88 @@ use serde::Serialize;
 use super::write_atomic;
 use crate::device::{self, DeviceTarget, RunOptions};
 
-/// A feature set of the probe: report name and firmware features.
+/// A feature set of the probe: report name, firmware features and build profile.
 #[derive(Clone, Copy, Debug)]
 pub struct FeatureSet {
     /// Name in the report.
     pub name: &'static str,
     /// `firmware` crate features (with `--no-default-features`).
     pub features: &'static [&'static str],
+    /// Cargo profile: `release-size` (`opt-level = "z"`, texcore's size-lean code shape) or
+    /// `release` (`opt-level = 3`, its fast shape).
+    pub profile: &'static str,
     /// What it adds.
     pub what: &'static str,
 }
 
-/// The probe's feature sets, from `minimal` to `full`. `perm-hash` only takes effect on the
-/// Cortex-M4F (the rv32imc build is table-free in every set).
-pub const FEATURE_SETS: [FeatureSet; 8] = [
+/// The probe's feature sets, from `minimal` to `full`, and `full` in the fast code shape.
+/// `perm-hash` only takes effect on the Cortex-M4F (the rv32imc build is table-free in every set).
+pub const FEATURE_SETS: [FeatureSet; 10] = [
     FeatureSet {
         name: "minimal",
         features: &[],
-        what: "value noise, integer hash, mod/clamp table, no antialiasing",
+        profile: "release-size",
+        what: "value noise, integer hash, mod/clamp table, no antialiasing (so no gradients), \
+               per-pixel evaluation (no forward differencing): the reduced model",
+    },
+    FeatureSet {
+        name: "fd",
+        features: &["fd"],
+        profile: "release-size",
+        what: "minimal + forward differencing (`EvalMode::Fd` and `Auto`: the merged exact path)",
     },
     FeatureSet {
         name: "csat",
         features: &["csat"],
-        what: "minimal + summed-area colour-table filters",
+        profile: "release-size",
+        what: "minimal + summed-area colour-table filters (with the filter-width gradients)",
     },
     FeatureSet {
         name: "mip",
         features: &["mip"],
-        what: "minimal + colour-table MIP map",
+        profile: "release-size",
+        what: "minimal + colour-table MIP map (with the filter-width gradients)",
     },
     FeatureSet {
         name: "bases",
         features: &["smooth-fade", "gradient-noise", "mnoise", "perm-hash"],
+        profile: "release-size",
         what: "minimal + smooth fades, gradient noise, mNoise, permutation hash (M4F)",
     },
     FeatureSet {
         name: "eval",
         features: &["turbulence-fd", "fd32", "reanchor"],
-        what: "minimal + the span evaluator's optional strategies: forward differencing of \
-               turbulent terms, `EvalMode::Fd32` (`reanchor` takes effect only with a basis \
-               that is not a cubic, as in `full`)",
+        profile: "release-size",
+        what: "minimal + forward differencing with the span evaluator's optional strategies: \
+               forward differencing of turbulent terms, `EvalMode::Fd32` (`reanchor` takes \
+               effect only with a basis that is not a cubic, as in `full`)",
     },
     FeatureSet {
         name: "perturb",
         features: &["perturb"],
+        profile: "release-size",
         what: "minimal + Miné & Neyret perturbed materials",
     },
     FeatureSet {
         name: "render",
         features: &["render"],
+        profile: "release-size",
         what: "minimal + banded renderer (rasterizer, perspective, depth, blending)",
     },
     FeatureSet {
         name: "full",
         features: &["full", "perm-hash"],
-        what: "every basis, csat, MIP, perturbed materials, every evaluation strategy, renderer \
-               with perspective and blending",
+        profile: "release-size",
+        what: "every basis, csat, MIP, perturbed materials, forward differencing with every \
+               evaluation strategy, renderer with perspective and blending",
+    },
+    FeatureSet {
+        name: "full-fast",
+        features: &["full", "perm-hash"],
+        profile: "release",
+        what: "`full` at `opt-level = 3`: texcore's fast code shape (the merged loop's \
+               specialisations, forced inlining), as the job-suite firmware and the cycles \
+               report run it",
     },
 ];
 
@@ -655,7 +681,17 @@ pub(crate) fn probe_facts(
     target: DeviceTarget,
     features: &[&str],
 ) -> Result<ElfFacts, SizeError> {
-    let elf = build(run, target, "texcore-probe", "release-size", Some(features))?;
+    probe_facts_in(run, target, features, "release-size")
+}
+
+/// [`probe_facts`] with another cargo profile.
+fn probe_facts_in(
+    run: &RunOptions,
+    target: DeviceTarget,
+    features: &[&str],
+    profile: &str,
+) -> Result<ElfFacts, SizeError> {
+    let elf = build(run, target, "texcore-probe", profile, Some(features))?;
     analyse(&elf)
 }
 
@@ -670,7 +706,7 @@ pub fn report(opts: &SizeOptions) -> Result<SizeReport, SizeError> {
             .iter()
             .filter(|s| !opts.quick || QUICK_SETS.contains(&s.name))
         {
-            let facts = probe_facts(&opts.run, target, set.features)?;
+            let facts = probe_facts_in(&opts.run, target, set.features, set.profile)?;
             if set.name == "full" {
                 let mut files: Vec<(String, u64)> = facts
                     .by_file
@@ -705,7 +741,7 @@ pub fn report(opts: &SizeOptions) -> Result<SizeReport, SizeError> {
                 target,
                 set.name,
                 set.features,
-                "texcore-probe (release-size)",
+                &format!("texcore-probe ({})", set.profile),
                 &facts,
             ));
         }
@@ -818,7 +854,11 @@ pub fn markdown(r: &SizeReport, quick: bool) -> String {
          `opt-level = \"z\"`) links texcore's pixel path as a product would, with the texture hidden from the optimiser so that every path \
          the feature set compiles in stays linked: it shades a check plane (and renders a \
          blended, depth-tested perspective scene with `render`). `firmware` is the job-suite \
-         firmware (profile `release`, every job and the counter self-test) for reference. Sizes \
+         firmware (profile `release`, every job and the counter self-test) for reference. At \
+         `opt-level = \"z\"` texcore compiles its size-lean code shape (crate documentation, \
+         \"Code size\": no forced inlining, one merged pixel loop instead of its specialisations; \
+         the same samples); `full-fast` is the `full` probe at `opt-level = 3`, the fast shape \
+         that the job-suite firmware and `docs/cycles.md` measure. Sizes \
          in bytes from the ELF sections. `texcore .text` attributes each code byte to its source \
          file through the DWARF line tables (texcore code inlined into callers counts as \
          texcore); `texcore symbols` counts only out-of-line texcore functions. Budgets (Cortex-M4F): \
@@ -831,13 +871,14 @@ pub fn markdown(r: &SizeReport, quick: bool) -> String {
     for f in FEATURE_SETS {
         let _ = writeln!(
             s,
-            "- `{}` (`--no-default-features --features {}`): {}",
+            "- `{}` (`--no-default-features --features {}`, profile `{}`): {}",
             f.name,
             if f.features.is_empty() {
                 "\"\"".to_string()
             } else {
                 f.features.join(",")
             },
+            f.profile,
             f.what
         );
     }
@@ -923,17 +964,13 @@ pub fn markdown(r: &SizeReport, quick: bool) -> String {
             s,
             "`minimal` is texcore without features: trilinear value noise with the table-free \
              integer hash, a `mod`/`clamp` colour table (nearest or linear lookup), no \
-             antialiasing, the quadric, and the span evaluator with its merged forward-difference \
-             path (every non-turbulent trilinear term in one exact accumulator set; the pixel \
-             loop specialised for gradients on/off and affine/curved quadrics, each with and \
-             without per-pixel terms) and its per-pixel path (turbulent terms, terms past the \
-             Nyquist limit with culling off, and spans whose quadric or gradients are too large \
-             for 64-bit stepping, which step the quadric in i128). `EvalMode::Fd32` and \
-             `EvalMode::Reanchored` evaluate as `EvalMode::Fd` (features `fd32`, `reanchor`); \
-             turbulent terms are evaluated per pixel (feature `turbulence-fd` forward-differences \
-             them). The {} of texcore `.text` by function (the function whose source lines \
-             produced the bytes; inlined code counts where it was written; closures count to \
-             their function), by part:",
+             antialiasing and so no filter-width gradients (feature `gradients`, which `csat` \
+             and `mip` enable), the quadric, and the span evaluator's per-pixel loop: without \
+             feature `fd` every evaluation mode evaluates per pixel (the same samples; the `fd` \
+             row prices forward differencing's code, `docs/cycles.md` its speed as the \
+             `EvalMode::Direct` rows against the `Fd` ones). The {} of texcore `.text` by \
+             function (the function whose source lines produced the bytes; inlined code counts \
+             where it was written; closures count to their function), by part:",
             kb(total)
         );
         let mut parts: BTreeMap<&str, u64> = BTreeMap::new();
@@ -948,18 +985,16 @@ pub fn markdown(r: &SizeReport, quick: bool) -> String {
         for (p, b) in &parts {
             let _ = writeln!(s, "| {p} | {b} ({}) |", kb(*b));
         }
-        let merged: u64 = parts
-            .iter()
-            .filter(|p| p.0 == "span evaluator: merged forward-difference path")
-            .map(|p| p.1)
-            .sum();
         let _ = writeln!(s);
         let _ = writeln!(
             s,
-            "The budget is {}; the merged forward-difference path alone (its pixel loops and \
-             cell-change handling) takes {}.",
+            "The budget is {}: {}.",
             kb(BUDGET_TEXT_MINIMAL),
-            kb(merged)
+            if total <= BUDGET_TEXT_MINIMAL {
+                format!("within, {} to spare", kb(BUDGET_TEXT_MINIMAL - total))
+            } else {
+                format!("**over** by {}", kb(total - BUDGET_TEXT_MINIMAL))
+            }
         );
         let _ = writeln!(s);
         let _ = writeln!(s, "By function:");
