@@ -17,6 +17,17 @@
 //! meets in practice, a small bit-by-bit long division. Every path gives the exact quotient and
 //! remainder (tests compare them with the native operators over edge cases and random operands).
 
+/// `a * b` exactly (the full product of two `i64`, below `2^126` in magnitude).
+///
+/// 32-bit targets have no 64 x 64 -> 128 multiply instruction: the compiler expands every `i128`
+/// product inline (and does not always see that both factors are sign-extended `i64`). The
+/// size-lean shape keeps this one copy out of line for the set-up code's many products.
+#[cfg_attr(texcore_lean, inline(never))]
+#[cfg_attr(not(texcore_lean), inline)]
+pub(crate) fn mul_wide(a: i64, b: i64) -> i128 {
+    i128::from(a) * i128::from(b)
+}
+
 /// `(n.div_euclid(d), n.rem_euclid(d))` with a single division; `(0, 0)` where those would panic
 /// (`d == 0`, or `i128::MIN / -1`), which no caller reaches.
 #[inline(never)]
