@@ -27,7 +27,9 @@ use super::edge::{Coverage, HALF, SUB};
 use super::{
     div_round_i128, sat_i32, CullMode, Perspective, ScreenVertex, TriangleOptions, GUARD_BAND,
 };
-use crate::wide::{mul_wide, Reciprocal64};
+use crate::wide::mul_wide;
+#[cfg(not(texcore_lean))]
+use crate::wide::Reciprocal64;
 
 /// Why a triangle was not set up.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
@@ -60,14 +62,32 @@ pub(crate) struct Plane {
 /// triangle: the doubled area's reciprocal is prepared once (`area2` is below 2^63 in magnitude
 /// inside the guard band), so each rounding division is a few multiplications instead of a long
 /// division. Gives exactly [`div_round_i128`]'s result.
+///
+/// The size-lean shape (`cfg(texcore_lean)`) prepares no reciprocal and divides each numerator
+/// with [`div_round_i128`] itself (the reference the tests compare the reciprocal path with):
+/// a slower set-up, but no second division routine.
 #[derive(Clone, Copy, Debug)]
 struct AreaDivisor {
     area2: i128,
     /// `|area2|` and its reciprocal (`None` only past 64 bits: then [`div_round_i128`]).
+    #[cfg(not(texcore_lean))]
     recip: Option<(i128, Reciprocal64)>,
 }
 
 impl AreaDivisor {
+    #[cfg(texcore_lean)]
+    fn new(area2: i128) -> AreaDivisor {
+        AreaDivisor { area2 }
+    }
+
+    /// `round(n / area2)`, ties up: [`div_round_i128`].
+    #[cfg(texcore_lean)]
+    #[inline]
+    fn div_round(&self, n: i128) -> i128 {
+        div_round_i128(n, self.area2)
+    }
+
+    #[cfg(not(texcore_lean))]
     fn new(area2: i128) -> AreaDivisor {
         let recip = u64::try_from(area2.unsigned_abs())
             .ok()
@@ -77,6 +97,7 @@ impl AreaDivisor {
     }
 
     /// `round(n / area2)`, ties up, exactly as `div_round_i128(n, area2)`.
+    #[cfg(not(texcore_lean))]
     #[inline]
     fn div_round(&self, n: i128) -> i128 {
         let Some((d, r)) = self.recip else {
