@@ -124,8 +124,9 @@ impl EdgeWalker {
         }
     }
 
-    /// Moves to the next row.
-    #[inline]
+    /// Moves to the next row (out of line in the size-lean shape: two walkers per row loop).
+    #[cfg_attr(texcore_lean, inline(never))]
+    #[cfg_attr(not(texcore_lean), inline)]
     fn advance(&mut self) {
         self.x = self.x.wrapping_add(self.step_q);
         self.r += self.step_r;
@@ -134,6 +135,24 @@ impl EdgeWalker {
             self.x = self.x.wrapping_add(1);
         }
     }
+}
+
+/// [`for_each_run`] for the rasterizer's draw calls: in the size-lean shape
+/// (`cfg(texcore_lean)`) through one out-of-line copy taking `f` as a trait object (an indirect
+/// call per row) instead of one inlined copy per caller.
+#[inline(always)]
+pub(crate) fn walk_runs(cov: &Coverage, clip: Rect, mut f: impl FnMut(u16, u16, u16)) {
+    #[cfg(texcore_lean)]
+    for_each_run_dyn(cov, clip, &mut f);
+    #[cfg(not(texcore_lean))]
+    for_each_run(cov, clip, &mut f);
+}
+
+/// [`for_each_run`] for every caller (size-lean shape).
+#[cfg(texcore_lean)]
+#[inline(never)]
+fn for_each_run_dyn(cov: &Coverage, clip: Rect, f: &mut dyn FnMut(u16, u16, u16)) {
+    for_each_run(cov, clip, f);
 }
 
 /// Calls `f(py, xa, xb)` for every row `py` of the triangle inside `clip` whose covered pixels
