@@ -17,11 +17,34 @@
 //! meets in practice, a small bit-by-bit long division. Every path gives the exact quotient and
 //! remainder (tests compare them with the native operators over edge cases and random operands).
 
+/// `a * b` exactly (the full product of two `i64`, below `2^126` in magnitude).
+///
+/// 32-bit targets have no 64 x 64 -> 128 multiply instruction: the compiler expands every `i128`
+/// product inline (and does not always see that both factors are sign-extended `i64`). The
+/// size-lean shape keeps this one copy out of line for the set-up code's many products.
+#[cfg_attr(texcore_lean, inline(never))]
+#[cfg_attr(not(texcore_lean), inline)]
+pub(crate) fn mul_wide(a: i64, b: i64) -> i128 {
+    i128::from(a) * i128::from(b)
+}
+
+/// The size-lean code shape (`cfg(texcore_lean)`, see the crate documentation): the divisions
+/// skip their 32-bit shortcuts (operands that fit 32 bits, short division by a 32-bit divisor)
+/// and take the general two-word path, which is exact for every operand (unit tests run both
+/// shapes in every build).
+const LEAN: bool = cfg!(texcore_lean);
+
 /// `(n.div_euclid(d), n.rem_euclid(d))` with a single division; `(0, 0)` where those would panic
 /// (`d == 0`, or `i128::MIN / -1`), which no caller reaches.
 #[inline(never)]
 pub(crate) fn div_rem_euclid_i128(n: i128, d: i128) -> (i128, i128) {
-    if let (Ok(n32), Ok(d32)) = (i32::try_from(n), i32::try_from(d)) {
+    div_rem_euclid_i128_shaped(n, d, LEAN)
+}
+
+/// [`div_rem_euclid_i128`] in the size-lean shape (`lean`) or the fast one.
+#[inline(always)]
+fn div_rem_euclid_i128_shaped(n: i128, d: i128, lean: bool) -> (i128, i128) {
+    if let (false, Ok(n32), Ok(d32)) = (lean, i32::try_from(n), i32::try_from(d)) {
         // `i32::MIN / -1` overflows: left to the wider paths.
         if d32 != 0 && !(n32 == i32::MIN && d32 == -1) {
             return (
@@ -35,7 +58,7 @@ pub(crate) fn div_rem_euclid_i128(n: i128, d: i128) -> (i128, i128) {
     }
     let (nm, dm) = (n.unsigned_abs(), d.unsigned_abs());
     let (qm, rm) = match u64::try_from(dm) {
-        Ok(d64) => match div_rem_u128_by_u64(nm, d64) {
+        Ok(d64) => match div_rem_u128_by_u64(nm, d64, lean) {
             Some((q, r)) => (q, u128::from(r)),
             None => return (0, 0),
         },
@@ -82,7 +105,9 @@ fn div_rem_u128_binary(n: u128, d: u128) -> (u128, u128) {
 /// reciprocal `v = floor((2^128 - 1) / d) - 2^64`, so that each two-word step is a multiplication
 /// and at most two corrections (Möller and Granlund, *Improved division by invariant integers*,
 /// IEEE Trans. Computers 2011, algorithm 4).
+/// (Not used by the size-lean shape, whose set-up divides with [`div_rem_euclid_i128`].)
 #[derive(Clone, Copy, Debug)]
+#[cfg_attr(texcore_lean, allow(dead_code))]
 pub(crate) struct Reciprocal64 {
     /// The divisor shifted left until its top bit is set.
     d: u64,
@@ -92,6 +117,7 @@ pub(crate) struct Reciprocal64 {
     s: u32,
 }
 
+#[cfg_attr(texcore_lean, allow(dead_code))]
 impl Reciprocal64 {
     /// The reciprocal of `d` (`None` for 0).
     pub(crate) fn new(d: u64) -> Option<Reciprocal64> {
@@ -173,17 +199,20 @@ fn short_div(n: u128, d: u32) -> (u128, u32) {
     (q, r)
 }
 
-/// `(n / d, n % d)`, `None` for `d == 0`.
-fn div_rem_u128_by_u64(n: u128, d: u64) -> Option<(u128, u64)> {
+/// `(n / d, n % d)`, `None` for `d == 0`; `lean` (a constant at every call) takes the two-word
+/// path for every divisor.
+#[inline(always)]
+fn div_rem_u128_by_u64(n: u128, d: u64, lean: bool) -> Option<(u128, u64)> {
     if d == 0 {
         return None;
     }
-    if let Ok(d32) = u32::try_from(d) {
+    if let (false, Ok(d32)) = (lean, u32::try_from(d)) {
         let (q, r) = short_div(n, d32);
         return Some((q, u64::from(r)));
     }
     let (hi, lo) = ((n >> 64) as u64, n as u64);
-    // d >= 2^32: the high word's quotient is below 2^32 (rarely not 0).
+    // d >= 2^32 (outside the size-lean shape): the high word's quotient is below 2^32 (rarely
+    // not 0); the two-word step below takes any d > u1.
     let (q_hi, u1) = if hi < d { (0, hi) } else { (hi / d, hi % d) };
     let (q_lo, r) = div_rem_below_u64(u1, lo, d);
     Some(((u128::from(q_hi) << 64) | u128::from(q_lo), r))
@@ -286,6 +315,14 @@ fn est_u64_by_u32(top: u64, vn1: u64) -> (u64, u64) {
 mod tests {
     use super::*;
 
+    /// The division in both shapes, which must agree (and with [`div_rem_euclid_i128`]).
+    fn div(n: i128, d: i128) -> (i128, i128) {
+        let fast = div_rem_euclid_i128_shaped(n, d, false);
+        assert_eq!(fast, div_rem_euclid_i128_shaped(n, d, true), "{n} / {d}");
+        assert_eq!(fast, div_rem_euclid_i128(n, d), "{n} / {d}");
+        fast
+    }
+
     #[test]
     fn matches_div_euclid_and_rem_euclid() {
         let vals: [i128; 22] = [
@@ -315,23 +352,16 @@ mod tests {
         for &n in &vals {
             for &d in &vals {
                 if d == 0 {
-                    assert_eq!(div_rem_euclid_i128(n, d), (0, 0));
+                    assert_eq!(div(n, d), (0, 0));
                     continue;
                 }
-                assert_eq!(
-                    div_rem_euclid_i128(n, d),
-                    (n.div_euclid(d), n.rem_euclid(d)),
-                    "{n} / {d}"
-                );
+                assert_eq!(div(n, d), (n.div_euclid(d), n.rem_euclid(d)), "{n} / {d}");
             }
         }
-        assert_eq!(div_rem_euclid_i128(i128::MIN, -1), (0, 0));
+        assert_eq!(div(i128::MIN, -1), (0, 0));
+        assert_eq!(div(i128::MIN, i128::from(i64::MIN)), (1i128 << 64, 0));
         assert_eq!(
-            div_rem_euclid_i128(i128::MIN, i128::from(i64::MIN)),
-            (1i128 << 64, 0)
-        );
-        assert_eq!(
-            div_rem_euclid_i128(i128::MIN, 3),
+            div(i128::MIN, 3),
             (i128::MIN.div_euclid(3), i128::MIN.rem_euclid(3))
         );
     }
@@ -340,11 +370,7 @@ mod tests {
         if d == 0 {
             return;
         }
-        assert_eq!(
-            div_rem_euclid_i128(n, d),
-            (n.div_euclid(d), n.rem_euclid(d)),
-            "{n} / {d}"
-        );
+        assert_eq!(div(n, d), (n.div_euclid(d), n.rem_euclid(d)), "{n} / {d}");
     }
 
     #[test]
@@ -459,8 +485,10 @@ mod tests {
         ) {
             for d in [d, (d >> shift).max(1)] {
                 let n = n >> nshift;
-                let q = div_rem_u128_by_u64(n, d);
-                proptest::prop_assert_eq!(q, Some((n / u128::from(d), (n % u128::from(d)) as u64)));
+                for lean in [false, true] {
+                    let q = div_rem_u128_by_u64(n, d, lean);
+                    proptest::prop_assert_eq!(q, Some((n / u128::from(d), (n % u128::from(d)) as u64)));
+                }
                 let u1 = ((n >> 64) as u64) % d;
                 let wide = (u128::from(u1) << 64) | u128::from(n as u64);
                 let (q, r) = div_rem_below_u64(u1, n as u64, d);
@@ -477,7 +505,8 @@ mod tests {
                     (wide / u64::from(d32), wide % u64::from(d32))
                 );
             }
-            proptest::prop_assert_eq!(div_rem_u128_by_u64(n, 0), None);
+            proptest::prop_assert_eq!(div_rem_u128_by_u64(n, 0, false), None);
+            proptest::prop_assert_eq!(div_rem_u128_by_u64(n, 0, true), None);
         }
     }
 }

@@ -21,7 +21,7 @@
 //! (at the first row inside the clip), then only `i64` additions per row.
 
 use super::Rect;
-use crate::wide::div_rem_euclid_i128;
+use crate::wide::{div_rem_euclid_i128, mul_wide};
 
 /// Sub-pixel units per pixel.
 pub(crate) const SUB: i64 = 16;
@@ -65,8 +65,8 @@ impl Coverage {
             core::mem::swap(&mut a, &mut b);
         }
         let (top, mid, bot) = (a, b, c);
-        let cross = (mid[0] - top[0]) as i128 * (bot[1] - top[1]) as i128
-            - (mid[1] - top[1]) as i128 * (bot[0] - top[0]) as i128;
+        // Guard band: |coordinate differences| < 2^31, so the cross product is exact in i64.
+        let cross = (mid[0] - top[0]) * (bot[1] - top[1]) - (mid[1] - top[1]) * (bot[0] - top[0]);
         Coverage {
             top,
             mid,
@@ -94,8 +94,9 @@ impl EdgeWalker {
     /// The edge `a -> b` (`a.y < b.y`) at row `py` (whose centre must satisfy
     /// `a.y <= cy < b.y`, which keeps `x` within the edge's horizontal extent).
     fn new(a: [i64; 2], b: [i64; 2], py: i64) -> EdgeWalker {
-        let dx = (b[0] - a[0]) as i128;
-        let dy = (b[1] - a[1]) as i128;
+        // Guard band: |dx|, |dy| < 2^31.
+        let dx = b[0] - a[0];
+        let dy = b[1] - a[1];
         if dy <= 0 {
             // Never walked (horizontal edges cover no row); a harmless placeholder.
             return EdgeWalker {
@@ -106,25 +107,26 @@ impl EdgeWalker {
                 step_r: 0,
             };
         }
-        let m = SUB as i128 * dy;
-        let cy = py as i128 * SUB as i128 + HALF as i128;
+        let m = SUB * dy;
+        // 0 <= py < 2^16 (a row of the clip): cy - a.y is below 2^31 in magnitude.
+        let cy = py * SUB + HALF;
         // ceil(N / m) = floor((N + m - 1) / m).
-        let n = (a[0] - HALF) as i128 * dy + (cy - a[1] as i128) * dx + (m - 1);
-        let step = SUB as i128 * dx;
+        let n = mul_wide(a[0] - HALF, dy) + mul_wide(cy - a[1], dx) + i128::from(m - 1);
         // m > 0; one shared out-of-line i128 division (code size on 32-bit targets).
-        let (x, r) = div_rem_euclid_i128(n, m);
-        let (step_q, step_r) = div_rem_euclid_i128(step, m);
+        let (x, r) = div_rem_euclid_i128(n, i128::from(m));
+        let (step_q, step_r) = div_rem_euclid_i128(i128::from(SUB * dx), i128::from(m));
         EdgeWalker {
             x: x as i64,
             r: r as i64,
-            m: m as i64,
+            m,
             step_q: step_q as i64,
             step_r: step_r as i64,
         }
     }
 
-    /// Moves to the next row.
-    #[inline]
+    /// Moves to the next row (out of line in the size-lean shape: two walkers per row loop).
+    #[cfg_attr(texcore_lean, inline(never))]
+    #[cfg_attr(not(texcore_lean), inline)]
     fn advance(&mut self) {
         self.x = self.x.wrapping_add(self.step_q);
         self.r += self.step_r;
@@ -133,6 +135,24 @@ impl EdgeWalker {
             self.x = self.x.wrapping_add(1);
         }
     }
+}
+
+/// [`for_each_run`] for the rasterizer's draw calls: in the size-lean shape
+/// (`cfg(texcore_lean)`) through one out-of-line copy taking `f` as a trait object (an indirect
+/// call per row) instead of one inlined copy per caller.
+#[inline(always)]
+pub(crate) fn walk_runs(cov: &Coverage, clip: Rect, mut f: impl FnMut(u16, u16, u16)) {
+    #[cfg(texcore_lean)]
+    for_each_run_dyn(cov, clip, &mut f);
+    #[cfg(not(texcore_lean))]
+    for_each_run(cov, clip, &mut f);
+}
+
+/// [`for_each_run`] for every caller (size-lean shape).
+#[cfg(texcore_lean)]
+#[inline(never)]
+fn for_each_run_dyn(cov: &Coverage, clip: Rect, f: &mut dyn FnMut(u16, u16, u16)) {
+    for_each_run(cov, clip, f);
 }
 
 /// Calls `f(py, xa, xb)` for every row `py` of the triangle inside `clip` whose covered pixels

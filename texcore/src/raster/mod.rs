@@ -476,7 +476,7 @@ impl Rasterizer {
     /// Draws a set-up triangle into the clip rectangle.
     pub fn draw_setup<S: SegmentSink + ?Sized>(&mut self, setup: &TriangleSetup, sink: &mut S) {
         let counters = &mut self.counters;
-        edge::for_each_run(&setup.cov, self.clip, |py, xa, xb| {
+        edge::walk_runs(&setup.cov, self.clip, |py, xa, xb| {
             perspective::emit_run(setup, py, xa, xb, counters, sink);
         });
     }
@@ -491,7 +491,7 @@ impl Rasterizer {
     ) {
         let counters = &mut self.counters;
         let clip = self.clip.intersect(&depth.rect());
-        edge::for_each_run(&setup.cov, clip, |py, xa, xb| {
+        edge::walk_runs(&setup.cov, clip, |py, xa, xb| {
             depth::depth_run(setup, depth, py, xa, xb, counters, sink);
         });
     }

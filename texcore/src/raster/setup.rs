@@ -27,6 +27,8 @@ use super::edge::{Coverage, HALF, SUB};
 use super::{
     div_round_i128, sat_i32, CullMode, Perspective, ScreenVertex, TriangleOptions, GUARD_BAND,
 };
+use crate::wide::mul_wide;
+#[cfg(not(texcore_lean))]
 use crate::wide::Reciprocal64;
 
 /// Why a triangle was not set up.
@@ -60,14 +62,32 @@ pub(crate) struct Plane {
 /// triangle: the doubled area's reciprocal is prepared once (`area2` is below 2^63 in magnitude
 /// inside the guard band), so each rounding division is a few multiplications instead of a long
 /// division. Gives exactly [`div_round_i128`]'s result.
+///
+/// The size-lean shape (`cfg(texcore_lean)`) prepares no reciprocal and divides each numerator
+/// with [`div_round_i128`] itself (the reference the tests compare the reciprocal path with):
+/// a slower set-up, but no second division routine.
 #[derive(Clone, Copy, Debug)]
 struct AreaDivisor {
     area2: i128,
     /// `|area2|` and its reciprocal (`None` only past 64 bits: then [`div_round_i128`]).
+    #[cfg(not(texcore_lean))]
     recip: Option<(i128, Reciprocal64)>,
 }
 
 impl AreaDivisor {
+    #[cfg(texcore_lean)]
+    fn new(area2: i128) -> AreaDivisor {
+        AreaDivisor { area2 }
+    }
+
+    /// `round(n / area2)`, ties up: [`div_round_i128`].
+    #[cfg(texcore_lean)]
+    #[inline]
+    fn div_round(&self, n: i128) -> i128 {
+        div_round_i128(n, self.area2)
+    }
+
+    #[cfg(not(texcore_lean))]
     fn new(area2: i128) -> AreaDivisor {
         let recip = u64::try_from(area2.unsigned_abs())
             .ok()
@@ -77,6 +97,7 @@ impl AreaDivisor {
     }
 
     /// `round(n / area2)`, ties up, exactly as `div_round_i128(n, area2)`.
+    #[cfg(not(texcore_lean))]
     #[inline]
     fn div_round(&self, n: i128) -> i128 {
         let Some((d, r)) = self.recip else {
@@ -111,22 +132,20 @@ impl AreaDivisor {
 impl Plane {
     /// The plane through the vertex values `l` (each `|l_i| <= 2^62`) at the raw vertex
     /// positions `p` (guard band), `area` dividing by the doubled signed area `!= 0`.
-    fn new(l: [i128; 3], p: &[[i64; 2]; 3], area: &AreaDivisor) -> Plane {
-        let (rx, ry) = (HALF as i128, HALF as i128);
+    fn new(l: [i64; 3], p: &[[i64; 2]; 3], area: &AreaDivisor) -> Plane {
+        let [p0, p1, p2] = *p;
         let mut num_c: i128 = 0;
         let mut num_x: i128 = 0;
         let mut num_y: i128 = 0;
-        for (i, &li) in l.iter().enumerate() {
-            let (j, k) = ((i + 1) % 3, (i + 2) % 3);
-            let (xj, yj) = (p[j][0] as i128, p[j][1] as i128);
-            let (xk, yk) = (p[k][0] as i128, p[k][1] as i128);
-            // Barycentric edge function E_i(r), |E_i| < 2^63; sum over i of E_i = area2.
-            let e = (xj - rx) * (yk - ry) - (xk - rx) * (yj - ry);
-            // |l_i E_i| < 2^125: the sum of three fits i128.
-            num_c += li * e;
+        for (li, [xj, yj], [xk, yk]) in [(l[0], p1, p2), (l[1], p2, p0), (l[2], p0, p1)] {
+            // Barycentric edge function E_i(r) at r = (HALF, HALF): the coordinates less HALF
+            // are below 2^30 + 8 in magnitude, so |E_i| < 2^62; sum over i of E_i = area2.
+            let e = (xj - HALF) * (yk - HALF) - (xk - HALF) * (yj - HALF);
+            // |l_i E_i| < 2^124: the sum of three fits i128.
+            num_c += mul_wide(li, e);
             // dE_i/dx = yj - yk, dE_i/dy = xk - xj (per raw unit; SUB raw units per pixel).
-            num_x += li * (yj - yk) * SUB as i128;
-            num_y += li * (xk - xj) * SUB as i128;
+            num_x += mul_wide(li, (yj - yk) * SUB);
+            num_y += mul_wide(li, (xk - xj) * SUB);
         }
         let gx = area.div_round(num_x);
         let gy = area.div_round(num_y);
@@ -219,9 +238,11 @@ impl TriangleSetup {
             return Err(Reject::OutsideGuardBand);
         }
         let p: [[i64; 2]; 3] = v.map(|p| [p.x.to_bits() as i64, p.y.to_bits() as i64]);
-        // |coordinate differences| < 2^31: products < 2^62, area2 < 2^63 in magnitude.
-        let area2 = (p[1][0] - p[0][0]) as i128 * (p[2][1] - p[0][1]) as i128
-            - (p[2][0] - p[0][0]) as i128 * (p[1][1] - p[0][1]) as i128;
+        // |coordinate differences| < 2^31: products < 2^62, area2 < 2^63 in magnitude (exact
+        // in i64).
+        let area2 = i128::from(
+            (p[1][0] - p[0][0]) * (p[2][1] - p[0][1]) - (p[2][0] - p[0][0]) * (p[1][1] - p[0][1]),
+        );
         if area2 == 0 {
             return Err(Reject::Degenerate);
         }
@@ -249,7 +270,7 @@ impl TriangleSetup {
 
         let area = AreaDivisor::new(area2);
         let zs = v.map(|p| p.z as i64);
-        let z = Plane::new(zs.map(|z| (z as i128) << 32), &p, &area);
+        let z = Plane::new(zs.map(|z| z << 32), &p, &area);
         let zlo = zs.iter().copied().min().unwrap_or(0);
         let zhi = zs.iter().copied().max().unwrap_or(0);
 
@@ -262,7 +283,7 @@ impl TriangleSetup {
             let mut steep = false;
             for c in 0..3 {
                 let a = 62 - bitlen(range[c]);
-                let l = tex.map(|t| ((t[c] - base[c]) as i128) << a);
+                let l = tex.map(|t| (t[c] - base[c]) << a);
                 let pl = Plane::new(l, &p, &area);
                 let half = 1i128 << (a - 1);
                 let gx = pl.gx.saturating_add(half) >> a;
@@ -292,14 +313,14 @@ impl TriangleSetup {
                     (w + (1 << (b - 31))) >> (b - 30)
                 }
             });
-            let qp = Plane::new(q.map(|q| (q as i128) << 32), &p, &area);
+            let qp = Plane::new(q.map(|q| q << 32), &p, &area);
             let mut pp = [Plane::default(); 3];
             let mut qshift = [0u32; 3];
             for c in 0..3 {
                 let bl = bitlen(range[c]);
-                let mut l = [0i128; 3];
+                let mut l = [0i64; 3];
                 for ((li, t), qi) in l.iter_mut().zip(&tex).zip(&q) {
-                    *li = (((t[c] - base[c]) * qi) as i128) << (32 - bl);
+                    *li = ((t[c] - base[c]) * qi) << (32 - bl);
                 }
                 pp[c] = Plane::new(l, &p, &area);
                 qshift[c] = bl;
@@ -410,13 +431,13 @@ mod tests {
         let p = [[8, 8], [16 * 40 + 8, 8], [16 * 3 + 8, 16 * 29 + 8]];
         let area2 = (p[1][0] - p[0][0]) as i128 * (p[2][1] - p[0][1]) as i128
             - (p[2][0] - p[0][0]) as i128 * (p[1][1] - p[0][1]) as i128;
-        let l = [123_456_789i128 << 30, -(987_654_321i128 << 31), 5i128 << 40];
+        let l = [123_456_789i64 << 30, -(987_654_321i64 << 31), 5i64 << 40];
         let pl = Plane::new(l, &p, &AreaDivisor::new(area2));
         for (i, px) in [(0usize, (0, 0)), (1, (40, 0)), (2, (3, 29))] {
-            let err = (pl.at(px.0, px.1) as i128 - l[i]).abs();
+            let err = (pl.at(px.0, px.1) as i128 - l[i] as i128).abs();
             assert!(err <= 1 + (px.0 + px.1) as i128 / 2 + 1, "{i} {err}");
         }
-        assert_eq!(pl.at(0, 0) as i128, l[0]);
+        assert_eq!(pl.at(0, 0), l[0]);
     }
 
     #[test]
