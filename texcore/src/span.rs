@@ -1352,8 +1352,8 @@ fn pixel_loop<F: FnMut(Sample), X: FnMut(&mut i64, &mut i64, &mut i64)>(
 #[allow(clippy::too_many_arguments)]
 #[cfg_attr(not(texcore_lean), inline(always))]
 fn pixels<F, X>(
-    #[allow(non_snake_case)] G: bool,
-    #[allow(non_snake_case)] AFFINE: bool,
+    grads: bool,
+    affine: bool,
     seg: u32,
     fv: u32,
     s: &mut Cubic,
@@ -1372,7 +1372,7 @@ fn pixels<F, X>(
         extra(&mut n, &mut gxn, &mut gyn);
         let f48 = q.q.wrapping_add(n >> fv);
         let f = TexValue::from_bits((f48 >> 32) as i32);
-        if G {
+        if grads {
             emit(Sample {
                 f,
                 gx: q.gx.wrapping_add(gxn >> fv),
@@ -1385,15 +1385,15 @@ fn pixels<F, X>(
         s.p[1] = s.p[1].wrapping_add(s.p[2]);
         s.p[2] = s.p[2].wrapping_add(s.p[3]);
         q.q = q.q.wrapping_add(q.dq);
-        if !AFFINE {
+        if !affine {
             q.dq = q.dq.wrapping_add(q.ddq);
         }
-        if G {
+        if grads {
             s.gx[0] = s.gx[0].wrapping_add(s.gx[1]);
             s.gx[1] = s.gx[1].wrapping_add(s.gx[2]);
             s.gy[0] = s.gy[0].wrapping_add(s.gy[1]);
             s.gy[1] = s.gy[1].wrapping_add(s.gy[2]);
-            if !AFFINE {
+            if !affine {
                 q.gx = q.gx.wrapping_add(q.dgx);
                 q.gy = q.gy.wrapping_add(q.dgy);
             }
@@ -2188,17 +2188,12 @@ mod tests {
         };
         let direct = run(&m, EvalMode::Direct, &span);
         for mode in [EvalMode::Fd, EvalMode::Auto] {
-            let mut ev = SpanEvaluator::new(
-                &m,
-                EvalOptions {
-                    mode,
-                    ..EvalOptions::default()
-                },
-            );
-            let mut out = Vec::new();
-            ev.eval(&span, |s| out.push(s));
+            let opts = EvalOptions {
+                mode,
+                ..EvalOptions::default()
+            };
+            let (out, st) = run_shape(&m, opts, &span, LEAN);
             assert_eq!(out, direct, "{mode:?}");
-            let st = ev.stats();
             if cfg!(feature = "fd") {
                 assert_eq!(st.fd_pixels, 200, "{mode:?}");
                 assert!(st.cell_setups < 200, "{mode:?}: {st:?}");
@@ -2222,21 +2217,18 @@ mod tests {
             len: 100,
         };
         for mode in [EvalMode::Direct, EvalMode::Fd, EvalMode::Auto] {
-            let mut ev = SpanEvaluator::new(
-                &m,
-                EvalOptions {
-                    mode,
-                    ..EvalOptions::default()
-                },
-            );
-            let mut nonzero = 0;
-            ev.eval(&span, |s| nonzero += usize::from(s.gx != 0 || s.gy != 0));
+            let opts = EvalOptions {
+                mode,
+                ..EvalOptions::default()
+            };
+            let (out, st) = run_shape(&m, opts, &span, LEAN);
+            let nonzero = out.iter().filter(|s| s.gx != 0 || s.gy != 0).count();
             if cfg!(feature = "gradients") {
                 assert!(nonzero > 90, "{mode:?}: {nonzero}");
-                assert!(ev.stats().gradient_evaluations > 0);
+                assert!(st.gradient_evaluations > 0);
             } else {
                 assert_eq!(nonzero, 0, "{mode:?}");
-                assert_eq!(ev.stats().gradient_evaluations, 0);
+                assert_eq!(st.gradient_evaluations, 0);
             }
         }
     }
