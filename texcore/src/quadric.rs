@@ -38,7 +38,7 @@ impl QuadraticSpan {
     /// Whether every coefficient is zero (the quadric stage can be skipped).
     #[inline]
     pub fn is_zero(&self) -> bool {
-        self.c == [0, 0, 0]
+        (self.c[0] | self.c[1] | self.c[2]) == 0
     }
 }
 

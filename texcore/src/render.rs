@@ -290,9 +290,11 @@ pub struct RenderStats {
     pub skipped_groups: u64,
 }
 
-/// Pixels shaded per chunk before they are handed on: segments up to this length (any display
-/// row up to 512 pixels) reach the sink in one call; longer ones in chunks of this size.
-pub const CHUNK: usize = 512;
+/// Pixels shaded per chunk before they are handed on: segments up to this length reach the sink
+/// in one call; longer ones in chunks of this size. The chunk lives on the stack and is cleared
+/// once per segment, so it is kept short (segments of perspective triangles are at most 16
+/// pixels between divides, and most are shorter).
+pub const CHUNK: usize = 64;
 
 /// Renders scenes with a set of textures.
 #[derive(Debug)]

@@ -176,7 +176,7 @@ impl SpanStats {
 }
 
 /// Samples handed over per call by [`SpanEvaluator::eval_chunks`].
-pub const SAMPLE_CHUNK: usize = 32;
+pub const SAMPLE_CHUNK: usize = 16;
 
 /// Up to [`SAMPLE_CHUNK`] consecutive samples of a span, stored by component (`f`, `gx`, `gy`
 /// arrays), as [`SpanEvaluator::eval_chunks`] hands them over. The forward-differencing fast path
@@ -361,6 +361,21 @@ struct Setup<const T: usize> {
     gqx: [i128; 2],
     gqy: [i128; 2],
     extra_width48: i64,
+}
+
+impl<const T: usize> Setup<T> {
+    /// No terms, a zero quadric (built in place: the term slots stay unwritten).
+    #[cfg_attr(not(texcore_lean), inline(always))]
+    fn empty() -> Self {
+        Setup {
+            terms: heapless::Vec::new(),
+            quad: QuadraticSpan { c: [0; 3] },
+            quad_zero: true,
+            gqx: [0; 2],
+            gqy: [0; 2],
+            extra_width48: 0,
+        }
+    }
 }
 
 /// Forward-difference state of a cubic term inside one cell (exact, 64-bit).
@@ -553,6 +568,8 @@ impl Default for TermRun {
 pub struct SpanEvaluator<'m, const T: usize> {
     model: &'m TextureModel<T>,
     opts: EvalOptions,
+    /// The nonzero entries of the quadric's matrix (bit `4 r + c`), found once.
+    qmask: u16,
     stats: SpanStats,
     /// Tests only: run the size-lean loop shape ([`LEAN`]) whatever the build.
     #[cfg(test)]
@@ -565,6 +582,7 @@ impl<'m, const T: usize> SpanEvaluator<'m, T> {
         SpanEvaluator {
             model,
             opts,
+            qmask: quadric_mask(&quadric_matrix(model.quadric())),
             stats: SpanStats::default(),
             #[cfg(test)]
             lean: LEAN,
@@ -590,7 +608,8 @@ impl<'m, const T: usize> SpanEvaluator<'m, T> {
         self.opts
     }
 
-    fn setup(&mut self, span: &Span) -> Setup<T> {
+    /// Fills `out` (empty, as [`Setup::empty`]) for `span`; in place, as the set-up is large.
+    fn setup(&mut self, span: &Span, out: &mut Setup<T>) {
         let m = self.model;
         let s0 = exact(span.s0);
         let ds = exact(span.ds);
@@ -599,27 +618,26 @@ impl<'m, const T: usize> SpanEvaluator<'m, T> {
         // 32 x 32 -> 64-bit, zero entries skipped), and five dot products: the same values mod
         // 2^128 as `Quadric::along` / `derivative_along` (`x^T Q d = d^T Q x`).
         let grads = GRADIENTS && self.opts.gradients;
-        let qm = quadric_matrix(m.quadric());
-        let xh = [s0[0], s0[1], s0[2], 1 << 16];
-        let dh = [ds[0], ds[1], ds[2], 0];
-        let qx = mat_vec(&qm, &xh);
-        let qd = mat_vec(&qm, &dh);
-        let c1 = dot(&dh, &qx).wrapping_mul(2);
-        let c2 = dot(&dh, &qd);
-        let quad = QuadraticSpan {
-            c: [dot(&xh, &qx), c1, c2],
-        };
-        let (gqx, gqy) = if grads {
-            let yh = [dy[0], dy[1], dy[2], 0];
-            (
-                [c1, c2.wrapping_mul(2)],
-                [dot(&yh, &qx).wrapping_mul(2), dot(&yh, &qd).wrapping_mul(2)],
-            )
-        } else {
-            ([0, 0], [0, 0])
-        };
+        if self.qmask != 0 {
+            let qm = quadric_matrix(m.quadric());
+            let xh = [s0[0], s0[1], s0[2], 1 << 16];
+            let dh = [ds[0], ds[1], ds[2], 0];
+            let qx = mat_vec(&qm, self.qmask, &xh);
+            let qd = mat_vec(&qm, self.qmask, &dh);
+            let c1 = dot(&dh, &qx).wrapping_mul(2);
+            let c2 = dot(&dh, &qd);
+            out.quad = QuadraticSpan {
+                c: [dot(&xh, &qx), c1, c2],
+            };
+            out.quad_zero = out.quad.is_zero();
+            if grads {
+                let yh = [dy[0], dy[1], dy[2], 0];
+                out.gqx = [c1, c2.wrapping_mul(2)];
+                out.gqy = [dot(&yh, &qx).wrapping_mul(2), dot(&yh, &qd).wrapping_mul(2)];
+            }
+        }
         // A vector, not an array: nothing is written for the slots past the model's terms.
-        let mut terms: heapless::Vec<TermSetup, T> = heapless::Vec::new();
+        let terms = &mut out.terms;
         let mut extra: i64 = 0;
         // Coordinate precision (`docs/model.md` 3.2): `U0` and `DU` rounded to `F` fraction bits,
         // so `u(i) = U0 + i DU` stays linear in `i`; the Nyquist test uses the unrounded step.
@@ -649,14 +667,7 @@ impl<'m, const T: usize> SpanEvaluator<'m, T> {
                 gradient: grads && !beyond,
             });
         }
-        Setup {
-            terms,
-            quad_zero: quad.is_zero(),
-            quad,
-            gqx,
-            gqy,
-            extra_width48: extra,
-        }
+        out.extra_width48 = extra;
     }
 
     /// The extra filter width of `span` from octaves past the Nyquist limit (what
@@ -700,7 +711,8 @@ impl<'m, const T: usize> SpanEvaluator<'m, T> {
 
     /// The evaluation proper.
     fn eval_inner(&mut self, span: &Span, sink: &mut ChunkSink<'_, '_>) -> SpanInfo {
-        let setup = self.setup(span);
+        let mut setup = Setup::empty();
+        self.setup(span, &mut setup);
         sink.chunk.extra_width48 = setup.extra_width48;
         self.stats.spans += 1;
         self.stats.pixels += u64::from(span.len);
@@ -1269,15 +1281,30 @@ fn quadric_matrix(q: &crate::quadric::Quadric) -> [[i32; 4]; 4] {
     [[a, b, c, d], [b, e, f, g], [c, f, h, i], [d, g, i, j]]
 }
 
-/// `Q v` for a homogeneous vector of 32-bit components (as i64), skipping zero entries; exact.
-fn mat_vec(m: &[[i32; 4]; 4], v: &[i64; 4]) -> [i128; 4] {
+/// The nonzero entries of `m`: bit `4 r + c` for entry `(r, c)`.
+fn quadric_mask(m: &[[i32; 4]; 4]) -> u16 {
+    m.iter()
+        .flatten()
+        .enumerate()
+        .fold(0, |acc, (k, &q)| if q != 0 { acc | 1 << k } else { acc })
+}
+
+/// `Q v` for a homogeneous vector of 32-bit components (as i64), visiting only the entries in
+/// `mask` (the nonzero ones, [`quadric_mask`]); exact.
+fn mat_vec(m: &[[i32; 4]; 4], mask: u16, v: &[i64; 4]) -> [i128; 4] {
     let mut out = [0i128; 4];
-    for (o, row) in out.iter_mut().zip(m) {
-        for (&q, &x) in row.iter().zip(v) {
-            if q != 0 && x != 0 {
-                // |q| < 2^31 and |x| <= 2^31 (span coordinates are raw i32): exact in i64.
-                *o = o.wrapping_add(i128::from(i64::from(q).wrapping_mul(x)));
-            }
+    let mut bits = mask;
+    while bits != 0 {
+        let k = bits.trailing_zeros() as usize;
+        bits &= bits - 1;
+        let (r, c) = (k >> 2, k & 3);
+        if let (Some(o), Some(&q), Some(&x)) = (
+            out.get_mut(r),
+            m.get(r).and_then(|row| row.get(c)),
+            v.get(c),
+        ) {
+            // |q| < 2^31 and |x| <= 2^31 (span coordinates are raw i32): exact in i64.
+            *o = o.wrapping_add(i128::from(i64::from(q).wrapping_mul(x)));
         }
     }
     out
@@ -2090,9 +2117,14 @@ mod tests {
             let ds = pt(&mut r, case % 5 == 0);
             let dy = pt(&mut r, false);
             let qm = quadric_matrix(&q);
+            let mask = quadric_mask(&qm);
+            assert_eq!(
+                mask.count_ones() as usize,
+                qm.iter().flatten().filter(|&&e| e != 0).count()
+            );
             let h = |v: [i64; 3], w: i64| [v[0], v[1], v[2], w];
             let (xh, dh, yh) = (h(s0, 1 << 16), h(ds, 0), h(dy, 0));
-            let (qx, qd) = (mat_vec(&qm, &xh), mat_vec(&qm, &dh));
+            let (qx, qd) = (mat_vec(&qm, mask, &xh), mat_vec(&qm, mask, &dh));
             let want = q.along(s0, ds).c;
             let got = [dot(&xh, &qx), dot(&dh, &qx).wrapping_mul(2), dot(&dh, &qd)];
             assert_eq!(got, want);
