@@ -471,8 +471,9 @@ pub(crate) const GRADIENTS: bool = cfg!(feature = "gradients");
 
 /// The size-lean code shape (built at `opt-level = "s"` or `"z"`, `cfg(texcore_lean)`): the
 /// merged loop runs one pixel loop that tests the span's shape (gradients, affine quadric) per
-/// pixel, instead of its eight specialisations and the component passes over long cells. The
-/// samples are identical (unit tests compare both shapes in every build).
+/// pixel, instead of its eight specialisations and the component passes over long cells; with
+/// [`GENERAL_FD`] the merged loop is not used at all (the general loop forward-differences every
+/// term). The samples are identical (unit tests compare both shapes in every build).
 const LEAN: bool = cfg!(texcore_lean);
 
 /// Whether any strategy of the general loop keeps per-term state across pixels (cell caches,
@@ -1033,8 +1034,9 @@ impl<'m, const T: usize> SpanEvaluator<'m, T> {
                 }
             }
         }
-        // Without forward differencing every term is `Direct` or `Cached`: the general loop.
-        if FD && self.run_merged(len, setup, &strategies, sink) {
+        // Without forward differencing every term is `Direct` or `Cached`: the general loop. The
+        // size-lean shape leaves the merged loop out when the general loop forward-differences.
+        if FD && !(GENERAL_FD && self.lean()) && self.run_merged(len, setup, &strategies, sink) {
             return;
         }
 
@@ -2155,7 +2157,8 @@ mod tests {
         /// The size-lean loop shape (`opt-level = "s"`/`"z"`) and the fast one give the same
         /// samples and counters: long cells (the fast shape's component passes), short cells,
         /// per-pixel terms mixed in (culling off past Nyquist), gradients on and off, `mod` and
-        /// `clamp`, affine and curved quadrics.
+        /// `clamp`, affine and curved quadrics, plain and turbulent terms (with `turbulence-fd`
+        /// the lean shape leaves the merged loop out).
         #[test]
         fn lean_shape_equals_fast_shape(
             s0 in proptest::array::uniform3(-4_000_000i32..4_000_000),
@@ -2168,6 +2171,7 @@ mod tests {
             cull: bool,
             zoom in 0u32..4,
             mode in 0usize..3,
+            turbulent: bool,
         ) {
             let q = if curved {
                 Quadric::from_f64([0.7, 0.1, 0.0, -0.2, 0.3, 0.0, 0.05, 1.1, 0.25, 0.4]).unwrap()
@@ -2187,7 +2191,7 @@ mod tests {
                 amplitude: Amplitude::from_num(0.6),
                 rotate: true,
                 basis: NoiseBasis::trilinear(HashKind::Integer),
-                turbulence: false,
+                turbulence: turbulent,
             })
             .unwrap();
             let span = Span {
