@@ -6,7 +6,12 @@ fn main() {
     v.sort_by(|a, b| b.1.cmp(a.1));
     let total: u64 = v.iter().map(|x| *x.1).sum();
     println!("texcore .text {total}");
-    for (f, b) in v.iter().take(60) {
+    for (f, b) in v.iter().take(
+        std::env::args()
+            .nth(2)
+            .and_then(|n| n.parse().ok())
+            .unwrap_or(60),
+    ) {
         println!("{b:6} {f}");
     }
 }

@@ -395,23 +395,6 @@ struct Cubic32 {
     gy: [i32; 3],
 }
 
-/// A re-anchored cubic Hermite segment: value (cubic), x-gradient (its derivative, quadratic) and
-/// y-gradient (linear between the anchors).
-#[cfg(all(
-    feature = "reanchor",
-    any(
-        feature = "smooth-fade",
-        feature = "gradient-noise",
-        feature = "mnoise"
-    )
-))]
-#[derive(Clone, Copy, Debug, Default)]
-struct Hermite {
-    p: [i64; 4],
-    gx: [i64; 3],
-    gy: [i64; 2],
-}
-
 /// How one term is evaluated along the current span.
 ///
 /// Which strategies the general loop ([`SpanEvaluator::run`]) carries depends on the features:
@@ -523,19 +506,22 @@ struct TermRun {
     cached: bool,
     remaining: u32,
     u: [i32; 3],
-    #[cfg(feature = "turbulence-fd")]
+    /// The forward-difference state of `Fd` and of a `Hermite` segment (whose y-gradient is
+    /// linear: `gy[2]` stays zero).
+    #[cfg(any(
+        feature = "turbulence-fd",
+        all(
+            feature = "reanchor",
+            any(
+                feature = "smooth-fade",
+                feature = "gradient-noise",
+                feature = "mnoise"
+            )
+        )
+    ))]
     fd: Cubic,
     #[cfg(feature = "fd32")]
     fd32: Cubic32,
-    #[cfg(all(
-        feature = "reanchor",
-        any(
-            feature = "smooth-fade",
-            feature = "gradient-noise",
-            feature = "mnoise"
-        )
-    ))]
-    herm: Hermite,
 }
 
 impl Default for TermRun {
@@ -547,19 +533,20 @@ impl Default for TermRun {
             cached: false,
             remaining: 0,
             u: [0; 3],
-            #[cfg(feature = "turbulence-fd")]
+            #[cfg(any(
+                feature = "turbulence-fd",
+                all(
+                    feature = "reanchor",
+                    any(
+                        feature = "smooth-fade",
+                        feature = "gradient-noise",
+                        feature = "mnoise"
+                    )
+                )
+            ))]
             fd: Cubic::default(),
             #[cfg(feature = "fd32")]
             fd32: Cubic32::default(),
-            #[cfg(all(
-                feature = "reanchor",
-                any(
-                    feature = "smooth-fade",
-                    feature = "gradient-noise",
-                    feature = "mnoise"
-                )
-            ))]
-            herm: Hermite::default(),
         }
     }
 }
@@ -688,8 +675,24 @@ impl<'m, const T: usize> SpanEvaluator<'m, T> {
     /// Only this thin loop is generic over `emit`: the evaluator itself is compiled once per model
     /// capacity `T` and hands its samples over in chunks of [`SAMPLE_CHUNK`], so a program with
     /// many call sites carries one copy of the evaluator (code size on the device).
+    ///
+    /// In the size-lean shape ([`LEAN`]) the loop over a chunk's samples is compiled once and
+    /// calls `emit` through a trait object, instead of once per `emit`.
     #[inline]
     pub fn eval<F: FnMut(Sample)>(&mut self, span: &Span, mut emit: F) -> SpanInfo {
+        if self.lean() {
+            return self.eval_dyn(span, &mut emit);
+        }
+        self.eval_chunks(span, &mut |chunk: &SampleChunk| {
+            for s in chunk.iter() {
+                emit(s);
+            }
+        })
+    }
+
+    /// [`SpanEvaluator::eval`] with `emit` as a trait object (the size-lean shape).
+    #[inline(never)]
+    fn eval_dyn(&mut self, span: &Span, emit: &mut dyn FnMut(Sample)) -> SpanInfo {
         self.eval_chunks(span, &mut |chunk: &SampleChunk| {
             for s in chunk.iter() {
                 emit(s);
@@ -1119,7 +1122,7 @@ impl<'m, const T: usize> SpanEvaluator<'m, T> {
                                 .min(HERMITE_SEGMENT)
                                 .min(quarter.max(2))
                                 .min(len - i);
-                            r.herm = hermite_setup(term, data, r.u, ts, l, amp, fv, want_g);
+                            r.fd = hermite_setup(term, data, r.u, ts, l, amp, fv, want_g);
                             l
                         }
                         _ => in_cell,
@@ -1140,8 +1143,19 @@ impl<'m, const T: usize> SpanEvaluator<'m, T> {
                     let want_g = grads && ts.gradient;
                     let (mut v, mut gx, mut gy) = match r.strategy {
                         Strategy::Off => continue,
-                        #[cfg(feature = "turbulence-fd")]
-                        Strategy::Fd => {
+                        // A Hermite segment steps like a cubic (its `gy[2]` is zero).
+                        #[cfg(any(
+                            feature = "turbulence-fd",
+                            all(
+                                feature = "reanchor",
+                                any(
+                                    feature = "smooth-fade",
+                                    feature = "gradient-noise",
+                                    feature = "mnoise"
+                                )
+                            )
+                        ))]
+                        Strategy::Fd | Strategy::Hermite => {
                             any_fd = true;
                             let c = &mut r.fd;
                             let out = (c.p[0], c.gx[0], c.gy[0]);
@@ -1173,28 +1187,6 @@ impl<'m, const T: usize> SpanEvaluator<'m, T> {
                                 c.gx[1] = c.gx[1].wrapping_add(c.gx[2]);
                                 c.gy[0] = c.gy[0].wrapping_add(c.gy[1]);
                                 c.gy[1] = c.gy[1].wrapping_add(c.gy[2]);
-                            }
-                            out
-                        }
-                        #[cfg(all(
-                            feature = "reanchor",
-                            any(
-                                feature = "smooth-fade",
-                                feature = "gradient-noise",
-                                feature = "mnoise"
-                            )
-                        ))]
-                        Strategy::Hermite => {
-                            any_fd = true;
-                            let c = &mut r.herm;
-                            let out = (c.p[0], c.gx[0], c.gy[0]);
-                            c.p[0] = c.p[0].wrapping_add(c.p[1]);
-                            c.p[1] = c.p[1].wrapping_add(c.p[2]);
-                            c.p[2] = c.p[2].wrapping_add(c.p[3]);
-                            if want_g {
-                                c.gx[0] = c.gx[0].wrapping_add(c.gx[1]);
-                                c.gx[1] = c.gx[1].wrapping_add(c.gx[2]);
-                                c.gy[0] = c.gy[0].wrapping_add(c.gy[1]);
                             }
                             out
                         }
@@ -1527,7 +1519,8 @@ fn div_round(x: i128, d: i128) -> i64 {
 }
 
 /// Cubic Hermite segment over pixels `0..l` through the exact values and derivatives at pixels
-/// `0` and `l - 1` (both inside the current cell).
+/// `0` and `l - 1` (both inside the current cell), as a forward-difference state: the value is
+/// cubic, the x-gradient its derivative, the y-gradient linear between the anchors (`gy[2] = 0`).
 #[cfg(all(
     feature = "reanchor",
     any(
@@ -1546,7 +1539,7 @@ fn hermite_setup(
     amp: i32,
     fv: u32,
     grads: bool,
-) -> Hermite {
+) -> Cubic {
     let (_, f0) = split(u);
     let b = &term.basis;
     let p0 = b.sample(data, f0, amp, fv);
@@ -1557,10 +1550,10 @@ fn hermite_setup(
         0
     };
     if l <= 1 {
-        return Hermite {
+        return Cubic {
             p: [p0, 0, 0, 0],
             gx: [g0, 0, 0],
-            gy: [y0, 0],
+            gy: [y0, 0, 0],
         };
     }
     let mm = l - 1;
@@ -1586,7 +1579,7 @@ fn hermite_setup(
     let c2 = div_round(3 * (pmw - p0w) - (2 * g0w + gmw) * m, m * m);
     let c3 = div_round(2 * (p0w - pmw) + (g0w + gmw) * m, m * m * m);
     let c1 = g0;
-    Hermite {
+    Cubic {
         p: [
             p0,
             c1.wrapping_add(c2).wrapping_add(c3),
@@ -1598,7 +1591,7 @@ fn hermite_setup(
             c2.wrapping_mul(2).wrapping_add(c3.wrapping_mul(3)),
             c3.wrapping_mul(6),
         ],
-        gy: [y0, div_round(i128::from(ym) - i128::from(y0), m)],
+        gy: [y0, div_round(i128::from(ym) - i128::from(y0), m), 0],
     }
 }
 
