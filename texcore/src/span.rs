@@ -1043,13 +1043,10 @@ impl<'m, const T: usize> SpanEvaluator<'m, T> {
             return;
         }
 
-        let mut runs = [TermRun::default(); T];
-        for ((r, ts), st) in runs
-            .iter_mut()
-            .zip(setup.terms.iter())
-            .zip(strategies.iter())
-            .take(n)
-        {
+        // A vector, not an array: only the model's terms are initialised.
+        let mut runs: heapless::Vec<TermRun, T> = heapless::Vec::new();
+        for (ts, st) in setup.terms.iter().zip(strategies.iter()).take(n) {
+            let mut r = TermRun::default();
             if ts.active {
                 r.strategy = match *st {
                     // Exact either way: per pixel is the direct computation.
@@ -1061,6 +1058,8 @@ impl<'m, const T: usize> SpanEvaluator<'m, T> {
                     r.remaining = u32::MAX;
                 }
             }
+            // At most T terms: never full.
+            let _ = runs.push(r);
         }
 
         // Quadric forward differences (exact, wrapping i128).
