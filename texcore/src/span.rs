@@ -1676,21 +1676,22 @@ fn wsub(a: i64, b: i64) -> i64 {
 #[inline]
 fn cubic_poly(v: &[i32; 8], frac: [u32; 3], du: [i32; 3], dy: [i32; 3], grads: bool) -> CubicPoly {
     let grads = GRADIENTS && grads;
-    // Fractions are below 2^16, so as i32 they are exact.
-    let f = [frac[0] as i32, frac[1] as i32, frac[2] as i32];
+    // Fractions are below 2^16: zero-extended, their products with 64-bit values need one
+    // multiplication less on a 32-bit core.
+    let f = [i64::from(frac[0]), i64::from(frac[1]), i64::from(frac[2])];
     // x level: e(j) = e0 + e1 j, derivative across de (constant). v' fits 26 bits (model 4.4),
     // so dv fits i32 and every product here is an exact 32 x 32 -> 64-bit one.
     let xl = |a: usize| -> (i64, i64, i64) {
         let v0 = v[a];
         let dv = i64::from(v[a + 1].wrapping_sub(v0));
         (
-            wadd(i64::from(v0) << 16, dv * i64::from(f[0])),
+            wadd(i64::from(v0) << 16, dv * f[0]),
             wmul(dv, i64::from(du[0])),
             wmul(dv, i64::from(dy[0])),
         )
     };
     // y level: F(j) = F0 + F1 j + F2 j^2, dF(j) = dF0 + dF1 j.
-    let (fy, sy, ey) = (i64::from(f[1]), i64::from(du[1]), i64::from(dy[1]));
+    let (fy, sy, ey) = (f[1], i64::from(du[1]), i64::from(dy[1]));
     let yl = |a: (i64, i64, i64), b: (i64, i64, i64)| -> ([i64; 3], [i64; 2]) {
         let d0 = wsub(b.0, a.0);
         let d1 = wsub(b.1, a.1);
@@ -1714,7 +1715,7 @@ fn cubic_poly(v: &[i32; 8], frac: [u32; 3], du: [i32; 3], dy: [i32; 3], grads: b
     let (fa, dfa) = yl(xl(0), xl(2));
     let (fb, dfb) = yl(xl(4), xl(6));
     // z level: P(j) cubic, Gy(j) quadratic.
-    let (fz, sz, ez) = (i64::from(f[2]), i64::from(du[2]), i64::from(dy[2]));
+    let (fz, sz, ez) = (f[2], i64::from(du[2]), i64::from(dy[2]));
     let e = [wsub(fb[0], fa[0]), wsub(fb[1], fa[1]), wsub(fb[2], fa[2])];
     let g = [
         wadd(fa[0] << 16, wmul(e[0], fz)),
