@@ -454,19 +454,37 @@ const fn bernstein(n: i64, k: i64) -> [i64; 4] {
     [j * j * j, 3 * k * j * j, 3 * k * k * j, k * k * k]
 }
 
+/// Every control point coordinate is below `2^18` in magnitude (checked at compile time), so a
+/// row numerator `sum_i b_i P_ji` (`sum_i b_i = n^3 <= 2^12`) is below `2^30`: exact in i32.
+const POINT_BOUND_BITS: u32 = 18;
+const _: () = {
+    let mut i = 0;
+    while i < TEAPOT_POINT_COUNT {
+        let p = TEAPOT_POINTS_Q16[i];
+        assert!(p.x.unsigned_abs() < 1 << POINT_BOUND_BITS);
+        assert!(p.y.unsigned_abs() < 1 << POINT_BOUND_BITS);
+        assert!(p.z.unsigned_abs() < 1 << POINT_BOUND_BITS);
+        i += 1;
+    }
+    let n = MAX_TEAPOT_LEVEL as u32;
+    assert!(n * n * n <= 1 << (30 - POINT_BOUND_BITS));
+};
+
 /// Exact numerators of the four row curves of patch `idx` at `u = k / n`: `sum_i b_i(k) P_ji`
-/// for each row `j` (`|value| < n^3 2^18`).
-fn rows_at(idx: &[u16; 16], bu: &[i64; 4]) -> [[i64; 3]; 4] {
-    let mut out = [[0i64; 3]; 4];
+/// for each row `j` (`|value| < n^3 2^18 <= 2^30`, so 32-bit products and sums are exact).
+fn rows_at(idx: &[u16; 16], bu: &[i64; 4]) -> [[i32; 3]; 4] {
+    // Bernstein numerators are at most n^3 <= 2^12.
+    let bu = bu.map(|b| b as i32);
+    let mut out = [[0i32; 3]; 4];
     for (row, o) in idx.chunks_exact(4).zip(out.iter_mut()) {
         for (&pi, &wu) in row.iter().zip(bu.iter()) {
             let p = TEAPOT_POINTS_Q16
                 .get(pi as usize)
                 .copied()
                 .unwrap_or(Vec3::ZERO);
-            o[0] += wu * p.x as i64;
-            o[1] += wu * p.y as i64;
-            o[2] += wu * p.z as i64;
+            o[0] = o[0].wrapping_add(wu.wrapping_mul(p.x));
+            o[1] = o[1].wrapping_add(wu.wrapping_mul(p.y));
+            o[2] = o[2].wrapping_add(wu.wrapping_mul(p.z));
         }
     }
     out
@@ -476,12 +494,14 @@ fn rows_at(idx: &[u16; 16], bu: &[i64; 4]) -> [[i64; 3]; 4] {
 /// `recip = round(2^62 / n^6)`, rounded half up from 62 fraction bits. A function of the exact
 /// numerator only (so shared boundaries agree bit for bit), within `2^-20` LSB of the exactly
 /// rounded quotient before the final rounding (exact at control points).
-fn combine(rows: &[[i64; 3]; 4], bv: &[i64; 4], recip: i64) -> Vec3 {
+fn combine(rows: &[[i32; 3]; 4], bv: &[i64; 4], recip: i64) -> Vec3 {
+    // 32 x 32 -> 64-bit products (`|b_j| <= 2^12`, `|rows| < 2^30`): one multiply-accumulate.
     let mut acc = [0i64; 3];
     for (r, &wv) in rows.iter().zip(bv.iter()) {
-        acc[0] += wv * r[0];
-        acc[1] += wv * r[1];
-        acc[2] += wv * r[2];
+        let wv = i64::from(wv as i32);
+        acc[0] += wv * i64::from(r[0]);
+        acc[1] += wv * i64::from(r[1]);
+        acc[2] += wv * i64::from(r[2]);
     }
     let f = |a: i64| sat_i32(sat_i64(round_shift_128(a as i128 * recip as i128, 62)));
     Vec3::new(f(acc[0]), f(acc[1]), f(acc[2]))
