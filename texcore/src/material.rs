@@ -21,6 +21,7 @@ use crate::quadric::Quadric;
 use crate::span::{EvalOptions, Sample, Span, SpanEvaluator, SpanInfo, SpanStats};
 use crate::table::TableWrap;
 use crate::transform::Affine3;
+use crate::wide::{div_rem_euclid_i128, mul_wide};
 
 /// Lattice offsets (in cells) that decorrelate the three turbulence channels.
 pub const CHANNEL_OFFSETS: [[i32; 3]; 3] = [[0, 0, 0], [37, 59, 101], [211, 13, 173]];
@@ -200,6 +201,36 @@ fn cylinder(y0: TexValue, y2: TexValue, rings: u8) -> TexValue {
     TexValue::from_bits(v.min(i64::from(i32::MAX)) as i32)
 }
 
+/// One component of the wood gradient, `grad f = 2 (y0 grad y0 + y2 grad y2) / R^2` (48 fraction
+/// bits; `R = rings`, 1..=64): the numerator is below 2^96 in magnitude (`|y| < 2^31`, `|g| <= 2^63`),
+/// divided with truncation, then shifted (floor) and saturated.
+///
+/// `lean` (the size-lean shape, `cfg(texcore_lean)`) multiplies and divides with the shared
+/// out-of-line routines of [`crate::wide`] (the truncated quotient from the Euclidean one) instead
+/// of the compiler's inline 128-bit division; both give the same result (tested).
+#[cfg_attr(not(texcore_lean), inline(always))]
+fn cylinder_gradient(y0: TexValue, g0: i64, y2: TexValue, g2: i64, rings: u8, lean: bool) -> i64 {
+    // `max(1)` only removes the division-by-zero path (`rings` is checked at construction).
+    let r2 = (i128::from(rings) * i128::from(rings)).max(1);
+    let q = if lean {
+        let n = (mul_wide(i64::from(y0.to_bits()), g0) + mul_wide(i64::from(y2.to_bits()), g2)) * 2;
+        // 0 < r2 < 2^16: the truncated quotient is the Euclidean one plus 1 for a negative n with a
+        // remainder (|q| < 2^96: no overflow).
+        let (q, r) = div_rem_euclid_i128(n, r2);
+        if n < 0 && r != 0 {
+            q + 1
+        } else {
+            q
+        }
+    } else {
+        ((i128::from(y0.to_bits()) * i128::from(g0) + i128::from(y2.to_bits()) * i128::from(g2))
+            * 2)
+        .checked_div(r2)
+        .unwrap_or(0)
+    };
+    crate::noise::saturate_i64(q >> 16)
+}
+
 impl<'m, const T: usize> MaterialEvaluator<'m, T> {
     /// An evaluator for `material`.
     pub fn new(material: &'m PerturbedMaterial<T>, opts: EvalOptions) -> Self {
@@ -255,20 +286,12 @@ impl<'m, const T: usize> MaterialEvaluator<'m, T> {
                         k += 1;
                     });
                     let mut k = 0usize;
-                    let r2 = (i128::from(rings) * i128::from(rings)).max(1);
                     let i0 = self.e0.eval(&sub, |s0| {
                         let s2 = buf.get(k).copied().unwrap_or_default();
                         k += 1;
                         let f = cylinder(s0.f, s2.f, rings);
-                        // grad f = 2 (y0 grad y0 + y2 grad y2) / R^2, 48 fraction bits.
-                        let g = |g0: i64, g2: i64| -> i64 {
-                            let v = ((i128::from(s0.f.to_bits()) * i128::from(g0)
-                                + i128::from(s2.f.to_bits()) * i128::from(g2))
-                                * 2)
-                            .checked_div(r2)
-                            .unwrap_or(0)
-                                >> 16;
-                            crate::noise::saturate_i64(v)
+                        let g = |g0: i64, g2: i64| {
+                            cylinder_gradient(s0.f, g0, s2.f, g2, rings, cfg!(texcore_lean))
                         };
                         let (gx, gy) = if crate::span::GRADIENTS {
                             (g(s0.gx, s2.gx), g(s0.gy, s2.gy))
@@ -390,6 +413,57 @@ mod tests {
         assert!((got - want).abs() < 1e-4, "{got} vs {want}");
         // Unperturbed part: y0 ~ 2 s = 1.4 plus a perturbation of at most 0.3.
         assert!((y[0].to_num::<f64>() - 1.4).abs() <= 0.31);
+    }
+
+    #[test]
+    fn cylinder_gradient_shapes_agree() {
+        let ys = [0, 1, -1, 65536, -65536, 12345, -98765, i32::MAX, i32::MIN];
+        let gs = [
+            0i64,
+            1,
+            -1,
+            (1 << 47) + 3,
+            -(1 << 47) - 5,
+            123_456_789_012,
+            -987_654_321_098,
+            i64::MAX,
+            i64::MIN,
+        ];
+        for rings in [0u8, 1, 3, 8, 64, 255] {
+            let r2 = (i128::from(rings) * i128::from(rings)).max(1);
+            for (&a, &b) in ys.iter().zip(ys.iter().rev()) {
+                for &g0 in &gs {
+                    for &g2 in &gs {
+                        let (y0, y2) = (TexValue::from_bits(a), TexValue::from_bits(b));
+                        let want = {
+                            let n = (i128::from(a) * i128::from(g0)
+                                + i128::from(b) * i128::from(g2))
+                                * 2;
+                            crate::noise::saturate_i64((n / r2) >> 16)
+                        };
+                        assert_eq!(cylinder_gradient(y0, g0, y2, g2, rings, false), want);
+                        assert_eq!(cylinder_gradient(y0, g0, y2, g2, rings, true), want);
+                    }
+                }
+            }
+        }
+    }
+
+    proptest::proptest! {
+        #[test]
+        fn cylinder_gradient_shapes_match(
+            a in proptest::prelude::any::<i32>(),
+            b in proptest::prelude::any::<i32>(),
+            g0 in proptest::prelude::any::<i64>(),
+            g2 in proptest::prelude::any::<i64>(),
+            rings in proptest::prelude::any::<u8>(),
+        ) {
+            let (y0, y2) = (TexValue::from_bits(a), TexValue::from_bits(b));
+            proptest::prop_assert_eq!(
+                cylinder_gradient(y0, g0, y2, g2, rings, true),
+                cylinder_gradient(y0, g0, y2, g2, rings, false)
+            );
+        }
     }
 
     #[test]

@@ -179,7 +179,20 @@ impl<const T: usize, const N: usize> TextureEvaluator<'_, T, N> {
     }
 
     /// Shades `span`, calling `emit` with each pixel's colour in order.
+    ///
+    /// The size-lean shape (`cfg(texcore_lean)`) compiles one shading pipeline for every `emit`
+    /// (called through a trait object); the fast shape specialises it per `emit`.
+    #[inline]
+    #[cfg_attr(not(texcore_lean), allow(unused_mut))]
     pub fn shade<F: FnMut(Rgba8888)>(&mut self, span: &Span, mut emit: F) {
+        #[cfg(texcore_lean)]
+        self.shade_with(span, &mut emit as &mut dyn FnMut(Rgba8888));
+        #[cfg(not(texcore_lean))]
+        self.shade_with(span, emit);
+    }
+
+    /// [`TextureEvaluator::shade`] with `emit` as given (a trait object in the size-lean shape).
+    fn shade_with<F: FnMut(Rgba8888)>(&mut self, span: &Span, mut emit: F) {
         let stage = &self.tex.stage;
         let n = u64::from(span.len);
         if stage.antialias() == Antialias::None {
@@ -228,6 +241,79 @@ impl<const T: usize, const N: usize> TextureEvaluator<'_, T, N> {
                 e.eval(span, |s| {
                     emit(stage.shade(s.f, widen(widths.width(s.gx, s.gy), extra)));
                 });
+            }
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    extern crate std;
+    use std::vec::Vec;
+
+    use super::*;
+    use crate::format::{TexPoint, TexValue};
+    use crate::hash::HashKind;
+    use crate::table::{ColorTable, TableLookup, TableWrap};
+
+    /// The marble preset's colour table with filter `aa`.
+    fn stage(aa: Antialias) -> ColorStage<256> {
+        let p = crate::presets::marble(HashKind::Integer);
+        let keys: Vec<_> = p
+            .keys
+            .iter()
+            .map(|(pos, c)| (TexValue::from_bits(*pos as i32), Rgba8888::from_array(*c)))
+            .collect();
+        let table = ColorTable::<256>::from_keys(&keys).unwrap();
+        ColorStage::new(table, TableWrap::Mod, TableLookup::Nearest, aa).unwrap()
+    }
+
+    /// Shades `span` through both shapes of the pipeline (`emit` as given and as a trait object,
+    /// the size-lean shape's) and through [`TextureEvaluator::shade`]; all must agree.
+    fn shade_both_shapes(tex: &Texture<8, 256>, span: &Span) -> Vec<Rgba8888> {
+        let mut direct = Vec::new();
+        tex.evaluator().shade_with(span, |c| direct.push(c));
+        let mut dynamic = Vec::new();
+        let emit: &mut dyn FnMut(Rgba8888) = &mut |c| dynamic.push(c);
+        tex.evaluator().shade_with(span, emit);
+        let mut public = Vec::new();
+        tex.evaluator().shade(span, |c| public.push(c));
+        assert_eq!(direct, dynamic);
+        assert_eq!(direct, public);
+        direct
+    }
+
+    #[test]
+    fn both_shapes_shade_alike() {
+        let span = Span {
+            s0: TexPoint::from_f64(0.3, -0.2, 0.9),
+            ds: TexPoint::from_f64(0.004, 0.001, -0.002),
+            dsdy: TexPoint::from_f64(0.0, 0.004, 0.0),
+            len: 150,
+        };
+        let mut shaders = Vec::new();
+        shaders.push(Shader::Model(
+            crate::presets::marble(HashKind::Integer).model,
+        ));
+        #[cfg(feature = "perturb")]
+        for p in [
+            crate::presets::mn_marble(HashKind::Integer),
+            crate::presets::mn_wood(HashKind::Integer),
+        ] {
+            let m = PerturbedMaterial::<8>::new(&p, TableWrap::Mod).unwrap();
+            shaders.push(Shader::Perturbed(m));
+        }
+        let filters = [
+            Antialias::None,
+            Antialias::Mip,
+            Antialias::Csat,
+            Antialias::Csat3,
+        ];
+        for shader in &shaders {
+            for aa in filters.into_iter().filter(|a| a.is_available()) {
+                let tex = Texture::new(shader.clone(), stage(aa), GradientNorm::L2, EvalMode::Auto);
+                let c = shade_both_shapes(&tex, &span);
+                assert_eq!(c.len(), 150);
             }
         }
     }

@@ -28,6 +28,18 @@ pub(crate) fn mul_wide(a: i64, b: i64) -> i128 {
     i128::from(a) * i128::from(b)
 }
 
+/// `a * b` of two `i128`, wrapping (as the operator in builds without overflow checks; the
+/// callers' products stay in range).
+///
+/// 32-bit targets have no 128-bit multiply routine: the compiler expands every `i128` product
+/// inline. The size-lean shape keeps this one copy out of line for the callers that need a
+/// factor wider than 64 bits (the noise derivative's chain rule).
+#[cfg_attr(texcore_lean, inline(never))]
+#[cfg_attr(not(texcore_lean), inline)]
+pub(crate) fn mul_i128(a: i128, b: i128) -> i128 {
+    a.wrapping_mul(b)
+}
+
 /// The size-lean code shape (`cfg(texcore_lean)`, see the crate documentation): the divisions
 /// skip their 32-bit shortcuts (operands that fit 32 bits, short division by a 32-bit divisor)
 /// and take the general two-word path, which is exact for every operand (unit tests run both

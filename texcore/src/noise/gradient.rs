@@ -63,8 +63,22 @@ fn offsets(frac: [u32; 3], c: usize) -> [i64; 3] {
 }
 
 /// The interpolated value in units of 2^-16 (not yet normalised).
+///
+/// The size-lean shape (`cfg(texcore_lean)`) takes it from the one out-of-line
+/// [`value_and_gradient`] (the same value stages, bit for bit; tested) instead of compiling a
+/// second staged interpolation.
 #[inline]
 pub fn value(grads: &[Grad; 8], frac: [u32; 3], fade: Fade) -> i64 {
+    if cfg!(texcore_lean) {
+        value_and_gradient(grads, frac, fade).0
+    } else {
+        value_unrolled(grads, frac, fade)
+    }
+}
+
+/// [`value`] with the seven lerps written out.
+#[cfg_attr(not(texcore_lean), inline(always))]
+fn value_unrolled(grads: &[Grad; 8], frac: [u32; 3], fade: Fade) -> i64 {
     let w = [
         fade.apply(frac[0]),
         fade.apply(frac[1]),
@@ -78,8 +92,67 @@ pub fn value(grads: &[Grad; 8], frac: [u32; 3], fade: Fade) -> i64 {
 }
 
 /// Value and analytic gradient (`dn/du`, units 2^-16 per cell) of the interpolant.
-#[inline]
+///
+/// The size-lean shape (`cfg(texcore_lean)`) keeps one out-of-line copy that runs the stages as a
+/// loop over the axes ([`value_and_gradient_looped`]); the fast one writes them out. Both give the
+/// same result (tested).
+#[cfg_attr(texcore_lean, inline(never))]
+#[cfg_attr(not(texcore_lean), inline)]
 pub fn value_and_gradient(grads: &[Grad; 8], frac: [u32; 3], fade: Fade) -> (i64, [i64; 3]) {
+    if cfg!(texcore_lean) {
+        value_and_gradient_looped(grads, frac, fade)
+    } else {
+        value_and_gradient_unrolled(grads, frac, fade)
+    }
+}
+
+/// The corner `c`'s stage input: (value, d/dx, d/dy, d/dz).
+#[cfg_attr(not(texcore_lean), inline(always))]
+fn corner(grads: &[Grad; 8], frac: [u32; 3], c: usize) -> [i64; 4] {
+    let g = grads[c & 7];
+    [
+        dot(g, offsets(frac, c)),
+        i64::from(g[0]) * ONE,
+        i64::from(g[1]) * ONE,
+        i64::from(g[2]) * ONE,
+    ]
+}
+
+/// One interpolation stage along `axis` (weight `w`, its derivative `dw`) of (value, gradient)
+/// pairs, by the product rule.
+#[cfg_attr(not(texcore_lean), inline(always))]
+fn stage(p: [i64; 4], q: [i64; 4], axis: usize, w: i64, dw: i64) -> [i64; 4] {
+    let mut out = [0i64; 4];
+    for k in 0..4 {
+        out[k] = lerp16(p[k], q[k], w);
+    }
+    out[(axis + 1) & 3] += ((q[0] - p[0]) * dw) >> 16;
+    out
+}
+
+/// [`value_and_gradient`] with the stages as loops: the eight corners, then per axis the pairs
+/// of the previous stage (adjacent along that axis) into half as many.
+fn value_and_gradient_looped(grads: &[Grad; 8], frac: [u32; 3], fade: Fade) -> (i64, [i64; 3]) {
+    let mut s = [[0i64; 4]; 8];
+    for (c, sc) in s.iter_mut().enumerate() {
+        *sc = corner(grads, frac, c);
+    }
+    for (axis, &a) in frac.iter().enumerate() {
+        let (w, dw) = (fade.apply(a), fade.derivative(a));
+        let prev = s;
+        for (out, pq) in s.iter_mut().zip(prev.chunks_exact(2).take(4 >> axis)) {
+            if let [p, q] = *pq {
+                *out = stage(p, q, axis, w, dw);
+            }
+        }
+    }
+    let [v, gx, gy, gz] = s[0];
+    (v, [gx, gy, gz])
+}
+
+/// [`value_and_gradient`] with the seven stages written out.
+#[cfg_attr(not(texcore_lean), inline(always))]
+fn value_and_gradient_unrolled(grads: &[Grad; 8], frac: [u32; 3], fade: Fade) -> (i64, [i64; 3]) {
     let w = [
         fade.apply(frac[0]),
         fade.apply(frac[1]),
@@ -90,25 +163,8 @@ pub fn value_and_gradient(grads: &[Grad; 8], frac: [u32; 3], fade: Fade) -> (i64
         fade.derivative(frac[1]),
         fade.derivative(frac[2]),
     ];
-    // Each stage carries (value, d/dx, d/dy, d/dz).
-    let corner = |c: usize| -> [i64; 4] {
-        let g = grads[c];
-        [
-            dot(g, offsets(frac, c)),
-            i64::from(g[0]) * ONE,
-            i64::from(g[1]) * ONE,
-            i64::from(g[2]) * ONE,
-        ]
-    };
-    let stage = |p: [i64; 4], q: [i64; 4], axis: usize| -> [i64; 4] {
-        let mut out = [0i64; 4];
-        out[0] = lerp16(p[0], q[0], w[axis]);
-        for k in 1..4 {
-            out[k] = lerp16(p[k], q[k], w[axis]);
-        }
-        out[axis + 1] += ((q[0] - p[0]) * dw[axis]) >> 16;
-        out
-    };
+    let corner = |c: usize| corner(grads, frac, c);
+    let stage = |p: [i64; 4], q: [i64; 4], axis: usize| stage(p, q, axis, w[axis], dw[axis]);
     let e0 = stage(corner(0), corner(1), 0);
     let e1 = stage(corner(2), corner(3), 0);
     let e2 = stage(corner(4), corner(5), 0);
@@ -153,6 +209,37 @@ mod tests {
         assert_eq!(corner_gradient(0), [1, 1, 1]);
         assert_eq!(corner_gradient(7), [-1, -1, -1]);
         assert_eq!(corner_gradient(5), [-1, 1, -1]);
+    }
+
+    fn fades() -> heapless::Vec<Fade, 3> {
+        let mut v = heapless::Vec::new();
+        let _ = v.push(Fade::Linear);
+        #[cfg(feature = "smooth-fade")]
+        {
+            let _ = v.push(Fade::Smooth);
+            let _ = v.push(Fade::Quintic);
+        }
+        v
+    }
+
+    proptest::proptest! {
+        #[test]
+        fn both_shapes_agree(
+            g in proptest::collection::vec(-1i8..=1, 24),
+            frac in proptest::prelude::any::<[u32; 3]>(),
+        ) {
+            let mut grads = [[0i8; 3]; 8];
+            for (gc, v) in grads.iter_mut().zip(g.chunks_exact(3)) {
+                gc.copy_from_slice(v);
+            }
+            for fade in fades() {
+                let want = value_and_gradient_unrolled(&grads, frac, fade);
+                proptest::prop_assert_eq!(value_and_gradient_looped(&grads, frac, fade), want);
+                proptest::prop_assert_eq!(value_and_gradient(&grads, frac, fade), want);
+                proptest::prop_assert_eq!(value_unrolled(&grads, frac, fade), want.0);
+                proptest::prop_assert_eq!(value(&grads, frac, fade), want.0);
+            }
+        }
     }
 
     #[test]

@@ -86,6 +86,28 @@ pub(crate) fn saturate_i64(x: i128) -> i64 {
     }
 }
 
+/// `a * b` of two `i64` in `i128`: in the size-lean shape (`lean`) through the shared
+/// out-of-line [`crate::wide::mul_wide`].
+#[inline(always)]
+fn mul64(a: i64, b: i64, lean: bool) -> i128 {
+    if lean {
+        crate::wide::mul_wide(a, b)
+    } else {
+        i128::from(a) * i128::from(b)
+    }
+}
+
+/// `a * b` in `i128` (the callers' products stay in range): in the size-lean shape (`lean`)
+/// through the shared out-of-line [`crate::wide::mul_i128`].
+#[inline(always)]
+fn mul(a: i128, b: i64, lean: bool) -> i128 {
+    if lean {
+        crate::wide::mul_i128(a, i128::from(b))
+    } else {
+        a * i128::from(b)
+    }
+}
+
 #[cfg(any(feature = "gradient-noise", feature = "mnoise"))]
 #[cfg_attr(not(texcore_lean), inline(always))]
 fn scale_n16(n16: i64, amp_raw: i32, fv: u32) -> i64 {
@@ -199,6 +221,26 @@ impl NoiseBasis {
         amp_raw: i32,
         fv: u32,
     ) -> i64 {
+        self.derivative_shaped(data, frac, d, amp_raw, fv, cfg!(texcore_lean))
+    }
+
+    /// [`NoiseBasis::derivative`] in the size-lean shape (`lean`, `cfg(texcore_lean)`: the
+    /// 128-bit products through the shared out-of-line routines of [`crate::wide`]) or the fast
+    /// one (products inline); both give the same result (tested).
+    #[inline(always)]
+    #[cfg_attr(
+        not(any(feature = "gradient-noise", feature = "mnoise")),
+        allow(unused_variables)
+    )]
+    fn derivative_shaped(
+        &self,
+        data: &CellData,
+        frac: [u32; 3],
+        d: [i32; 3],
+        amp_raw: i32,
+        fv: u32,
+        lean: bool,
+    ) -> i64 {
         match data {
             CellData::Value(v) => {
                 let w = self.weights(frac);
@@ -210,9 +252,11 @@ impl NoiseBasis {
                     let p = value::weight_partials(v, w);
                     let mut acc: i128 = 0;
                     for axis in 0..3 {
-                        acc += i128::from(p[axis])
-                            * i128::from(self.fade.derivative(frac[axis]))
-                            * i128::from(d[axis]);
+                        acc += mul(
+                            mul64(p[axis], self.fade.derivative(frac[axis]), lean),
+                            i64::from(d[axis]),
+                            lean,
+                        );
                     }
                     (acc >> 16) as i64
                 }
@@ -223,13 +267,13 @@ impl NoiseBasis {
                 // units 2^-32 per pixel; i128 so that small steps keep their precision.
                 let mut acc: i128 = 0;
                 for axis in 0..3 {
-                    acc += i128::from(grad[axis]) * i128::from(d[axis]);
+                    acc += mul64(grad[axis], i64::from(d[axis]), lean);
                 }
                 #[cfg(feature = "mnoise")]
                 if matches!(self.kind, BasisKind::Modified) {
-                    acc = (acc * i128::from(mnoise::MNOISE_SCALE)) >> 16;
+                    acc = mul(acc, mnoise::MNOISE_SCALE, lean) >> 16;
                 }
-                saturate_i64((acc * i128::from(amp_raw)) << fv)
+                saturate_i64(mul(acc, i64::from(amp_raw), lean) << fv)
             }
         }
     }
@@ -316,6 +360,33 @@ mod tests {
             }
             let mean = sum as f64 / n as f64 / 65536.0;
             assert!(mean.abs() < 0.05, "{b:?} mean {mean}");
+        }
+    }
+
+    #[test]
+    fn derivative_shapes_agree() {
+        for b in bases() {
+            let mut st = 11u64;
+            for _ in 0..500 {
+                let u = [
+                    lcg(&mut st) as i32,
+                    lcg(&mut st) as i32,
+                    lcg(&mut st) as i32,
+                ];
+                let d = [
+                    (lcg(&mut st) as i32) >> (lcg(&mut st) % 32),
+                    (lcg(&mut st) as i32) >> (lcg(&mut st) % 32),
+                    (lcg(&mut st) as i32) >> (lcg(&mut st) % 32),
+                ];
+                let amp = (lcg(&mut st) % (1 << 17)) as i32 - (1 << 16);
+                let fv = lcg(&mut st) % 9;
+                let (cell, frac) = split(u);
+                let data = b.cell(cell, amp, fv);
+                let fast = b.derivative_shaped(&data, frac, d, amp, fv, false);
+                let lean = b.derivative_shaped(&data, frac, d, amp, fv, true);
+                assert_eq!(fast, lean, "{b:?} u={u:?} d={d:?} amp={amp} fv={fv}");
+                assert_eq!(fast, b.derivative(&data, frac, d, amp, fv));
+            }
         }
     }
 
