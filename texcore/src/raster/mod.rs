@@ -583,20 +583,15 @@ pub(crate) fn div_round_i64(n: i64, d: i64) -> i64 {
     if d <= 0 {
         return n;
     }
-    // A positive divisor below 2^32 (a perspective quotient's normalised `1/w`) divides on the
-    // 32-bit hardware divide; the Euclidean quotient from the magnitudes.
-    let (q, r) = match u32::try_from(d) {
-        Ok(d32) => match crate::wide::div_rem_u64_by_u32(n.unsigned_abs(), d32) {
-            Some((qm, rm)) if n >= 0 => (qm as i64, i64::from(rm)),
-            // n < 0: -|n| = -(qm d + rm) = -(qm + 1) d + (d - rm) when rm > 0.
-            Some((qm, 0)) => ((qm as i64).wrapping_neg(), 0),
-            Some((qm, rm)) => (
-                (qm as i64).wrapping_neg().wrapping_sub(1),
-                d - i64::from(rm),
-            ),
-            None => (n, 0),
-        },
-        Err(_) => (n.div_euclid(d), n.rem_euclid(d)),
+    // The magnitudes divide on the 32-bit hardware divide (`wide::div_rem_u64`: most divisors
+    // here, the perspective quotients, are past 2^32, where the library division would take two
+    // calls); the Euclidean quotient from them.
+    let (q, r) = match crate::wide::div_rem_u64(n.unsigned_abs(), d as u64) {
+        Some((qm, rm)) if n >= 0 => (qm as i64, rm as i64),
+        // n < 0: -|n| = -(qm d + rm) = -(qm + 1) d + (d - rm) when rm > 0.
+        Some((qm, 0)) => ((qm as i64).wrapping_neg(), 0),
+        Some((qm, rm)) => ((qm as i64).wrapping_neg().wrapping_sub(1), d - rm as i64),
+        None => (n, 0),
     };
     if r >= d - r {
         q.wrapping_add(1)
