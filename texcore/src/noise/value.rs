@@ -57,7 +57,11 @@ pub fn scaled_corners_bits(
     }
     let mut out = [0i32; 8];
     for (o, v) in out.iter_mut().zip(raw) {
-        *o = ((i64::from(amp_raw) * i64::from(v) + round) >> shift) as i32;
+        let x = i64::from(amp_raw) * i64::from(v) + round;
+        // `(x >> shift) as i32` from the two 32-bit halves (`15 <= shift <= 31`): a 32-bit core
+        // needs no general 64-bit shift.
+        let (lo, hi) = (x as u32, (x >> 32) as u32);
+        *o = (lo.wrapping_shr(shift) | hi.wrapping_shl(32 - shift)) as i32;
     }
     out
 }
