@@ -73,7 +73,13 @@ fn persp_deriv(p: &PerspInterp, pt: &PerspPoint, y: bool, ctr: &mut Counters) ->
     let mut out = [0i32; 3];
     for c in 0..3 {
         let gp = if y { p.p[c].gy } else { p.p[c].gx };
-        let num = gp.saturating_sub((pt.delta[c] as i128).saturating_mul(gq) >> p.qshift[c]);
+        // A gradient that fits 64 bits (every one in practice) takes the widening 64 x 64-bit
+        // product, which cannot saturate; the general saturating 128-bit product otherwise.
+        let prod = match i64::try_from(gq) {
+            Ok(g) => crate::wide::mul_wide(pt.delta[c], g),
+            Err(_) => (pt.delta[c] as i128).saturating_mul(gq),
+        };
+        let num = gp.saturating_sub(prod >> p.qshift[c]);
         out[c] = match i64::try_from(num) {
             Ok(n) => sat_i32(div_round_i64(n, pt.q[c]) as i128),
             Err(_) => sat_i32(div_round_i128(num, pt.q[c] as i128)),
