@@ -357,6 +357,7 @@ struct Setup<const T: usize> {
     /// One per model term, in order (inactive where culled).
     terms: heapless::Vec<TermSetup, T>,
     quad: QuadraticSpan,
+    /// The model has no quadric (`quad` and the gradients are zero): its stepping is skipped.
     quad_zero: bool,
     gqx: [i128; 2],
     gqy: [i128; 2],
@@ -617,7 +618,8 @@ impl<'m, const T: usize> SpanEvaluator<'m, T> {
             out.quad = QuadraticSpan {
                 c: [dot(&xh, &qx), c1, c2],
             };
-            out.quad_zero = out.quad.is_zero();
+            // A quadric that vanishes along this span steps zeros: the flag only skips work.
+            out.quad_zero = false;
             if grads {
                 let yh = [dy[0], dy[1], dy[2], 0];
                 out.gqx = [c1, c2.wrapping_mul(2)];

@@ -226,8 +226,9 @@ impl NoiseBasis {
 
     /// [`NoiseBasis::derivative`] in the size-lean shape (`lean`, `cfg(texcore_lean)`: the
     /// 128-bit products through the shared out-of-line routines of [`crate::wide`]) or the fast
-    /// one (products inline); both give the same result (tested).
-    #[inline(always)]
+    /// one (products inline); both give the same result (tested). Only an inlining hint: forced
+    /// inline, its body would be copied into every call site of the fast shape's general loop.
+    #[inline]
     #[cfg_attr(
         not(any(feature = "gradient-noise", feature = "mnoise")),
         allow(unused_variables)
