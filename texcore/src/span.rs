@@ -425,17 +425,7 @@ enum Strategy {
     #[cfg_attr(not(feature = "fd32"), allow(dead_code))]
     Fd32,
     /// Cubic Hermite segments of at most [`HERMITE_SEGMENT`] pixels (approximate).
-    #[cfg_attr(
-        not(all(
-            feature = "reanchor",
-            any(
-                feature = "smooth-fade",
-                feature = "gradient-noise",
-                feature = "mnoise"
-            )
-        )),
-        allow(dead_code)
-    )]
+    #[cfg_attr(not(texcore_hermite), allow(dead_code))]
     Hermite,
 }
 
@@ -481,14 +471,7 @@ const fn compiled_mode(mode: EvalMode) -> EvalMode {
     match mode {
         #[cfg(not(feature = "fd32"))]
         EvalMode::Fd32 => EvalMode::Fd,
-        #[cfg(not(all(
-            feature = "reanchor",
-            any(
-                feature = "smooth-fade",
-                feature = "gradient-noise",
-                feature = "mnoise"
-            )
-        )))]
+        #[cfg(not(texcore_hermite))]
         EvalMode::Reanchored => EvalMode::Fd,
         m => m,
     }
@@ -509,17 +492,7 @@ struct TermRun {
     u: [i32; 3],
     /// The forward-difference state of `Fd` and of a `Hermite` segment (whose y-gradient is
     /// linear: `gy[2]` stays zero).
-    #[cfg(any(
-        feature = "turbulence-fd",
-        all(
-            feature = "reanchor",
-            any(
-                feature = "smooth-fade",
-                feature = "gradient-noise",
-                feature = "mnoise"
-            )
-        )
-    ))]
+    #[cfg(texcore_fd_state)]
     fd: Cubic,
     #[cfg(feature = "fd32")]
     fd32: Cubic32,
@@ -534,17 +507,7 @@ impl Default for TermRun {
             cached: false,
             remaining: 0,
             u: [0; 3],
-            #[cfg(any(
-                feature = "turbulence-fd",
-                all(
-                    feature = "reanchor",
-                    any(
-                        feature = "smooth-fade",
-                        feature = "gradient-noise",
-                        feature = "mnoise"
-                    )
-                )
-            ))]
+            #[cfg(texcore_fd_state)]
             fd: Cubic::default(),
             #[cfg(feature = "fd32")]
             fd32: Cubic32::default(),
@@ -1107,14 +1070,7 @@ impl<'m, const T: usize> SpanEvaluator<'m, T> {
                             r.fd32 = narrow(&cubic_setup(v, frac, ts, want_g));
                             in_cell.min(FD32_ANCHOR)
                         }
-                        #[cfg(all(
-                            feature = "reanchor",
-                            any(
-                                feature = "smooth-fade",
-                                feature = "gradient-noise",
-                                feature = "mnoise"
-                            )
-                        ))]
+                        #[cfg(texcore_hermite)]
                         (Strategy::Hermite, data) => {
                             // At most a quarter of a cell along the span, at most 16 pixels.
                             let step = ts.du.iter().map(|d| d.unsigned_abs()).max().unwrap_or(0);
@@ -1145,17 +1101,7 @@ impl<'m, const T: usize> SpanEvaluator<'m, T> {
                     let (mut v, mut gx, mut gy) = match r.strategy {
                         Strategy::Off => continue,
                         // A Hermite segment steps like a cubic (its `gy[2]` is zero).
-                        #[cfg(any(
-                            feature = "turbulence-fd",
-                            all(
-                                feature = "reanchor",
-                                any(
-                                    feature = "smooth-fade",
-                                    feature = "gradient-noise",
-                                    feature = "mnoise"
-                                )
-                            )
-                        ))]
+                        #[cfg(texcore_fd_state)]
                         Strategy::Fd | Strategy::Hermite => {
                             any_fd = true;
                             let c = &mut r.fd;
@@ -1504,14 +1450,7 @@ fn narrow(c: &Cubic) -> Cubic32 {
 }
 
 /// Division of an i128 by a positive divisor, rounded to nearest (ties away from zero), saturated.
-#[cfg(all(
-    feature = "reanchor",
-    any(
-        feature = "smooth-fade",
-        feature = "gradient-noise",
-        feature = "mnoise"
-    )
-))]
+#[cfg(texcore_hermite)]
 fn div_round(x: i128, d: i128) -> i64 {
     // `(x + d/2) / d` for x >= 0 and `(x - d/2) / d` (truncating) for x < 0, i.e. the rounded
     // magnitude with x's sign; the division is the crate's shared one (code size).
@@ -1522,14 +1461,7 @@ fn div_round(x: i128, d: i128) -> i64 {
 /// Cubic Hermite segment over pixels `0..l` through the exact values and derivatives at pixels
 /// `0` and `l - 1` (both inside the current cell), as a forward-difference state: the value is
 /// cubic, the x-gradient its derivative, the y-gradient linear between the anchors (`gy[2] = 0`).
-#[cfg(all(
-    feature = "reanchor",
-    any(
-        feature = "smooth-fade",
-        feature = "gradient-noise",
-        feature = "mnoise"
-    )
-))]
+#[cfg(texcore_hermite)]
 #[allow(clippy::too_many_arguments)]
 fn hermite_setup(
     term: &NoiseTerm,
