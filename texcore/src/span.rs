@@ -641,8 +641,9 @@ impl<'m, const T: usize> SpanEvaluator<'m, T> {
     /// capacity `T` and hands its samples over in chunks of [`SAMPLE_CHUNK`], so a program with
     /// many call sites carries one copy of the evaluator (code size on the device).
     ///
-    /// In the size-lean shape ([`LEAN`]) the loop over a chunk's samples is compiled once and
-    /// calls `emit` through a trait object, instead of once per `emit`.
+    /// In the size-lean shape (`opt-level = "s"` or `"z"`, crate documentation, "Code size")
+    /// the loop over a chunk's samples is compiled once and calls `emit` through a trait object,
+    /// instead of once per `emit`.
     #[inline]
     pub fn eval<F: FnMut(Sample)>(&mut self, span: &Span, mut emit: F) -> SpanInfo {
         if self.lean() {

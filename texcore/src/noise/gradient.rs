@@ -94,7 +94,7 @@ fn value_unrolled(grads: &[Grad; 8], frac: [u32; 3], fade: Fade) -> i64 {
 /// Value and analytic gradient (`dn/du`, units 2^-16 per cell) of the interpolant.
 ///
 /// The size-lean shape (`cfg(texcore_lean)`) keeps one out-of-line copy that runs the stages as a
-/// loop over the axes ([`value_and_gradient_looped`]); the fast one writes them out. Both give the
+/// loop over the axes (`value_and_gradient_looped`); the fast one writes them out. Both give the
 /// same result (tested).
 #[cfg_attr(texcore_lean, inline(never))]
 #[cfg_attr(not(texcore_lean), inline)]
