@@ -333,6 +333,11 @@ mod tests {
         (*state >> 32) as u32
     }
 
+    /// A pseudo-random lattice point (raw 16.16 per axis, the whole i32 range).
+    fn lcg_point(state: &mut u64) -> [i32; 3] {
+        [lcg(state) as i32, lcg(state) as i32, lcg(state) as i32]
+    }
+
     #[test]
     fn split_wraps() {
         assert_eq!(
@@ -348,11 +353,7 @@ mod tests {
             let mut sum = 0i64;
             let n = 20000;
             for _ in 0..n {
-                let u = [
-                    lcg(&mut st) as i32,
-                    lcg(&mut st) as i32,
-                    lcg(&mut st) as i32,
-                ];
+                let u = lcg_point(&mut st);
                 let v = b.value16_at(u);
                 assert_eq!(v, b.value16_at(u));
                 // Gradient noise reaches 1.065 at most (any hash), the others stay in [-1, 1].
@@ -369,11 +370,7 @@ mod tests {
         for b in bases() {
             let mut st = 11u64;
             for _ in 0..500 {
-                let u = [
-                    lcg(&mut st) as i32,
-                    lcg(&mut st) as i32,
-                    lcg(&mut st) as i32,
-                ];
+                let u = lcg_point(&mut st);
                 let d = [
                     (lcg(&mut st) as i32) >> (lcg(&mut st) % 32),
                     (lcg(&mut st) as i32) >> (lcg(&mut st) % 32),
@@ -397,11 +394,7 @@ mod tests {
             let mut st = 7u64;
             for _ in 0..300 {
                 // A point well inside a cell so the difference stays in it.
-                let base = [
-                    lcg(&mut st) as i32,
-                    lcg(&mut st) as i32,
-                    lcg(&mut st) as i32,
-                ];
+                let base = lcg_point(&mut st);
                 let u = [
                     (base[0] & !0xFFFF) | 0x4000 | (base[0] & 0x3FFF),
                     (base[1] & !0xFFFF) | 0x4000 | (base[1] & 0x3FFF),
