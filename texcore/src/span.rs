@@ -1961,17 +1961,7 @@ mod tests {
         // differenced and (past Nyquist, culling off) per pixel in the same span.
         for wrap in [TableWrap::Mod, TableWrap::Clamp] {
             for curved in [false, true] {
-                let q = if curved {
-                    Quadric::from_f64([0.7, 0.1, 0.0, -0.2, 0.3, 0.0, 0.05, 1.1, 0.25, 0.4])
-                        .unwrap()
-                } else {
-                    Quadric::linear(
-                        QuadricCoeff::ONE,
-                        QuadricCoeff::ZERO,
-                        QuadricCoeff::from_num(0.5),
-                        QuadricCoeff::ZERO,
-                    )
-                };
+                let q = test_quadric(curved);
                 let mut m: TextureModel<8> = TextureModel::new(q, wrap);
                 m.push_octaves(&Octaves {
                     count: 6,
@@ -2101,16 +2091,7 @@ mod tests {
             mode in 0usize..3,
             turbulent: bool,
         ) {
-            let q = if curved {
-                Quadric::from_f64([0.7, 0.1, 0.0, -0.2, 0.3, 0.0, 0.05, 1.1, 0.25, 0.4]).unwrap()
-            } else {
-                Quadric::linear(
-                    QuadricCoeff::ONE,
-                    QuadricCoeff::ZERO,
-                    QuadricCoeff::from_num(0.5),
-                    QuadricCoeff::ZERO,
-                )
-            };
+            let q = test_quadric(curved);
             let wrap = if clamp { TableWrap::Clamp } else { TableWrap::Mod };
             let mut m: TextureModel<8> = TextureModel::new(q, wrap);
             m.push_octaves(&Octaves {
@@ -2139,17 +2120,36 @@ mod tests {
         }
     }
 
+    /// The merged-path tests' quadric: a curved one, or the linear `s + r/2`.
+    fn test_quadric(curved: bool) -> Quadric {
+        if curved {
+            Quadric::from_f64([0.7, 0.1, 0.0, -0.2, 0.3, 0.0, 0.05, 1.1, 0.25, 0.4]).unwrap()
+        } else {
+            Quadric::linear(
+                QuadricCoeff::ONE,
+                QuadricCoeff::ZERO,
+                QuadricCoeff::from_num(0.5),
+                QuadricCoeff::ZERO,
+            )
+        }
+    }
+
+    /// A span of `len` pixels with step `ds` for the feature tests (rows one 0.003 apart).
+    fn feature_span(ds: [f64; 3], len: u16) -> Span {
+        Span {
+            s0: TexPoint::from_f64(0.1, 0.2, 0.3),
+            ds: TexPoint::from_f64(ds[0], ds[1], ds[2]),
+            dsdy: TexPoint::from_f64(0.0, 0.003, 0.0),
+            len,
+        }
+    }
+
     #[test]
     fn forward_differencing_follows_the_feature() {
         // `Fd` and `Auto` forward-difference exactly when the crate feature `fd` is on; without
         // it they evaluate per pixel. The samples are the same either way.
         let m = marble();
-        let span = Span {
-            s0: TexPoint::from_f64(0.1, 0.2, 0.3),
-            ds: TexPoint::from_f64(0.003, 0.001, 0.002),
-            dsdy: TexPoint::from_f64(0.0, 0.003, 0.0),
-            len: 200,
-        };
+        let span = feature_span([0.003, 0.001, 0.002], 200);
         let direct = run(&m, EvalMode::Direct, &span);
         for mode in [EvalMode::Fd, EvalMode::Auto] {
             let opts = EvalOptions {
@@ -2174,12 +2174,7 @@ mod tests {
         // on; without it they are zero and nothing counts as a gradient evaluation. (CI runs
         // these unit tests with and without features.)
         let m = marble();
-        let span = Span {
-            s0: TexPoint::from_f64(0.1, 0.2, 0.3),
-            ds: TexPoint::from_f64(0.003, 0.001, 0.002),
-            dsdy: TexPoint::from_f64(0.0, 0.003, 0.0),
-            len: 100,
-        };
+        let span = feature_span([0.003, 0.001, 0.002], 100);
         for mode in [EvalMode::Direct, EvalMode::Fd, EvalMode::Auto] {
             let opts = EvalOptions {
                 mode,
@@ -2200,12 +2195,7 @@ mod tests {
     #[test]
     fn gradients_off_costs_nothing() {
         let m = marble();
-        let span = Span {
-            s0: TexPoint::from_f64(0.1, 0.2, 0.3),
-            ds: TexPoint::from_f64(0.003, 0.0, 0.0),
-            dsdy: TexPoint::from_f64(0.0, 0.003, 0.0),
-            len: 100,
-        };
+        let span = feature_span([0.003, 0.0, 0.0], 100);
         let mut ev = SpanEvaluator::new(
             &m,
             EvalOptions {
