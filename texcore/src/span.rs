@@ -689,6 +689,10 @@ impl<'m, const T: usize> SpanEvaluator<'m, T> {
         let info = SpanInfo {
             extra_width48: setup.extra_width48,
         };
+        // An empty span sets nothing up (in either loop).
+        if span.len == 0 {
+            return info;
+        }
         let mode = compiled_mode(self.opts.mode);
         self.run(
             span.len,
