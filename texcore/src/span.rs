@@ -357,8 +357,6 @@ struct Setup<const T: usize> {
     /// One per model term, in order (inactive where culled).
     terms: heapless::Vec<TermSetup, T>,
     quad: QuadraticSpan,
-    /// The model has no quadric (`quad` and the gradients are zero): its stepping is skipped.
-    quad_zero: bool,
     gqx: [i128; 2],
     gqy: [i128; 2],
     extra_width48: i64,
@@ -371,7 +369,6 @@ impl<const T: usize> Setup<T> {
         Setup {
             terms: heapless::Vec::new(),
             quad: QuadraticSpan { c: [0; 3] },
-            quad_zero: true,
             gqx: [0; 2],
             gqy: [0; 2],
             extra_width48: 0,
@@ -581,8 +578,6 @@ impl<'m, const T: usize> SpanEvaluator<'m, T> {
             out.quad = QuadraticSpan {
                 c: [dot(&xh, &qx), c1, c2],
             };
-            // A quadric that vanishes along this span steps zeros: the flag only skips work.
-            out.quad_zero = false;
             if grads {
                 let yh = [dy[0], dy[1], dy[2], 0];
                 out.gqx = [c1, c2.wrapping_mul(2)];
@@ -1032,7 +1027,9 @@ impl<'m, const T: usize> SpanEvaluator<'m, T> {
             let _ = runs.push(r);
         }
 
-        // Quadric forward differences (exact, wrapping i128).
+        // Quadric forward differences (exact, wrapping i128); a model without a quadric (no
+        // nonzero matrix entry) skips them.
+        let quad_zero = self.qmask == 0;
         let qc = setup.quad.c;
         let mut q = qc[0];
         let mut dq = qc[1].wrapping_add(qc[2]);
@@ -1194,7 +1191,7 @@ impl<'m, const T: usize> SpanEvaluator<'m, T> {
                     self.stats.fd_pixels += 1;
                 }
 
-                let f = combine(wrap, if setup.quad_zero { 0 } else { q }, nsum, fv);
+                let f = combine(wrap, if quad_zero { 0 } else { q }, nsum, fv);
                 let sample = if grads {
                     self.stats.gradient_evaluations += 1;
                     Sample {
@@ -1207,7 +1204,7 @@ impl<'m, const T: usize> SpanEvaluator<'m, T> {
                 };
                 sink.push(sample);
 
-                if !setup.quad_zero {
+                if !quad_zero {
                     q = q.wrapping_add(dq);
                     dq = dq.wrapping_add(ddq);
                 }
