@@ -221,6 +221,9 @@ pub struct StatsReport {
     pub blended_pixels: u64,
     /// Triangles set up by the rasterizer.
     pub triangles: u64,
+    /// Triangles whose texture planes were set up (those with a visible pixel in a band,
+    /// once per band).
+    pub texture_setups: u64,
     /// Segments produced by the rasterizer.
     pub segments: u64,
     /// Perspective divides.
@@ -246,6 +249,7 @@ impl From<&RenderStats> for StatsReport {
             plain_lookups: s.shade.plain_lookups,
             blended_pixels: s.blended_pixels,
             triangles: u64::from(s.raster.triangles),
+            texture_setups: u64::from(s.raster.texture_setups),
             segments: s.raster.segments,
             perspective_divides: s.raster.divides,
             depth_failed: s.raster.depth_failed,

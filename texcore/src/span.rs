@@ -2208,4 +2208,43 @@ mod tests {
         assert_eq!(ev.stats().gradient_evaluations, 0);
         assert_eq!(ev.stats().noise_evaluations, 400);
     }
+
+    /// `P(j)` from the coefficients `g` (wrapping).
+    fn poly_at(g: &[i64], j: i64) -> i64 {
+        g.iter()
+            .rev()
+            .fold(0i64, |acc, &c| acc.wrapping_mul(j).wrapping_add(c))
+    }
+
+    proptest::proptest! {
+        #![proptest_config(proptest::prelude::ProptestConfig::with_cases(512))]
+        /// The cell polynomials equal direct evaluation at `w = f + j d`: `P(j)` the
+        /// interpolation, `h(j)` the derivative across (any steps, inside and past the cell).
+        #[test]
+        fn cubic_poly_equals_direct_evaluation(
+            v in proptest::array::uniform8(-(1i32 << 20)..(1 << 20)),
+            frac in proptest::array::uniform3(0u32..65536),
+            du in proptest::array::uniform3(proptest::prelude::any::<i32>()),
+            small in proptest::array::uniform3(-70_000i32..70_000),
+            dy in proptest::array::uniform3(proptest::prelude::any::<i32>()),
+            use_small: bool,
+            grads: bool,
+        ) {
+            let du = if use_small { small } else { du };
+            let a = cubic_poly(&v, frac, du, dy, grads);
+            for j in [0i64, 1, 2, 3, 7, 100] {
+                let w = [0, 1, 2].map(|k| i64::from(frac[k]) + j * i64::from(du[k]));
+                proptest::prop_assert_eq!(
+                    poly_at(&a.g, j),
+                    crate::noise::value::interpolate(&v, w)
+                );
+                if grads && GRADIENTS {
+                    proptest::prop_assert_eq!(
+                        poly_at(&a.h, j),
+                        crate::noise::value::directional(&v, w, wide(dy))
+                    );
+                }
+            }
+        }
+    }
 }

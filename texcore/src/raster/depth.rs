@@ -5,9 +5,8 @@
 //! range of the vertex depths. A run is split into maximal visible sub-runs, each emitted as its
 //! own linear segments (with its own exact `s0`).
 
-use super::perspective::emit_run;
-use super::setup::TriangleSetup;
-use super::{Counters, Depth, Rect, SegmentSink};
+use super::setup::DepthPlane;
+use super::{Counters, Depth, Rect};
 
 /// Depth comparison: a pixel is visible if `new OP stored`.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]
@@ -93,19 +92,19 @@ impl<'a> DepthBuffer<'a> {
     }
 }
 
-/// Depth-tests the covered pixels `[xa, xb)` of row `y` (inside the buffer's rectangle) and emits
-/// each visible sub-run.
-pub(crate) fn depth_run<S: SegmentSink + ?Sized>(
-    setup: &TriangleSetup,
+/// Depth-tests the covered pixels `[xa, xb)` of row `y` (inside the buffer's rectangle) and calls
+/// `visible(y, x0, x1, counters)` for each visible sub-run `[x0, x1)`.
+pub(crate) fn depth_run<V: FnMut(u16, u16, u16, &mut Counters)>(
+    setup: &DepthPlane,
     depth: &mut DepthBuffer<'_>,
     y: u16,
     xa: u16,
     xb: u16,
     ctr: &mut Counters,
-    sink: &mut S,
+    mut visible_run: V,
 ) {
-    let func = setup.opts.depth_func;
-    let write = setup.opts.depth_write;
+    let func = setup.func;
+    let write = setup.write;
     let mut zp = setup.z.at(xa as i64, y as i64);
     let mut start: Option<u16> = None;
     for x in xa..xb {
@@ -126,7 +125,7 @@ pub(crate) fn depth_run<S: SegmentSink + ?Sized>(
         match (visible, start) {
             (true, None) => start = Some(x),
             (false, Some(s)) => {
-                emit_run(setup, y, s, x, ctr, sink);
+                visible_run(y, s, x, ctr);
                 start = None;
             }
             _ => {}
@@ -136,7 +135,7 @@ pub(crate) fn depth_run<S: SegmentSink + ?Sized>(
         }
     }
     if let Some(s) = start {
-        emit_run(setup, y, s, xb, ctr, sink);
+        visible_run(y, s, xb, ctr);
     }
 }
 
@@ -349,5 +348,55 @@ mod tests {
             }
         }
         assert_eq!(owner, full);
+    }
+
+    /// `draw_depth` sets a triangle's texture planes up only at its first visible run, and
+    /// emits exactly the segments of a complete set-up drawn with `draw_setup_depth`.
+    #[test]
+    fn hidden_triangles_set_no_texture_planes_up() {
+        let near = quad(2, 2, 30, 30, [100; 4]);
+        let far = quad(4, 4, 20, 20, [9000; 4]);
+        // A bounding box over the centres of pixels (0, 0) and (1, 0), but a triangle (raw
+        // 1/16 pixel: x 9..23, y 0..12) between them: it covers no pixel centre.
+        let sliver = [
+            ScreenVertex::from_bits(9, 0, 50, 1 << 30, TexPoint::ZERO),
+            ScreenVertex::from_bits(23, 0, 50, 1 << 30, TexPoint::ZERO),
+            ScreenVertex::from_bits(16, 12, 50, 1 << 30, TexPoint::ZERO),
+        ];
+        for opts in [
+            TriangleOptions::new(Perspective::Affine),
+            TriangleOptions::new(Perspective::Every16),
+        ] {
+            let clip = Rect::from_size(32, 32);
+            let run = |lazy: bool| {
+                let mut store = [0u16; 32 * 32];
+                let mut db = DepthBuffer::new(&mut store, clip).unwrap();
+                db.clear(u16::MAX);
+                let mut r = Rasterizer::new(clip);
+                let mut segs = Vec::new();
+                for t in near.iter().chain(&far).chain([&sliver]) {
+                    let mut sink = |s: &Segment| segs.push(*s);
+                    if lazy {
+                        r.draw_depth(t, &opts, &mut db, &mut sink);
+                    } else if let Ok(setup) = r.setup(t, &opts) {
+                        r.draw_setup_depth(&setup, &mut db, &mut sink);
+                    }
+                }
+                (segs, r.counters())
+            };
+            let (lazy, lc) = run(true);
+            let (eager, ec) = run(false);
+            assert_eq!(lazy, eager);
+            assert_eq!((lc.setups, ec.setups), (5, 5));
+            // The far quad is hidden and the sliver covers no centre: only the near quad's two
+            // triangles get texture planes.
+            assert_eq!(lc.texture_setups, 2);
+            assert_eq!(ec.texture_setups, 5);
+            assert!(lc.depth_failed > 0);
+            assert_eq!(
+                lc.pixels,
+                eager.iter().map(|s| u64::from(s.len)).sum::<u64>()
+            );
+        }
     }
 }

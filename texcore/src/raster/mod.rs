@@ -98,6 +98,7 @@ mod setup;
 mod tests;
 
 pub use depth::{DepthBuffer, DepthFunc};
+use setup::Prepared;
 pub use setup::{Reject, TriangleSetup};
 
 use crate::format::{TexCoord, TexPoint};
@@ -402,6 +403,10 @@ pub struct Counters {
     pub divides: u64,
     /// Pixels discarded by the depth test.
     pub depth_failed: u64,
+    /// Triangles whose texture interpolation (the texture planes, most of a set-up's work) was
+    /// set up: every one [`Rasterizer::setup`] sets up, but for [`Rasterizer::draw`] and
+    /// [`Rasterizer::draw_depth`] only those with a visible pixel in the clip.
+    pub texture_setups: u32,
 }
 
 /// The rasterizer: a clip rectangle and activity counters.
@@ -428,6 +433,7 @@ impl Rasterizer {
                 persp_points: 0,
                 divides: 0,
                 depth_failed: 0,
+                texture_setups: 0,
             },
         }
     }
@@ -459,9 +465,23 @@ impl Rasterizer {
         v: &[ScreenVertex; 3],
         opts: &TriangleOptions,
     ) -> Result<TriangleSetup, Reject> {
+        let mut r = self.prepare(v, opts);
+        match &mut r {
+            Ok(pre) => Ok(*pre.complete(&mut self.counters)),
+            Err(e) => Err(*e),
+        }
+    }
+
+    /// The first part of [`Rasterizer::setup`] (coverage and depth plane), counting the outcome
+    /// as `setup` does; [`Prepared::complete`] adds the texture interpolation.
+    fn prepare(
+        &mut self,
+        v: &[ScreenVertex; 3],
+        opts: &TriangleOptions,
+    ) -> Result<Prepared, Reject> {
         let c = &mut self.counters;
         c.triangles = c.triangles.wrapping_add(1);
-        let r = TriangleSetup::new(v, opts);
+        let r = Prepared::new(v, opts);
         match r {
             Ok(_) => c.setups = c.setups.wrapping_add(1),
             Err(Reject::Degenerate) => c.degenerate = c.degenerate.wrapping_add(1),
@@ -491,8 +511,11 @@ impl Rasterizer {
     ) {
         let counters = &mut self.counters;
         let clip = self.clip.intersect(&depth.rect());
+        let plane = setup.depth_plane();
         edge::walk_runs(&setup.cov, clip, |py, xa, xb| {
-            depth::depth_run(setup, depth, py, xa, xb, counters, sink);
+            depth::depth_run(&plane, depth, py, xa, xb, counters, |y, x0, x1, ctr| {
+                perspective::emit_run(setup, y, x0, x1, ctr, sink)
+            });
         });
     }
 
@@ -507,9 +530,17 @@ impl Rasterizer {
         if self.misses(v, self.clip) {
             return;
         }
-        if let Ok(setup) = self.setup(v, opts) {
-            self.draw_setup(&setup, sink);
-        }
+        // The texture planes are set up at the first covered run (none if no pixel centre of
+        // the clip is covered).
+        let mut r = self.prepare(v, opts);
+        let Ok(pre) = &mut r else {
+            return;
+        };
+        let counters = &mut self.counters;
+        edge::walk_runs(&pre.coverage(), self.clip, |py, xa, xb| {
+            let setup = pre.complete(counters);
+            perspective::emit_run(setup, py, xa, xb, counters, sink);
+        });
     }
 
     /// Sets up and draws a triangle with a depth buffer (see [`Rasterizer::draw_setup_depth`]).
@@ -523,9 +554,21 @@ impl Rasterizer {
         if self.misses(v, self.clip.intersect(&depth.rect())) {
             return;
         }
-        if let Ok(setup) = self.setup(v, opts) {
-            self.draw_setup_depth(&setup, depth, sink);
-        }
+        // The texture planes are set up at the first visible run: a triangle hidden in the
+        // clip, or covering none of its pixel centres, costs only its coverage and depth plane.
+        let mut r = self.prepare(v, opts);
+        let Ok(pre) = &mut r else {
+            return;
+        };
+        let counters = &mut self.counters;
+        let clip = self.clip.intersect(&depth.rect());
+        let plane = pre.depth_plane();
+        edge::walk_runs(&pre.coverage(), clip, |py, xa, xb| {
+            depth::depth_run(&plane, depth, py, xa, xb, counters, |y, x0, x1, ctr| {
+                let setup = pre.complete(ctr);
+                perspective::emit_run(setup, y, x0, x1, ctr, sink)
+            });
+        });
     }
 
     /// Conservative bounding-box rejection (counts the triangle as submitted and offscreen).

@@ -25,7 +25,8 @@
 
 use super::edge::{Coverage, HALF, SUB};
 use super::{
-    div_round_i128, sat_i32, CullMode, Perspective, ScreenVertex, TriangleOptions, GUARD_BAND,
+    div_round_i128, sat_i32, Counters, CullMode, DepthFunc, Perspective, ScreenVertex,
+    TriangleOptions, GUARD_BAND,
 };
 use crate::wide::mul_wide;
 #[cfg(not(texcore_lean))]
@@ -227,9 +228,26 @@ fn bitlen(v: u64) -> u32 {
     64 - v.leading_zeros()
 }
 
-impl TriangleSetup {
-    /// Sets up a triangle (vertices in either winding).
-    pub fn new(v: &[ScreenVertex; 3], opts: &TriangleOptions) -> Result<TriangleSetup, Reject> {
+/// A triangle whose coverage and depth plane are set up, its texture interpolation not yet
+/// ([`Prepared::complete`] adds it). The rasteriser prepares a triangle, depth-tests its covered
+/// pixels and completes the set-up only when a pixel is visible: a triangle hidden in a band,
+/// or covering no pixel centre of it, costs no texture planes (12 of the 15 rounding divisions
+/// of a perspective triangle). The completed set-up is the one [`TriangleSetup::new`] returns.
+#[derive(Clone, Copy, Debug)]
+pub(crate) struct Prepared {
+    /// The set-up; its `interp` is a placeholder until `done`.
+    setup: TriangleSetup,
+    done: bool,
+    area: AreaDivisor,
+    p: [[i64; 2]; 3],
+    tex: [[i64; 3]; 3],
+    range: [u64; 3],
+    inv_w: [u32; 3],
+}
+
+impl Prepared {
+    /// Guard band, area, culling, coverage, depth plane and texture ranges of a triangle.
+    pub(crate) fn new(v: &[ScreenVertex; 3], opts: &TriangleOptions) -> Result<Prepared, Reject> {
         let inside = |c: i32| c.unsigned_abs() < GUARD_BAND;
         if !v
             .iter()
@@ -273,77 +291,148 @@ impl TriangleSetup {
         let z = Plane::new(zs.map(|z| z << 32), &p, &area);
         let zlo = zs.iter().copied().min().unwrap_or(0);
         let zhi = zs.iter().copied().max().unwrap_or(0);
+        let placeholder = Interp::Affine(AffineInterp {
+            planes: [Plane::default(); 3],
+            shift: [0; 3],
+            ds: [0; 3],
+            dsdy: [0; 3],
+            steep: false,
+        });
+        Ok(Prepared {
+            setup: TriangleSetup {
+                cov: Coverage::new(p),
+                opts: *opts,
+                interp: placeholder,
+                z,
+                zlo,
+                zhi,
+                base,
+                lo,
+                hi,
+                area2,
+            },
+            done: false,
+            area,
+            p,
+            tex,
+            range,
+            inv_w: v.map(|p| p.inv_w.to_bits()),
+        })
+    }
 
-        let qmax = v.iter().map(|p| p.inv_w.to_bits()).max().unwrap_or(0);
-        let interp = if opts.perspective == Perspective::Affine || qmax == 0 {
-            let mut planes = [Plane::default(); 3];
-            let mut shift = [0u32; 3];
-            let mut ds = [0i32; 3];
-            let mut dsdy = [0i32; 3];
-            let mut steep = false;
+    /// The coverage of the triangle.
+    pub(crate) fn coverage(&self) -> Coverage {
+        self.setup.cov
+    }
+
+    /// The depth plane and test of the triangle.
+    pub(crate) fn depth_plane(&self) -> DepthPlane {
+        self.setup.depth_plane()
+    }
+
+    /// The complete set-up, computing the texture interpolation on the first call.
+    /// Counts it in `ctr.texture_setups`.
+    pub(crate) fn complete(&mut self, ctr: &mut Counters) -> &TriangleSetup {
+        if !self.done {
+            self.fill_interp();
+            self.done = true;
+            ctr.texture_setups = ctr.texture_setups.wrapping_add(1);
+        }
+        &self.setup
+    }
+
+    /// Computes the texture interpolation (affine or perspective planes) into the set-up, plane
+    /// by plane in place (the planes are a few hundred bytes: no copies of the whole).
+    fn fill_interp(&mut self) {
+        let (p, tex, range, area) = (&self.p, self.tex, self.range, &self.area);
+        let base = self.setup.base;
+        let qmax = self.inv_w.iter().copied().max().unwrap_or(0);
+        if self.setup.opts.perspective == Perspective::Affine || qmax == 0 {
+            // The placeholder is an affine interpolation: fill it.
+            let Interp::Affine(a) = &mut self.setup.interp else {
+                return;
+            };
+            a.steep = false;
             for c in 0..3 {
-                let a = 62 - bitlen(range[c]);
-                let l = tex.map(|t| (t[c] - base[c]) << a);
-                let pl = Plane::new(l, &p, &area);
-                let half = 1i128 << (a - 1);
-                let gx = pl.gx.saturating_add(half) >> a;
-                let gy = pl.gy.saturating_add(half) >> a;
-                steep |= i32::try_from(gx).is_err();
-                ds[c] = sat_i32(gx);
-                dsdy[c] = sat_i32(gy);
-                planes[c] = pl;
-                shift[c] = a;
+                let sh = 62 - bitlen(range[c]);
+                let l = tex.map(|t| (t[c] - base[c]) << sh);
+                let pl = Plane::new(l, p, area);
+                let half = 1i128 << (sh - 1);
+                let gx = pl.gx.saturating_add(half) >> sh;
+                let gy = pl.gy.saturating_add(half) >> sh;
+                a.steep |= i32::try_from(gx).is_err();
+                a.ds[c] = sat_i32(gx);
+                a.dsdy[c] = sat_i32(gy);
+                a.planes[c] = pl;
+                a.shift[c] = sh;
             }
-            Interp::Affine(AffineInterp {
-                planes,
-                shift,
-                ds,
-                dsdy,
-                steep,
-            })
         } else {
             // Normalise 1/w so that the largest lies in [2^29, 2^30] (shifting left, or right by
             // at most 2 bits with rounding half up: 1/w is used to 30 significant bits).
             let b = bitlen(qmax as u64);
-            let q = v.map(|p| {
-                let w = p.inv_w.to_bits() as i64;
+            let q = self.inv_w.map(|w| {
+                let w = w as i64;
                 if b <= 30 {
                     w << (30 - b)
                 } else {
                     (w + (1 << (b - 31))) >> (b - 30)
                 }
             });
-            let qp = Plane::new(q.map(|q| q << 32), &p, &area);
-            let mut pp = [Plane::default(); 3];
-            let mut qshift = [0u32; 3];
+            self.setup.interp = Interp::Persp(PerspInterp {
+                q: Plane::new(q.map(|q| q << 32), p, area),
+                p: [Plane::default(); 3],
+                qshift: [0; 3],
+            });
+            let Interp::Persp(pi) = &mut self.setup.interp else {
+                return;
+            };
             for c in 0..3 {
                 let bl = bitlen(range[c]);
                 let mut l = [0i64; 3];
                 for ((li, t), qi) in l.iter_mut().zip(&tex).zip(&q) {
                     *li = ((t[c] - base[c]) * qi) << (32 - bl);
                 }
-                pp[c] = Plane::new(l, &p, &area);
-                qshift[c] = bl;
+                pi.p[c] = Plane::new(l, p, area);
+                pi.qshift[c] = bl;
             }
-            Interp::Persp(PerspInterp {
-                q: qp,
-                p: pp,
-                qshift,
-            })
-        };
+        }
+    }
+}
 
-        Ok(TriangleSetup {
-            cov: Coverage::new(p),
-            opts: *opts,
-            interp,
-            z,
-            zlo,
-            zhi,
-            base,
-            lo,
-            hi,
-            area2,
-        })
+/// What the depth test of a triangle's pixels needs: the depth plane, its clamp range and the
+/// test.
+#[derive(Clone, Copy, Debug)]
+pub(crate) struct DepthPlane {
+    /// `z << 32`.
+    pub(crate) z: Plane,
+    pub(crate) zlo: i64,
+    pub(crate) zhi: i64,
+    pub(crate) func: DepthFunc,
+    pub(crate) write: bool,
+}
+
+impl TriangleSetup {
+    /// The depth plane and test.
+    pub(crate) fn depth_plane(&self) -> DepthPlane {
+        DepthPlane {
+            z: self.z,
+            zlo: self.zlo,
+            zhi: self.zhi,
+            func: self.opts.depth_func,
+            write: self.opts.depth_write,
+        }
+    }
+
+    /// Sets up a triangle (vertices in either winding).
+    pub fn new(v: &[ScreenVertex; 3], opts: &TriangleOptions) -> Result<TriangleSetup, Reject> {
+        // Completed in place (no moves of the whole set-up out of the `Result`).
+        let mut r = Prepared::new(v, opts);
+        let pre = match &mut r {
+            Ok(pre) => pre,
+            Err(e) => return Err(*e),
+        };
+        pre.complete(&mut Counters::default());
+        Ok(pre.setup)
     }
 
     /// Twice the signed area in raw units (1/256 pixel^2); positive for clockwise triangles
