@@ -41,8 +41,9 @@
 //! for any span (any coordinates, any `ds`, any length up to 65535).
 
 use crate::format::{TexPoint, TexValue};
+use crate::hash::HashKind;
 use crate::model::{quantize_coord, NoiseTerm, TextureModel};
-use crate::noise::value::{directional, scaled_corners_bits};
+use crate::noise::value::{scaled_corners_bits, CellDirection, CellPoly};
 use crate::noise::{split, CellData};
 use crate::quadric::QuadraticSpan;
 use crate::table::TableWrap;
@@ -350,6 +351,25 @@ fn pixels_in_cell(frac: [u32; 3], d: [i32; 3]) -> u32 {
     pixels_in_cell_axis(frac[0], d[0])
         .min(pixels_in_cell_axis(frac[1], d[1]))
         .min(pixels_in_cell_axis(frac[2], d[2]))
+}
+
+/// Break-even of [`EvalMode::Auto`] in pixels a cell set-up: forward differencing a trilinear
+/// term costs a cell set-up (corner hashing, the cubic and its forward differences, the exit
+/// pixel, and at the exit the subtraction of its state) per cell it visits, and little per
+/// pixel; per-pixel evaluation costs a cheaper cell set-up (corner hashing, the monomial form)
+/// per cell and the polynomial per pixel. Forward differencing pays when a span gives each of
+/// its cell set-ups more than this many pixels (measured on the devices, `docs/performance.md`).
+pub const AUTO_FD_PIXELS: u32 = 2;
+
+/// Whether forward differencing a trilinear term with lattice step `du` pays over a span of
+/// `len` pixels: the span visits about `1 + len sum|du| / 2^16` cells, and forward differencing
+/// pays when that leaves more than [`AUTO_FD_PIXELS`] pixels to each.
+#[cfg_attr(not(texcore_lean), inline(always))]
+fn fd_pays(len: u16, du: [i32; 3]) -> bool {
+    let sum: u64 = du.iter().map(|d| u64::from(d.unsigned_abs())).sum();
+    let len = u64::from(len);
+    // len / (1 + len sum / 2^16) > P  <=>  2^16 len > P (2^16 + len sum)
+    (len << 16) > u64::from(AUTO_FD_PIXELS) * ((1 << 16) + len * sum)
 }
 
 /// The per-span part of the model evaluation shared by every mode.
@@ -702,13 +722,14 @@ impl<'m, const T: usize> SpanEvaluator<'m, T> {
                     }
                 }
                 EvalMode::Auto => {
-                    // With the merged set-up, forward differencing pays as soon as a cell spans
-                    // 2 pixels (measured: `docs/performance.md`); past that (only reached with
-                    // culling off) per-pixel evaluation is cheaper.
                     if ts.du.iter().any(|d| d.unsigned_abs() > NYQUIST_STEP as u32) {
                         Strategy::Direct
                     } else if cubic {
-                        Strategy::Fd
+                        if fd_pays(span.len, ts.du) {
+                            Strategy::Fd
+                        } else {
+                            Strategy::Direct
+                        }
                     } else {
                         Strategy::Cached
                     }
@@ -800,7 +821,7 @@ impl<'m, const T: usize> SpanEvaluator<'m, T> {
         // Merged terms: their polynomials, entry pixel and exit pixel.
         // (Vectors, not arrays: nothing is written for the slots a span does not use.)
         let mut merged: heapless::Vec<(usize, CubicPoly, u32, u32), T> = heapless::Vec::new();
-        let mut direct: heapless::Vec<(usize, [i32; 3]), T> = heapless::Vec::new();
+        let mut direct: heapless::Vec<DirectTerm, T> = heapless::Vec::new();
         let mut sum = Cubic::default();
         let mut setups: u64 = 0;
         let mut grad_terms: u64 = 0;
@@ -831,7 +852,21 @@ impl<'m, const T: usize> SpanEvaluator<'m, T> {
                     let _ = merged.push((k, poly, 0, pixels_in_cell(frac, ts.du)));
                 }
                 Strategy::Direct => {
-                    let _ = direct.push((k, ts.u0));
+                    let (amp, neg) = amp_and_sign(term);
+                    let _ = direct.push(DirectTerm {
+                        u: ts.u0,
+                        du: ts.du,
+                        cell: None,
+                        poly: CellPoly::default(),
+                        along: CellDirection::default(),
+                        across: CellDirection::default(),
+                        hash: term.basis.hash,
+                        amp,
+                        neg,
+                        turbulence: term.turbulence,
+                        grads: grads && ts.gradient,
+                        dy: ts.dy,
+                    });
                 }
                 _ => {}
             }
@@ -898,38 +933,11 @@ impl<'m, const T: usize> SpanEvaluator<'m, T> {
                     &mut quad,
                     &mut |smp: Sample| sink.push(smp),
                     |n: &mut i64, gx: &mut i64, gy: &mut i64| {
-                        for (k, u) in direct.iter_mut() {
-                            let (Some(term), Some(ts)) = (terms.get(*k), setup.terms.get(*k))
-                            else {
-                                continue;
-                            };
-                            let (amp, neg) = amp_and_sign(term);
-                            let (cell, frac) = split(*u);
-                            let v = scaled_corners_bits(term.basis.hash, cell, amp, fv, vb);
-                            let w = [i64::from(frac[0]), i64::from(frac[1]), i64::from(frac[2])];
-                            let mut p = crate::noise::value::interpolate(&v, w);
-                            let g = grads && ts.gradient;
-                            let (mut a, mut b) = if g {
-                                (
-                                    directional(&v, w, wide(ts.du)),
-                                    directional(&v, w, wide(ts.dy)),
-                                )
-                            } else {
-                                (0, 0)
-                            };
-                            if term.turbulence && ((p < 0) != neg) {
-                                p = p.wrapping_neg();
-                                a = a.wrapping_neg();
-                                b = b.wrapping_neg();
-                            }
+                        for t in direct.iter_mut() {
+                            let (p, a, b) = t.sample(fv, vb);
                             *n = n.wrapping_add(p);
                             *gx = gx.wrapping_add(a);
                             *gy = gy.wrapping_add(b);
-                            *u = [
-                                u[0].wrapping_add(ts.du[0]),
-                                u[1].wrapping_add(ts.du[1]),
-                                u[2].wrapping_add(ts.du[2]),
-                            ];
                         }
                     },
                 );
@@ -1264,11 +1272,6 @@ fn dot(v: &[i64; 4], w: &[i128; 4]) -> i128 {
     acc
 }
 
-#[cfg_attr(not(texcore_lean), inline(always))]
-fn wide(d: [i32; 3]) -> [i64; 3] {
-    [i64::from(d[0]), i64::from(d[1]), i64::from(d[2])]
-}
-
 /// The quadric (48 fraction bits) and its two screen derivatives along a span, stepped in i64.
 struct QuadStep {
     q: i64,
@@ -1573,6 +1576,63 @@ fn eval_term(
     }
 }
 
+/// A trilinear term evaluated per pixel inside the merged loop: its lattice position, and the
+/// monomial form of its current cell with the derivatives along and across the span, rebuilt
+/// only when the term enters a new cell (the corners are hashed once per cell, not per pixel).
+struct DirectTerm {
+    u: [i32; 3],
+    du: [i32; 3],
+    dy: [i32; 3],
+    /// The cell `poly` belongs to (`None` before the first pixel).
+    cell: Option<[u16; 3]>,
+    poly: CellPoly,
+    along: CellDirection,
+    across: CellDirection,
+    hash: HashKind,
+    amp: i32,
+    neg: bool,
+    turbulence: bool,
+    grads: bool,
+}
+
+impl DirectTerm {
+    /// Value and gradients at the current pixel (exactly [`crate::noise::value::interpolate`] and
+    /// [`crate::noise::value::directional`]), then one step along the span.
+    #[cfg_attr(not(texcore_lean), inline(always))]
+    fn sample(&mut self, fv: u32, vb: u32) -> (i64, i64, i64) {
+        let (cell, frac) = split(self.u);
+        if self.cell != Some(cell) {
+            let v = scaled_corners_bits(self.hash, cell, self.amp, fv, vb);
+            self.poly = CellPoly::new(&v);
+            if self.grads {
+                self.along = self.poly.direction(self.du);
+                self.across = self.poly.direction(self.dy);
+            }
+            self.cell = Some(cell);
+        }
+        let mut p = self.poly.value(frac);
+        let (mut a, mut b) = if self.grads {
+            (
+                CellPoly::directional(&self.along, frac),
+                CellPoly::directional(&self.across, frac),
+            )
+        } else {
+            (0, 0)
+        };
+        if self.turbulence && ((p < 0) != self.neg) {
+            p = p.wrapping_neg();
+            a = a.wrapping_neg();
+            b = b.wrapping_neg();
+        }
+        self.u = [
+            self.u[0].wrapping_add(self.du[0]),
+            self.u[1].wrapping_add(self.du[1]),
+            self.u[2].wrapping_add(self.du[2]),
+        ];
+        (p, a, b)
+    }
+}
+
 /// A trilinear term inside one cell as exact polynomials in the local pixel index `j` (pixel 0
 /// is where the set-up was made): the value `P(j) = g0 + g1 j + g2 j^2 + g3 j^3` and the
 /// directional derivative across the span `Gy(j) = h0 + h1 j + h2 j^2`. The derivative along the
@@ -1810,7 +1870,6 @@ mod tests {
 
     use super::*;
     use crate::format::{Amplitude, MatrixEntry, QuadricCoeff};
-    use crate::hash::HashKind;
     use crate::model::{NoiseTerm, Octaves};
     use crate::noise::{BasisKind, Fade, NoiseBasis};
     use crate::quadric::Quadric;
@@ -2169,6 +2228,39 @@ mod tests {
         }
     }
 
+    /// `Auto` forward-differences a term when the span leaves each of its cell set-ups more
+    /// than `AUTO_FD_PIXELS` pixels, and evaluates it per pixel otherwise (short spans, short
+    /// cells); the samples are `Direct`'s either way.
+    #[test]
+    fn auto_sends_short_spans_and_cells_to_direct_evaluation() {
+        assert!(fd_pays(200, [200, 100, 0]));
+        assert!(!fd_pays(AUTO_FD_PIXELS as u16, [0, 0, 0]));
+        assert!(fd_pays(AUTO_FD_PIXELS as u16 + 1, [0, 0, 0]));
+        // Cells of 2 pixels: every set-up gets at most 2 pixels, however long the span.
+        assert!(!fd_pays(1000, [1 << 15, 0, 0]));
+        // 3 pixels over cells of 4: two set-ups.
+        assert!(!fd_pays(3, [1 << 14, 0, 0]));
+        assert!(!fd_pays(0, [0; 3]));
+        let m = marble();
+        for (len, ds, fd) in [
+            (200, [0.003, 0.001, 0.002], true),
+            (2, [0.003, 0.001, 0.002], false),
+            (3, [0.06, 0.0, 0.0], false),
+            (30, [0.06, 0.0, 0.0], true),
+        ] {
+            let span = feature_span(ds, len);
+            let direct = run(&m, EvalMode::Direct, &span);
+            let (out, st) = run_shape(&m, EvalOptions::default(), &span, LEAN);
+            assert_eq!(out, direct);
+            let expect = if fd && cfg!(feature = "fd") {
+                u64::from(len)
+            } else {
+                0
+            };
+            assert_eq!(st.fd_pixels, expect, "{len} {ds:?}: {st:?}");
+        }
+    }
+
     #[test]
     fn gradients_follow_the_feature() {
         // Asked for, the gradients are computed exactly when the crate feature `gradients` is
@@ -2241,7 +2333,7 @@ mod tests {
                 if grads && GRADIENTS {
                     proptest::prop_assert_eq!(
                         poly_at(&a.h, j),
-                        crate::noise::value::directional(&v, w, wide(dy))
+                        crate::noise::value::directional(&v, w, dy.map(i64::from))
                     );
                 }
             }

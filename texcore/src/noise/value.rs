@@ -153,6 +153,117 @@ pub fn directional(v: &[i32; 8], w: [i64; 3], dw: [i64; 3]) -> i64 {
         .wrapping_add(p[2].wrapping_mul(dw[2]))
 }
 
+/// The trilinear interpolant of one cell in monomial form, for evaluation at many points of
+/// the cell: `P = 2^48 c0 + 2^32 (c1 x + c2 y + c3 z) + 2^16 (c4 xy + c5 xz + c6 yz) + c7 xyz`
+/// with `x, y, z` the weights of corner 1 (`0..2^16`) and `c` differences of the corner values.
+///
+/// Guarantees: [`CellPoly::value`] equals [`interpolate`] and [`CellPoly::directional`] equals
+/// [`directional`] bit for bit (the same integer polynomial, every step a ring operation modulo
+/// 2^64), for corner values below 2^27 in magnitude (the model bounds them by about 2^13,
+/// `docs/model.md` 4.4) and weights below 2^16. A point costs four weight products and eight
+/// coefficient products instead of seven exact 64-bit lerps (nine more for a derivative).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub(crate) struct CellPoly {
+    c: [i32; 8],
+}
+
+/// The derivative of a [`CellPoly`] along one direction `e`, as coefficients of the weight
+/// monomials: `2^32 k + 2^16 (a x + b y + c z) + t0 yz + t1 xz + t2 xy`.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub(crate) struct CellDirection {
+    k: i64,
+    a: i64,
+    b: i64,
+    c: i64,
+    t: [i64; 3],
+}
+
+/// `c * p` modulo 2^64 for a 32-bit `c` and a 32-bit unsigned `p`.
+#[cfg_attr(not(texcore_lean), inline(always))]
+fn mul_iu(c: i32, p: u32) -> i64 {
+    i64::from(c).wrapping_mul(i64::from(p))
+}
+
+/// `a * p` modulo 2^64 for a 64-bit `a` and a 32-bit unsigned `p`.
+#[cfg_attr(not(texcore_lean), inline(always))]
+fn mul_lu(a: i64, p: u32) -> i64 {
+    a.wrapping_mul(i64::from(p))
+}
+
+impl CellPoly {
+    /// The monomial form of the cell with corner values `v` (corner order `cx | cy << 1 | cz <<
+    /// 2`, each below 2^27 in magnitude).
+    #[cfg_attr(not(texcore_lean), inline(always))]
+    pub(crate) fn new(v: &[i32; 8]) -> CellPoly {
+        debug_assert!(v.iter().all(|x| x.unsigned_abs() < 1 << 27));
+        let [v0, v1, v2, v3, v4, v5, v6, v7] = *v;
+        let c1 = v1.wrapping_sub(v0);
+        let c2 = v2.wrapping_sub(v0);
+        let c3 = v4.wrapping_sub(v0);
+        let c4 = v3.wrapping_sub(v2).wrapping_sub(c1);
+        let c5 = v5.wrapping_sub(v4).wrapping_sub(c1);
+        let c6 = v6.wrapping_sub(v4).wrapping_sub(c2);
+        let c7 = v7
+            .wrapping_sub(v6)
+            .wrapping_sub(v5)
+            .wrapping_add(v4)
+            .wrapping_sub(c4);
+        CellPoly {
+            c: [v0, c1, c2, c3, c4, c5, c6, c7],
+        }
+    }
+
+    /// The derivative along `e` (the change of each weight per step, raw 16.16).
+    #[cfg_attr(not(texcore_lean), inline(always))]
+    pub(crate) fn direction(&self, e: [i32; 3]) -> CellDirection {
+        let [_, c1, c2, c3, c4, c5, c6, c7] = self.c;
+        let m = |c: i32, e: i32| i64::from(c).wrapping_mul(i64::from(e));
+        let [ex, ey, ez] = e;
+        CellDirection {
+            k: m(c1, ex).wrapping_add(m(c2, ey)).wrapping_add(m(c3, ez)),
+            a: m(c4, ey).wrapping_add(m(c5, ez)),
+            b: m(c4, ex).wrapping_add(m(c6, ez)),
+            c: m(c5, ex).wrapping_add(m(c6, ey)),
+            t: [m(c7, ex), m(c7, ey), m(c7, ez)],
+        }
+    }
+
+    /// `P` at weights `w` (each below 2^16): [`interpolate`]'s value.
+    #[cfg_attr(not(texcore_lean), inline(always))]
+    pub(crate) fn value(&self, w: [u32; 3]) -> i64 {
+        let [c0, c1, c2, c3, c4, c5, c6, c7] = self.c;
+        let [x, y, z] = w;
+        let (xy, xz, yz) = (x * y, x * z, y * z);
+        let xyz = (u64::from(xy) * u64::from(z)) as i64;
+        let lin = mul_iu(c1, x)
+            .wrapping_add(mul_iu(c2, y))
+            .wrapping_add(mul_iu(c3, z));
+        let bil = mul_iu(c4, xy)
+            .wrapping_add(mul_iu(c5, xz))
+            .wrapping_add(mul_iu(c6, yz));
+        (i64::from(c0) << 48)
+            .wrapping_add(lin << 32)
+            .wrapping_add(bil << 16)
+            .wrapping_add(xyz.wrapping_mul(i64::from(c7)))
+    }
+
+    /// The derivative along `d` (from [`CellPoly::direction`]) at weights `w` (each below
+    /// 2^16): [`directional`]'s value.
+    #[cfg_attr(not(texcore_lean), inline(always))]
+    pub(crate) fn directional(d: &CellDirection, w: [u32; 3]) -> i64 {
+        let [x, y, z] = w;
+        let (xy, xz, yz) = (x * y, x * z, y * z);
+        let lin = mul_lu(d.a, x)
+            .wrapping_add(mul_lu(d.b, y))
+            .wrapping_add(mul_lu(d.c, z));
+        (d.k << 32)
+            .wrapping_add(lin << 16)
+            .wrapping_add(mul_lu(d.t[0], yz))
+            .wrapping_add(mul_lu(d.t[1], xz))
+            .wrapping_add(mul_lu(d.t[2], xy))
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -286,6 +397,49 @@ mod tests {
                 7 + ((k >> 2) & 1) as u16,
             ));
             assert_eq!(i64::from(vk), (v * 65536 + (1 << 17)) >> 18);
+        }
+    }
+
+    proptest::proptest! {
+        #![proptest_config(proptest::prelude::ProptestConfig::with_cases(512))]
+        /// The monomial form evaluates exactly as the lerp form, value and derivative.
+        #[test]
+        fn cell_poly_equals_lerp_form(
+            v in proptest::array::uniform8(-(1i32 << 26)..(1 << 26)),
+            w in proptest::array::uniform3(0u32..65536),
+            e in proptest::array::uniform3(proptest::prelude::any::<i32>()),
+        ) {
+            let p = CellPoly::new(&v);
+            let wi = w.map(i64::from);
+            proptest::prop_assert_eq!(p.value(w), interpolate(&v, wi));
+            let d = p.direction(e);
+            proptest::prop_assert_eq!(
+                CellPoly::directional(&d, w),
+                directional(&v, wi, e.map(i64::from))
+            );
+        }
+    }
+
+    #[test]
+    fn cell_poly_extremes() {
+        let big = (1 << 27) - 1;
+        for v in [
+            [big; 8],
+            [-big; 8],
+            [big, -big, big, -big, -big, big, -big, big],
+        ] {
+            let p = CellPoly::new(&v);
+            for w in [[0, 0, 0], [65535; 3], [65535, 0, 65535], [1, 65535, 2]] {
+                let wi = w.map(i64::from);
+                assert_eq!(p.value(w), interpolate(&v, wi));
+                for e in [[i32::MAX, i32::MIN, -1], [65536, -65536, 0]] {
+                    let d = p.direction(e);
+                    assert_eq!(
+                        CellPoly::directional(&d, w),
+                        directional(&v, wi, e.map(i64::from))
+                    );
+                }
+            }
         }
     }
 }
