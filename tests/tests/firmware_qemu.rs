@@ -387,25 +387,25 @@ const STACK_MARGIN: u64 = 8 * 1024;
 
 /// Upper bound of the net instructions per pixel of `plane:marble` (the marble preset's 64 x 64
 /// check plane: quadric + 4 octaves of trilinear value noise, forward differenced, filter-width
-/// gradients, csat box filter; spans of 16 pixels). Measured at 1005.1 (Cortex-M4F) and 1299.7
+/// gradients, csat box filter; spans of 16 pixels). Measured at 990.1 (Cortex-M4F) and 1288.6
 /// (rv32imc) when the bound was set; about 10% of headroom. Lower it when the fast path gets
 /// faster.
 fn marble_bound(target: DeviceTarget) -> u64 {
     match target {
-        DeviceTarget::CortexM4F => 1_110,
-        DeviceTarget::Riscv32imc => 1_430,
+        DeviceTarget::CortexM4F => 1_090,
+        DeviceTarget::Riscv32imc => 1_420,
     }
 }
 
 /// Upper bound of the net instructions per pixel of the whole `marble` scene frame (`scene:marble`:
 /// 320 x 240, teapot and pedestal, 1004 triangles, perspective, depth test, 4-octave marble with
 /// csat; geometry, binning, triangle set-up, shading, band clears and the checksum sink all
-/// included). Measured at 1245.5 (Cortex-M4F) and 1719.0 (rv32imc) when the bound was set; about
+/// included). Measured at 1155.6 (Cortex-M4F) and 1609.0 (rv32imc) when the bound was set; about
 /// 10% of headroom. Lower it when the path gets faster.
 fn marble_scene_bound(target: DeviceTarget) -> u64 {
     match target {
-        DeviceTarget::CortexM4F => 1_370,
-        DeviceTarget::Riscv32imc => 1_890,
+        DeviceTarget::CortexM4F => 1_270,
+        DeviceTarget::Riscv32imc => 1_770,
     }
 }
 

@@ -29,7 +29,8 @@
 //! difference (feature `turbulence-fd`), the merged loop is left out altogether and the general
 //! loop steps every term (one state per term instead of one merged state: about 2.7 KB less code,
 //! about twice the instructions on long forward-differenced spans, a few percent on a mesh
-//! scene). At every other level it compiles the fast shape. Both shapes give bit-identical samples (unit tests compare them in every
+//! scene; per-pixel trilinear terms then interpolate in lerp form, without the merged loop's
+//! per-cell monomial kernel). At every other level it compiles the fast shape. Both shapes give bit-identical samples (unit tests compare them in every
 //! build); the lean one is what `texsim report size` measures, and its price in instructions is in
 //! `docs/performance.md`. The build script sets `cfg(texcore_lean)` from cargo's `OPT_LEVEL`;
 //! passing `--cfg texcore_lean` in `RUSTFLAGS` selects it at any level.

@@ -19,8 +19,10 @@
 //!   cubics is a cubic while no term changes cell): the pixel loop costs the same for one octave
 //!   or eight, and a cell change subtracts the leaving term's state and adds the new cell's
 //!   (`docs/performance.md`).
-//! - [`EvalMode::Auto`]: per span and per term, forward differencing where a cell spans at least
-//!   2 pixels, direct where they are shorter (set-up would cost more than it saves).
+//! - [`EvalMode::Auto`]: per span and per term, forward differencing where the span leaves each
+//!   cell set-up more than [`AUTO_FD_PIXELS`] pixels, direct where cells or the span are shorter
+//!   (set-up would cost more than it saves). Per-pixel trilinear terms hash their corners once
+//!   per cell and evaluate the cell's monomial form (`noise::value`), bit-identical to the lerps.
 //!
 //! Two cheaper, approximate modes trade accuracy for time: [`EvalMode::Fd32`] (32-bit
 //! accumulators) and [`EvalMode::Reanchored`] (piecewise cubic forward differencing of the
@@ -70,8 +72,8 @@ pub enum EvalMode {
     Direct,
     /// Exact forward differencing (crate feature `fd`; without it, per pixel as `Direct`).
     Fd,
-    /// Forward differencing where cells are long, direct where they are short (without the
-    /// crate feature `fd`, per pixel as `Direct`).
+    /// Forward differencing where cells and spans are long, direct where they are short
+    /// ([`AUTO_FD_PIXELS`]; without the crate feature `fd`, per pixel as `Direct`).
     #[default]
     Auto,
     /// Cheaper forward differencing of the cubic terms with 32-bit accumulators, re-anchored to
