@@ -169,7 +169,7 @@ impl Plane {
 }
 
 /// Screen-linear texture coordinates.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
 pub(crate) struct AffineInterp {
     /// `(s - s_0) << shift` per component.
     pub(crate) planes: [Plane; 3],
@@ -235,7 +235,7 @@ fn bitlen(v: u64) -> u32 {
 /// of a perspective triangle). The completed set-up is the one [`TriangleSetup::new`] returns.
 #[derive(Clone, Copy, Debug)]
 pub(crate) struct Prepared {
-    /// The set-up; its `interp` is a placeholder until `done`.
+    /// The set-up; its `interp` is written by `fill_interp` (valid once `done`).
     setup: TriangleSetup,
     done: bool,
     area: AreaDivisor,
@@ -291,18 +291,12 @@ impl Prepared {
         let z = Plane::new(zs.map(|z| z << 32), &p, &area);
         let zlo = zs.iter().copied().min().unwrap_or(0);
         let zhi = zs.iter().copied().max().unwrap_or(0);
-        let placeholder = Interp::Affine(AffineInterp {
-            planes: [Plane::default(); 3],
-            shift: [0; 3],
-            ds: [0; 3],
-            dsdy: [0; 3],
-            steep: false,
-        });
         Ok(Prepared {
             setup: TriangleSetup {
                 cov: Coverage::new(p),
                 opts: *opts,
-                interp: placeholder,
+                // Written by `fill_interp`.
+                interp: Interp::Affine(AffineInterp::default()),
                 z,
                 zlo,
                 zhi,
@@ -348,11 +342,10 @@ impl Prepared {
         let base = self.setup.base;
         let qmax = self.inv_w.iter().copied().max().unwrap_or(0);
         if self.setup.opts.perspective == Perspective::Affine || qmax == 0 {
-            // The placeholder is an affine interpolation: fill it.
+            self.setup.interp = Interp::Affine(AffineInterp::default());
             let Interp::Affine(a) = &mut self.setup.interp else {
                 return;
             };
-            a.steep = false;
             for c in 0..3 {
                 let sh = 62 - bitlen(range[c]);
                 let l = tex.map(|t| (t[c] - base[c]) << sh);
