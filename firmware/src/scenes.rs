@@ -9,7 +9,8 @@
 //! `host_sim::scenes::slot_material` builds it) in [`STRIPS`] horizontal strips
 //! ([`builtin_strip`]), each continuing the previous strip's checksum so that the last strip's
 //! is the checksum of the whole frame; those render with their mesh quads binned into bands
-//! (`Renderer::render_banded_rows_binned`, [`SCENE_GROUPS`] bins), which changes no pixel.
+//! (`Renderer::render_banded_rows_binned`, [`SCENE_GROUPS`] bins, one walk over the scene per
+//! frame), which changes no pixel.
 
 use texcore::color::Rgba8888;
 use texcore::filter::Antialias;
@@ -18,7 +19,7 @@ use texcore::hash::HashKind;
 use texcore::material::PerturbedMaterial;
 use texcore::presets;
 use texcore::raster::{Perspective, ScreenVertex, TriangleOptions};
-use texcore::render::{Blend, DrawObject, GroupRows, Renderer, TriangleSource};
+use texcore::render::{Blend, DrawObject, FrameBins, GroupRows, Renderer, TriangleSource};
 use texcore::scene::{builtin, Scene, TextureSlot};
 use texcore::sink::ChecksumSink;
 use texcore::texture::Shader;
@@ -84,8 +85,8 @@ pub const SCENE_SLOTS: usize = 4;
 
 /// Bins of the built-in scene jobs ([`GroupRows`], 4 bytes each): one per mesh quad of the
 /// built-in scene with the most (`planet`, 1024; `moonrise` 998, `seascape` 968). The renderer
-/// walks a scene once per strip to bin its quads into bands and then, per band, only the quads
-/// that can touch it; a scene with more quads than bins renders the same pixels, walking the
+/// walks a scene once per frame to bin its quads into bands (`texcore::render::FrameBins`) and
+/// then, per band, only the quads that can touch it; a scene with more quads than bins renders the same pixels, walking the
 /// quads past the bins in every band. The host test `every_builtin_scene_fits_the_device`
 /// checks that every built-in scene fits.
 pub const SCENE_GROUPS: usize = 1024;
@@ -105,8 +106,8 @@ pub fn builtin_frame(name: &str) -> Option<Scene> {
 /// The rows of strip `k` (of [`STRIPS`]) of an image `height` rows high: from `height * k /
 /// STRIPS` rounded down to a multiple of [`BAND_ROWS`] to the next strip's start (the image's
 /// end for the last). Strips start on band boundaries, so together they render exactly the
-/// bands of one `render_banded` call over the whole image (240 rows are 56 + 64 + 56 + 64; each
-/// strip walks the whole scene once to bin its quads, see [`SCENE_GROUPS`]).
+/// bands of one `render_banded` call over the whole image (240 rows are 56 + 64 + 56 + 64; the
+/// frame walks the whole scene once to bin its quads, see [`builtin_strip`]).
 pub fn strip_rows(height: u16, k: usize) -> core::ops::Range<u16> {
     let at = |k: usize| {
         if k >= STRIPS {
@@ -150,7 +151,14 @@ fn slot_textures(scene: &Scene, hash: HashKind, textures: &mut SlotTextures) -> 
 /// every row above the strip ([`FRAME_START`] for the first strip), and returns its checksum:
 /// the checksum of rows `0 .. end of strip k`, so the last strip's is the whole frame's
 /// (`texsim render <name> --checksum`). 0 if the scene or a texture cannot be built or the
-/// renderer refuses it. With `work == false` only the scene and the textures are built.
+/// renderer refuses it. With `work == false` only the scene and the textures are built, and
+/// for `k > 0` the bins filled.
+///
+/// The strips together cost what one whole-frame render costs: strip 0's first band walks the
+/// whole scene and fills the frame's bins (`texcore::render::FrameBins`); every later strip
+/// renders with the frame's bins from its first band on. Each strip job stands alone, so a
+/// strip `k > 0` fills the bins itself with `Renderer::bin` (the same walk) in both its job and
+/// its set-up: the walk is in the frame's count once, in strip 0's.
 #[inline(never)]
 #[allow(clippy::too_many_arguments)]
 pub fn builtin_strip(
@@ -171,13 +179,21 @@ pub fn builtin_strip(
         return 0;
     }
     let (textures, scene) = core::hint::black_box((&textures[..], &scene));
+    let renderer = Renderer::new(textures);
+    let mut bins = FrameBins::new(bins);
+    // A frame walks its whole scene once: strip 0's first band bins the quads; the later
+    // strips take the frame's bins, filled here (in the job and in its set-up alike, so that
+    // the walk is not counted twice).
+    if k > 0 && renderer.bin(scene, &mut bins).is_err() {
+        return 0;
+    }
     if !work {
         return scene.objects.len() as u32 ^ textures.len() as u32;
     }
     let rows = strip_rows(scene.size().1, k);
     let mut sink = ChecksumSink::resume(above);
-    match Renderer::new(textures)
-        .render_banded_rows_binned(scene, rows, band, depth, BAND_ROWS, bins, &mut sink)
+    match renderer
+        .render_banded_rows_binned(scene, rows, band, depth, BAND_ROWS, &mut bins, &mut sink)
     {
         Ok(_) => sink.checksum(),
         Err(_) => 0,

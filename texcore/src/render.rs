@@ -15,9 +15,10 @@
 //!   [`Blend::Over`] objects, the depth test only for objects that ask for it; every band walks
 //!   the whole scene;
 //! - [`Renderer::render_banded_rows_binned`]: the same pixels, bit for bit, with the scene's
-//!   triangle groups (a [`crate::scene::Scene`]'s mesh quads) binned into bands once per call in
-//!   caller-owned [`GroupRows`] (4 bytes per group), so that each later band generates only the
-//!   groups that can touch it ([`TriangleSource::for_each_triangle_grouped`]);
+//!   triangle groups (a [`crate::scene::Scene`]'s mesh quads) binned into bands once per frame
+//!   in caller-owned [`FrameBins`] (4 bytes per group), so that each band generates only the
+//!   groups that can touch it ([`TriangleSource::for_each_triangle_grouped`]), and a frame
+//!   rendered as several strips walks the whole scene once;
 //! - a texture without antialiasing computes no gradients, a model without noise no noise, an
 //!   affine object no perspective divides (see [`crate::texture`], [`crate::span`],
 //!   [`crate::raster`]).
@@ -173,6 +174,54 @@ impl Default for GroupRows {
     /// [`GroupRows::EMPTY`].
     fn default() -> Self {
         GroupRows::EMPTY
+    }
+}
+
+/// The bins of one frame: a caller-owned table of [`GroupRows`] (one per triangle group, 4
+/// bytes each) and whether a walk over the whole scene has filled it, and for which image size.
+///
+/// A frame rendered in several calls (horizontal strips, e.g. to bound the work of one call or
+/// to stream a display in parts) walks the whole scene only once: the first
+/// [`Renderer::render_banded_rows_binned`] call (or [`Renderer::bin`]) fills the bins with the
+/// rows each group can cover anywhere in the image, and every later call with the same bins
+/// takes each band's groups from them from its first band on.
+///
+/// Guarantees: bins are filled only by a walk over every group of a scene, recording the
+/// rows of the whole image (never only of the rows that call rendered), so filled bins are
+/// valid for any rows of that scene's frame. Contract: the bins describe the triangles of the
+/// walk that filled them. Call [`FrameBins::reset`] before rendering another scene of the same
+/// size, or the same scene after its triangles changed (a new camera or animation time): with
+/// stale bins a band may leave out a group that covers it. A scene of another size is binned
+/// again without a reset.
+#[derive(Debug)]
+pub struct FrameBins<'b> {
+    rows: &'b mut [GroupRows],
+    /// The image size of the scene whose walk filled `rows`; `None`: not filled.
+    filled: Option<(u16, u16)>,
+}
+
+impl<'b> FrameBins<'b> {
+    /// Bins in `rows`, not filled (any contents: the first walk overwrites every entry).
+    /// Groups past `rows.len()` are walked in every band (too few bins cost speed, never
+    /// pixels); [`crate::scene::Scene::quad_count`] is the number a scene needs. An empty table
+    /// bins nothing: every band walks the whole scene.
+    pub fn new(rows: &'b mut [GroupRows]) -> Self {
+        FrameBins { rows, filled: None }
+    }
+
+    /// Forgets the filling: the next render (or [`Renderer::bin`]) walks the whole scene again.
+    pub fn reset(&mut self) {
+        self.filled = None;
+    }
+
+    /// Whether a walk has filled the bins (for a scene of image size `size`).
+    pub fn is_filled_for(&self, size: (u16, u16)) -> bool {
+        self.filled == Some(size)
+    }
+
+    /// The bins: entry `g` holds the rows group `g` can cover once filled.
+    pub fn rows(&self) -> &[GroupRows] {
+        self.rows
     }
 }
 
@@ -445,31 +494,72 @@ impl<'t, const T: usize, const N: usize> Renderer<'t, T, N> {
         band_rows: u16,
         sink: &mut P,
     ) -> Result<RenderStats, RenderError> {
-        self.render_banded_rows_binned(scene, rows, band, depth, band_rows, &mut [], sink)
+        self.render_banded_rows_binned(
+            scene,
+            rows,
+            band,
+            depth,
+            band_rows,
+            &mut FrameBins::new(&mut []),
+            sink,
+        )
+    }
+
+    /// Fills `bins` for `scene` by one walk over all its groups (generating every triangle,
+    /// rasterizing none), so that every [`Renderer::render_banded_rows_binned`] call with them
+    /// walks only the groups that touch each band, from its first band on: a frame rendered in
+    /// strips then pays for one walk, not one per strip. The same walk as the first band of
+    /// an unfilled render makes, so the bins equal the ones that render would fill.
+    pub fn bin<S: TriangleSource>(
+        &self,
+        scene: &S,
+        bins: &mut FrameBins<'_>,
+    ) -> Result<(), RenderError> {
+        self.check(scene)?;
+        let (w, h) = scene.size();
+        let image = 0..h;
+        for b in bins.rows.iter_mut() {
+            *b = GroupRows::EMPTY;
+        }
+        let rows = &mut *bins.rows;
+        scene.for_each_triangle_grouped(
+            |_| true,
+            |g, _, tri| {
+                if let (Some(b), Some((r0, r1))) = (rows.get_mut(g), triangle_rows(tri, &image, w))
+                {
+                    b.include(r0, r1);
+                }
+            },
+        );
+        bins.filled = Some((w, h));
+        Ok(())
     }
 
     /// [`Renderer::render_banded_rows`] with the scene's triangle groups binned into bands in
-    /// `bins` (caller-owned, one entry per group; see
+    /// `bins` ([`FrameBins`]: caller-owned, one [`GroupRows`] per group; see
     /// [`TriangleSource::for_each_triangle_grouped`]).
     ///
-    /// The first band's walk over the scene takes every group and records in `bins[g]` the rows
-    /// (of `rows`) that group `g`'s triangles can cover ([`GroupRows`]: from their vertices'
-    /// vertical extent, the pixel-centre convention of the rasterizer's bounding-box
-    /// rejection); every later band asks the scene only for the groups whose rows meet the band,
-    /// so a [`crate::scene::Scene`] generates, transforms and projects each quad only for the
-    /// bands it can touch instead of for every band. Groups past `bins.len()` are always walked
-    /// (too few bins cost speed, not correctness; an empty slice is
-    /// [`Renderer::render_banded_rows`]); [`crate::scene::Scene::quad_count`] is the number a
-    /// scene needs.
+    /// Unless `bins` are filled already (by an earlier call for the same frame, or by
+    /// [`Renderer::bin`]), the first band's walk over the scene takes every group and records
+    /// in the bins the image rows that group `g`'s triangles can cover ([`GroupRows`]: from
+    /// their vertices' vertical extent, the pixel-centre convention of the rasterizer's
+    /// bounding-box rejection, over the whole image, not only `rows`); every other band asks
+    /// the scene only for the groups whose rows meet the band, so a [`crate::scene::Scene`]
+    /// generates, transforms and projects each quad only for the bands it can touch instead of
+    /// for every band, and a frame rendered as several strips with the same bins walks the
+    /// whole scene once. Groups past the table's end are always walked (too few bins cost
+    /// speed, not correctness; an empty table is [`Renderer::render_banded_rows`]);
+    /// [`crate::scene::Scene::quad_count`] is the number a scene needs.
     ///
     /// Guarantees: the pixels written to `sink` are bit-identical to
-    /// [`Renderer::render_banded_rows`]'s for every `bins` length, since a group left out of a
-    /// band cannot cover a pixel centre of it, and the groups a band walks reach the rasterizer
-    /// in the same order (same depth tests, same blending order). [`RenderStats`] differ only in
+    /// [`Renderer::render_banded_rows`]'s for every table length, filled or not (under the
+    /// [`FrameBins`] contract), since a group left out of a band cannot cover a pixel centre
+    /// of it, and the groups a band walks reach the rasterizer in the same order (same depth
+    /// tests, same blending order). [`RenderStats`] differ only in
     /// [`RenderStats::skipped_groups`] and in the triangles the skipped groups would have added
-    /// to `raster.triangles` and `raster.offscreen`. On return `bins` holds this call's bins.
-    /// The source must give the same triangles on every walk (as any deterministic source
-    /// does). No allocation, no panics.
+    /// to `raster.triangles` and `raster.offscreen`. On return the bins are filled for `scene`
+    /// (unless `rows` held no image row). The source must give the same triangles on every
+    /// walk (as any deterministic source does). No allocation, no panics.
     #[allow(clippy::too_many_arguments)]
     pub fn render_banded_rows_binned<S: TriangleSource, P: PixelSink>(
         &self,
@@ -478,11 +568,13 @@ impl<'t, const T: usize, const N: usize> Renderer<'t, T, N> {
         band: &mut [Rgba8888],
         depth: &mut [u16],
         band_rows: u16,
-        bins: &mut [GroupRows],
+        bins: &mut FrameBins<'_>,
         sink: &mut P,
     ) -> Result<RenderStats, RenderError> {
         self.check(scene)?;
         let (w, h) = scene.size();
+        let reuse = bins.is_filled_for((w, h));
+        let image = 0..h;
         let (first, end) = (rows.start.min(h), rows.end.min(h));
         let uses_depth =
             (0..scene.object_count()).any(|i| scene.object(i).is_some_and(|o| o.depth));
@@ -502,9 +594,9 @@ impl<'t, const T: usize, const N: usize> Renderer<'t, T, N> {
         let mut stats = RenderStats::default();
         let mut raster = Rasterizer::new(Rect::from_size(w, h));
         let bg = scene.background();
+        let filled = &mut bins.filled;
         // Shared by the `keep` and the triangle callbacks of one walk.
-        let bins = core::cell::Cell::from_mut(bins).as_slice_of_cells();
-        let rendered = first..end;
+        let bins = core::cell::Cell::from_mut(&mut *bins.rows).as_slice_of_cells();
         let mut y0 = first;
         while y0 < end {
             let y1 = y0.saturating_add(rows).min(end);
@@ -516,12 +608,14 @@ impl<'t, const T: usize, const N: usize> Renderer<'t, T, N> {
                 d.set_rect(band_rect);
                 d.clear(u16::MAX);
             }
-            // The first band's walk takes every group and fills the bins.
-            let binning = y0 == first;
+            // Unless they are filled already, the first band's walk takes every group and fills
+            // the bins (with the rows of the whole image, so that they serve any later call).
+            let binning = !reuse && y0 == first;
             if binning {
                 for b in bins {
                     b.set(GroupRows::EMPTY);
                 }
+                *filled = Some((w, h));
             }
             let mut blended = 0u64;
             let mut skipped = 0u64;
@@ -533,7 +627,7 @@ impl<'t, const T: usize, const N: usize> Renderer<'t, T, N> {
             scene.for_each_triangle_grouped(keep, |g, obj, tri| {
                 if binning {
                     if let Some(b) = bins.get(g) {
-                        if let Some((r0, r1)) = triangle_rows(tri, &rendered, w) {
+                        if let Some((r0, r1)) = triangle_rows(tri, &image, w) {
                             let mut r = b.get();
                             r.include(r0, r1);
                             b.set(r);
@@ -1124,6 +1218,7 @@ mod tests {
             None => r.render_banded_rows(scene, rows, &mut band, &mut depth, band_rows, &mut tee),
             Some(k) => {
                 let mut bins = vec![GroupRows::EMPTY; k];
+                let mut bins = FrameBins::new(&mut bins);
                 r.render_banded_rows_binned(
                     scene, rows, &mut band, &mut depth, band_rows, &mut bins, &mut tee,
                 )
@@ -1189,7 +1284,7 @@ mod tests {
 
     /// The bins hold, for each group, the rows its triangles' pixel centres can lie on: every
     /// segment the rasterizer emits for a group lies within them, and a group that emits no
-    /// triangle has none.
+    /// triangle has none; filled by rendering one strip, they cover the whole image.
     #[test]
     fn bins_cover_every_segment() {
         for name in ["marble", "moonrise", "seascape"] {
@@ -1197,13 +1292,25 @@ mod tests {
             let s = s.at_frame(s.still);
             let (w, h) = s.size();
             let tex = scene_textures(&s);
-            let mut bins = vec![GroupRows::new(7, 3); s.quad_count()];
+            let mut table = vec![GroupRows::new(7, 3); s.quad_count()];
             let n = usize::from(w) * 8;
             let (mut band, mut depth) = (vec![Rgba8888::BLACK; n], vec![0u16; n]);
             let mut sink = crate::sink::ChecksumSink::new();
+            let mut fb = FrameBins::new(&mut table);
+            // A strip: the bins still cover the whole image.
             Renderer::new(&tex)
-                .render_banded_rows_binned(&s, 0..h, &mut band, &mut depth, 8, &mut bins, &mut sink)
+                .render_banded_rows_binned(
+                    &s,
+                    56..120,
+                    &mut band,
+                    &mut depth,
+                    8,
+                    &mut fb,
+                    &mut sink,
+                )
                 .unwrap();
+            assert!(fb.is_filled_for((w, h)), "{name}");
+            let bins = fb.rows();
             let mut emitted = vec![false; bins.len()];
             let mut rast = Rasterizer::new(Rect::from_size(w, h));
             s.for_each_triangle_grouped(
@@ -1227,6 +1334,82 @@ mod tests {
                 assert!(bins.iter().any(|b| b.is_empty()), "{name}");
             }
             assert!(bins.iter().any(|b| !b.is_empty()), "{name}");
+        }
+    }
+
+    /// A frame rendered as strips that share one [`FrameBins`] walks the whole scene once (the
+    /// first strip's first band, or [`Renderer::bin`] before it) and gives the pixels of one
+    /// unbinned whole-frame render; `bin` fills exactly the bins a render fills; a scene of
+    /// another size is binned again, and `reset` forgets the filling.
+    #[test]
+    fn strips_share_one_binning_walk() {
+        for name in ["marble", "moonrise", "seascape"] {
+            let s = crate::scene::by_name(name).unwrap();
+            let s = s.at_frame(s.still);
+            let (w, h) = s.size();
+            let tex = scene_textures(&s);
+            let r = Renderer::new(&tex);
+            let (whole, _, sw) = render_scene(&r, &s, 0..h, 8, None);
+            let strips = [0..56u16, 56..120, 120..176, 176..h];
+            let alone: Vec<RenderStats> = strips
+                .iter()
+                .map(|rows| render_scene(&r, &s, rows.clone(), 8, None).2)
+                .collect();
+            let n = usize::from(w) * 8;
+            let (mut band, mut depth) = (vec![Rgba8888::BLACK; n], vec![0u16; n]);
+            // Fresh bins per strip (each strip walks the whole scene) against shared ones, filled
+            // by the first strip or by `bin` beforehand.
+            let mut walked = Vec::new();
+            for shared in [None, Some(false), Some(true)] {
+                let mut img = vec![Rgba8888::BLACK; usize::from(w) * usize::from(h)];
+                let mut table = vec![GroupRows::EMPTY; s.quad_count()];
+                let mut fb = FrameBins::new(&mut table);
+                if shared == Some(true) {
+                    r.bin(&s, &mut fb).unwrap();
+                    assert!(fb.is_filled_for((w, h)));
+                }
+                let mut triangles = 0;
+                let mut skipped = 0;
+                for (k, rows) in strips.iter().cloned().enumerate() {
+                    if shared.is_none() {
+                        fb.reset();
+                    }
+                    let mut sink = RgbaBuffer::new(&mut img, w, 0, h).unwrap();
+                    let st = r
+                        .render_banded_rows_binned(
+                            &s, rows, &mut band, &mut depth, 8, &mut fb, &mut sink,
+                        )
+                        .unwrap();
+                    assert_eq!(st.shade, alone[k].shade, "{name} {shared:?} strip {k}");
+                    triangles += st.raster.triangles;
+                    skipped += st.skipped_groups;
+                }
+                assert!(img == whole, "{name} {shared:?}: pixels differ");
+                walked.push((triangles, skipped));
+            }
+            // Sharing skips work; filling by `bin` first skips the first strip's binning walk
+            // too (the walk itself is not a render and draws nothing).
+            let (fresh, first, pre) = (walked[0], walked[1], walked[2]);
+            assert!(first.0 < fresh.0 && first.1 > fresh.1, "{name}: {walked:?}");
+            assert!(pre.0 < first.0 && pre.1 > first.1, "{name}: {walked:?}");
+            assert!(
+                fresh.0 < sw.raster.triangles,
+                "{name}: unbinned bands walk every group"
+            );
+
+            // `bin` fills what a render fills, for any rows rendered.
+            let mut a = vec![GroupRows::new(1, 2); s.quad_count()];
+            let mut b = vec![GroupRows::EMPTY; s.quad_count()];
+            let mut fa = FrameBins::new(&mut a);
+            r.bin(&s, &mut fa).unwrap();
+            let mut fb = FrameBins::new(&mut b);
+            let mut sink = crate::sink::ChecksumSink::new();
+            r.render_banded_rows_binned(&s, 120..128, &mut band, &mut depth, 8, &mut fb, &mut sink)
+                .unwrap();
+            assert_eq!(fa.rows(), fb.rows(), "{name}");
+            assert!(!fa.is_filled_for((w + 1, h)));
+            fa.reset();
+            assert!(!fa.is_filled_for((w, h)));
         }
     }
 
