@@ -245,9 +245,11 @@ pub fn markdown(rows: &[CycleRow], quick: bool) -> String {
          zone plate 256 x 256) through `Renderer::render_banded` with 8-row bands into a \
          `ChecksumSink` (FNV-1a over RGB565), no frame buffer. The built-in scenes (`scene:wood` \
          to `scene:torus`, their still frame) are rendered in {} horizontal strips \
-         (`Renderer::render_banded_rows_binned`: the strip's first band bins the mesh quads into \
-         the rows they can cover, in a 4 KB table, so later bands only generate the quads that \
-         touch them), one device job each (their counts are summed here), \
+         (`Renderer::render_banded_rows_binned` with the frame's `FrameBins`: the first strip's \
+         first band bins the mesh quads into the rows they can cover, in a 4 KB table, so every \
+         other band only generates the quads that touch it; the later strips fill the same bins \
+         in their set-up too, so a frame counts one walk over the scene, as one whole-frame call \
+         does), one device job each (their counts are summed here), \
          each strip's checksum continuing the previous one's: \
          the last strip's is the checksum of the whole frame, which must equal \
          `texsim render <scene> --checksum` (with `--hash int` on rv32imc). `match`: the device's \
