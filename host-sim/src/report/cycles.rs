@@ -247,9 +247,9 @@ pub fn markdown(rows: &[CycleRow], quick: bool) -> String {
          to `scene:torus`, their still frame) are rendered in {} horizontal strips \
          (`Renderer::render_banded_rows_binned` with the frame's `FrameBins`: the first strip's \
          first band bins the mesh quads into the rows they can cover, in a 4 KB table, so every \
-         other band only generates the quads that touch it; the later strips fill the same bins \
-         in their set-up too, so a frame counts one walk over the scene, as one whole-frame call \
-         does), one device job each (their counts are summed here), \
+         other band only generates the quads that touch it; each later strip fills the same bins \
+         with `Renderer::bin` in both its job and its set-up job, so a frame counts one walk over \
+         the scene, as one whole-frame call does), one device job each (their counts are summed here), \
          each strip's checksum continuing the previous one's: \
          the last strip's is the checksum of the whole frame, which must equal \
          `texsim render <scene> --checksum` (with `--hash int` on rv32imc). `match`: the device's \
