@@ -1151,6 +1151,14 @@ mod tests {
         assert_eq!(disp.calls, st.raster.segments as usize + 64);
     }
 
+    /// Built-in scene `name` at its still frame, and its textures ([`scene_textures`]).
+    fn still_scene(name: &str) -> (crate::scene::Scene, Vec<Texture<8, 256>>) {
+        let s = crate::scene::by_name(name).unwrap();
+        let s = s.at_frame(s.still);
+        let tex = scene_textures(&s);
+        (s, tex)
+    }
+
     /// A texture for every slot of `scene`: its preset's model and colour keys (the slot's own
     /// keys if it has some), nearest look-up, no antialiasing; the zone plate for materials
     /// that are not plain presets.
@@ -1234,9 +1242,7 @@ mod tests {
     #[test]
     fn binned_equals_unbinned() {
         for name in crate::scene::BUILTIN {
-            let s = crate::scene::by_name(name).unwrap();
-            let s = s.at_frame(s.still);
-            let tex = scene_textures(&s);
+            let (s, tex) = still_scene(name);
             let r = Renderer::new(&tex);
             let groups = s.quad_count();
             let h = s.size().1;
@@ -1288,10 +1294,8 @@ mod tests {
     #[test]
     fn bins_cover_every_segment() {
         for name in ["marble", "moonrise", "seascape"] {
-            let s = crate::scene::by_name(name).unwrap();
-            let s = s.at_frame(s.still);
+            let (s, tex) = still_scene(name);
             let (w, h) = s.size();
-            let tex = scene_textures(&s);
             let mut table = vec![GroupRows::new(7, 3); s.quad_count()];
             let n = usize::from(w) * 8;
             let (mut band, mut depth) = (vec![Rgba8888::BLACK; n], vec![0u16; n]);
@@ -1344,10 +1348,8 @@ mod tests {
     #[test]
     fn strips_share_one_binning_walk() {
         for name in ["marble", "moonrise", "seascape"] {
-            let s = crate::scene::by_name(name).unwrap();
-            let s = s.at_frame(s.still);
+            let (s, tex) = still_scene(name);
             let (w, h) = s.size();
-            let tex = scene_textures(&s);
             let r = Renderer::new(&tex);
             let (whole, _, sw) = render_scene(&r, &s, 0..h, 8, None);
             let strips = [0..56u16, 56..120, 120..176, 176..h];
