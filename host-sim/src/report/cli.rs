@@ -6,7 +6,7 @@ use std::process::ExitCode;
 
 use clap::{Args, Subcommand, ValueEnum};
 
-use super::{cycles, size};
+use super::{cycles, peers, size};
 use crate::device::{self, DeviceTarget};
 
 /// `texsim report` subcommands.
@@ -22,6 +22,36 @@ pub enum ReportCommand {
     /// the Pareto front; writes docs/accuracy.md, docs/accuracy.png, docs/precision.png and the
     /// README summary.
     Accuracy(crate::accuracy::AccuracyArgs),
+    /// texcore's modes next to fastnoise-lite (both devices under QEMU and the host) and noise-rs
+    /// (host) on the same plane and workloads; writes docs/peers.md only with --write-docs.
+    Peers(PeersArgs),
+}
+
+/// `texsim report peers`.
+#[derive(Clone, Debug, Args)]
+pub struct PeersArgs {
+    /// Print the rows as one JSON array instead of markdown.
+    #[arg(long)]
+    pub json: bool,
+    /// One 8-row band on the devices, 16 rows under callgrind, 3 timed runs (fast; for tests).
+    #[arg(long)]
+    pub quick: bool,
+    /// Device targets (default: both).
+    #[arg(long = "target", value_enum)]
+    pub targets: Vec<TargetArg>,
+    /// No device rows (host only).
+    #[arg(long, conflicts_with = "targets")]
+    pub no_device: bool,
+    /// No host rows (devices only).
+    #[arg(long)]
+    pub no_host: bool,
+    /// Write docs/peers.md.
+    #[arg(long)]
+    pub write_docs: bool,
+    /// Internal: run one host kernel (`<workload>:<implementation>:<rows>` or `fold:<rows>`),
+    /// print its checksum and exit (what the callgrind measurements run).
+    #[arg(long, hide = true)]
+    pub kernel: Option<String>,
 }
 
 /// A device target on the command line.
@@ -113,6 +143,7 @@ fn print_json<T: serde::Serialize>(rows: &T) {
 pub fn run(cmd: &ReportCommand) -> ExitCode {
     match cmd {
         ReportCommand::Accuracy(a) => crate::accuracy::cli(a),
+        ReportCommand::Peers(a) => peers::cli(a),
         ReportCommand::Cycles(a) => {
             let opts = cycles::CyclesOptions {
                 quick: a.common.quick,
