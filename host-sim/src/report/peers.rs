@@ -272,10 +272,7 @@ fn host_rows(quick: bool, log: &mut dyn FnMut(&str)) -> Vec<PeerRow> {
         log("valgrind is not installed: host rows without instruction counts");
     }
     let fold = if valgrind {
-        match (
-            callgrind(&format!("fold:{cg_rows}")),
-            callgrind("fold:0"),
-        ) {
+        match (callgrind(&format!("fold:{cg_rows}")), callgrind("fold:0")) {
             (Ok(a), Ok(b)) => Some(a.saturating_sub(b)),
             (Err(e), _) | (_, Err(e)) => {
                 log(&e);
@@ -389,7 +386,9 @@ pub fn run_device(
     opts.features = vec![if band { "peers-band" } else { "peers" }.to_string()];
     let r = device::run_firmware(target, &opts).map_err(|e| e.to_string())?;
     if !r.pass() {
-        return Err(format!("{target}: the peers firmware reported a failed check"));
+        return Err(format!(
+            "{target}: the peers firmware reported a failed check"
+        ));
     }
     device_rows_of(&r, device_rows(band))
 }
@@ -423,7 +422,13 @@ pub fn markdown(rows: &[PeerRow], quick: bool) -> String {
             targets.push(&r.target);
         }
     }
-    let key = |r: &PeerRow| (r.workload.clone(), r.implementation.clone(), r.target.clone());
+    let key = |r: &PeerRow| {
+        (
+            r.workload.clone(),
+            r.implementation.clone(),
+            r.target.clone(),
+        )
+    };
     let by: HashMap<_, &PeerRow> = rows.iter().map(|r| (key(r), r)).collect();
     let get = |w: &str, i: &str, t: &str| by.get(&(w.to_string(), i.to_string(), t.to_string()));
     let mut s = String::new();
@@ -437,7 +442,9 @@ pub fn markdown(rows: &[PeerRow], quick: bool) -> String {
          Device figures are exact QEMU instruction counts per sample ({}), net of the set-up and \
          of the checksum fold; host figures are callgrind instructions and the median ns per \
          sample (x86_64). `ratio` is the row's figure over `texcore-fd`'s on the same target \
-         (below 1: fewer instructions than `texcore-fd`).\n\n\
+         (below 1: fewer instructions than `texcore-fd`). The instruction counts are exact and \
+         repeatable; the host nanoseconds are wall-clock medians on the machine that ran the \
+         report and vary with its load.\n\n\
          Equivalents: `fastnoise-lite` (f32) `Value` has the smooth fade `3u^2 - 2u^3` (the \
          equivalent of `smooth-1oct`, the nearest one of the trilinear workloads) and `Perlin` \
          the quintic fade, `FBm` for 4 octaves; `noise` (noise-rs, f64, host only) `Value` has the \
@@ -598,7 +605,10 @@ pub fn cli(a: &super::cli::PeersArgs) -> std::process::ExitCode {
         .map(|r| format!("{} {} {}", r.target, r.workload, r.implementation))
         .collect();
     if !bad.is_empty() {
-        eprintln!("texsim: device and host checksums differ: {}", bad.join(", "));
+        eprintln!(
+            "texsim: device and host checksums differ: {}",
+            bad.join(", ")
+        );
         return ExitCode::from(1);
     }
     ExitCode::SUCCESS

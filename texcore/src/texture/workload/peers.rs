@@ -193,11 +193,7 @@ pub fn model(w: Workload, hash: HashKind) -> Option<TextureModel<TERMS>> {
 /// `(x STEP, y STEP, R_BITS)`.
 pub fn span(y: u16, x0: u16, len: u16) -> Span {
     Span {
-        s0: TexPoint::from_bits(
-            i32::from(x0) * STEP,
-            i32::from(y) * STEP,
-            R_BITS,
-        ),
+        s0: TexPoint::from_bits(i32::from(x0) * STEP, i32::from(y) * STEP, R_BITS),
         ds: TexPoint::from_bits(STEP, 0, 0),
         dsdy: TexPoint::from_bits(0, STEP, 0),
         len,
