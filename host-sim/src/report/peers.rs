@@ -613,3 +613,103 @@ pub fn cli(a: &super::cli::PeersArgs) -> std::process::ExitCode {
     }
     ExitCode::SUCCESS
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::device::{DeviceRun, JobResult};
+
+    #[test]
+    fn kernel_specs_are_checked() {
+        assert_eq!(run_kernel_spec("fold:0"), Ok(kernels::FNV_OFFSET));
+        assert_eq!(
+            run_kernel_spec("value-1oct:texcore-fd:0"),
+            Ok(kernels::FNV_OFFSET)
+        );
+        for bad in [
+            "",
+            "fold",
+            "fold:257",
+            "fold:-1",
+            "nope:texcore-fd:1",
+            "value-1oct:nope:1",
+            "value-1oct:texcore-fd:x",
+            "a:b:c:d",
+        ] {
+            assert!(run_kernel_spec(bad).is_err(), "{bad}");
+        }
+        // A row that does not exist folds nothing.
+        let mut line = vec![0u32; 256];
+        assert_eq!(
+            host_kernel(Workload::Value4Grad, HostImpl::NoiseRs, 1, &mut line),
+            0
+        );
+    }
+
+    fn job(name: &str, checksum: u32, instructions: u64) -> JobResult {
+        JobResult {
+            name: name.into(),
+            checksum,
+            instructions,
+            repeat: instructions,
+            pass: true,
+        }
+    }
+
+    /// Per-sample counts are `(job - setup - fold) / samples`, and a checksum the host does not
+    /// reproduce is flagged.
+    #[test]
+    fn device_rows_subtract_setup_and_fold() {
+        let rows = 2u16;
+        let samples = u64::from(rows) * 256;
+        let mut jobs = vec![
+            job("peers:fold", 1, 1000 + 5 * samples),
+            job("peers:fold/setup", 1, 1000),
+        ];
+        let mut line = vec![0u32; 256];
+        let hash = default_hash_of(DeviceTarget::Riscv32imc);
+        for (k, (w, i)) in kernels::rows().enumerate() {
+            let name = kernels::job_name(w, i);
+            let good = kernels::run(w, i, hash, rows, &mut line);
+            // Row 0's checksum is wrong.
+            let c = if k == 0 { good ^ 1 } else { good };
+            jobs.push(job(&name, c, 500 + (5 + 100) * samples));
+            jobs.push(job(&format!("{name}/setup"), 0, 500));
+        }
+        let run = DeviceRun {
+            target: DeviceTarget::Riscv32imc,
+            reported_target: "riscv32imc-unknown-none-elf".into(),
+            counter: "minstret".into(),
+            unit: "instructions".into(),
+            overhead: 11,
+            overhead_repeat: 11,
+            selftests: Vec::new(),
+            jobs,
+            stack: None,
+            firmware_pass: true,
+            exit_code: 0,
+            log: Vec::new(),
+        };
+        let out = device_rows_of(&run, rows).expect("rows");
+        assert_eq!(out.len(), kernels::rows().count());
+        for (k, r) in out.iter().enumerate() {
+            assert_eq!(r.instructions_per_sample, Some(100.0), "{r:?}");
+            assert_eq!(r.checksum_match, Some(k != 0), "{r:?}");
+            assert_eq!(r.samples, samples);
+        }
+        let md = markdown(&out, true);
+        for w in Workload::ALL {
+            assert!(md.contains(&format!("## `{}`", w.name())), "{w:?}");
+        }
+        assert!(md.contains("| `texcore-fd` | 100.0 | 1.00 |"), "{md}");
+        assert!(md.contains("differ from the host's: `value-1oct` `texcore-fd`"));
+        // A missing job is an error, not a row.
+        let mut short = run.clone();
+        short.jobs.retain(|j| j.name != "peers:fold");
+        assert!(device_rows_of(&short, rows).is_err());
+    }
+
+    fn default_hash_of(t: DeviceTarget) -> HashKind {
+        device_hash(t)
+    }
+}
