@@ -26,8 +26,8 @@ pub(crate) fn read_limited(path: &Path, max: u64) -> Result<String, String> {
         .map_err(|e| e.to_string())?;
     if buf.len() as u64 > max {
         return Err(format!(
-            "the file is larger than {} KiB, the limit of scene files; it was not read further",
-            max / 1024
+            "the file is larger than {max} bytes, the limit of scene files; it was not read \
+             further"
         ));
     }
     String::from_utf8(buf).map_err(|e| {
