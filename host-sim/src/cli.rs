@@ -64,13 +64,13 @@ pub struct RenderArgs {
     pub output: Option<std::path::PathBuf>,
     /// Render an animation of N frames (0: the scene's own frame count; at most 1000000). Frames
     /// render in parallel on every core and stream to the encoder in order.
-    #[arg(long, value_parser = crate::flags::frame_count)]
+    #[arg(long, value_parser = crate::flags::Checked(crate::flags::frame_count))]
     pub frames: Option<u32>,
     /// Render this frame of the animation (default: the scene's still frame).
-    #[arg(long)]
+    #[arg(long, value_parser = crate::flags::Checked(crate::flags::frame_index))]
     pub frame: Option<u32>,
-    /// Milliseconds per animation frame.
-    #[arg(long, default_value_t = 80)]
+    /// Milliseconds per animation frame (0..=65535).
+    #[arg(long, default_value_t = 80, value_parser = crate::flags::Checked(crate::flags::delay_ms))]
     pub delay: u16,
     /// Print per-stage activity counts.
     #[arg(long)]
@@ -172,7 +172,7 @@ pub struct KnobArgs {
     #[arg(long, value_enum, default_value_t = LookupArg::Nearest)]
     pub lookup: LookupArg,
     /// Colour-table entries (a power of two, 2..=1024).
-    #[arg(long, default_value_t = 256, value_parser = crate::flags::table_size)]
+    #[arg(long, default_value_t = 256, value_parser = crate::flags::Checked(crate::flags::table_size))]
     pub table_size: usize,
     /// Keep octaves past the Nyquist limit (they alias; their width still widens the filter).
     #[arg(long)]
@@ -233,16 +233,16 @@ pub struct CheckArgs {
     #[arg(long)]
     pub scene: bool,
     /// Animation frame of a scene (default: its still frame).
-    #[arg(long)]
+    #[arg(long, value_parser = crate::flags::Checked(crate::flags::frame_index))]
     pub frame: Option<u32>,
     /// Print one JSON object instead of text.
     #[arg(long)]
     pub json: bool,
     /// Image size of a preset's check plane in pixels (square).
-    #[arg(long, default_value_t = 256, value_parser = clap::value_parser!(u32).range(1..=4096))]
+    #[arg(long, default_value_t = 256, value_parser = crate::flags::Checked(crate::flags::plane_size))]
     pub size: u32,
     /// Fail (exit 1) unless at least this fraction (0 to 1) of pixels is within one 8-bit step.
-    #[arg(long, value_parser = crate::flags::fraction)]
+    #[arg(long, value_parser = crate::flags::Checked(crate::flags::fraction))]
     pub min_within: Option<f64>,
     /// Accuracy knobs.
     #[command(flatten)]

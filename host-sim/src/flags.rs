@@ -1,7 +1,10 @@
 //! Range-checked values of the numeric command-line flags (clap value parsers): a value out of
 //! its documented range, NaN or an infinity is refused by the parser with a message giving the
 //! range, so a command never starts on a bad number. Echoed numbers are shortened
-//! ([`short_number`]).
+//! ([`short_number`]): [`Checked`] reports the parser's message without clap's echo of the whole
+//! value.
+
+use clap::builder::TypedValueParser;
 
 /// Longest number echoed whole in a message; longer ones are shortened.
 const ECHO_MAX: usize = 24;
@@ -63,6 +66,53 @@ pub fn table_size(text: &str) -> Result<usize, String> {
         return Err(format!("{x} is not a power of two (2, 4, 8, ..., 1024)"));
     }
     Ok(x as usize)
+}
+
+/// A frame index (`--frame`): any `u32` (animations wrap around).
+pub fn frame_index(text: &str) -> Result<u32, String> {
+    int_in(text, 0, u64::from(u32::MAX), "frame").map(|x| x as u32)
+}
+
+/// Milliseconds per animation frame (`--delay`): `0..=65535`.
+pub fn delay_ms(text: &str) -> Result<u16, String> {
+    int_in(text, 0, u64::from(u16::MAX), "delay").map(|x| x as u16)
+}
+
+/// The side of a check plane in pixels (`check --size`): `1..=4096`.
+pub fn plane_size(text: &str) -> Result<u32, String> {
+    int_in(text, 1, 4096, "size").map(|x| x as u32)
+}
+
+/// A clap value parser from a checking function; its errors name the flag and give the
+/// function's message (which shortens long values) instead of clap's echo of the whole value.
+#[derive(Clone, Copy)]
+pub struct Checked<T>(pub fn(&str) -> Result<T, String>);
+
+impl<T: Clone + Send + Sync + 'static> TypedValueParser for Checked<T> {
+    type Value = T;
+
+    fn parse_ref(
+        &self,
+        cmd: &clap::Command,
+        arg: Option<&clap::Arg>,
+        value: &std::ffi::OsStr,
+    ) -> Result<T, clap::Error> {
+        let flag = arg.map_or_else(|| "a value".to_string(), |a| format!("'{a}'"));
+        let text = value.to_str().ok_or_else(|| {
+            clap::Error::raw(
+                clap::error::ErrorKind::InvalidUtf8,
+                format!("invalid value for {flag}: not UTF-8\n"),
+            )
+            .with_cmd(cmd)
+        })?;
+        (self.0)(text).map_err(|e| {
+            clap::Error::raw(
+                clap::error::ErrorKind::ValueValidation,
+                format!("invalid value for {flag}: {e}\n"),
+            )
+            .with_cmd(cmd)
+        })
+    }
 }
 
 #[cfg(test)]

@@ -273,6 +273,11 @@ fn numeric_flags_are_range_checked() {
     let r = texsim(&["check", "marble", "--min-within", &long]);
     assert_eq!(r.status, 2);
     assert!(r.stderr.contains("(301 characters)"), "{}", r.stderr);
+    assert!(
+        !r.stderr.contains(&long),
+        "the whole number is echoed: {}",
+        r.stderr
+    );
     // In range: accepted.
     let r = texsim(&["check", "marble", "--size", "16", "--min-within", "0"]);
     assert_eq!(r.status, 0, "{}", r.stderr);

@@ -20,7 +20,8 @@
 //!   run here; and the **code size** of texcore on both targets for the features the row's
 //!   configuration needs, with the RAM of one texture-unit instance ([`codesize`]).
 //!
-//! It prints JSON rows (`--json`) or a summary, and writes `docs/accuracy.md`,
+//! Rows are measured in parallel (rayon); host timings run afterwards, one row at a time. It
+//! prints JSON rows (`--json`) or a summary, and with `--write-docs` writes `docs/accuracy.md`,
 //! `docs/accuracy.png` (error against device instructions, Pareto front highlighted),
 //! `docs/precision.png` (the paper's Fig. 10: the `marble` scene at each coordinate precision)
 //! and a generated summary between the `<!-- accuracy:begin -->` and `<!-- accuracy:end -->`
