@@ -41,6 +41,8 @@ pub mod color;
 pub mod filter;
 pub mod format;
 pub mod hash;
+#[cfg(feature = "lighting")]
+pub mod light;
 #[cfg(feature = "perturb")]
 pub mod material;
 pub mod model;
