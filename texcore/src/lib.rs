@@ -44,6 +44,8 @@ pub mod hash;
 #[cfg(feature = "perturb")]
 pub mod material;
 pub mod model;
+#[cfg(feature = "multipass")]
+pub mod multipass;
 pub mod noise;
 pub mod presets;
 pub mod quadric;
