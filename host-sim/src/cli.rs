@@ -51,6 +51,8 @@ pub enum ShowArg {
     Color,
     /// The filter width as grey (black = 1 entry, white = the whole table).
     FilterWidth,
+    /// The multipass noise stages of the scene's noise (contact sheet; needs --output).
+    MultipassStages,
 }
 
 /// `texsim render`.
@@ -110,6 +112,8 @@ pub enum EvalArg {
     Fd32,
     /// Piecewise re-anchored forward differencing of smooth-fade noise (approximate).
     Reanchored,
+    /// Multipass corner-by-corner noise (see --multipass-precision, --multipass-hash).
+    Multipass,
 }
 
 /// Colour-table antialiasing (`--aa`).
@@ -178,6 +182,12 @@ pub struct KnobArgs {
     /// Lattice hash.
     #[arg(long, value_enum, default_value_t = HashArg::Perm)]
     pub hash: HashArg,
+    /// Precision of the multipass noise passes (--eval multipass, --show multipass-stages).
+    #[arg(long, value_enum, default_value_t = crate::multipass::PrecisionArg::Native)]
+    pub multipass_precision: crate::multipass::PrecisionArg,
+    /// Random values of the multipass noise passes.
+    #[arg(long, value_enum, default_value_t = crate::multipass::HashArg::Texcore)]
+    pub multipass_hash: crate::multipass::HashArg,
 }
 
 impl KnobArgs {
@@ -206,9 +216,18 @@ impl KnobArgs {
                 EvalArg::Auto => EvalMode::Auto,
                 EvalArg::Fd32 => EvalMode::Fd32,
                 EvalArg::Reanchored => EvalMode::Reanchored,
+                EvalArg::Multipass => EvalMode::Multipass(self.multipass()),
             },
             cull: !self.no_cull,
             precision: texcore::model::Precision::NATIVE,
+        }
+    }
+
+    /// The multipass setting of `--multipass-precision` and `--multipass-hash`.
+    pub fn multipass(&self) -> texcore::multipass::MultipassConfig {
+        texcore::multipass::MultipassConfig {
+            precision: self.multipass_precision.into(),
+            hash: self.multipass_hash.into(),
         }
     }
 
@@ -314,6 +333,7 @@ fn render(a: &RenderArgs) -> ExitCode {
     let show = match a.show {
         ShowArg::Color => texcore::render::Output::Color,
         ShowArg::FilterWidth => texcore::render::Output::FilterWidth,
+        ShowArg::MultipassStages => return crate::multipass::render_stages(a, scene, hash),
     };
     if let Some(out) = &a.output {
         if let Some(parent) = out.parent().filter(|p| !p.as_os_str().is_empty()) {

@@ -6,6 +6,7 @@ pub mod bridge;
 pub mod cli;
 pub mod device;
 pub mod metrics;
+pub mod multipass;
 pub mod output;
 pub mod reference;
 pub mod report;

@@ -22,6 +22,9 @@ pub enum ReportCommand {
     /// the Pareto front; writes docs/accuracy.md, docs/accuracy.png, docs/precision.png and the
     /// README summary.
     Accuracy(crate::accuracy::AccuracyArgs),
+    /// Multipass noise: the passes per octave of every setting (measured) and the histogram of
+    /// noise values by hash; writes docs/multipass-histogram.png.
+    Multipass(crate::multipass::ReportArgs),
 }
 
 /// A device target on the command line.
@@ -113,6 +116,7 @@ fn print_json<T: serde::Serialize>(rows: &T) {
 pub fn run(cmd: &ReportCommand) -> ExitCode {
     match cmd {
         ReportCommand::Accuracy(a) => crate::accuracy::cli(a),
+        ReportCommand::Multipass(a) => crate::multipass::report(a),
         ReportCommand::Cycles(a) => {
             let opts = cycles::CyclesOptions {
                 quick: a.common.quick,

@@ -118,7 +118,7 @@ impl<const N: usize> Band<N> {
         if term.config.hash != PassHash::Texcore {
             for axis in 0..3 {
                 for side in 0..2 {
-                    self.random_field(axis, side, term.config.hash, prec);
+                    self.axis_field(axis, side, term.config.hash, prec);
                 }
             }
         }
@@ -132,7 +132,7 @@ impl<const N: usize> Band<N> {
         }
         for k in 0..8 {
             self.corner(k, term);
-            self.weight(k, prec);
+            self.weigh(k, prec);
             if term.gradients {
                 self.partials(k);
             }
@@ -176,6 +176,31 @@ impl<const N: usize> Band<N> {
                 out[i] = (acc >> 16) as i64;
             }
         }
+    }
+
+    /// Stage image: `solid_int` of `axis` (0, 1, 2) after the last [`Band::run`].
+    pub fn int_part(&self, axis: usize) -> &[u16] {
+        self.cell
+            .get(axis)
+            .and_then(|c| c.get(..self.len))
+            .unwrap_or(&[])
+    }
+
+    /// Stage image: the weight of corner 1 on `axis` after the last [`Band::run`] (native units,
+    /// `0..=65536`: the fraction, through the fade when it is not linear).
+    pub fn weight(&self, axis: usize) -> &[u32] {
+        self.w
+            .get(axis)
+            .and_then(|w| w.get(..self.len))
+            .unwrap_or(&[])
+    }
+
+    /// Stage image: the random field of corner `k` (`0..8`, bit 0 on `s`, bit 1 on `t`, bit 2 on
+    /// `r`) of the last [`Band::run`]'s points, as bytes (`0..=255` for `[0, 1]`). Runs the
+    /// corner pass again (the sum is not changed).
+    pub fn random_field(&mut self, term: &PassTerm, k: usize) -> &[u16] {
+        self.corner(k & 7, term);
+        self.byte.get(..self.len).unwrap_or(&[])
     }
 
     /// Decompose: `solid_int`, the fraction and the linear weight of one axis.
@@ -240,7 +265,7 @@ impl<const N: usize> Band<N> {
     }
 
     /// The per-axis random field of `solid_int + side` (summed and XOR hashes).
-    fn random_field(&mut self, axis: usize, side: usize, hash: PassHash, prec: PassPrecision) {
+    fn axis_field(&mut self, axis: usize, side: usize, hash: PassHash, prec: PassPrecision) {
         self.passes += 1;
         let n = self.len;
         let mask = lattice_mask(prec);
@@ -304,7 +329,7 @@ impl<const N: usize> Band<N> {
 
     /// The weight pass of corner `k`: the corner's value times its three weights, added into the
     /// sum.
-    fn weight(&mut self, k: usize, prec: PassPrecision) {
+    fn weigh(&mut self, k: usize, prec: PassPrecision) {
         self.passes += 1;
         let n = self.len;
         let sel = [k & 1 != 0, (k >> 1) & 1 != 0, (k >> 2) & 1 != 0];

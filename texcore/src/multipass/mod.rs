@@ -52,7 +52,7 @@
 mod band;
 mod eval;
 
-pub use band::Band;
+pub use band::{Band, PassTerm};
 pub use eval::{eval_span, MULTIPASS_BAND};
 
 /// Arithmetic of the multipass weight passes (module documentation, "Settings").
