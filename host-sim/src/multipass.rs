@@ -64,6 +64,18 @@ impl From<HashArg> for PassHash {
     }
 }
 
+/// An evaluation mode's name in reports: `direct`, `fd`, ..., and `multipass-<precision>` (with
+/// `-<hash>` unless texcore's).
+pub fn mode_name(mode: texcore::span::EvalMode) -> String {
+    match mode {
+        texcore::span::EvalMode::Multipass(c) => match c.hash {
+            PassHash::Texcore => format!("multipass-{}", c.precision.name()),
+            h => format!("multipass-{}-{}", c.precision.name(), h.name()),
+        },
+        m => format!("{m:?}").to_lowercase(),
+    }
+}
+
 /// Side of one stage image (the paper's 256 x 256).
 pub const STAGE: u32 = 256;
 /// Lattice cells across a stage image (the paper's Fig. 4: `s, t` in `[0, 16)`).
