@@ -3,7 +3,7 @@
 //! measured pass table and the histogram of noise values by hash, `docs/multipass-histogram.png`).
 //!
 //! Guarantees: every image is computed from the texcore passes themselves (no separate model),
-//! and nothing is written unless asked for (an output path, or the report without `--no-write`).
+//! and nothing is written unless asked for (an output path, or the report's `--write-docs`).
 
 use std::io::Write;
 use std::path::PathBuf;
@@ -337,13 +337,13 @@ pub fn pass_table() -> Vec<PassRow> {
 /// `texsim report multipass`.
 #[derive(Clone, Debug, Args)]
 pub struct ReportArgs {
-    /// Where to write the histogram plot (default: docs/multipass-histogram.png of the
-    /// workspace).
+    /// Write the histogram plot to the workspace's docs/multipass-histogram.png (without it, or
+    /// --histogram, the report only prints).
+    #[arg(long, conflicts_with = "histogram")]
+    pub write_docs: bool,
+    /// Write the histogram plot to this file instead.
     #[arg(long)]
     pub histogram: Option<PathBuf>,
-    /// Print only; write nothing.
-    #[arg(long, conflicts_with = "histogram")]
-    pub no_write: bool,
 }
 
 /// Prints the pass table (markdown) and the histogram counts; writes the histogram plot.
@@ -372,12 +372,11 @@ pub fn report(a: &ReportArgs) -> ExitCode {
             100.0 * f64::from(outer) / f64::from(n)
         );
     }
-    if a.no_write {
-        return ExitCode::SUCCESS;
-    }
-    let path = a.histogram.clone().unwrap_or_else(|| {
-        PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../docs/multipass-histogram.png")
-    });
+    let path = match (&a.histogram, a.write_docs) {
+        (Some(p), _) => p.clone(),
+        (None, true) => crate::device::workspace_root().join("docs/multipass-histogram.png"),
+        (None, false) => return ExitCode::SUCCESS,
+    };
     let Some(frame) = histogram_plot() else {
         return crate::cli::bad_input("the histogram plot could not be drawn");
     };

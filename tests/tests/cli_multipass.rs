@@ -211,7 +211,9 @@ fn report_multipass_prints_the_measured_pass_table() {
     );
     assert!(r.stdout.contains("| 8 | summed | smooth |"), "{}", r.stdout);
     assert!(png.is_file());
-    let r = texsim(&["report", "multipass", "--no-write"]);
-    ok(&r, "report multipass --no-write");
+    // Without --histogram or --write-docs it only prints.
+    let r = texsim(&["report", "multipass"]);
+    ok(&r, "report multipass");
+    assert!(!r.stdout.contains("wrote"), "{}", r.stdout);
     let _ = std::fs::remove_dir_all(&dir);
 }

@@ -23,7 +23,7 @@ pub enum ReportCommand {
     /// docs/precision.png and the README summary.
     Accuracy(crate::accuracy::AccuracyArgs),
     /// Multipass noise: the passes per octave of every setting (measured) and the histogram of
-    /// noise values by hash; writes docs/multipass-histogram.png.
+    /// noise values by hash; with --write-docs writes docs/multipass-histogram.png.
     Multipass(crate::multipass::ReportArgs),
 }
 
