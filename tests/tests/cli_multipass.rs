@@ -171,7 +171,7 @@ fn bad_multipass_settings_are_rejected() {
     assert!(r.stderr.contains("12"), "{}", r.stderr);
     let r = texsim(&["render", "marble", "--show", "multipass-stages"]);
     assert_eq!(r.status, 2);
-    assert!(r.stderr.contains("--output"), "{}", r.stderr);
+    assert!(r.stderr.contains("-o"), "{}", r.stderr);
 }
 
 #[test]
