@@ -34,6 +34,7 @@ use texcore::filter::{Antialias, ColorStage, GradientNorm};
 use texcore::format::{Amplitude, QuadricCoeff, TexPoint, TexValue};
 use texcore::hash::HashKind;
 use texcore::model::{Octaves, Precision, TextureModel};
+use texcore::multipass::{MultipassConfig, PassPrecision};
 use texcore::noise::{BasisKind, Fade, NoiseBasis};
 use texcore::presets::{CheckPlane, Key};
 use texcore::quadric::Quadric;
@@ -278,7 +279,7 @@ macro_rules! combo {
 const B: Config = BASELINE;
 
 /// Number of rows.
-pub const N_ROWS: usize = 56;
+pub const N_ROWS: usize = 59;
 
 /// Every row, in report order (knobs in [`Knob::ALL`] order, combinations last).
 pub const ROWS: [Row; N_ROWS] = [
@@ -394,6 +395,36 @@ pub const ROWS: [Row; N_ROWS] = [
         }
     ),
     row!(Evaluation, "evaluation", "auto", true, B),
+    row!(
+        Evaluation,
+        "evaluation",
+        "multipass-native",
+        false,
+        Config {
+            mode: EvalMode::Multipass(MultipassConfig::with_precision(PassPrecision::Native)),
+            ..B
+        }
+    ),
+    row!(
+        Evaluation,
+        "evaluation",
+        "multipass-16.8",
+        false,
+        Config {
+            mode: EvalMode::Multipass(MultipassConfig::with_precision(PassPrecision::Fixed16_8)),
+            ..B
+        }
+    ),
+    row!(
+        Evaluation,
+        "evaluation",
+        "multipass-8",
+        false,
+        Config {
+            mode: EvalMode::Multipass(MultipassConfig::with_precision(PassPrecision::Bits8)),
+            ..B
+        }
+    ),
     row!(
         Evaluation,
         "evaluation",
@@ -1079,7 +1110,7 @@ mod device {
 
     const ALL_JOBS: [(Job, usize); 2 * N_ROWS] = jobs!(
         0 1 2 3 4 5 6 7 8 9 10 11 12 13 14 15 16 17 18 19 20 21 22 23 24 25 26 27 28 29 30 31 32
-        33 34 35 36 37 38 39 40 41 42 43 44 45 46 47 48 49 50 51 52 53 54 55
+        33 34 35 36 37 38 39 40 41 42 43 44 45 46 47 48 49 50 51 52 53 54 55 56 57 58
     );
 
     const fn in_part(i: usize) -> bool {

@@ -51,6 +51,8 @@ pub enum ShowArg {
     Color,
     /// The filter width as grey (black = 1 entry, white = the whole table).
     FilterWidth,
+    /// The multipass noise stages of the scene's noise (contact sheet; needs --output).
+    MultipassStages,
 }
 
 /// `texsim render`.
@@ -112,6 +114,8 @@ pub enum EvalArg {
     Fd32,
     /// Piecewise re-anchored forward differencing of smooth-fade noise (approximate).
     Reanchored,
+    /// Multipass corner-by-corner noise (see --multipass-precision, --multipass-hash).
+    Multipass,
 }
 
 /// Colour-table antialiasing (`--aa`).
@@ -180,6 +184,12 @@ pub struct KnobArgs {
     /// Lattice hash.
     #[arg(long, value_enum, default_value_t = HashArg::Perm)]
     pub hash: HashArg,
+    /// Precision of the multipass noise passes (--eval multipass, --show multipass-stages).
+    #[arg(long, value_enum, default_value_t = crate::multipass::PrecisionArg::Native)]
+    pub multipass_precision: crate::multipass::PrecisionArg,
+    /// Random values of the multipass noise passes.
+    #[arg(long, value_enum, default_value_t = crate::multipass::HashArg::Texcore)]
+    pub multipass_hash: crate::multipass::HashArg,
 }
 
 impl KnobArgs {
@@ -208,9 +218,18 @@ impl KnobArgs {
                 EvalArg::Auto => EvalMode::Auto,
                 EvalArg::Fd32 => EvalMode::Fd32,
                 EvalArg::Reanchored => EvalMode::Reanchored,
+                EvalArg::Multipass => EvalMode::Multipass(self.multipass()),
             },
             cull: !self.no_cull,
             precision: texcore::model::Precision::NATIVE,
+        }
+    }
+
+    /// The multipass setting of `--multipass-precision` and `--multipass-hash`.
+    pub fn multipass(&self) -> texcore::multipass::MultipassConfig {
+        texcore::multipass::MultipassConfig {
+            precision: self.multipass_precision.into(),
+            hash: self.multipass_hash.into(),
         }
     }
 
@@ -322,6 +341,7 @@ fn render(a: &RenderArgs) -> ExitCode {
     let show = match a.show {
         ShowArg::Color => texcore::render::Output::Color,
         ShowArg::FilterWidth => texcore::render::Output::FilterWidth,
+        ShowArg::MultipassStages => return crate::multipass::render_stages(a, scene, hash),
     };
     if let Some(out) = a.output.as_deref().filter(|o| !crate::output::is_stdout(o)) {
         if let Some(parent) = out.parent().filter(|p| !p.as_os_str().is_empty()) {

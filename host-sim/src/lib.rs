@@ -8,6 +8,7 @@ pub mod device;
 pub mod flags;
 pub mod interrupt;
 pub mod metrics;
+pub mod multipass;
 pub mod output;
 pub mod reference;
 pub mod report;

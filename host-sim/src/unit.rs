@@ -62,7 +62,7 @@ pub struct UnitConfig {
     #[serde(serialize_with = "ser_debug")]
     pub norm: GradientNorm,
     /// Span evaluation mode.
-    #[serde(serialize_with = "ser_debug")]
+    #[serde(serialize_with = "ser_mode")]
     pub mode: EvalMode,
     /// Cull octaves past Nyquist.
     pub cull: bool,
@@ -77,6 +77,10 @@ fn ser_precision<S: serde::Serializer>(p: &Precision, s: S) -> Result<S::Ok, S::
     st.serialize_field("coord_bits", &p.coord_bits())?;
     st.serialize_field("value_bits", &p.value_bits())?;
     st.end()
+}
+
+fn ser_mode<S: serde::Serializer>(m: &EvalMode, s: S) -> Result<S::Ok, S::Error> {
+    s.serialize_str(&crate::multipass::mode_name(*m))
 }
 
 fn ser_debug<T: core::fmt::Debug, S: serde::Serializer>(v: &T, s: S) -> Result<S::Ok, S::Error> {

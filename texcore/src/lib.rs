@@ -46,6 +46,8 @@ pub mod light;
 #[cfg(feature = "perturb")]
 pub mod material;
 pub mod model;
+#[cfg(feature = "multipass")]
+pub mod multipass;
 pub mod noise;
 pub mod presets;
 pub mod quadric;

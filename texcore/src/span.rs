@@ -99,6 +99,12 @@ pub enum EvalMode {
     /// basis that is not a cubic (`smooth-fade`, `gradient-noise` or `mnoise`); otherwise this mode
     /// is [`EvalMode::Fd`] (exact).
     Reanchored,
+    /// Multipass corner-by-corner noise (Hart 2001, [`crate::multipass`], crate feature
+    /// `multipass`): value-noise terms evaluated a band of pixels at a time, one pass per corner.
+    /// With [`crate::multipass::MultipassConfig::EXACT`] bit-identical to `Direct`; the reduced
+    /// precisions are approximate (their error is in `texsim report accuracy`).
+    #[cfg(feature = "multipass")]
+    Multipass(crate::multipass::MultipassConfig),
 }
 
 /// Options of the span evaluator.
@@ -691,6 +697,14 @@ impl<'m, const T: usize> SpanEvaluator<'m, T> {
             chunk: SampleChunk::new(),
             out,
         };
+        #[cfg(feature = "multipass")]
+        if let EvalMode::Multipass(cfg) = self.opts.mode {
+            sink.chunk.extra_width48 = self.extra_width48(span);
+            let (m, o, st) = (self.model, self.opts, &mut self.stats);
+            let info = crate::multipass::eval_span(m, o, cfg, span, st, &mut |s| sink.push(s));
+            sink.finish();
+            return info;
+        }
         let info = self.eval_inner(span, &mut sink);
         sink.finish();
         info
@@ -750,6 +764,8 @@ impl<'m, const T: usize> SpanEvaluator<'m, T> {
                         Strategy::Hermite
                     }
                 }
+                #[cfg(feature = "multipass")]
+                EvalMode::Multipass(_) => Strategy::Direct,
             },
             sink,
         );

@@ -47,7 +47,7 @@ pub struct FeatureRule {
 /// settings to code. Everything a configuration sets that is not named here (coordinate and
 /// value bits, octaves, table size and look-up, gradient norm, the forward-differencing mode,
 /// culling, perspective mode) is chosen at run time over the same compiled code.
-pub const FEATURE_RULES: [FeatureRule; 8] = [
+pub const FEATURE_RULES: [FeatureRule; 9] = [
     FeatureRule {
         name: "fd",
         cargo: "texcore?/fd",
@@ -89,6 +89,12 @@ pub const FEATURE_RULES: [FeatureRule; 8] = [
         cargo: "texcore?/mip",
         needs: |c| c.aa == Antialias::Mip,
         what: "the MIP filter",
+    },
+    FeatureRule {
+        name: "multipass",
+        cargo: "texcore?/multipass",
+        needs: |c| matches!(c.mode, EvalMode::Multipass(_)),
+        what: "multipass corner-by-corner noise (`evaluation=multipass-*`)",
     },
     FeatureRule {
         name: "render",
@@ -333,6 +339,8 @@ mod tests {
         }) {
             let want = if row.cfg.mode == EvalMode::Direct {
                 "perm-hash,csat".to_string()
+            } else if matches!(row.cfg.mode, EvalMode::Multipass(_)) {
+                "fd,perm-hash,csat,multipass".to_string()
             } else {
                 feature_set(&BASELINE)
             };

@@ -247,7 +247,7 @@ auto evaluation, culling on, 16/16 precision";
 /// A configuration in words.
 pub fn describe(c: &Config) -> String {
     let mut s = format!(
-        "F={} V={} {:?} {:?} {} {} oct, N={} {:?} {:?} {:?} {:?}{}",
+        "F={} V={} {:?} {:?} {} {} oct, N={} {:?} {:?} {:?} {}{}",
         c.coord_bits,
         c.value_bits,
         c.fade,
@@ -258,7 +258,7 @@ pub fn describe(c: &Config) -> String {
         c.lookup,
         c.aa,
         c.norm,
-        c.mode,
+        crate::multipass::mode_name(c.mode),
         if c.cull { "" } else { " no-cull" }
     );
     if let Some(p) = c.perspective {

@@ -22,6 +22,9 @@ pub enum ReportCommand {
     /// the Pareto front; with --write-docs, writes docs/accuracy.md, docs/accuracy.png,
     /// docs/precision.png and the README summary.
     Accuracy(crate::accuracy::AccuracyArgs),
+    /// Multipass noise: the passes per octave of every setting (measured) and the histogram of
+    /// noise values by hash; with --write-docs writes docs/multipass-histogram.png.
+    Multipass(crate::multipass::ReportArgs),
     /// texcore's modes next to fastnoise-lite (both devices under QEMU and the host) and noise-rs
     /// (host) on the same plane and workloads; writes docs/peers.md only with --write-docs.
     Peers(PeersArgs),
@@ -146,6 +149,7 @@ pub fn run(cmd: &ReportCommand) -> ExitCode {
     match cmd {
         ReportCommand::Accuracy(a) => crate::accuracy::cli(a),
         ReportCommand::Peers(a) => peers::cli(a),
+        ReportCommand::Multipass(a) => crate::multipass::report(a),
         ReportCommand::Cycles(a) => {
             let opts = cycles::CyclesOptions {
                 quick: a.common.quick,

@@ -58,7 +58,7 @@ pub struct FeatureSet {
 
 /// The probe's feature sets, from `minimal` to `full`, and `full` in the fast code shape.
 /// `perm-hash` only takes effect on the Cortex-M4F (the rv32imc build is table-free in every set).
-pub const FEATURE_SETS: [FeatureSet; 10] = [
+pub const FEATURE_SETS: [FeatureSet; 11] = [
     FeatureSet {
         name: "minimal",
         features: &[],
@@ -109,6 +109,13 @@ pub const FEATURE_SETS: [FeatureSet; 10] = [
         features: &["render"],
         profile: "release-size",
         what: "minimal + banded renderer (rasterizer, perspective, depth, blending)",
+    },
+    FeatureSet {
+        name: "multipass",
+        features: &["fd", "multipass"],
+        profile: "release-size",
+        what: "minimal + forward differencing + multipass corner-by-corner noise \
+               (`EvalMode::Multipass`; a system of its own, not part of `full`)",
     },
     FeatureSet {
         name: "full",
