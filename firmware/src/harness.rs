@@ -26,9 +26,10 @@
 //! margin.
 
 use crate::counter::{Counter, Sample, NAME, UNIT};
-use crate::jobs::{Ctx, JobFn, JOBS, SCENE_JOBS};
 use crate::stack;
 use defmt::println;
+use workloads::job::{Ctx, JobFn};
+use workloads::jobs::{JOBS, SCENE_JOBS};
 
 const TARGET: &str = env!("FIRMWARE_TARGET");
 

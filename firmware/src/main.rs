@@ -44,10 +44,10 @@
 //!
 //! # What runs
 //!
-//! The hash and span benchmarks of [`jobs`], then the texture-unit suite of [`suite`]: preset
+//! The jobs of the `workloads` crate (`workloads::jobs::JOBS`): the hash and span benchmarks, then the texture-unit suite: preset
 //! check planes, single stages of the pixel path, two scenes of its own, and every built-in scene
 //! of `texcore::scene::builtin` at display size (320 x 240, the zone plate 256 x 256) with no frame
-//! buffer: each frame as [`scenes::STRIPS`] jobs, one per horizontal strip, rendered in 8-row
+//! buffer: each frame as `workloads::scenes::STRIPS` jobs, one per horizontal strip, rendered in 8-row
 //! bands into a checksum sink that continues the previous strip's checksum, so that the last
 //! strip reports the checksum of the whole frame (equal to `texsim render <scene> --checksum`).
 //!
@@ -56,7 +56,7 @@
 //! 128 KiB of RAM on both targets: the static data (the scene renderer's RGBA and depth bands,
 //! 15 KiB, and the logger) at the bottom and the stack above it, no heap. Textures are built on
 //! the stack of the job that uses them (about 8 KiB each with csat; a built-in scene has up to
-//! [`scenes::SCENE_SLOTS`]). The harness paints the free stack before the first job and reports
+//! `workloads::scenes::SCENE_SLOTS`). The harness paints the free stack before the first job and reports
 //! its high-water mark ([`stack`]).
 //!
 //! # Features
@@ -73,26 +73,14 @@
 #[cfg(not(target_os = "none"))]
 fn main() {}
 
-#[cfg(all(target_os = "none", feature = "accuracy"))]
-pub mod accuracy;
 #[cfg(target_os = "none")]
 pub mod counter;
 #[cfg(target_os = "none")]
 pub mod harness;
-#[cfg(target_os = "none")]
-pub mod jobs;
 #[cfg(all(target_os = "none", not(feature = "rtt")))]
 mod logger;
 #[cfg(target_os = "none")]
-pub mod planes;
-#[cfg(target_os = "none")]
-pub mod scenes;
-#[cfg(target_os = "none")]
 pub mod stack;
-#[cfg(target_os = "none")]
-pub mod stages;
-#[cfg(target_os = "none")]
-pub mod suite;
 
 #[cfg(all(target_os = "none", feature = "rtt"))]
 use defmt_rtt as _;

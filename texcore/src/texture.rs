@@ -320,7 +320,7 @@ mod tests {
 }
 
 /// Reference workloads shared by the criterion benchmarks (`texcore/benches`), the device jobs
-/// (`firmware/src/jobs.rs`) and their host check (`tests/tests/firmware_qemu.rs`), so that all
+/// (`workloads/src/bench.rs`) and their host check (`tests/tests/firmware_qemu.rs`), so that all
 /// three measure exactly the same thing (`docs/performance.md`).
 ///
 /// - Value-noise planes: `f = r + sum_{i < octaves} 2^-i n(2^i s)` (trilinear value noise,

@@ -33,11 +33,8 @@ pub mod measure;
 pub mod output;
 pub mod plot;
 
-/// The report's configurations and device jobs, shared verbatim with the firmware.
-// Its firmware-feature `cfg`s are unknown to this crate (on the host every item is compiled).
-#[path = "../../../firmware/src/accuracy.rs"]
-#[allow(missing_docs, unexpected_cfgs)]
-pub mod device_jobs;
+/// The report's configurations and device jobs, shared with the firmware (`workloads::accuracy`).
+pub use workloads::accuracy as device_jobs;
 
 use std::collections::BTreeMap;
 use std::path::PathBuf;

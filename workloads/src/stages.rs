@@ -32,7 +32,7 @@ use texcore::span::{EvalMode, EvalOptions, SpanEvaluator};
 use texcore::table::{TableLookup, TableWrap};
 use texcore::transform::Affine3;
 
-use super::planes::{plane_span, table, SEGMENT, TABLE, TERMS};
+use crate::planes::{plane_span, table, SEGMENT, TABLE, TERMS};
 
 /// FNV-1a 32-bit offset basis.
 pub const FNV_OFFSET: u32 = 0x811C_9DC5;

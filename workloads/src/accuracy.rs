@@ -932,7 +932,7 @@ pub use device::JOBS;
 #[allow(dead_code)]
 mod device {
     use super::*;
-    use crate::jobs::{Ctx, Job};
+    use crate::job::{Ctx, Job};
 
     /// A plane configuration's job with table size `N`: builds the texture (always) and, with
     /// `render`, renders the plane window and returns its checksum (else returns 1 when the texture

@@ -25,7 +25,7 @@ use texcore::sink::ChecksumSink;
 use texcore::texture::Shader;
 use texcore::TexPoint;
 
-use super::planes::{material, texture, DeviceTexture, Material};
+use crate::planes::{material, texture, DeviceTexture, Material};
 
 /// Display width.
 pub const WIDTH: u16 = 320;
