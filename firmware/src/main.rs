@@ -8,15 +8,17 @@
 //!   `virt -bios none`, `riscv-rt`, memory map `firmware/memory-riscv.x` (512 KiB + 128 KiB in
 //!   the DRAM window at 0x8000_0000).
 //!
-//! On the host this crate is an empty program (so `cargo test --workspace` builds it).
+//! On the host this crate's program only delegates: `cargo run -p firmware` builds the firmware
+//! for the device (`TEXFW_TARGET`, default `thumbv7em-none-eabihf`) and runs it under QEMU
+//! through the runner below, printing the decoded log lines.
 //!
 //! # Running
 //!
 //! `cargo run --release -p firmware --target thumbv7em-none-eabihf` (or the RISC-V triple): the
 //! runner in `.cargo/config.toml` is `firmware/qemu-run.sh`, which starts QEMU with
 //! `-icount shift=0,align=off,sleep=off`, semihosting on a stdio chardev and no display, decodes
-//! the defmt stream with `defmt-print` when it is installed (otherwise it saves the raw stream
-//! and says how to decode it), and exits with the firmware's exit code. From Rust,
+//! the defmt stream with `defmt-print` when it is installed, otherwise with `texsim defmt-decode`
+//! (host-sim's decoder), and exits with the firmware's exit code. From Rust,
 //! `host_sim::device::run_firmware` builds, runs and decodes into structured results; the test
 //! `tests/tests/firmware_qemu.rs` checks them against the host.
 //!
@@ -70,8 +72,30 @@
 #![cfg_attr(target_os = "none", no_std, no_main)]
 #![deny(unsafe_code)]
 
+/// On the host, `cargo run -p firmware` builds the device firmware and runs it under QEMU with
+/// readable logs: it runs `cargo run --release -p firmware --target $TEXFW_TARGET` (default
+/// `thumbv7em-none-eabihf`; `riscv32imc-unknown-none-elf` for the other target), whose runner
+/// (`firmware/qemu-run.sh`) decodes the defmt stream. Extra arguments are passed to cargo.
 #[cfg(not(target_os = "none"))]
-fn main() {}
+fn main() -> std::process::ExitCode {
+    let cargo = std::env::var_os("CARGO").unwrap_or_else(|| "cargo".into());
+    let target =
+        std::env::var("TEXFW_TARGET").unwrap_or_else(|_| "thumbv7em-none-eabihf".to_string());
+    let root = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("..");
+    eprintln!("firmware: running the device firmware for {target} under QEMU (TEXFW_TARGET selects the target)");
+    let status = std::process::Command::new(cargo)
+        .current_dir(root)
+        .args(["run", "--release", "-p", "firmware", "--target", &target])
+        .args(std::env::args_os().skip(1))
+        .status();
+    match status {
+        Ok(s) => std::process::ExitCode::from(s.code().unwrap_or(1).clamp(0, 255) as u8),
+        Err(e) => {
+            eprintln!("firmware: starting cargo failed: {e}");
+            std::process::ExitCode::from(2)
+        }
+    }
+}
 
 #[cfg(target_os = "none")]
 pub mod counter;

@@ -42,6 +42,9 @@ pub enum Command {
     /// accuracy knob costs (`accuracy`).
     #[command(subcommand)]
     Report(crate::report::cli::ReportCommand),
+    /// Decode a firmware's defmt stream from standard input into text lines (the device
+    /// runner's decoder when `defmt-print` is not installed).
+    DefmtDecode(crate::defmt_log::DefmtDecodeArgs),
 }
 
 /// What the pixels show (`--show`).
@@ -271,6 +274,7 @@ pub fn run(cli: Cli) -> ExitCode {
         }
         Command::Check(a) => check(&a),
         Command::Report(r) => crate::report::cli::run(&r),
+        Command::DefmtDecode(a) => crate::defmt_log::run(&a),
         Command::Presets => {
             let mut out = std::io::stdout().lock();
             for name in texcore::presets::NAMES {
