@@ -38,6 +38,8 @@
 #![deny(missing_docs, unsafe_code)]
 
 pub mod color;
+#[cfg(feature = "embedded-graphics")]
+pub mod draw;
 pub mod filter;
 pub mod format;
 pub mod hash;
@@ -48,6 +50,7 @@ pub mod noise;
 pub mod presets;
 pub mod quadric;
 pub mod raster;
+pub mod ready;
 pub mod render;
 pub mod scene;
 pub mod sink;

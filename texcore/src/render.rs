@@ -277,6 +277,28 @@ pub enum RenderError {
     BufferTooSmall,
 }
 
+impl core::fmt::Display for RenderError {
+    fn fmt(&self, f: &mut core::fmt::Formatter<'_>) -> core::fmt::Result {
+        match *self {
+            RenderError::NoSuchTexture { object, slot } => write!(
+                f,
+                "object {object} uses texture slot {slot}, which does not exist"
+            ),
+            RenderError::TooManyTextures => {
+                write!(f, "more than {MAX_TEXTURES} texture slots")
+            }
+            RenderError::NeedsBands => {
+                f.write_str("the scene needs a depth buffer or blending: render it in bands")
+            }
+            RenderError::BufferTooSmall => {
+                f.write_str("the band or depth buffer is too small for one row of the image")
+            }
+        }
+    }
+}
+
+impl core::error::Error for RenderError {}
+
 /// A [`crate::scene::Scene`] as drawn (the scene as it is: apply [`crate::scene::Scene::at_frame`]
 /// first for an animation frame). Objects use the depth buffer when they test or write depth.
 impl TriangleSource for crate::scene::Scene {
