@@ -263,8 +263,8 @@ pub fn run(cli: Cli) -> ExitCode {
                     let _ = writeln!(
                         out,
                         "{name}\t{w}x{h}\t{} frame{}\t{} object{}",
-                        s.frames,
-                        if s.frames == 1 { "" } else { "s" },
+                        s.frames(),
+                        if s.frames() == 1 { "" } else { "s" },
                         s.objects.len(),
                         if s.objects.len() == 1 { "" } else { "s" }
                     );
@@ -328,10 +328,10 @@ fn render(a: &RenderArgs) -> ExitCode {
     }
     let frames: Vec<u32> = match a.frames {
         Some(n) => {
-            let n = if n == 0 { scene.frames.max(1) } else { n };
+            let n = if n == 0 { scene.frames().max(1) } else { n };
             (0..n).collect()
         }
-        None => vec![a.frame.unwrap_or(scene.still)],
+        None => vec![a.frame.unwrap_or(scene.still())],
     };
     let bar = if frames.len() > 1 && !a.json {
         let b = indicatif::ProgressBar::new(frames.len() as u64);
@@ -428,7 +428,7 @@ fn gallery(a: &GalleryArgs) -> ExitCode {
         };
         let r = match scenes::render_frame(
             &scene,
-            scene.still,
+            scene.still(),
             &cfg,
             hash,
             texcore::render::Output::Color,
@@ -443,7 +443,7 @@ fn gallery(a: &GalleryArgs) -> ExitCode {
             // Figure 9(c): the filter widths of the torus.
             let w = match scenes::render_frame(
                 &scene,
-                scene.still,
+                scene.still(),
                 &cfg,
                 hash,
                 texcore::render::Output::FilterWidth,
@@ -488,7 +488,7 @@ fn check(a: &CheckArgs) -> ExitCode {
                     ))
                 }
             };
-            let frame = a.frame.unwrap_or(scene.scene.still);
+            let frame = a.frame.unwrap_or(scene.scene.still());
             match scenes::check_host_scene(&scene, frame, &cfg, a.knobs.hash()) {
                 Ok(metrics) => {
                     let (w, h) = scene.scene.size();

@@ -48,7 +48,7 @@ fn texture(name: &str) -> Texture<8, 256> {
 /// checksum and the pixel count.
 fn render_scene(name: &str) -> (u32, u64) {
     let scene = texcore::scene::by_name(name).expect("scene");
-    let s = scene.at_frame(scene.still);
+    let s = scene.at_frame(scene.still());
     let textures: Vec<Texture<8, 256>> = s.slots.iter().map(|t| texture(t.material)).collect();
     let r = Renderer::new(&textures);
     let mut sink = ChecksumSink::new();

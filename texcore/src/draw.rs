@@ -876,7 +876,7 @@ mod tests {
         use crate::sink::RgbaBuffer;
         for name in ["zoneplate", "marble"] {
             let scene = crate::scene::by_name(name).unwrap();
-            let scene = scene.at_frame(scene.still);
+            let scene = scene.at_frame(scene.still());
             let textures: Vec<Texture<8, 256>> = scene
                 .slots
                 .iter()

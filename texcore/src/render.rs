@@ -1176,7 +1176,7 @@ mod tests {
     /// Built-in scene `name` at its still frame, and its textures ([`scene_textures`]).
     fn still_scene(name: &str) -> (crate::scene::Scene, Vec<Texture<8, 256>>) {
         let s = crate::scene::by_name(name).unwrap();
-        let s = s.at_frame(s.still);
+        let s = s.at_frame(s.still());
         let tex = scene_textures(&s);
         (s, tex)
     }

@@ -831,8 +831,8 @@ pub fn plane_checksum<const N: usize>(tex: &Texture<TERMS, N>, side: u16) -> u32
 /// every object in `mode`.
 pub fn scene(mode: Perspective) -> Option<Scene> {
     // The builder itself, not `scene::by_name` (which would link every scene's builder).
-    let s = texcore::scene::builtin::seascape();
-    let mut f = s.at_frame(s.still);
+    let s = texcore::scene::builtin::seascape().ok()?;
+    let mut f = s.at_frame(s.still());
     f.camera.width = SCENE_W;
     f.camera.height = SCENE_H;
     for o in f.objects.iter_mut() {

@@ -100,7 +100,7 @@ pub const FRAME_START: u32 = 0x811C_9DC5;
 /// The frame of built-in scene `name` the device renders: its still frame, the one
 /// `texsim render <name>` renders by default.
 pub fn builtin_frame(name: &str) -> Option<Scene> {
-    builtin::by_name(name).map(|s| s.at_frame(s.still))
+    builtin::by_name(name).map(|s| s.at_frame(s.still()))
 }
 
 /// The rows of strip `k` (of [`STRIPS`]) of an image `height` rows high: from `height * k /

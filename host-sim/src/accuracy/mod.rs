@@ -293,7 +293,7 @@ pub fn run(quick: bool, policy: DevicePolicy, log: &mut dyn FnMut(&str)) -> Resu
     let (pw, ph) = settings.precision_scene;
     let marble_scene = texcore::scene::by_name("marble").ok_or("no marble scene")?;
     let marble_scene = measure::resized(&marble_scene, pw, ph);
-    let marble_still = marble_scene.still;
+    let marble_still = marble_scene.still();
     let marble_ref =
         measure::scene_reference(&marble_scene, marble_still, &BASELINE).map_err(err)?;
 

@@ -8,6 +8,7 @@
 //! the set-up, stage and scene checksums with the very same code. The preset check planes are
 //! recomputed independently, through [`crate::unit::render_plane`] (the host's own pixel path).
 
+pub mod boards;
 pub mod cli;
 pub mod cycles;
 pub mod size;
@@ -155,7 +156,7 @@ fn host_builtin_frame(name: &str, hash: HashKind) -> Option<crate::output::Frame
     let scene = texcore::scene::builtin::by_name(name)?;
     let r = crate::scenes::render_frame(
         &scene,
-        scene.still,
+        scene.still(),
         &UnitConfig::default(),
         hash,
         texcore::render::Output::Color,

@@ -1,0 +1,54 @@
+//! Builds each board example (`examples/boards/<board>/`, its own workspace) for its target, as
+//! `.ci/boards.sh` does (`host_sim::report::boards`), and checks that the result is a device ELF
+//! for that architecture with texcore's pixel path linked in:
+//!
+//! - `pico`: Raspberry Pi Pico, RP2040 Cortex-M0+, `thumbv6m-none-eabi` (ARM ELF);
+//! - `esp32c3`: ESP32-C3, `riscv32imc-unknown-none-elf` (RISC-V ELF).
+//!
+//! No hardware is needed. The targets must be installed (`rustup target add ..`, done by
+//! `.ci/run`); a missing target fails the test with the command to run.
+
+use std::path::PathBuf;
+
+use host_sim::device::workspace_root;
+use host_sim::report::boards::{Board, BOARDS};
+
+fn board(name: &str) -> Board {
+    *BOARDS.iter().find(|b| b.name == name).expect("board")
+}
+
+/// Builds the board; checks the ELF's machine (`e_machine`, offset 18) and that texcore's span
+/// evaluator is in it (named in the debug info even where LTO inlined it: `debug = 2`).
+fn build_and_check(name: &str, machine: u16) {
+    let b = board(name);
+    let cargo = PathBuf::from(std::env::var_os("CARGO").unwrap_or_else(|| "cargo".into()));
+    let elf = b
+        .build(&cargo, &workspace_root())
+        .unwrap_or_else(|e| panic!("{e}"));
+    let bytes = std::fs::read(&elf).expect("reading the ELF");
+    assert_eq!(&bytes[..4], b"\x7fELF", "{}", elf.display());
+    assert_eq!(
+        u16::from_le_bytes([bytes[18], bytes[19]]),
+        machine,
+        "{}",
+        elf.display()
+    );
+    let name = b"SpanEvaluator";
+    assert!(
+        bytes.windows(name.len()).any(|w| w == name),
+        "{}: texcore's span evaluator is not in the ELF",
+        elf.display()
+    );
+}
+
+#[test]
+fn pico_builds_for_thumbv6m() {
+    assert_eq!(board("pico").target, "thumbv6m-none-eabi");
+    build_and_check("pico", 0x28);
+}
+
+#[test]
+fn esp32c3_builds_for_riscv32imc() {
+    assert_eq!(board("esp32c3").target, "riscv32imc-unknown-none-elf");
+    build_and_check("esp32c3", 0xf3);
+}
