@@ -18,7 +18,7 @@ pub struct Board {
 }
 
 /// Every board example.
-pub const BOARDS: [Board; 2] = [
+pub const BOARDS: [Board; 3] = [
     Board {
         name: "pico",
         target: "thumbv6m-none-eabi",
@@ -28,6 +28,12 @@ pub const BOARDS: [Board; 2] = [
         name: "esp32c3",
         target: "riscv32imc-unknown-none-elf",
         what: "ESP32-C3 (rv32imc): a fire panel on an ST7789 through mipidsi",
+    },
+    Board {
+        name: "qemu-m0",
+        target: "thumbv6m-none-eabi",
+        what: "Cortex-M0 under QEMU's `microbit` machine (nRF51, 16 KB RAM): instructions per \
+               pixel of a 64 x 64 marble plane with csat",
     },
 ];
 
