@@ -59,75 +59,21 @@ fn qemu_m0_builds_for_thumbv6m() {
     build_and_check("qemu-m0", 0x28);
 }
 
-/// The checksum of the Cortex-M0 example's plane, recomputed on the host with the same calls.
-fn host_m0_checksum() -> u32 {
-    use texcore::draw::PlaneMapping;
-    use texcore::filter::Antialias;
-    use texcore::hash::HashKind;
-    use texcore::ready::{Material, PresetName};
-    let tex = Material::preset_with_hash(PresetName::Marble, HashKind::Integer)
-        .texture::<256>(Antialias::Csat)
-        .expect("marble");
-    let mapping = PlaneMapping::scaled(32);
-    let mut ev = tex.evaluator();
-    let mut acc = 0x811C_9DC5u32;
-    for y in 0..64 {
-        ev.shade(&mapping.span(0, y, 64), |c| {
-            acc = (acc ^ c.to_u32()).wrapping_mul(0x0100_0193)
-        });
-    }
-    acc
-}
-
-/// Runs the Cortex-M0 example under QEMU (`microbit`, `-icount shift=0`): it must print the
-/// host's checksum and an instruction count per pixel.
+/// Runs the Cortex-M0 example under QEMU (`microbit`, `-icount shift=0`): it must shade the
+/// host's checksum and count its instructions.
 #[test]
 fn qemu_m0_shades_the_host_checksum_and_counts_instructions() {
-    let elf = board("qemu-m0").build(
-        &PathBuf::from(std::env::var_os("CARGO").unwrap_or_else(|| "cargo".into())),
-        &workspace_root(),
-    );
-    let elf = elf.unwrap_or_else(|e| panic!("{e}"));
-    let out = std::process::Command::new("qemu-system-arm")
-        .args([
-            "-machine",
-            "microbit",
-            "-cpu",
-            "cortex-m0",
-            "-icount",
-            "shift=0,align=off,sleep=off",
-            "-display",
-            "none",
-            "-monitor",
-            "none",
-            "-serial",
-            "none",
-            "-semihosting-config",
-            "enable=on,target=native",
-            "-kernel",
-        ])
-        .arg(&elf)
-        .stdin(std::process::Stdio::null())
-        .output()
-        .expect("qemu-system-arm (install it with .ci/install-qemu.sh)");
-    let text = String::from_utf8_lossy(&out.stdout);
-    assert!(out.status.success(), "exit {:?}: {text}", out.status.code());
-    let line = text
-        .lines()
-        .find(|l| l.starts_with("TEXM0 "))
-        .unwrap_or_else(|| panic!("no report line in {text:?}"));
-    let field = |k: &str| {
-        line.split_whitespace()
-            .find_map(|w| w.strip_prefix(k).and_then(|v| v.strip_prefix('=')))
-            .unwrap_or_else(|| panic!("no {k} in {line}"))
-            .to_string()
-    };
+    let cargo = PathBuf::from(std::env::var_os("CARGO").unwrap_or_else(|| "cargo".into()));
+    let elf = board("qemu-m0")
+        .build(&cargo, &workspace_root())
+        .unwrap_or_else(|e| panic!("{e}"));
+    let m0 = host_sim::report::boards::run_qemu_m0(&elf).unwrap_or_else(|e| panic!("{e}"));
+    assert_eq!(m0.pixels, 64 * 64);
     assert_eq!(
-        field("checksum"),
-        format!("{:#010x}", host_m0_checksum()),
-        "{line}"
+        Some(m0.checksum),
+        host_sim::report::boards::host_m0_checksum(),
+        "{m0:?}"
     );
-    let ipp: f64 = field("instr_per_pixel").parse().expect("a number");
-    assert!(ipp > 10.0 && ipp < 100_000.0, "{line}");
-    eprintln!("{line}");
+    assert!(m0.instructions > 10 * m0.pixels, "{m0:?}");
+    assert!(m0.setup_instructions > 0, "{m0:?}");
 }

@@ -350,6 +350,8 @@ fn classify(name: &str) -> Option<usize> {
         || name.starts_with(".init.")
         || is(".text")
         || is(".trap")
+        // esp-hal's code run from RAM (the ESP32-C3 board example).
+        || is(".rwtext")
     {
         Some(0)
     } else if is(".rodata") || is(".srodata") || is(".eh_frame") || is(".eh_frame_hdr") {

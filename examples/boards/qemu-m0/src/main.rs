@@ -1,5 +1,5 @@
 //! texcore on a Cortex-M0 (thumbv6m: no FPU, no hardware divide) under QEMU's `microbit` machine
-//! (nRF51, 16 KB of RAM): builds the marble texture in one call (256-entry table, csat, the
+//! (nRF51, 16 KB of RAM): builds the marble texture in one call (64-entry table, csat, the
 //! table-free integer hash) and shades
 //! a 64 x 64 plane of it, counting instructions with `-icount shift=0` (one instruction = 1 ns of
 //! virtual time) through the nRF51's TIMER0 at 16 MHz (one tick = 62.5 instructions).
@@ -69,7 +69,7 @@ fn shade<const T: usize, const N: usize>(
 fn main() -> ! {
     timer_start();
     let t0 = ticks();
-    let Ok(marble) = Material::preset_with_hash(PresetName::Marble, HashKind::Integer).texture::<256>(Antialias::Csat) else {
+    let Ok(marble) = Material::preset_with_hash(PresetName::Marble, HashKind::Integer).texture::<64>(Antialias::Csat) else {
         semihosting::println!("TEXM0 error=material");
         semihosting::process::exit(1)
     };
