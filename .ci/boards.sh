@@ -8,5 +8,5 @@ for dir in "$root"/examples/boards/*/; do
     board=$(basename "$dir")
     target=$(sed -n 's/^target = "\(.*\)"/\1/p' "$dir/.cargo/config.toml")
     echo "== board $board ($target)"
-    (cd "$dir" && cargo build --release --locked --target-dir "$root/target/boards")
+    (cd "$dir" && cargo fmt --check && cargo build --release --locked --target-dir "$root/target/boards")
 done

@@ -51,16 +51,15 @@ fn ticks() -> u32 {
 
 /// Shades `rows` rows of the plane; returns the FNV-1a checksum of the colours.
 #[inline(never)]
-fn shade<const T: usize, const N: usize>(
-    tex: &texcore::texture::Texture<T, N>,
-    rows: u16,
-) -> u32 {
+fn shade<const T: usize, const N: usize>(tex: &texcore::texture::Texture<T, N>, rows: u16) -> u32 {
     let mapping = PlaneMapping::scaled(32);
     let mut ev = tex.evaluator();
     let mut acc = 0x811C_9DC5u32;
     for y in 0..rows {
         let span = mapping.span(0, i32::from(y), SIDE);
-        ev.shade(&span, |c| acc = (acc ^ c.to_u32()).wrapping_mul(0x0100_0193));
+        ev.shade(&span, |c| {
+            acc = (acc ^ c.to_u32()).wrapping_mul(0x0100_0193)
+        });
     }
     acc
 }
@@ -69,7 +68,9 @@ fn shade<const T: usize, const N: usize>(
 fn main() -> ! {
     timer_start();
     let t0 = ticks();
-    let Ok(marble) = Material::preset_with_hash(PresetName::Marble, HashKind::Integer).texture::<64>(Antialias::Csat) else {
+    let Ok(marble) = Material::preset_with_hash(PresetName::Marble, HashKind::Integer)
+        .texture::<64>(Antialias::Csat)
+    else {
         semihosting::println!("TEXM0 error=material");
         semihosting::process::exit(1)
     };
