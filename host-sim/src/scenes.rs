@@ -90,7 +90,7 @@ fn render_n<const N: usize>(
             renderer.render_banded(scene, &mut band, &mut depth, h, &mut sink)
         }
     }
-    .map_err(|e| UnitError::Render(format!("{e:?}")))?;
+    .map_err(|e| UnitError::Render(e.to_string()))?;
     Ok(Rendered {
         frame: Frame {
             width: u32::from(w),

@@ -72,7 +72,6 @@ pub fn display_color<C: From<Rgb888>>(c: Rgba8888) -> C {
 /// anchor) is shaded at `s = origin + (x + 1/2) step_x + (y + 1/2) step_y` (raw 16.16
 /// components, wrapping like the span evaluator's coordinates).
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
-#[cfg_attr(feature = "defmt", derive(defmt::Format))]
 pub struct PlaneMapping {
     anchor: Point,
     plane: CheckPlane,

@@ -234,6 +234,26 @@ impl Material<'static, PRESET_TERMS> {
     }
 }
 
+/// The colour table of `N` entries interpolated between preset-style keys (U0F16 positions,
+/// RGBA bytes; at most [`MAX_KEYS`]): [`ColorTable::from_keys_spaced`] of the converted keys.
+pub fn key_table<const N: usize>(
+    keys: &[Key],
+    spacing: KeySpacing,
+) -> Result<ColorTable<N>, MaterialError> {
+    let mut k = [(TexValue::ZERO, Rgba8888::BLACK); MAX_KEYS];
+    let Some(slots) = k.get_mut(..keys.len()) else {
+        return Err(MaterialError::TooManyKeys { count: keys.len() });
+    };
+    for (slot, (p, c)) in slots.iter_mut().zip(keys) {
+        // Positions past 1.0 (or past `i32`) stay out of range for the table's check.
+        *slot = (
+            TexValue::from_bits(i32::try_from(*p).unwrap_or(i32::MAX)),
+            Rgba8888::from_array(*c),
+        );
+    }
+    Ok(ColorTable::from_keys_spaced(slots, spacing)?)
+}
+
 const fn spacing_of(squared: bool) -> KeySpacing {
     if squared {
         KeySpacing::Squared
@@ -316,22 +336,9 @@ impl<'k, const T: usize> Material<'k, T> {
         self.plane
     }
 
-    /// The colour table of `N` entries interpolated between the keys.
+    /// The colour table of `N` entries interpolated between the keys ([`key_table`]).
     pub fn table<const N: usize>(&self) -> Result<ColorTable<N>, MaterialError> {
-        let mut k = [(TexValue::ZERO, Rgba8888::BLACK); MAX_KEYS];
-        let Some(slots) = k.get_mut(..self.keys.len()) else {
-            return Err(MaterialError::TooManyKeys {
-                count: self.keys.len(),
-            });
-        };
-        for (slot, (p, c)) in slots.iter_mut().zip(self.keys) {
-            // Positions past 1.0 (or past `i32`) stay out of range for the table's check.
-            *slot = (
-                TexValue::from_bits(i32::try_from(*p).unwrap_or(i32::MAX)),
-                Rgba8888::from_array(*c),
-            );
-        }
-        Ok(ColorTable::from_keys_spaced(slots, self.spacing)?)
+        key_table(self.keys, self.spacing)
     }
 
     /// The colour stage: the table of `N` entries with look-up `lookup` and filter `aa`.

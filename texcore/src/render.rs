@@ -878,30 +878,9 @@ mod tests {
 
     #[cfg(feature = "csat")]
     fn marble_texture() -> Texture<8, 256> {
-        let p = crate::presets::marble(HashKind::default());
-        let keys: Vec<_> = p
-            .keys
-            .iter()
-            .map(|(k, c)| {
-                (
-                    crate::format::TexValue::from_bits(*k as i32),
-                    Rgba8888::from_array(*c),
-                )
-            })
-            .collect();
-        let stage = ColorStage::new(
-            ColorTable::from_keys(&keys).unwrap(),
-            TableWrap::Mod,
-            TableLookup::Nearest,
-            Antialias::Csat,
-        )
-        .unwrap();
-        Texture::new(
-            Shader::Model(p.model),
-            stage,
-            GradientNorm::L2,
-            EvalMode::Auto,
-        )
+        crate::ready::Material::preset(crate::ready::PresetName::Marble)
+            .texture(Antialias::Csat)
+            .unwrap()
     }
 
     fn render_full(
@@ -1192,30 +1171,9 @@ mod tests {
                 let Some(p) = crate::presets::by_name(slot.material, HashKind::default()) else {
                     return zone_texture(Antialias::None);
                 };
-                let keys: Vec<_> = slot
-                    .keys
-                    .unwrap_or(p.keys)
-                    .iter()
-                    .map(|(k, c)| {
-                        (
-                            crate::format::TexValue::from_bits(*k as i32),
-                            Rgba8888::from_array(*c),
-                        )
-                    })
-                    .collect();
-                let stage = ColorStage::new(
-                    ColorTable::from_keys(&keys).unwrap(),
-                    p.model.wrap(),
-                    TableLookup::Nearest,
-                    Antialias::None,
-                )
-                .unwrap();
-                Texture::new(
-                    Shader::Model(p.model),
-                    stage,
-                    GradientNorm::L2,
-                    EvalMode::Auto,
-                )
+                crate::ready::Material::model(p.model, slot.keys.unwrap_or(p.keys))
+                    .texture(Antialias::None)
+                    .unwrap()
             })
             .collect()
     }

@@ -252,20 +252,18 @@ mod tests {
     use std::vec::Vec;
 
     use super::*;
-    use crate::format::{TexPoint, TexValue};
+    use crate::format::TexPoint;
     use crate::hash::HashKind;
-    use crate::table::{ColorTable, TableLookup, TableWrap};
+    use crate::table::{TableLookup, TableWrap};
 
     /// The marble preset's colour table with filter `aa`.
     fn stage(aa: Antialias) -> ColorStage<256> {
-        let p = crate::presets::marble(HashKind::Integer);
-        let keys: Vec<_> = p
-            .keys
-            .iter()
-            .map(|(pos, c)| (TexValue::from_bits(*pos as i32), Rgba8888::from_array(*c)))
-            .collect();
-        let table = ColorTable::<256>::from_keys(&keys).unwrap();
-        ColorStage::new(table, TableWrap::Mod, TableLookup::Nearest, aa).unwrap()
+        crate::ready::Material::preset_with_hash(
+            crate::ready::PresetName::Marble,
+            HashKind::Integer,
+        )
+        .stage(aa, TableLookup::Nearest)
+        .unwrap()
     }
 
     /// Shades `span` through both shapes of the pipeline (`emit` as given and as a trait object,

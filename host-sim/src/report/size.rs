@@ -322,7 +322,11 @@ fn build(
             cmd.env_remove(&k);
         }
     }
-    let what = format!("{bin} ({profile}, features {features:?})");
+    let what = match features {
+        None => format!("{bin} ({profile}, default features)"),
+        Some([]) => format!("{bin} ({profile}, no features)"),
+        Some(f) => format!("{bin} ({profile}, features {})", f.join(",")),
+    };
     crate::device::cargo_artifact(&mut cmd, &opts.cargo, bin).map_err(|message| SizeError::Build {
         target,
         what,
