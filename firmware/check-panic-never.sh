@@ -5,7 +5,7 @@
 # handler calls an undefined symbol (texcore_firmware_panic_is_reachable): the link succeeds only
 # if no panicking path (bounds check, overflow check, unwrap, assert, ...) survives optimisation
 # anywhere in the linked code: the harness, the logger and every job, i.e. the texcore code
-# under test. The default features link the texture-unit suite (firmware/src/suite.rs), so the
+# under test. The default features link the texture-unit suite (workloads/src/suite.rs), so the
 # check covers texcore's pixel path: presets and colour tables, the span evaluator with every
 # noise basis and evaluation mode, the colour stage with csat and MIP, the perturbed materials,
 # the rasterizer and the banded renderer with depth and blending. Then, as a control, builds with `panic-never-canary` (a job with a reachable

@@ -9,8 +9,9 @@
 # reproducible counts), semihosting on a stdio chardev (the defmt stream), no display, no serial.
 #
 # The defmt stream is decoded with `defmt-print -e ELF` when that is on PATH
-# (`cargo install defmt-print`); otherwise the raw stream is saved next to the ELF and the
-# decoded report is available through host_sim::device (see tests/tests/firmware_qemu.rs).
+# (`cargo install defmt-print`), otherwise with texsim's own decoder (`texsim defmt-decode ELF`,
+# built on demand; the raw stream is also saved next to the ELF). TEXFW_RAW=1 only saves the raw
+# stream (decode it later with either tool, or through host_sim::device).
 # Exits with the firmware's exit code (0 pass, 1 check failed, 101 panic), 124 on timeout
 # (TEXFW_TIMEOUT seconds, default 300), 127 if QEMU is missing.
 set -uo pipefail
@@ -49,16 +50,26 @@ cmd=("$qemu" "${board[@]}"
 to=(timeout --foreground "${TEXFW_TIMEOUT:-300}")
 command -v timeout >/dev/null 2>&1 || to=()
 
+root="$(cd "$(dirname "$0")/.." && pwd)"
 if command -v defmt-print >/dev/null 2>&1; then
     "${to[@]}" "${cmd[@]}" </dev/null | defmt-print -e "$elf"
+    status=${PIPESTATUS[0]}
+elif [ -z "${TEXFW_RAW:-}" ] && cargo build -q --manifest-path "$root/Cargo.toml" -p host-sim --bin texsim 2>/dev/null; then
+    # texsim's own decoder (defmt-decoder, the same as host_sim::device); the raw stream is
+    # kept next to the ELF as well.
+    texsim="$(cargo metadata -q --format-version 1 --no-deps --manifest-path "$root/Cargo.toml" |
+        sed -n 's/.*"target_directory":"\([^"]*\)".*/\1/p')/debug/texsim"
+    raw="$elf.defmt"
+    "${to[@]}" "${cmd[@]}" </dev/null | tee "$raw" | "$texsim" defmt-decode "$elf"
     status=${PIPESTATUS[0]}
 else
     raw="$elf.defmt"
     "${to[@]}" "${cmd[@]}" </dev/null >"$raw"
     status=$?
-    echo "qemu-run.sh: defmt-print not on PATH; raw defmt stream ($(wc -c <"$raw") bytes) saved to $raw" >&2
-    echo "qemu-run.sh: decode with 'defmt-print -e $elf < $raw' (cargo install defmt-print)," >&2
-    echo "qemu-run.sh: or run the checks: cargo test -p texcore-tests --test firmware_qemu" >&2
+    echo "qemu-run.sh: raw defmt stream ($(wc -c <"$raw") bytes) saved to $raw" >&2
+    echo "qemu-run.sh: decode with 'cargo run -p host-sim --bin texsim -- defmt-decode $elf < $raw'" >&2
+    echo "qemu-run.sh: (or 'defmt-print -e $elf < $raw'), or run the checks:" >&2
+    echo "qemu-run.sh: cargo test -p texcore-tests --test firmware_qemu" >&2
 fi
 case $status in
 0) echo "qemu-run.sh: firmware PASSED (exit 0)" >&2 ;;

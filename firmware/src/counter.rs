@@ -37,7 +37,7 @@
 //! - **Cortex-M hardware** (feature `dwt`): DWT CYCCNT, in core clock *cycles* (not
 //!   instructions), 32-bit with wrapping subtraction (windows up to 2^32 cycles).
 
-use crate::jobs::{Ctx, JobFn};
+use workloads::job::{Ctx, JobFn};
 
 /// One measured call.
 #[derive(Clone, Copy, PartialEq, Eq)]

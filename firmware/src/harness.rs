@@ -26,9 +26,17 @@
 //! margin.
 
 use crate::counter::{Counter, Sample, NAME, UNIT};
-use crate::jobs::{Ctx, JobFn, JOBS, SCENE_JOBS};
 use crate::stack;
 use defmt::println;
+use workloads::job::{Ctx, JobFn};
+#[cfg(feature = "peers")]
+use crate::peer_jobs::JOBS;
+#[cfg(not(feature = "peers"))]
+use workloads::jobs::{JOBS, SCENE_JOBS};
+
+/// The peer-comparison firmware runs no scene jobs.
+#[cfg(feature = "peers")]
+static SCENE_JOBS: &[workloads::job::Job] = &[];
 
 const TARGET: &str = env!("FIRMWARE_TARGET");
 

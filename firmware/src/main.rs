@@ -8,15 +8,17 @@
 //!   `virt -bios none`, `riscv-rt`, memory map `firmware/memory-riscv.x` (512 KiB + 128 KiB in
 //!   the DRAM window at 0x8000_0000).
 //!
-//! On the host this crate is an empty program (so `cargo test --workspace` builds it).
+//! On the host this crate's program only delegates: `cargo run -p firmware` builds the firmware
+//! for the device (`TEXFW_TARGET`, default `thumbv7em-none-eabihf`) and runs it under QEMU
+//! through the runner below, printing the decoded log lines.
 //!
 //! # Running
 //!
 //! `cargo run --release -p firmware --target thumbv7em-none-eabihf` (or the RISC-V triple): the
 //! runner in `.cargo/config.toml` is `firmware/qemu-run.sh`, which starts QEMU with
 //! `-icount shift=0,align=off,sleep=off`, semihosting on a stdio chardev and no display, decodes
-//! the defmt stream with `defmt-print` when it is installed (otherwise it saves the raw stream
-//! and says how to decode it), and exits with the firmware's exit code. From Rust,
+//! the defmt stream with `defmt-print` when it is installed, otherwise with `texsim defmt-decode`
+//! (host-sim's decoder), and exits with the firmware's exit code. From Rust,
 //! `host_sim::device::run_firmware` builds, runs and decodes into structured results; the test
 //! `tests/tests/firmware_qemu.rs` checks them against the host.
 //!
@@ -44,10 +46,10 @@
 //!
 //! # What runs
 //!
-//! The hash and span benchmarks of [`jobs`], then the texture-unit suite of [`suite`]: preset
+//! The jobs of the `workloads` crate (`workloads::jobs::JOBS`): the hash and span benchmarks, then the texture-unit suite: preset
 //! check planes, single stages of the pixel path, two scenes of its own, and every built-in scene
 //! of `texcore::scene::builtin` at display size (320 x 240, the zone plate 256 x 256) with no frame
-//! buffer: each frame as [`scenes::STRIPS`] jobs, one per horizontal strip, rendered in 8-row
+//! buffer: each frame as `workloads::scenes::STRIPS` jobs, one per horizontal strip, rendered in 8-row
 //! bands into a checksum sink that continues the previous strip's checksum, so that the last
 //! strip reports the checksum of the whole frame (equal to `texsim render <scene> --checksum`).
 //!
@@ -56,7 +58,7 @@
 //! 128 KiB of RAM on both targets: the static data (the scene renderer's RGBA and depth bands,
 //! 15 KiB, and the logger) at the bottom and the stack above it, no heap. Textures are built on
 //! the stack of the job that uses them (about 8 KiB each with csat; a built-in scene has up to
-//! [`scenes::SCENE_SLOTS`]). The harness paints the free stack before the first job and reports
+//! `workloads::scenes::SCENE_SLOTS`). The harness paints the free stack before the first job and reports
 //! its high-water mark ([`stack`]).
 //!
 //! # Features
@@ -72,17 +74,35 @@
 #![cfg_attr(target_os = "none", no_std, no_main)]
 #![deny(unsafe_code)]
 
+/// On the host, `cargo run -p firmware` builds the device firmware and runs it under QEMU with
+/// readable logs: it runs `cargo run --release -p firmware --target $TEXFW_TARGET` (default
+/// `thumbv7em-none-eabihf`; `riscv32imc-unknown-none-elf` for the other target), whose runner
+/// (`firmware/qemu-run.sh`) decodes the defmt stream. Extra arguments are passed to cargo.
 #[cfg(not(target_os = "none"))]
-fn main() {}
+fn main() -> std::process::ExitCode {
+    let cargo = std::env::var_os("CARGO").unwrap_or_else(|| "cargo".into());
+    let target =
+        std::env::var("TEXFW_TARGET").unwrap_or_else(|_| "thumbv7em-none-eabihf".to_string());
+    let root = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("..");
+    eprintln!("firmware: running the device firmware for {target} under QEMU (TEXFW_TARGET selects the target)");
+    let status = std::process::Command::new(cargo)
+        .current_dir(root)
+        .args(["run", "--release", "-p", "firmware", "--target", &target])
+        .args(std::env::args_os().skip(1))
+        .status();
+    match status {
+        Ok(s) => std::process::ExitCode::from(s.code().unwrap_or(1).clamp(0, 255) as u8),
+        Err(e) => {
+            eprintln!("firmware: starting cargo failed: {e}");
+            std::process::ExitCode::from(2)
+        }
+    }
+}
 
-#[cfg(all(target_os = "none", feature = "accuracy"))]
-pub mod accuracy;
 #[cfg(target_os = "none")]
 pub mod counter;
 #[cfg(target_os = "none")]
 pub mod harness;
-#[cfg(target_os = "none")]
-pub mod jobs;
 #[cfg(all(target_os = "none", not(feature = "rtt")))]
 mod logger;
 #[cfg(all(target_os = "none", feature = "peers"))]
@@ -90,15 +110,7 @@ pub mod peer_jobs;
 #[cfg(all(target_os = "none", feature = "peers"))]
 pub mod peers;
 #[cfg(target_os = "none")]
-pub mod planes;
-#[cfg(target_os = "none")]
-pub mod scenes;
-#[cfg(target_os = "none")]
 pub mod stack;
-#[cfg(target_os = "none")]
-pub mod stages;
-#[cfg(target_os = "none")]
-pub mod suite;
 
 #[cfg(all(target_os = "none", feature = "rtt"))]
 use defmt_rtt as _;

@@ -2,7 +2,7 @@
 //! [`crate::peers::rows`] as `peers:<workload>:<implementation>` with its `/setup` job, then
 //! `peers:fold` (see [`crate::peers`]).
 
-use crate::jobs::{Ctx, Job, HASH};
+use workloads::job::{Ctx, Job, HASH};
 use crate::peers::{fold_only, run, Implementation};
 use texcore::texture::workload::peers::{self as wl, Workload};
 

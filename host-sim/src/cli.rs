@@ -42,6 +42,9 @@ pub enum Command {
     /// accuracy knob costs (`accuracy`).
     #[command(subcommand)]
     Report(crate::report::cli::ReportCommand),
+    /// Decode a firmware's defmt stream from standard input into text lines (the device
+    /// runner's decoder when `defmt-print` is not installed).
+    DefmtDecode(crate::defmt_log::DefmtDecodeArgs),
 }
 
 /// What the pixels show (`--show`).
@@ -281,8 +284,8 @@ pub fn run(cli: Cli) -> ExitCode {
                     let _ = writeln!(
                         out,
                         "{name}\t{w}x{h}\t{} frame{}\t{} object{}",
-                        s.frames,
-                        if s.frames == 1 { "" } else { "s" },
+                        s.frames(),
+                        if s.frames() == 1 { "" } else { "s" },
                         s.objects.len(),
                         if s.objects.len() == 1 { "" } else { "s" }
                     );
@@ -292,6 +295,7 @@ pub fn run(cli: Cli) -> ExitCode {
         }
         Command::Check(a) => check(&a),
         Command::Report(r) => crate::report::cli::run(&r),
+        Command::DefmtDecode(a) => crate::defmt_log::run(&a),
         Command::Presets => {
             let mut out = std::io::stdout().lock();
             for name in texcore::presets::NAMES {
@@ -351,8 +355,8 @@ fn render(a: &RenderArgs) -> ExitCode {
         }
     }
     let (first, count) = match a.frames {
-        Some(n) => (0, if n == 0 { scene.frames.max(1) } else { n }),
-        None => (a.frame.unwrap_or(scene.still), 1),
+        Some(n) => (0, if n == 0 { scene.frames().max(1) } else { n }),
+        None => (a.frame.unwrap_or(scene.still()), 1),
     };
     let format = match a.output.as_deref().map(crate::output::Format::of) {
         Some(Err(e)) => return bad_input(e),
@@ -516,7 +520,7 @@ fn gallery(a: &GalleryArgs) -> ExitCode {
         };
         let r = match scenes::render_frame(
             &scene,
-            scene.still,
+            scene.still(),
             &cfg,
             hash,
             texcore::render::Output::Color,
@@ -531,7 +535,7 @@ fn gallery(a: &GalleryArgs) -> ExitCode {
             // Figure 9(c): the filter widths of the torus.
             let w = match scenes::render_frame(
                 &scene,
-                scene.still,
+                scene.still(),
                 &cfg,
                 hash,
                 texcore::render::Output::FilterWidth,
@@ -576,7 +580,7 @@ fn check(a: &CheckArgs) -> ExitCode {
                     ))
                 }
             };
-            let frame = a.frame.unwrap_or(scene.scene.still);
+            let frame = a.frame.unwrap_or(scene.scene.still());
             match scenes::check_host_scene(&scene, frame, &cfg, a.knobs.hash()) {
                 Ok(metrics) => {
                     let (w, h) = scene.scene.size();

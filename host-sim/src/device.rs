@@ -289,7 +289,8 @@ impl fmt::Display for DeviceError {
             DeviceError::Io { context, source } => write!(f, "{context}: {source}"),
             DeviceError::Timeout { target, after, log } => write!(
                 f,
-                "firmware on {target} did not finish within {after:?}; log so far:\n{}",
+                "firmware on {target} did not finish within {} s; log so far:\n{}",
+                after.as_secs(),
                 log.join("\n")
             ),
             DeviceError::Decode(m) => write!(f, "decoding the defmt stream failed: {m}"),
@@ -300,8 +301,12 @@ impl fmt::Display for DeviceError {
                 stderr,
             } => write!(
                 f,
-                "firmware run on {target} failed (exit {exit_code:?}) without a complete \
-                 report\nlog:\n{}\nqemu stderr:\n{stderr}",
+                "firmware run on {target} failed ({}) without a complete report\nlog:\n{}\n\
+                 qemu stderr:\n{stderr}",
+                match exit_code {
+                    Some(c) => format!("exit {c}"),
+                    None => "killed by a signal".to_string(),
+                },
                 log.join("\n")
             ),
             DeviceError::Failed(run) => write!(

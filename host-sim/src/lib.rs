@@ -4,6 +4,7 @@
 pub mod accuracy;
 pub mod bridge;
 pub mod cli;
+pub mod defmt_log;
 pub mod device;
 pub mod flags;
 pub mod interrupt;

@@ -90,7 +90,7 @@ fn render_n<const N: usize>(
             renderer.render_banded(scene, &mut band, &mut depth, h, &mut sink)
         }
     }
-    .map_err(|e| UnitError::Render(format!("{e:?}")))?;
+    .map_err(|e| UnitError::Render(e.to_string()))?;
     Ok(Rendered {
         frame: Frame {
             width: u32::from(w),
@@ -158,7 +158,7 @@ impl HostScene {
     ) -> Result<(Scene, Vec<MaterialSpec>), UnitError> {
         match &self.hook {
             Some(h) => {
-                let (mut s, m) = h.frame(frame % self.scene.frames.max(1), hash)?;
+                let (mut s, m) = h.frame(frame % self.scene.frames().max(1), hash)?;
                 // The image size of `self.scene` is authoritative (it may have been changed,
                 // e.g. to render a scene file small).
                 s.camera.width = self.scene.camera.width;

@@ -3,13 +3,13 @@
 //! texcore and with the f64 reference.
 
 use serde::Serialize;
-use texcore::color::Rgba8888;
-use texcore::filter::{Antialias, ColorStage, GradientNorm};
+use texcore::filter::{Antialias, GradientNorm};
 use texcore::format::TexPoint;
 use texcore::hash::HashKind;
 use texcore::material::PerturbedParams;
 use texcore::model::{Precision, TextureModel};
 use texcore::presets::{self, CheckPlane, Key, PRESET_TERMS};
+use texcore::ready::{Material, MaterialError, TextureOptions};
 use texcore::span::{EvalMode, Span};
 use texcore::table::{ColorTable, KeySpacing, TableError, TableLookup, TableWrap};
 use texcore::texture::{ShadeStats, Shader, Texture};
@@ -110,6 +110,9 @@ pub enum UnitError {
     /// Colour table problem.
     #[error("colour table: {0}")]
     Table(TableError),
+    /// The material could not become a texture (its colour table, filter or shader).
+    #[error("{0}")]
+    Material(MaterialError),
     /// Model problem.
     #[error("texture model: {0}")]
     Model(texcore::model::ModelError),
@@ -145,24 +148,18 @@ pub fn preset_material(name: &str, hash: HashKind) -> Result<MaterialSpec, UnitE
     })
 }
 
-/// The colour table of a material at size `N`.
-pub fn table<const N: usize>(m: &MaterialSpec) -> Result<ColorTable<N>, UnitError> {
-    let keys: Vec<(texcore::format::TexValue, Rgba8888)> = m
-        .keys
-        .iter()
-        .map(|(p, c)| {
-            (
-                texcore::format::TexValue::from_bits(*p as i32),
-                Rgba8888::from_array(*c),
-            )
-        })
-        .collect();
-    let spacing = if m.squared_keys {
+/// The key spacing of a material.
+fn spacing(m: &MaterialSpec) -> KeySpacing {
+    if m.squared_keys {
         KeySpacing::Squared
     } else {
         KeySpacing::Linear
-    };
-    ColorTable::from_keys_spaced(&keys, spacing).map_err(UnitError::Table)
+    }
+}
+
+/// The colour table of a material at size `N`.
+pub fn table<const N: usize>(m: &MaterialSpec) -> Result<ColorTable<N>, UnitError> {
+    texcore::ready::key_table(&m.keys, spacing(m)).map_err(UnitError::Material)
 }
 
 /// A texcore texture for a material and configuration.
@@ -170,8 +167,6 @@ pub fn texture<const N: usize>(
     m: &MaterialSpec,
     cfg: &UnitConfig,
 ) -> Result<Texture<PRESET_TERMS, N>, UnitError> {
-    let stage =
-        ColorStage::new(table::<N>(m)?, m.wrap, cfg.lookup, cfg.aa).map_err(UnitError::Table)?;
     let shader = match &m.shader {
         ShaderSpec::Model(model) => {
             let mut model = (**model).clone();
@@ -186,7 +181,16 @@ pub fn texture<const N: usize>(
                 .with_precision(cfg.precision),
         ),
     };
-    Ok(Texture::new(shader, stage, cfg.norm, cfg.mode).with_culling(cfg.cull))
+    let opts = TextureOptions {
+        lookup: cfg.lookup,
+        norm: cfg.norm,
+        mode: cfg.mode,
+        cull: cfg.cull,
+    };
+    Material::new(shader, m.wrap, &m.keys)
+        .with_spacing(spacing(m))
+        .texture_with(cfg.aa, opts)
+        .map_err(UnitError::Material)
 }
 
 /// An RGBA8 image.

@@ -1,9 +1,9 @@
 //! Runs the device firmware under QEMU on both targets (through `host_sim::device`) and checks:
 //! - every job's checksum equals the same computation done here on the host with the same
-//!   texcore functions (the firmware's `jobs` module documents each job's definition);
+//!   texcore functions (the `workloads` crate documents each job's definition);
 //! - the firmware's own checks passed (counter self-test, two runs per job in one boot agree);
 //! - instruction counts are exactly repeatable across two separate QEMU runs;
-//! - the texture-unit suite (`firmware/src/suite.rs`: preset check planes with csat, per-stage
+//! - the texture-unit suite (`workloads/src/suite.rs`: preset check planes with csat, per-stage
 //!   jobs, banded scenes, each with its set-up job) gives the host's checksums with the lattice
 //!   hash of the target (permutation table on the Cortex-M4F, integer hash on rv32imc), the
 //!   planes recomputed through `host_sim::unit` (the host's own pixel path);

@@ -83,7 +83,7 @@ fn render(c: &Case) -> Frame {
         aa: c.aa,
         ..UnitConfig::default()
     };
-    scenes::render_frame(&scene, scene.still, &cfg, HashKind::Permutation, c.output)
+    scenes::render_frame(&scene, scene.still(), &cfg, HashKind::Permutation, c.output)
         .unwrap()
         .frame
 }

@@ -336,7 +336,7 @@ fn builtin_scenes_within_one_step() {
         let scene = texcore::scene::by_name(name).unwrap();
         let m = host_sim::scenes::check_scene(
             &scene,
-            scene.still,
+            scene.still(),
             &UnitConfig::default(),
             HashKind::Permutation,
         )

@@ -92,9 +92,9 @@ fn every_example_loads_renders_and_is_documented() {
         let s = scenefile::load(path).unwrap_or_else(|e| panic!("{e}"));
         let (w, h) = s.scene.size();
         let bg = s.scene.background;
-        let mut frames = vec![s.scene.still];
-        if s.scene.frames > 1 {
-            frames.extend([0, s.scene.frames / 2, s.scene.frames - 1]);
+        let mut frames = vec![s.scene.still()];
+        if s.scene.frames() > 1 {
+            frames.extend([0, s.scene.frames() / 2, s.scene.frames() - 1]);
         }
         for f in frames {
             let px = render(&s, f);
@@ -113,7 +113,7 @@ fn every_example_loads_renders_and_is_documented() {
 fn example_files_reproduce_builtin_scenes_exactly() {
     let fire_file = scenefile::load(&root().join("examples/scenes/fire.toml")).unwrap();
     let fire = HostScene::builtin(texcore::scene::by_name("fire").unwrap());
-    assert_eq!(fire_file.scene.frames, 64);
+    assert_eq!(fire_file.scene.frames(), 64);
     for f in (0..64).step_by(9).chain([63]) {
         assert!(render(&fire_file, f) == render(&fire, f), "fire frame {f}");
     }
@@ -346,7 +346,7 @@ from = 20
 to = 60
 "#;
     let s = parse(src).unwrap();
-    assert_eq!(s.scene.frames, 11);
+    assert_eq!(s.scene.frames(), 11);
     for f in 0..11u32 {
         let (scene, mats) = s.frame(f, HashKind::Permutation).unwrap();
         // Eye: x = f exactly.
@@ -449,7 +449,7 @@ cull = "cw"
     assert_eq!(sc.name, "scene");
     assert_eq!(sc.size(), (320, 240));
     assert_eq!(sc.background, [0, 0, 0, 255]);
-    assert_eq!((sc.frames, sc.still), (1, 0));
+    assert_eq!((sc.frames(), sc.still()), (1, 0));
     use texcore::raster::{CullMode, Perspective};
     use texcore::scene::{Blend, Mesh};
     let a = &sc.objects[0];
@@ -860,7 +860,7 @@ fn extreme_values_never_panic() {
                     let s = shrink(&s, 24, 16);
                     let _ = scenes::render_host_frame(
                         &s,
-                        s.scene.frames - 1,
+                        s.scene.frames() - 1,
                         &UnitConfig::default(),
                         HashKind::Integer,
                         Output::Color,

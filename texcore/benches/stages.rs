@@ -16,39 +16,25 @@ use std::hint::black_box;
 
 use criterion::{criterion_group, Criterion, Throughput};
 use texcore::color::Rgba8888;
-use texcore::filter::{Antialias, ColorStage, GradientNorm};
-use texcore::format::TexValue;
+use texcore::filter::Antialias;
 use texcore::hash::HashKind;
 use texcore::render::Renderer;
 use texcore::sink::ChecksumSink;
-use texcore::span::EvalMode;
-use texcore::table::{ColorTable, TableLookup};
-use texcore::texture::{Shader, Texture};
+use texcore::texture::Texture;
 
 /// A preset as a texture with no antialiasing.
 fn texture(name: &str) -> Texture<8, 256> {
     let p = texcore::presets::by_name(name, HashKind::Permutation).expect("preset");
-    let keys: Vec<(TexValue, Rgba8888)> = p
-        .keys
-        .iter()
-        .map(|(k, c)| (TexValue::from_bits(*k as i32), Rgba8888::from_array(*c)))
-        .collect();
-    let table = ColorTable::from_keys(&keys).expect("table");
-    let stage = ColorStage::new(table, p.model.wrap(), TableLookup::Nearest, Antialias::None)
-        .expect("stage");
-    Texture::new(
-        Shader::Model(p.model),
-        stage,
-        GradientNorm::L2,
-        EvalMode::Auto,
-    )
+    texcore::ready::Material::model(p.model, p.keys)
+        .texture(Antialias::None)
+        .expect("texture")
 }
 
 /// Renders a built-in scene (still frame) with every slot's preset unfiltered; returns the
 /// checksum and the pixel count.
 fn render_scene(name: &str) -> (u32, u64) {
     let scene = texcore::scene::by_name(name).expect("scene");
-    let s = scene.at_frame(scene.still);
+    let s = scene.at_frame(scene.still());
     let textures: Vec<Texture<8, 256>> = s.slots.iter().map(|t| texture(t.material)).collect();
     let r = Renderer::new(&textures);
     let mut sink = ChecksumSink::new();

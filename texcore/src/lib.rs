@@ -35,23 +35,30 @@
 //! `docs/performance.md`. The build script sets `cfg(texcore_lean)` from cargo's `OPT_LEVEL`;
 //! passing `--cfg texcore_lean` in `RUSTFLAGS` selects it at any level.
 #![cfg_attr(not(test), no_std)]
+#![cfg_attr(docsrs, feature(doc_cfg))]
 #![deny(missing_docs, unsafe_code)]
 
 pub mod color;
+#[cfg(feature = "embedded-graphics")]
+#[cfg_attr(docsrs, doc(cfg(feature = "embedded-graphics")))]
+pub mod draw;
 pub mod filter;
 pub mod format;
 pub mod hash;
 #[cfg(feature = "lighting")]
 pub mod light;
 #[cfg(feature = "perturb")]
+#[cfg_attr(docsrs, doc(cfg(feature = "perturb")))]
 pub mod material;
 pub mod model;
 #[cfg(feature = "multipass")]
 pub mod multipass;
 pub mod noise;
+pub mod prelude;
 pub mod presets;
 pub mod quadric;
 pub mod raster;
+pub mod ready;
 pub mod render;
 pub mod scene;
 pub mod sink;
@@ -62,3 +69,8 @@ pub mod transform;
 mod wide;
 
 pub use format::*;
+
+// The crate README's and the project README's Rust examples compile and run as doc tests.
+#[cfg(doctest)]
+#[doc = include_str!("../README.md")]
+struct CrateReadme;

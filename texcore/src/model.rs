@@ -89,6 +89,8 @@ impl core::fmt::Display for ModelError {
     }
 }
 
+impl core::error::Error for ModelError {}
+
 /// A sum of octaves `sum_i a g^i n(R^i 2^i B s)` (fBm; turbulence with `turbulence`).
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub struct Octaves {

@@ -277,6 +277,28 @@ pub enum RenderError {
     BufferTooSmall,
 }
 
+impl core::fmt::Display for RenderError {
+    fn fmt(&self, f: &mut core::fmt::Formatter<'_>) -> core::fmt::Result {
+        match *self {
+            RenderError::NoSuchTexture { object, slot } => write!(
+                f,
+                "object {object} uses texture slot {slot}, which does not exist"
+            ),
+            RenderError::TooManyTextures => {
+                write!(f, "more than {MAX_TEXTURES} texture slots")
+            }
+            RenderError::NeedsBands => {
+                f.write_str("the scene needs a depth buffer or blending: render it in bands")
+            }
+            RenderError::BufferTooSmall => {
+                f.write_str("the band or depth buffer is too small for one row of the image")
+            }
+        }
+    }
+}
+
+impl core::error::Error for RenderError {}
+
 /// A [`crate::scene::Scene`] as drawn (the scene as it is: apply [`crate::scene::Scene::at_frame`]
 /// first for an animation frame). Objects use the depth buffer when they test or write depth.
 impl TriangleSource for crate::scene::Scene {
@@ -856,30 +878,9 @@ mod tests {
 
     #[cfg(feature = "csat")]
     fn marble_texture() -> Texture<8, 256> {
-        let p = crate::presets::marble(HashKind::default());
-        let keys: Vec<_> = p
-            .keys
-            .iter()
-            .map(|(k, c)| {
-                (
-                    crate::format::TexValue::from_bits(*k as i32),
-                    Rgba8888::from_array(*c),
-                )
-            })
-            .collect();
-        let stage = ColorStage::new(
-            ColorTable::from_keys(&keys).unwrap(),
-            TableWrap::Mod,
-            TableLookup::Nearest,
-            Antialias::Csat,
-        )
-        .unwrap();
-        Texture::new(
-            Shader::Model(p.model),
-            stage,
-            GradientNorm::L2,
-            EvalMode::Auto,
-        )
+        crate::ready::Material::preset(crate::ready::PresetName::Marble)
+            .texture(Antialias::Csat)
+            .unwrap()
     }
 
     fn render_full(
@@ -1154,7 +1155,7 @@ mod tests {
     /// Built-in scene `name` at its still frame, and its textures ([`scene_textures`]).
     fn still_scene(name: &str) -> (crate::scene::Scene, Vec<Texture<8, 256>>) {
         let s = crate::scene::by_name(name).unwrap();
-        let s = s.at_frame(s.still);
+        let s = s.at_frame(s.still());
         let tex = scene_textures(&s);
         (s, tex)
     }
@@ -1170,30 +1171,9 @@ mod tests {
                 let Some(p) = crate::presets::by_name(slot.material, HashKind::default()) else {
                     return zone_texture(Antialias::None);
                 };
-                let keys: Vec<_> = slot
-                    .keys
-                    .unwrap_or(p.keys)
-                    .iter()
-                    .map(|(k, c)| {
-                        (
-                            crate::format::TexValue::from_bits(*k as i32),
-                            Rgba8888::from_array(*c),
-                        )
-                    })
-                    .collect();
-                let stage = ColorStage::new(
-                    ColorTable::from_keys(&keys).unwrap(),
-                    p.model.wrap(),
-                    TableLookup::Nearest,
-                    Antialias::None,
-                )
-                .unwrap();
-                Texture::new(
-                    Shader::Model(p.model),
-                    stage,
-                    GradientNorm::L2,
-                    EvalMode::Auto,
-                )
+                crate::ready::Material::model(p.model, slot.keys.unwrap_or(p.keys))
+                    .texture(Antialias::None)
+                    .unwrap()
             })
             .collect()
     }

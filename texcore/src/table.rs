@@ -110,6 +110,8 @@ impl core::fmt::Display for TableError {
     }
 }
 
+impl core::error::Error for TableError {}
+
 /// Checks a table size: `Ok(log2 n)` if `n` is a power of two in `2..=1024`.
 pub const fn check_size(n: usize) -> Result<u32, TableError> {
     if n >= MIN_ENTRIES && n <= MAX_ENTRIES && n.is_power_of_two() {

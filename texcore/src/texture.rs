@@ -252,20 +252,18 @@ mod tests {
     use std::vec::Vec;
 
     use super::*;
-    use crate::format::{TexPoint, TexValue};
+    use crate::format::TexPoint;
     use crate::hash::HashKind;
-    use crate::table::{ColorTable, TableLookup, TableWrap};
+    use crate::table::{TableLookup, TableWrap};
 
     /// The marble preset's colour table with filter `aa`.
     fn stage(aa: Antialias) -> ColorStage<256> {
-        let p = crate::presets::marble(HashKind::Integer);
-        let keys: Vec<_> = p
-            .keys
-            .iter()
-            .map(|(pos, c)| (TexValue::from_bits(*pos as i32), Rgba8888::from_array(*c)))
-            .collect();
-        let table = ColorTable::<256>::from_keys(&keys).unwrap();
-        ColorStage::new(table, TableWrap::Mod, TableLookup::Nearest, aa).unwrap()
+        crate::ready::Material::preset_with_hash(
+            crate::ready::PresetName::Marble,
+            HashKind::Integer,
+        )
+        .stage(aa, TableLookup::Nearest)
+        .unwrap()
     }
 
     /// Shades `span` through both shapes of the pipeline (`emit` as given and as a trait object,
@@ -320,7 +318,7 @@ mod tests {
 }
 
 /// Reference workloads shared by the criterion benchmarks (`texcore/benches`), the device jobs
-/// (`firmware/src/jobs.rs`) and their host check (`tests/tests/firmware_qemu.rs`), so that all
+/// (`workloads/src/bench.rs`) and their host check (`tests/tests/firmware_qemu.rs`), so that all
 /// three measure exactly the same thing (`docs/performance.md`).
 ///
 /// - Value-noise planes: `f = r + sum_{i < octaves} 2^-i n(2^i s)` (trilinear value noise,

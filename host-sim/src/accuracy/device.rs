@@ -84,12 +84,13 @@ pub fn measure(rows: &[&Row], policy: DevicePolicy) -> Result<DeviceResults, Str
             };
             let run = device::run_firmware(target, &opts).map_err(|e| match e {
                 DeviceError::QemuMissing { .. } => e.to_string(),
-                other => format!("{} part {:?}: {other}", target, part),
+                other => format!("{target} part `{}`: {other}", part.feature()),
             })?;
             for row in rows.iter().filter(|r| Part::of(&r.cfg) == *part) {
                 let (Some(s), Some(r)) = (run.job(row.setup), run.job(row.id)) else {
                     return Err(format!(
-                        "{target}: the firmware part {part:?} did not report job {}",
+                        "{target}: the firmware part `{}` did not report job {}",
+                        part.feature(),
                         row.id
                     ));
                 };

@@ -1,72 +1,75 @@
-//! A 5x7 pixel font for the report's images (no system fonts needed): digits, capital letters
-//! (lower case is drawn as capitals) and a few symbols.
+//! Text in the report's images, drawn with embedded-graphics' mono fonts (`FONT_6X10` at scale 1,
+//! `FONT_10X20` at scale 2 and above) into an RGB buffer (no system fonts needed).
+//!
+//! Guarantees: drawing is clipped to the buffer (text partly or wholly outside it draws what is
+//! inside, never panics); [`text_width`] and [`text_height`] are the exact extent the font gives.
 
-/// Glyph rows (7 rows of 5 bits, bit 4 leftmost) of a character; unknown characters are blank.
-fn glyph(c: char) -> [u8; 7] {
-    match c.to_ascii_uppercase() {
-        '0' => [0x0E, 0x11, 0x13, 0x15, 0x19, 0x11, 0x0E],
-        '1' => [0x04, 0x0C, 0x04, 0x04, 0x04, 0x04, 0x0E],
-        '2' => [0x0E, 0x11, 0x01, 0x02, 0x04, 0x08, 0x1F],
-        '3' => [0x1F, 0x02, 0x04, 0x02, 0x01, 0x11, 0x0E],
-        '4' => [0x02, 0x06, 0x0A, 0x12, 0x1F, 0x02, 0x02],
-        '5' => [0x1F, 0x10, 0x1E, 0x01, 0x01, 0x11, 0x0E],
-        '6' => [0x06, 0x08, 0x10, 0x1E, 0x11, 0x11, 0x0E],
-        '7' => [0x1F, 0x01, 0x02, 0x04, 0x08, 0x08, 0x08],
-        '8' => [0x0E, 0x11, 0x11, 0x0E, 0x11, 0x11, 0x0E],
-        '9' => [0x0E, 0x11, 0x11, 0x0F, 0x01, 0x02, 0x0C],
-        'A' => [0x0E, 0x11, 0x11, 0x1F, 0x11, 0x11, 0x11],
-        'B' => [0x1E, 0x11, 0x11, 0x1E, 0x11, 0x11, 0x1E],
-        'C' => [0x0E, 0x11, 0x10, 0x10, 0x10, 0x11, 0x0E],
-        'D' => [0x1C, 0x12, 0x11, 0x11, 0x11, 0x12, 0x1C],
-        'E' => [0x1F, 0x10, 0x10, 0x1E, 0x10, 0x10, 0x1F],
-        'F' => [0x1F, 0x10, 0x10, 0x1E, 0x10, 0x10, 0x10],
-        'G' => [0x0E, 0x11, 0x10, 0x17, 0x11, 0x11, 0x0F],
-        'H' => [0x11, 0x11, 0x11, 0x1F, 0x11, 0x11, 0x11],
-        'I' => [0x0E, 0x04, 0x04, 0x04, 0x04, 0x04, 0x0E],
-        'J' => [0x07, 0x02, 0x02, 0x02, 0x02, 0x12, 0x0C],
-        'K' => [0x11, 0x12, 0x14, 0x18, 0x14, 0x12, 0x11],
-        'L' => [0x10, 0x10, 0x10, 0x10, 0x10, 0x10, 0x1F],
-        'M' => [0x11, 0x1B, 0x15, 0x15, 0x11, 0x11, 0x11],
-        'N' => [0x11, 0x11, 0x19, 0x15, 0x13, 0x11, 0x11],
-        'O' => [0x0E, 0x11, 0x11, 0x11, 0x11, 0x11, 0x0E],
-        'P' => [0x1E, 0x11, 0x11, 0x1E, 0x10, 0x10, 0x10],
-        'Q' => [0x0E, 0x11, 0x11, 0x11, 0x15, 0x12, 0x0D],
-        'R' => [0x1E, 0x11, 0x11, 0x1E, 0x14, 0x12, 0x11],
-        'S' => [0x0F, 0x10, 0x10, 0x0E, 0x01, 0x01, 0x1E],
-        'T' => [0x1F, 0x04, 0x04, 0x04, 0x04, 0x04, 0x04],
-        'U' => [0x11, 0x11, 0x11, 0x11, 0x11, 0x11, 0x0E],
-        'V' => [0x11, 0x11, 0x11, 0x11, 0x11, 0x0A, 0x04],
-        'W' => [0x11, 0x11, 0x11, 0x15, 0x15, 0x15, 0x0A],
-        'X' => [0x11, 0x11, 0x0A, 0x04, 0x0A, 0x11, 0x11],
-        'Y' => [0x11, 0x11, 0x11, 0x0A, 0x04, 0x04, 0x04],
-        'Z' => [0x1F, 0x01, 0x02, 0x04, 0x08, 0x10, 0x1F],
-        '=' => [0x00, 0x00, 0x1F, 0x00, 0x1F, 0x00, 0x00],
-        '-' => [0x00, 0x00, 0x00, 0x1F, 0x00, 0x00, 0x00],
-        '+' => [0x00, 0x04, 0x04, 0x1F, 0x04, 0x04, 0x00],
-        '.' => [0x00, 0x00, 0x00, 0x00, 0x00, 0x0C, 0x0C],
-        ',' => [0x00, 0x00, 0x00, 0x00, 0x0C, 0x04, 0x08],
-        ':' => [0x00, 0x0C, 0x0C, 0x00, 0x0C, 0x0C, 0x00],
-        '/' => [0x00, 0x01, 0x02, 0x04, 0x08, 0x10, 0x00],
-        '(' => [0x02, 0x04, 0x08, 0x08, 0x08, 0x04, 0x02],
-        ')' => [0x08, 0x04, 0x02, 0x02, 0x02, 0x04, 0x08],
-        '%' => [0x18, 0x19, 0x02, 0x04, 0x08, 0x13, 0x03],
-        '_' => [0x00, 0x00, 0x00, 0x00, 0x00, 0x00, 0x1F],
-        _ => [0; 7],
+use std::convert::Infallible;
+
+use embedded_graphics::mono_font::ascii::{FONT_10X20, FONT_6X10};
+use embedded_graphics::mono_font::{MonoFont, MonoTextStyle};
+use embedded_graphics::pixelcolor::Rgb888;
+use embedded_graphics::prelude::*;
+use embedded_graphics::text::{Baseline, Text};
+
+/// The font of a scale: 6 x 10 at 1, 10 x 20 from 2.
+fn font(scale: u32) -> &'static MonoFont<'static> {
+    if scale >= 2 {
+        &FONT_10X20
+    } else {
+        &FONT_6X10
     }
 }
 
-/// Width of `text` in pixels at `scale` (6 columns a character, the last without its gap).
+/// Width of `text` in pixels at `scale` (the character cells, without the spacing after the last).
 pub fn text_width(text: &str, scale: u32) -> u32 {
-    (text.chars().count() as u32 * 6).saturating_sub(1) * scale
+    let f = font(scale);
+    let n = text.chars().count() as u32;
+    (n * (f.character_size.width + f.character_spacing)).saturating_sub(f.character_spacing)
 }
 
 /// Height of a line of text at `scale`.
 pub fn text_height(scale: u32) -> u32 {
-    7 * scale
+    font(scale).character_size.height
+}
+
+/// An RGB buffer (3 bytes a pixel, rows of `width` pixels) as an embedded-graphics `DrawTarget`;
+/// pixels outside it are dropped.
+struct RgbBuffer<'a> {
+    buf: &'a mut [u8],
+    width: u32,
+    height: u32,
+}
+
+impl OriginDimensions for RgbBuffer<'_> {
+    fn size(&self) -> Size {
+        Size::new(self.width, self.height)
+    }
+}
+
+impl DrawTarget for RgbBuffer<'_> {
+    type Color = Rgb888;
+    type Error = Infallible;
+
+    fn draw_iter<I>(&mut self, pixels: I) -> Result<(), Self::Error>
+    where
+        I: IntoIterator<Item = Pixel<Self::Color>>,
+    {
+        for Pixel(p, c) in pixels {
+            if p.x < 0 || p.y < 0 || p.x >= self.width as i32 || p.y >= self.height as i32 {
+                continue;
+            }
+            let i = (p.y as usize * self.width as usize + p.x as usize) * 3;
+            if let Some(px) = self.buf.get_mut(i..i + 3) {
+                px.copy_from_slice(&[c.r(), c.g(), c.b()]);
+            }
+        }
+        Ok(())
+    }
 }
 
 /// Draws `text` with its top-left corner at `(x, y)` into an RGB buffer `width` pixels wide
-/// (clipped), each font pixel a `scale x scale` block.
+/// (clipped), in the font of `scale`.
 #[allow(clippy::too_many_arguments)]
 pub fn draw_text(
     buf: &mut [u8],
@@ -78,29 +81,9 @@ pub fn draw_text(
     scale: u32,
     rgb: [u8; 3],
 ) {
-    let s = scale.max(1) as i32;
-    for (k, c) in text.chars().enumerate() {
-        let g = glyph(c);
-        let cx = x + k as i32 * 6 * s;
-        for (row, bits) in g.iter().enumerate() {
-            for col in 0..5 {
-                if bits & (0x10 >> col) == 0 {
-                    continue;
-                }
-                for dy in 0..s {
-                    for dx in 0..s {
-                        let px = cx + col * s + dx;
-                        let py = y + row as i32 * s + dy;
-                        if px < 0 || py < 0 || px >= width as i32 || py >= height as i32 {
-                            continue;
-                        }
-                        let i = (py as usize * width as usize + px as usize) * 3;
-                        buf[i..i + 3].copy_from_slice(&rgb);
-                    }
-                }
-            }
-        }
-    }
+    let mut target = RgbBuffer { buf, width, height };
+    let style = MonoTextStyle::new(font(scale), Rgb888::new(rgb[0], rgb[1], rgb[2]));
+    let Ok(_) = Text::with_baseline(text, Point::new(x, y), style, Baseline::Top).draw(&mut target);
 }
 
 #[cfg(test)]
@@ -109,15 +92,23 @@ mod tests {
 
     #[test]
     fn draws_and_clips() {
-        let (w, h) = (40u32, 10u32);
+        let (w, h) = (40u32, 12u32);
         let mut buf = vec![0u8; (w * h * 3) as usize];
         draw_text(&mut buf, w, h, 1, 1, "F=4", 1, [255, 255, 255]);
         let lit = buf.chunks(3).filter(|p| p[0] == 255).count();
         assert!(lit > 20, "{lit}");
+        // Nothing is drawn outside the text's cells.
+        let right = 1 + text_width("F=4", 1);
+        for y in 0..h {
+            for x in right..w {
+                assert_eq!(buf[((y * w + x) * 3) as usize], 0, "({x}, {y})");
+            }
+        }
         // Off-image text is clipped, never panics.
         draw_text(&mut buf, w, h, -100, -100, "ABC", 3, [1, 2, 3]);
         draw_text(&mut buf, w, h, 35, 8, "XYZ", 2, [1, 2, 3]);
-        assert_eq!(text_width("AB", 1), 11);
-        assert_eq!(text_height(2), 14);
+        assert_eq!(text_width("AB", 1), 12);
+        assert_eq!(text_height(1), 10);
+        assert_eq!(text_height(2), 20);
     }
 }

@@ -34,11 +34,8 @@ pub mod measure;
 pub mod output;
 pub mod plot;
 
-/// The report's configurations and device jobs, shared verbatim with the firmware.
-// Its firmware-feature `cfg`s are unknown to this crate (on the host every item is compiled).
-#[path = "../../../firmware/src/accuracy.rs"]
-#[allow(missing_docs, unexpected_cfgs)]
-pub mod device_jobs;
+/// The report's configurations and device jobs, shared with the firmware (`workloads::accuracy`).
+pub use workloads::accuracy as device_jobs;
 
 use std::collections::BTreeMap;
 use std::path::PathBuf;
@@ -299,7 +296,7 @@ pub fn run(quick: bool, policy: DevicePolicy, log: &mut dyn FnMut(&str)) -> Resu
     let (pw, ph) = settings.precision_scene;
     let marble_scene = texcore::scene::by_name("marble").ok_or("no marble scene")?;
     let marble_scene = measure::resized(&marble_scene, pw, ph);
-    let marble_still = marble_scene.still;
+    let marble_still = marble_scene.still();
     let marble_ref =
         measure::scene_reference(&marble_scene, marble_still, &BASELINE).map_err(err)?;
 

@@ -613,7 +613,7 @@ pub fn markdown(report: &Report) -> String {
         s,
         "- Every knob is varied alone from the baseline; the combinations at the end are \
          Pareto-front candidates. The configurations are defined once, in \
-         `firmware/src/accuracy.rs`, which the host includes verbatim.\n\
+         `workloads/src/accuracy.rs`, which the firmware and the host share.\n\
          - **PSNR / max err / within 1 step**: the first {ps}x{ps} pixels of the marble check \
          plane (1/128 per pixel, {seg}-pixel spans) against the f64 reference with the row's \
          table, filter, norm and culling, at ideal precision and exact evaluation (what `texsim \

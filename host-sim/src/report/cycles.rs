@@ -122,6 +122,9 @@ pub enum CyclesError {
     /// The host has no computation for a job.
     #[error("no host computation for job `{0}`")]
     NoHost(String),
+    /// Building or running the Cortex-M0 example (`examples/boards/qemu-m0`) failed.
+    #[error("Cortex-M0 example: {0}")]
+    M0(String),
     /// Writing the markdown failed.
     #[error("writing {path}: {source}")]
     Write {
@@ -215,6 +218,9 @@ pub fn report(opts: &CyclesOptions) -> Result<Vec<CycleRow>, CyclesError> {
         };
         rows.extend(rows_for_run(target, &run, &jobs)?);
     }
+    if !opts.quick {
+        rows.push(m0_row(&opts.run)?);
+    }
     if let Some(path) = &opts.markdown {
         write_atomic(path, &markdown(&rows, opts.quick)).map_err(|source| CyclesError::Write {
             path: path.clone(),
@@ -222,6 +228,37 @@ pub fn report(opts: &CyclesOptions) -> Result<Vec<CycleRow>, CyclesError> {
         })?;
     }
     Ok(rows)
+}
+
+/// The Cortex-M0 row: the `qemu-m0` board example (QEMU `microbit`, 16 KB RAM) shading a
+/// 64 x 64 marble plane with a 64-entry csat table, counted through the nRF51's TIMER0.
+fn m0_row(run: &RunOptions) -> Result<CycleRow, CyclesError> {
+    let board = super::boards::BOARDS
+        .iter()
+        .find(|b| b.name == "qemu-m0")
+        .ok_or_else(|| CyclesError::M0("no qemu-m0 board".into()))?;
+    let elf = board
+        .build(&run.cargo, &run.workspace)
+        .map_err(CyclesError::M0)?;
+    let m0 = super::boards::run_qemu_m0(&elf).map_err(CyclesError::M0)?;
+    let host = super::boards::host_m0_checksum();
+    Ok(CycleRow {
+        target: format!("{} (QEMU microbit, Cortex-M0)", board.target),
+        scene: "plane:marble (64-entry table)".to_string(),
+        kind: JobKind::Plane,
+        stage: false,
+        unit: "pixel".to_string(),
+        units: m0.pixels,
+        instructions_per_pixel: m0.instructions as f64 / m0.pixels.max(1) as f64,
+        instructions: m0.instructions,
+        setup_instructions: m0.setup_instructions,
+        device_jobs: 1,
+        max_job_instructions: m0.instructions + m0.setup_instructions,
+        hash: hash_name(HashKind::Integer).to_string(),
+        device_checksum: format!("{:#010x}", m0.checksum),
+        host_checksum: host.map_or_else(|| "-".to_string(), |h| format!("{h:#010x}")),
+        checksum_match: host == Some(m0.checksum),
+    })
 }
 
 /// The markdown table of the rows.
@@ -260,6 +297,20 @@ pub fn markdown(rows: &[CycleRow], quick: bool) -> String {
         super::scenes::STRIPS,
         super::group(M4F_WINDOW),
     );
+    if rows.iter().any(|r| r.target.contains("Cortex-M0")) {
+        let _ = writeln!(s);
+        let _ = writeln!(
+            s,
+            "The Cortex-M0 row (no FPU, no hardware divide, no 32 x 32 -> 64 multiply) is the \
+             `examples/boards/qemu-m0` program under QEMU's `microbit` machine (nRF51, 16 KB of \
+             RAM: the job-suite firmware does not fit), release build at `opt-level = 3`: a \
+             64 x 64 marble plane with a 64-entry csat table (a 256-entry texture overflows the \
+             stack), integer hash. Counted through the nRF51's TIMER0 at 16 MHz under \
+             `-icount shift=0` (one tick = 62.5 instructions, so the total is exact to 63 \
+             instructions); `set-up` is the texture's construction, and an empty shading call is \
+             subtracted from the work."
+        );
+    }
     let mut targets: Vec<&str> = rows.iter().map(|r| r.target.as_str()).collect();
     targets.dedup();
     for t in targets {

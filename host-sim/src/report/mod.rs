@@ -2,23 +2,19 @@
 //! ([`size`]), for the Cortex-M4F and rv32imc firmware, written as JSON rows and as generated
 //! markdown (`docs/cycles.md`, `docs/size.md`).
 //!
-//! The device workloads are defined once, in `firmware/src/{planes,stages,scenes}.rs`, which use
-//! nothing but `texcore`; this module includes those files verbatim ([`planes`], [`stages`],
-//! [`scenes`]) so the host knows the job list, the work units of every job, and can recompute
+//! The device workloads are defined once, in the `workloads` crate, which uses nothing but
+//! `texcore`; this module re-exports its modules ([`planes`], [`stages`], [`scenes`]) so the host
+//! knows the job list, the work units of every job, and can recompute
 //! the set-up, stage and scene checksums with the very same code. The preset check planes are
 //! recomputed independently, through [`crate::unit::render_plane`] (the host's own pixel path).
 
+pub mod boards;
 pub mod cli;
 pub mod cycles;
 pub mod peers;
 pub mod size;
 
-#[path = "../../../firmware/src/planes.rs"]
-pub mod planes;
-#[path = "../../../firmware/src/scenes.rs"]
-pub mod scenes;
-#[path = "../../../firmware/src/stages.rs"]
-pub mod stages;
+pub use workloads::{planes, scenes, stages};
 
 use std::path::Path;
 
@@ -161,7 +157,7 @@ fn host_builtin_frame(name: &str, hash: HashKind) -> Option<crate::output::Frame
     let scene = texcore::scene::builtin::by_name(name)?;
     let r = crate::scenes::render_frame(
         &scene,
-        scene.still,
+        scene.still(),
         &UnitConfig::default(),
         hash,
         texcore::render::Output::Color,

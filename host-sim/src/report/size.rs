@@ -11,6 +11,9 @@
 //!   the budgets apply to.
 //! - the job-suite `firmware` (profile `release`, default features, feature set `firmware`): for
 //!   reference; it links every job and the counter self-test sleds.
+//! - the board examples (`board:pico` on `thumbv6m-none-eabi`, `board:esp32c3` on
+//!   `riscv32imc-unknown-none-elf`; [`super::boards`]): a whole product's flash and RAM (HAL,
+//!   display driver, texcore), each with its own release profile.
 //!
 //! Per ELF: `text` (`.vector_table`, `.init*`, `.text*`, `.trap*`), `rodata` (`.rodata*`,
 //! `.srodata*`, `.eh_frame*`), `data` (`.data*`, `.sdata*`), `bss` (`.bss*`, `.sbss*`), in bytes;
@@ -265,6 +268,14 @@ pub enum SizeError {
         /// What went wrong.
         message: String,
     },
+    /// A board example failed to build.
+    #[error("building the {board} board example: {message}")]
+    Board {
+        /// Board name.
+        board: &'static str,
+        /// Cargo's diagnostics.
+        message: String,
+    },
     /// Writing the markdown failed.
     #[error("writing {path}: {source}")]
     Write {
@@ -318,7 +329,11 @@ fn build(
             cmd.env_remove(&k);
         }
     }
-    let what = format!("{bin} ({profile}, features {features:?})");
+    let what = match features {
+        None => format!("{bin} ({profile}, default features)"),
+        Some([]) => format!("{bin} ({profile}, no features)"),
+        Some(f) => format!("{bin} ({profile}, features {})", f.join(",")),
+    };
     crate::device::cargo_artifact(&mut cmd, &opts.cargo, bin).map_err(|message| SizeError::Build {
         target,
         what,
@@ -346,6 +361,8 @@ fn classify(name: &str) -> Option<usize> {
         || name.starts_with(".init.")
         || is(".text")
         || is(".trap")
+        // esp-hal's code run from RAM (the ESP32-C3 board example).
+        || is(".rwtext")
     {
         Some(0)
     } else if is(".rodata") || is(".srodata") || is(".eh_frame") || is(".eh_frame_hdr") {
@@ -680,6 +697,27 @@ fn row(
     }
 }
 
+/// The row of a board example (`examples/boards/<board>`, its own release profile: `opt-level =
+/// "s"`, fat LTO): flash is `text + rodata + data`, RAM `data + bss`; no budget applies.
+fn board_row(board: &super::boards::Board, facts: &ElfFacts) -> SizeRow {
+    SizeRow {
+        target: board.target.to_string(),
+        features: format!("board:{}", board.name),
+        cargo_features: vec!["default".to_string()],
+        binary: format!("texcore-board-{} (release)", board.name),
+        text: facts.sections.text,
+        rodata: facts.sections.rodata,
+        data: facts.sections.data,
+        bss: facts.sections.bss,
+        texcore_text: facts.texcore_text(),
+        texcore_symbols: facts.texcore_symbols,
+        texcore_text_budget: None,
+        within_budget: None,
+        unit: None,
+        unit_ram_within_budget: None,
+    }
+}
+
 /// Builds `texcore-probe` (profile `release-size`, `--no-default-features --features
 /// <features>`: `firmware` features, or texcore's as `texcore/<name>`) for `target` and reads
 /// its ELF. Every build of a feature set overwrites the same ELF, so it is read at once.
@@ -762,6 +800,18 @@ pub fn report(opts: &SizeOptions) -> Result<SizeReport, SizeError> {
                 "firmware job suite (release)",
                 &facts,
             ));
+        }
+    }
+    if !opts.quick {
+        for board in super::boards::BOARDS {
+            let elf = board
+                .build(&opts.run.cargo, &opts.run.workspace)
+                .map_err(|message| SizeError::Board {
+                    board: board.name,
+                    message,
+                })?;
+            let facts = analyse(&elf)?;
+            rows.push(board_row(&board, &facts));
         }
     }
     let report = SizeReport {
@@ -861,7 +911,9 @@ pub fn markdown(r: &SizeReport, quick: bool) -> String {
          `opt-level = \"z\"`) links texcore's pixel path as a product would, with the texture hidden from the optimiser so that every path \
          the feature set compiles in stays linked: it shades a check plane (and renders a \
          blended, depth-tested perspective scene with `render`). `firmware` is the job-suite \
-         firmware (profile `release`, every job and the counter self-test) for reference. At \
+         firmware (profile `release`, every job and the counter self-test) for reference; \
+         `board:<name>` rows are the board examples of `examples/boards/` (HAL, mipidsi display \
+         driver and texcore: flash = text + rodata + data, RAM = data + bss). At \
          `opt-level = \"z\"` texcore compiles its size-lean code shape (crate documentation, \
          \"Code size\": no forced inlining, one merged pixel loop instead of its specialisations; \
          the same samples); `full-fast` is the `full` probe at `opt-level = 3`, the fast shape \

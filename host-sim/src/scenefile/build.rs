@@ -99,8 +99,9 @@ impl SceneDef {
     pub(crate) fn scene(&self) -> Scene {
         let mut s = Scene::new(self.name, self.camera());
         s.background = self.background;
-        s.frames = self.frames;
-        s.still = self.still;
+        // The scene file's loader checked `frames >= 1` and `still < frames` with their
+        // locations; this cannot fail for a loaded definition.
+        let _ = s.set_frames(self.frames, self.still);
         for m in &self.materials {
             let _ = s.slots.push(TextureSlot {
                 material: m.preset.unwrap_or(m.name),

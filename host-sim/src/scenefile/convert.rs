@@ -785,6 +785,17 @@ fn keys(v: &S<Vec<KeyDef>>, field: &str) -> R<Vec<Key>> {
     if list.is_empty() {
         return fail(v.span(), field, "at least one colour key is needed");
     }
+    if list.len() > texcore::ready::MAX_KEYS {
+        return fail(
+            v.span(),
+            field,
+            format!(
+                "{} colour keys given, at most {} allowed",
+                list.len(),
+                texcore::ready::MAX_KEYS
+            ),
+        );
+    }
     let mut out: Vec<Key> = Vec::with_capacity(list.len());
     for (i, k) in list.iter().enumerate() {
         let (p, c) = k.get_ref();

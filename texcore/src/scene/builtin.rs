@@ -18,7 +18,7 @@
 use super::camera::{focal_from_fov, Camera};
 use super::math::{milli, units, Angle, Transform, Vec3, ONE};
 use super::mesh::Mesh;
-use super::{Blend, Object, Scene, TextureSlot};
+use super::{Blend, Object, Scene, SceneError, TextureSlot};
 use crate::format::MatrixEntry;
 use crate::presets::Key;
 use crate::raster::{CullMode, Perspective};
@@ -38,7 +38,7 @@ pub const BUILTIN: [&str; 8] = [
 
 /// A built-in scene by name.
 pub fn by_name(name: &str) -> Option<Scene> {
-    Some(match name {
+    let scene = match name {
         "wood" => wood(),
         "marble" => marble(),
         "seascape" => seascape(),
@@ -48,7 +48,9 @@ pub fn by_name(name: &str) -> Option<Scene> {
         "zoneplate" => zoneplate(),
         "torus" => torus(),
         _ => return None,
-    })
+    };
+    // Every built-in scene is within the scene's capacities (`tests::builtins_build`).
+    scene.ok()
 }
 
 /// Display width of the built-in scenes.
@@ -105,7 +107,7 @@ const fn teapot_upright() -> Transform {
 /// Figure 1: a teapot carved from a log, `f = s^2 + t^2 + n(4s, 4t, r)`. The rings' axis runs
 /// along the teapot's y (across the spout-handle plane), 2.5 units below its base, so the grain
 /// shows as arcs of concentric rings; turns once over the 64 frames.
-pub fn wood() -> Scene {
+pub fn wood() -> Result<Scene, SceneError> {
     let mut s = Scene::new(
         "wood",
         camera(
@@ -117,21 +119,21 @@ pub fn wood() -> Scene {
         ),
     );
     s.background = [28, 24, 30, 255];
-    s.frames = 64;
-    let slot = s.add_slot(TextureSlot::preset("wood"));
+    s.set_frames(64, 0)?;
+    let slot = s.add_slot(TextureSlot::preset("wood"))?;
     let mut o = Object::new(Mesh::Teapot { level: 5 });
     o.slot = slot;
     o.transform = teapot_upright().then(&Transform::rotate_y(Angle::from_degrees(-20)));
     // s = 0.75 (x + 0.4), t = 0.75 (z + 2.5), r = 0.75 y (object space, z up).
     o.tex_map = tex_map([[750, 0, 0], [0, 0, 750], [0, 750, 0]], [300, 1875, 0]);
-    s.add(o);
+    s.add(o)?;
     s.animate = Some(|s, frame| {
         if let Some(o) = s.objects.get_mut(0) {
             let a = Angle::from_turns(frame as i64, 64);
             o.transform = o.transform.then(&Transform::rotate_y(a));
         }
     });
-    s
+    Ok(s)
 }
 
 // ---------------------------------------------------------------------------------------------
@@ -149,7 +151,7 @@ pub const MARBLE_BLOCK: Affine3 = tex_map(
 /// ([`MARBLE_BLOCK`]), so the veins run continuously across the cube's edges and from the
 /// pedestal into the teapot. `f = r + sum_i 2^-i n(2^i s)`; the animation grows the noise
 /// amplitude from 0 to 1 (the forming of the ripples); the still is the last frame.
-pub fn marble() -> Scene {
+pub fn marble() -> Result<Scene, SceneError> {
     let mut s = Scene::new(
         "marble",
         camera(
@@ -161,9 +163,8 @@ pub fn marble() -> Scene {
         ),
     );
     s.background = [36, 38, 48, 255];
-    s.frames = 64;
-    s.still = 63;
-    let slot = s.add_slot(TextureSlot::preset("marble"));
+    s.set_frames(64, 63)?;
+    let slot = s.add_slot(TextureSlot::preset("marble"))?;
     // Pedestal: a cube of side 2.5, top face at y = 0.
     let mut cube = Object::new(Mesh::Cube {
         half: milli(1250),
@@ -181,15 +182,15 @@ pub fn marble() -> Scene {
         .then(&Transform::rotate_y(Angle::from_degrees(-25)))
         .then(&Transform::translate(Vec3::milli(-100, 0, 0)));
     let pot = pot.with_world_texture(&MARBLE_BLOCK);
-    s.add(cube);
-    s.add(pot);
+    s.add(cube)?;
+    s.add(pot)?;
     s.animate = Some(|s, frame| {
-        let frames = s.frames.max(2) as i64;
+        let frames = s.frames().max(2) as i64;
         if let Some(slot) = s.slots.get_mut(0) {
             slot.amplitude = (frame as i64 * ONE as i64 / (frames - 1)) as i32;
         }
     });
-    s
+    Ok(s)
 }
 
 // ---------------------------------------------------------------------------------------------
@@ -215,7 +216,7 @@ const fn horizon_plane() -> Mesh {
 /// plane), so the clouds grow dense towards the horizon. The eye is 1.5 units above the sea,
 /// looking 2.6 degrees up (horizon a little below the image centre). The clouds and the waves
 /// drift over the 64 frames.
-pub fn seascape() -> Scene {
+pub fn seascape() -> Result<Scene, SceneError> {
     let mut s = Scene::new(
         "seascape",
         camera(
@@ -228,9 +229,9 @@ pub fn seascape() -> Scene {
     );
     // The half-pixel gap between the two planes' far edges at the horizon.
     s.background = [150, 170, 200, 255];
-    s.frames = 64;
-    let sky = s.add_slot(TextureSlot::preset("clouds"));
-    let sea = s.add_slot(TextureSlot::preset("water"));
+    s.set_frames(64, 0)?;
+    let sky = s.add_slot(TextureSlot::preset("clouds"))?;
+    let sea = s.add_slot(TextureSlot::preset("water"))?;
     let mut clouds = Object::new(horizon_plane());
     clouds.slot = sky;
     // Face down, 25 units up.
@@ -245,8 +246,8 @@ pub fn seascape() -> Scene {
     water.tex_map = SEA_MAP;
     water.depth_test = false;
     water.depth_write = false;
-    s.add(clouds);
-    s.add(water);
+    s.add(clouds)?;
+    s.add(water)?;
     s.animate = Some(|s, frame| {
         if let Some(o) = s.objects.get_mut(0) {
             o.tex_map = drift(&o.tex_map, [milli(4), milli(2), 0], frame);
@@ -255,7 +256,7 @@ pub fn seascape() -> Scene {
             o.tex_map = drift(&o.tex_map, [0, -milli(10), milli(4)], frame);
         }
     });
-    s
+    Ok(s)
 }
 
 // ---------------------------------------------------------------------------------------------
@@ -264,7 +265,7 @@ pub fn seascape() -> Scene {
 /// Figure 4: fire on a single polygon filling the image, `f = t + 0.8 sum_i 2^-i
 /// n(2^i (s, t - phase, r))` with `t` from 0 at the bottom to 1.27 at the top; the phase advances
 /// 1/32 per frame (slot parameter `phase`).
-pub fn fire() -> Scene {
+pub fn fire() -> Result<Scene, SceneError> {
     // Quad 4.6 x 3.5 at z = 0, seen from z = 5 with focal 3.03 (half-height 1.65 at distance 5):
     // its edges are just outside the image.
     const HALF_HEIGHT: i64 = milli(1650) as i64;
@@ -281,8 +282,8 @@ pub fn fire() -> Scene {
     );
     let mut s = Scene::new("fire", cam);
     s.background = [0, 0, 0, 255];
-    s.frames = 64;
-    let slot = s.add_slot(TextureSlot::preset("fire"));
+    s.set_frames(64, 0)?;
+    let slot = s.add_slot(TextureSlot::preset("fire"))?;
     let mut o = Object::new(Mesh::Quad {
         corners: [
             Vec3::milli(-2300, -1750, 0),
@@ -297,13 +298,13 @@ pub fn fire() -> Scene {
     o.depth_write = false;
     // s = x / 3 + 0.5, t = (y + 1.75) / 2.7, r = 0.5.
     o.tex_map = tex_map([[333, 0, 0], [0, 370, 0], [0, 0, 0]], [500, 648, 500]);
-    s.add(o);
+    s.add(o)?;
     s.animate = Some(|s, frame| {
         if let Some(slot) = s.slots.get_mut(0) {
             slot.phase = (frame as i32).wrapping_mul(ONE / 32);
         }
     });
-    s
+    Ok(s)
 }
 
 // ---------------------------------------------------------------------------------------------
@@ -312,7 +313,7 @@ pub fn fire() -> Scene {
 /// Figure 5: a planet (`planet`, cartographic legend) with a cloud layer rendered over it with
 /// alpha (`planet-clouds`) on a slightly larger sphere; axis tilted 20 degrees; both spin (the
 /// clouds faster) over the 128 frames. Back faces culled.
-pub fn planet() -> Scene {
+pub fn planet() -> Result<Scene, SceneError> {
     let mut s = Scene::new(
         "planet",
         camera(
@@ -324,9 +325,9 @@ pub fn planet() -> Scene {
         ),
     );
     s.background = [0, 0, 0, 255];
-    s.frames = 128;
-    let ground = s.add_slot(TextureSlot::preset("planet"));
-    let air = s.add_slot(TextureSlot::preset("planet-clouds"));
+    s.set_frames(128, 0)?;
+    let ground = s.add_slot(TextureSlot::preset("planet"))?;
+    let air = s.add_slot(TextureSlot::preset("planet-clouds"))?;
     let tilt = Transform::rotate_z(Angle::from_degrees(20));
     let mut p = Object::new(Mesh::Sphere {
         radius: ONE,
@@ -354,8 +355,8 @@ pub fn planet() -> Scene {
         [[1200, 0, 0], [0, 1200, 0], [0, 0, 1200]],
         [2000, 7000, -3000],
     );
-    s.add(p);
-    s.add(c);
+    s.add(p)?;
+    s.add(c)?;
     s.animate = Some(|s, frame| {
         for (k, turns) in [(0usize, 1i64), (1, 2)] {
             if let Some(o) = s.objects.get_mut(k) {
@@ -364,7 +365,7 @@ pub fn planet() -> Scene {
             }
         }
     });
-    s
+    Ok(s)
 }
 
 // ---------------------------------------------------------------------------------------------
@@ -399,7 +400,7 @@ pub const NIGHT_CLOUD_KEYS: [Key; 3] = [
 /// alpha over), the moon (a sphere with a fractal texture: `clouds` with moon keys) and a cloud
 /// polygon perpendicular to the view in front of it (`planet-clouds` with night keys, alpha
 /// over). Drawn in that order without depth; the moon rises over the 128 frames.
-pub fn moonrise() -> Scene {
+pub fn moonrise() -> Result<Scene, SceneError> {
     let mut s = Scene::new(
         "moonrise",
         camera(
@@ -411,11 +412,12 @@ pub fn moonrise() -> Scene {
         ),
     );
     s.background = [8, 12, 36, 255];
-    s.frames = 128;
-    let sea = s.add_slot(TextureSlot::preset("water"));
-    let glint = s.add_slot(TextureSlot::preset("marble").with_keys(&MOON_GLINT_KEYS));
-    let moon_tex = s.add_slot(TextureSlot::preset("clouds").with_keys(&MOON_KEYS));
-    let cloud_tex = s.add_slot(TextureSlot::preset("planet-clouds").with_keys(&NIGHT_CLOUD_KEYS));
+    s.set_frames(128, 0)?;
+    let sea = s.add_slot(TextureSlot::preset("water"))?;
+    let glint = s.add_slot(TextureSlot::preset("marble").with_keys(&MOON_GLINT_KEYS))?;
+    let moon_tex = s.add_slot(TextureSlot::preset("clouds").with_keys(&MOON_KEYS))?;
+    let cloud_tex =
+        s.add_slot(TextureSlot::preset("planet-clouds").with_keys(&NIGHT_CLOUD_KEYS))?;
 
     let mut water = Object::new(horizon_plane());
     water.slot = sea;
@@ -470,10 +472,10 @@ pub fn moonrise() -> Scene {
     // Stretched horizontally: s = x / 40, t = y / 12.
     clouds.tex_map = tex_map([[25, 0, 0], [0, 83, 0], [0, 0, 0]], [0, 0, 300]);
 
-    s.add(water);
-    s.add(glow);
-    s.add(moon);
-    s.add(clouds);
+    s.add(water)?;
+    s.add(glow)?;
+    s.add(moon)?;
+    s.add(clouds)?;
     s.animate = Some(|s, frame| {
         // Rise 12 units over the animation.
         if let Some(o) = s.objects.get_mut(2) {
@@ -481,7 +483,7 @@ pub fn moonrise() -> Scene {
             o.transform.t[1] = o.transform.t[1].wrapping_add(dy);
         }
     });
-    s
+    Ok(s)
 }
 
 // ---------------------------------------------------------------------------------------------
@@ -492,7 +494,7 @@ pub fn moonrise() -> Scene {
 /// image corners and the texture coordinates are `s = x`, `t = y` of the world: pixel `(x, y)`
 /// gets `s = (x + 0.5) / 256`, `t = (y + 0.5) / 256` exactly (affine interpolation; `t` grows
 /// downwards).
-pub fn zoneplate() -> Scene {
+pub fn zoneplate() -> Result<Scene, SceneError> {
     let centre = Vec3::milli(500, 500, 0);
     let cam = Camera::orthographic(
         Vec3::milli(500, 500, -1000),
@@ -506,7 +508,7 @@ pub fn zoneplate() -> Scene {
     );
     let mut s = Scene::new("zoneplate", cam);
     s.background = [128, 128, 128, 255];
-    let slot = s.add_slot(TextureSlot::preset("zoneplate"));
+    let slot = s.add_slot(TextureSlot::preset("zoneplate"))?;
     let mut o = Object::new(Mesh::Quad {
         corners: [
             Vec3::units(0, 0, 0),
@@ -519,8 +521,8 @@ pub fn zoneplate() -> Scene {
     o.perspective = Perspective::Affine;
     o.depth_test = false;
     o.depth_write = false;
-    s.add(o);
-    s
+    s.add(o)?;
+    Ok(s)
 }
 
 // ---------------------------------------------------------------------------------------------
@@ -531,7 +533,7 @@ pub fn zoneplate() -> Scene {
 /// are wide on the left and ever finer to the right (quadric aliasing), the noise is uniform
 /// (noise aliasing) and the silhouette compresses the texture (coordinate aliasing). Seen from
 /// 40 degrees above. Back faces culled.
-pub fn torus() -> Scene {
+pub fn torus() -> Result<Scene, SceneError> {
     let mut s = Scene::new(
         "torus",
         camera(
@@ -543,7 +545,7 @@ pub fn torus() -> Scene {
         ),
     );
     s.background = [40, 40, 48, 255];
-    let slot = s.add_slot(TextureSlot::preset("wood"));
+    let slot = s.add_slot(TextureSlot::preset("wood"))?;
     let mut o = Object::new(Mesh::Torus {
         major: ONE,
         minor: milli(380),
@@ -553,6 +555,6 @@ pub fn torus() -> Scene {
     o.slot = slot;
     o.cull = CullMode::Clockwise;
     o.tex_map = tex_map([[2500, 0, 0], [0, 0, 2500], [0, 2500, 0]], [2500, 0, 0]);
-    s.add(o);
-    s
+    s.add(o)?;
+    Ok(s)
 }

@@ -210,6 +210,42 @@ pub struct SceneCounters {
     pub generated: u32,
 }
 
+/// Why a scene could not be changed as asked. `Display` names the problem.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
+pub enum SceneError {
+    /// The scene already has [`MAX_OBJECTS`] objects.
+    TooManyObjects,
+    /// The scene already has [`MAX_SLOTS`] texture slots.
+    TooManySlots,
+    /// An animation of no frames.
+    NoFrames,
+    /// The still frame is not one of the animation's frames.
+    StillOutOfRange {
+        /// The still frame asked for.
+        still: u32,
+        /// The number of frames.
+        frames: u32,
+    },
+}
+
+impl core::fmt::Display for SceneError {
+    fn fmt(&self, f: &mut core::fmt::Formatter<'_>) -> core::fmt::Result {
+        match self {
+            SceneError::TooManyObjects => write!(f, "a scene has at most {MAX_OBJECTS} objects"),
+            SceneError::TooManySlots => {
+                write!(f, "a scene has at most {MAX_SLOTS} texture slots")
+            }
+            SceneError::NoFrames => f.write_str("an animation has at least 1 frame"),
+            SceneError::StillOutOfRange { still, frames } => write!(
+                f,
+                "the still frame {still} is not one of the {frames} frames (0 to {})",
+                frames - 1
+            ),
+        }
+    }
+}
+
 /// A per-frame animation: edits a copy of the scene for frame `frame` (`0..frames`).
 pub type AnimateFn = fn(&mut Scene, u32);
 
@@ -222,10 +258,10 @@ pub struct Scene {
     pub camera: Camera,
     /// Background colour, RGBA.
     pub background: [u8; 4],
-    /// Number of frames of the animation (at least 1).
-    pub frames: u32,
-    /// The frame that reproduces the paper's still figure.
-    pub still: u32,
+    /// Number of frames of the animation (at least 1: [`Scene::set_frames`] checks it).
+    frames: u32,
+    /// The frame that reproduces the paper's still figure (below `frames`).
+    still: u32,
     /// Objects, drawn in this order.
     pub objects: heapless::Vec<Object, MAX_OBJECTS>,
     /// Texture slots referred to by [`Object::slot`].
@@ -254,16 +290,45 @@ impl Scene {
         (self.camera.width, self.camera.height)
     }
 
-    /// Adds an object (ignored when full); returns its index.
-    pub fn add(&mut self, object: Object) -> usize {
-        let _ = self.objects.push(object);
-        self.objects.len().saturating_sub(1)
+    /// Number of frames of the animation (at least 1).
+    pub const fn frames(&self) -> u32 {
+        self.frames
     }
 
-    /// Adds a texture slot (ignored when full); returns its index.
-    pub fn add_slot(&mut self, slot: TextureSlot) -> u8 {
-        let _ = self.slots.push(slot);
-        self.slots.len().saturating_sub(1) as u8
+    /// The frame that reproduces the paper's still figure (below [`Scene::frames`]).
+    pub const fn still(&self) -> u32 {
+        self.still
+    }
+
+    /// Sets the animation's length and its still frame: `frames >= 1`, `still < frames`.
+    pub fn set_frames(&mut self, frames: u32, still: u32) -> Result<(), SceneError> {
+        if frames == 0 {
+            return Err(SceneError::NoFrames);
+        }
+        if still >= frames {
+            return Err(SceneError::StillOutOfRange { still, frames });
+        }
+        self.frames = frames;
+        self.still = still;
+        Ok(())
+    }
+
+    /// Adds an object; returns its index, or [`SceneError::TooManyObjects`] when the scene
+    /// already has [`MAX_OBJECTS`] (the scene is then unchanged).
+    pub fn add(&mut self, object: Object) -> Result<usize, SceneError> {
+        self.objects
+            .push(object)
+            .map_err(|_| SceneError::TooManyObjects)?;
+        Ok(self.objects.len() - 1)
+    }
+
+    /// Adds a texture slot; returns its index, or [`SceneError::TooManySlots`] when the scene
+    /// already has [`MAX_SLOTS`] (the scene is then unchanged).
+    pub fn add_slot(&mut self, slot: TextureSlot) -> Result<u8, SceneError> {
+        self.slots
+            .push(slot)
+            .map_err(|_| SceneError::TooManySlots)?;
+        Ok((self.slots.len() - 1) as u8)
     }
 
     /// The texture slot of an object (`None` for a bad index).
@@ -450,7 +515,7 @@ mod quad_group_tests {
     fn walk_by_quad_is_the_plain_walk() {
         for name in BUILTIN {
             let s = by_name(name).unwrap();
-            for frame in [0, s.still] {
+            for frame in [0, s.still()] {
                 let s = s.at_frame(frame);
                 let mut plain = Vec::new();
                 let cp = s.for_each_triangle_static(&mut |o, t| plain.push((o, *t)));

@@ -30,7 +30,7 @@ fn builtin_list_and_lookup() {
     for name in BUILTIN {
         let s = by_name(name).unwrap();
         assert_eq!(s.name, name);
-        assert!(s.frames >= 1 && s.still < s.frames);
+        assert!(s.frames() >= 1 && s.still() < s.frames());
         for o in &s.objects {
             let slot = s.slots.get(o.slot as usize).expect("slot exists");
             assert!(
@@ -56,7 +56,7 @@ fn builtin_scenes_emit_deterministic_triangles_in_guard_band() {
     for name in BUILTIN {
         let s = by_name(name).unwrap();
         let mesh_tris: u32 = s.objects.iter().map(|o| o.mesh.triangle_count()).sum();
-        for frame in [0, s.still, s.frames - 1, s.frames + 3] {
+        for frame in [0, s.still(), s.frames() - 1, s.frames() + 3] {
             let (a, ca) = collect(&s, frame);
             let (b, cb) = collect(&s, frame);
             assert_eq!(a, b, "{name} frame {frame}: not deterministic");
@@ -80,7 +80,7 @@ fn builtin_scenes_emit_deterministic_triangles_in_guard_band() {
             }
         }
         // Each object contributes.
-        let (a, _) = collect(&s, s.still);
+        let (a, _) = collect(&s, s.still());
         for k in 0..s.objects.len() {
             assert!(
                 a.iter().any(|(o, _)| *o == k),
@@ -106,7 +106,7 @@ fn animation() {
     // The wood teapot turns: geometry changes, and frame `frames` is frame 0 again.
     let w = by_name("wood").unwrap();
     assert_ne!(collect(&w, 0).0, collect(&w, 5).0);
-    assert_eq!(collect(&w, 0).0, collect(&w, w.frames).0);
+    assert_eq!(collect(&w, 0).0, collect(&w, w.frames()).0);
     // The fire's phase is a slot parameter; its geometry is static.
     let f = by_name("fire").unwrap();
     assert_eq!(f.at_frame(0).slots[0].phase, 0);
@@ -115,7 +115,7 @@ fn animation() {
     // Marble: the noise amplitude grows from 0 to 1, the still is the finished marble.
     let m = by_name("marble").unwrap();
     assert_eq!(m.at_frame(0).slots[0].amplitude, 0);
-    assert_eq!(m.at_frame(m.still).slots[0].amplitude, ONE);
+    assert_eq!(m.at_frame(m.still()).slots[0].amplitude, ONE);
     // Seascape: the textures drift, the planes stay.
     let s = by_name("seascape").unwrap();
     let (a, b) = (collect(&s, 0).0, collect(&s, 9).0);
@@ -199,7 +199,7 @@ fn marble_block_alignment() {
         }
     }
     // On screen: a cube vertex position always carries the same texture coordinates.
-    let (tris, _) = collect(&s, s.still);
+    let (tris, _) = collect(&s, s.still());
     let mut at: HashMap<(i32, i32), crate::format::TexPoint> = HashMap::new();
     for (o, t) in &tris {
         if *o != 0 {
@@ -255,7 +255,7 @@ fn horizon_plane_stays_in_guard_band() {
             240,
         );
         let mut s = Scene::new("plane", cam);
-        s.add_slot(TextureSlot::preset("water"));
+        s.add_slot(TextureSlot::preset("water")).unwrap();
         // Alternately a geometric grid and one single quad 32000 units wide.
         let mut o = Object::new(if i % 2 == 0 {
             Mesh::Plane {
@@ -274,7 +274,7 @@ fn horizon_plane_stays_in_guard_band() {
             }
         });
         o.tex_map = crate::transform::Affine3::IDENTITY;
-        s.add(o);
+        s.add(o).unwrap();
         let mut rast = Rasterizer::new(Rect::from_size(320, 240));
         let c = s.for_each_triangle(0, |_, t| {
             for v in t {
@@ -690,7 +690,7 @@ fn golden_checksums() {
         .iter()
         .map(|&n| {
             let s = by_name(n).unwrap();
-            (n, s.checksum(s.still))
+            (n, s.checksum(s.still()))
         })
         .collect();
     let expect: [(&str, u32); 8] = GOLDEN;
@@ -707,3 +707,38 @@ const GOLDEN: [(&str, u32); 8] = [
     ("zoneplate", 0xF597_B0E9),
     ("torus", 0xCF06_1DD8),
 ];
+
+#[test]
+fn builtins_build_and_scene_capacities_are_checked() {
+    use super::{builtin, SceneError, MAX_OBJECTS, MAX_SLOTS};
+    for name in super::BUILTIN {
+        assert!(super::by_name(name).is_some(), "{name}");
+    }
+    assert_eq!(builtin::wood().map(|s| s.objects.len()), Ok(1));
+    let mut s = builtin::wood().unwrap();
+    assert_eq!(s.set_frames(0, 0), Err(SceneError::NoFrames));
+    assert_eq!(
+        s.set_frames(4, 4),
+        Err(SceneError::StillOutOfRange {
+            still: 4,
+            frames: 4
+        })
+    );
+    assert_eq!((s.frames(), s.still()), (64, 0));
+    assert_eq!(s.set_frames(4, 3), Ok(()));
+    assert_eq!((s.frames(), s.still()), (4, 3));
+    let o = s.objects[0];
+    for i in 1..MAX_OBJECTS {
+        assert_eq!(s.add(o), Ok(i));
+    }
+    assert_eq!(s.add(o), Err(SceneError::TooManyObjects));
+    assert_eq!(s.objects.len(), MAX_OBJECTS);
+    let slot = s.slots[0];
+    for i in 1..MAX_SLOTS {
+        assert_eq!(s.add_slot(slot), Ok(i as u8));
+    }
+    assert_eq!(s.add_slot(slot), Err(SceneError::TooManySlots));
+    assert!(SceneError::TooManyObjects
+        .to_string()
+        .contains("at most 8 objects"));
+}

@@ -2,7 +2,7 @@
 //! [`crate::stages`] and [`crate::scenes`] (which the host shares), the per-target lattice hash,
 //! and the static band buffers of the scene renders.
 //!
-//! Job names (registered in [`crate::jobs::JOBS`] with [`job!`]):
+//! Job names (registered in [`crate::jobs::JOBS`] with [`crate::job!`]):
 //! - `config:hash`: checksum 1 when this build shades with the permutation hash, 2 with the
 //!   integer hash (the host computes its expected checksums with the same hash);
 //! - `plane:<material>`: a material's 64 x 64 check plane with csat ([`crate::planes`]);
@@ -20,7 +20,7 @@
     allow(unused_macros, unused_imports)
 )]
 
-use crate::jobs::Ctx;
+use crate::job::Ctx;
 use crate::scenes::{self, BAND_PIXELS, SCENE_GROUPS};
 use crate::{planes, stages};
 use texcore::color::Rgba8888;
@@ -49,17 +49,6 @@ const STUBBED: bool = cfg!(all(
 fn hash() -> HashKind {
     core::hint::black_box(HASH)
 }
-
-/// A [`crate::jobs::Job`] named `$name` running `suite::$f`.
-macro_rules! job {
-    ($name:literal, $f:ident) => {
-        $crate::jobs::Job {
-            name: $name,
-            run: $crate::suite::$f,
-        }
-    };
-}
-pub(crate) use job;
 
 /// `config:hash`: 1 = permutation hash, 2 = integer hash.
 pub fn config_hash(_: &mut Ctx) -> u32 {
@@ -226,14 +215,14 @@ fn builtin_strip(ctx: &mut Ctx, s: usize, k: usize, work: bool) -> u32 {
 /// [`scenes::BUILTIN_SCENES`] of the scene `$name`; one job per strip, in order.
 macro_rules! builtin_scene_jobs {
     ($($s:literal => $name:literal),* $(,)?) => {[$(
-        $crate::jobs::Job { name: concat!("scene:", $name, "@0"), run: $crate::suite::scene_strip::<$s, 0> },
-        $crate::jobs::Job { name: concat!("scene:", $name, "@0/setup"), run: $crate::suite::scene_strip_setup::<$s, 0> },
-        $crate::jobs::Job { name: concat!("scene:", $name, "@1"), run: $crate::suite::scene_strip::<$s, 1> },
-        $crate::jobs::Job { name: concat!("scene:", $name, "@1/setup"), run: $crate::suite::scene_strip_setup::<$s, 1> },
-        $crate::jobs::Job { name: concat!("scene:", $name, "@2"), run: $crate::suite::scene_strip::<$s, 2> },
-        $crate::jobs::Job { name: concat!("scene:", $name, "@2/setup"), run: $crate::suite::scene_strip_setup::<$s, 2> },
-        $crate::jobs::Job { name: concat!("scene:", $name, "@3"), run: $crate::suite::scene_strip::<$s, 3> },
-        $crate::jobs::Job { name: concat!("scene:", $name, "@3/setup"), run: $crate::suite::scene_strip_setup::<$s, 3> },
+        $crate::job!(concat!("scene:", $name, "@0"), $crate::suite::scene_strip::<$s, 0>),
+        $crate::job!(concat!("scene:", $name, "@0/setup"), $crate::suite::scene_strip_setup::<$s, 0>),
+        $crate::job!(concat!("scene:", $name, "@1"), $crate::suite::scene_strip::<$s, 1>),
+        $crate::job!(concat!("scene:", $name, "@1/setup"), $crate::suite::scene_strip_setup::<$s, 1>),
+        $crate::job!(concat!("scene:", $name, "@2"), $crate::suite::scene_strip::<$s, 2>),
+        $crate::job!(concat!("scene:", $name, "@2/setup"), $crate::suite::scene_strip_setup::<$s, 2>),
+        $crate::job!(concat!("scene:", $name, "@3"), $crate::suite::scene_strip::<$s, 3>),
+        $crate::job!(concat!("scene:", $name, "@3/setup"), $crate::suite::scene_strip_setup::<$s, 3>),
     )*]};
 }
 pub(crate) use builtin_scene_jobs;

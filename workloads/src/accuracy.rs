@@ -737,15 +737,7 @@ pub fn model(cfg: &Config) -> Option<TextureModel<TERMS>> {
 
 /// A colour table of `N` entries from key colours (`None` if the keys are invalid).
 pub fn table<const N: usize>(keys: &[Key]) -> Option<ColorTable<N>> {
-    let mut k = [(TexValue::ZERO, Rgba8888::BLACK); 16];
-    let n = keys.len().min(k.len());
-    for (slot, (pos, c)) in k.iter_mut().zip(keys) {
-        *slot = (
-            TexValue::from_bits(*pos as i32),
-            Rgba8888::new(c[0], c[1], c[2], c[3]),
-        );
-    }
-    ColorTable::<N>::from_keys(k.get(..n)?).ok()
+    texcore::ready::key_table(keys, texcore::table::KeySpacing::Linear).ok()
 }
 
 /// The marble keys as table keys, at compile time.
@@ -787,8 +779,15 @@ pub fn texture<const N: usize>(
     keys: &[Key],
     wrap: TableWrap,
 ) -> Option<Texture<TERMS, N>> {
-    let stage = ColorStage::new(table::<N>(keys)?, wrap, cfg.lookup, cfg.aa).ok()?;
-    Some(Texture::new(shader, stage, cfg.norm, cfg.mode).with_culling(cfg.cull))
+    let opts = texcore::ready::TextureOptions {
+        lookup: cfg.lookup,
+        norm: cfg.norm,
+        mode: cfg.mode,
+        cull: cfg.cull,
+    };
+    texcore::ready::Material::new(shader, wrap, keys)
+        .texture_with(cfg.aa, opts)
+        .ok()
 }
 
 /// The texture of a plane configuration: [`model`] with the marble keys.
@@ -862,8 +861,8 @@ pub fn plane_checksum<const N: usize>(tex: &Texture<TERMS, N>, side: u16) -> u32
 /// every object in `mode`.
 pub fn scene(mode: Perspective) -> Option<Scene> {
     // The builder itself, not `scene::by_name` (which would link every scene's builder).
-    let s = texcore::scene::builtin::seascape();
-    let mut f = s.at_frame(s.still);
+    let s = texcore::scene::builtin::seascape().ok()?;
+    let mut f = s.at_frame(s.still());
     f.camera.width = SCENE_W;
     f.camera.height = SCENE_H;
     for o in f.objects.iter_mut() {
@@ -963,7 +962,7 @@ pub use device::JOBS;
 #[allow(dead_code)]
 mod device {
     use super::*;
-    use crate::jobs::{Ctx, Job};
+    use crate::job::{Ctx, Job};
 
     /// A plane configuration's job with table size `N`: builds the texture (always) and, with
     /// `render`, renders the plane window and returns its checksum (else returns 1 when the texture

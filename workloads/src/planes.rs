@@ -12,16 +12,14 @@
 //! parameter: the Cortex-M4F firmware uses the permutation hash, the rv32imc firmware the
 //! table-free integer hash.
 
-use texcore::color::Rgba8888;
-use texcore::filter::{Antialias, ColorStage, GradientNorm};
+use texcore::filter::Antialias;
 use texcore::format::{TexPoint, TexValue};
 use texcore::hash::HashKind;
-use texcore::material::PerturbedMaterial;
-use texcore::presets::{self, CheckPlane, Key, PRESET_TERMS};
+use texcore::presets::{self, CheckPlane, PRESET_TERMS};
+pub use texcore::ready::Material;
 use texcore::sink::ChecksumSink;
-use texcore::span::{EvalMode, Span};
-use texcore::table::{ColorTable, KeySpacing, TableLookup, TableWrap};
-use texcore::texture::{Shader, Texture};
+use texcore::span::Span;
+use texcore::texture::Texture;
 
 /// Colour-table entries of every device texture.
 pub const TABLE: usize = 256;
@@ -41,66 +39,17 @@ pub const MATERIALS: [&str; 10] = presets::NAMES;
 /// The check plane of the perturbed materials.
 pub use texcore::presets::PERTURBED_PLANE;
 
-/// A material: what computes `f`, its colour keys and its check plane.
-pub struct Material {
-    /// The shader.
-    pub shader: Shader<TERMS>,
-    /// Key colours.
-    pub keys: &'static [Key],
-    /// Keys placed at `c^2`.
-    pub squared: bool,
-    /// Table wrap.
-    pub wrap: TableWrap,
-    /// The 256-pixel check plane.
-    pub plane: CheckPlane,
-}
-
 /// The material `name` with lattice hash `hash` (as `host_sim::unit::preset_material`).
 #[inline(never)]
-pub fn material(name: &str, hash: HashKind) -> Option<Material> {
-    if let Some(p) = presets::by_name(name, hash) {
-        return Some(Material {
-            wrap: p.model.wrap(),
-            shader: Shader::Model(p.model),
-            keys: p.keys,
-            squared: p.squared_keys,
-            plane: p.plane,
-        });
-    }
-    let p = presets::perturbed_by_name(name, hash)?;
-    Some(Material {
-        shader: Shader::Perturbed(PerturbedMaterial::new(&p.params, p.wrap).ok()?),
-        keys: p.keys,
-        squared: p.squared_keys,
-        wrap: p.wrap,
-        plane: p.plane,
-    })
-}
-
-/// The colour table of `keys` (at most 16 keys).
-pub fn table(keys: &[Key], squared: bool) -> Option<ColorTable<TABLE>> {
-    let mut k = [(TexValue::ZERO, Rgba8888::BLACK); 16];
-    if keys.len() > k.len() {
-        return None;
-    }
-    for (slot, (p, c)) in k.iter_mut().zip(keys) {
-        *slot = (TexValue::from_bits(*p as i32), Rgba8888::from_array(*c));
-    }
-    let spacing = if squared {
-        KeySpacing::Squared
-    } else {
-        KeySpacing::Linear
-    };
-    ColorTable::from_keys_spaced(k.get(..keys.len())?, spacing).ok()
+pub fn material(name: &str, hash: HashKind) -> Option<Material<'static, TERMS>> {
+    Material::by_name(name, hash)
 }
 
 /// The device texture of a material: nearest look-up, filter `aa`, L2 norm, `EvalMode::Auto`,
 /// culling on (`host_sim::unit::UnitConfig::default()` with `aa`).
 #[inline(never)]
-pub fn texture(m: Material, aa: Antialias) -> Option<DeviceTexture> {
-    let stage =
-        ColorStage::new(table(m.keys, m.squared)?, m.wrap, TableLookup::Nearest, aa).ok()?;
-    Some(Texture::new(m.shader, stage, GradientNorm::L2, EvalMode::Auto).with_culling(true))
+pub fn texture(m: &Material<'_, TERMS>, aa: Antialias) -> Option<DeviceTexture> {
+    m.texture(aa).ok()
 }
 
 /// A 256-pixel check plane scaled to `size` pixels (`host_sim::unit::scaled_plane`).
@@ -151,7 +100,7 @@ pub fn shade_plane(tex: &DeviceTexture, plane: &CheckPlane, size: u32) -> Checks
 /// device measures it as a separate job so that set-up can be subtracted from the plane's count.
 #[inline(never)]
 pub fn setup_checksum(name: &str, hash: HashKind) -> u32 {
-    let Some(tex) = material(name, hash).and_then(|m| texture(m, Antialias::Csat)) else {
+    let Some(tex) = material(name, hash).and_then(|m| texture(&m, Antialias::Csat)) else {
         return 0;
     };
     let tex = core::hint::black_box(&tex);
@@ -173,8 +122,8 @@ pub fn plane_checksum(name: &str, hash: HashKind) -> u32 {
     let Some(m) = material(name, hash) else {
         return 0;
     };
-    let plane = scaled_plane(&m.plane, SIZE);
-    match texture(m, Antialias::Csat) {
+    let plane = scaled_plane(&m.plane(), SIZE);
+    match texture(&m, Antialias::Csat) {
         Some(tex) => shade_plane(&tex, &plane, SIZE).checksum(),
         None => 0,
     }

@@ -29,10 +29,10 @@ use texcore::raster::{
     Perspective, Rasterizer, Rect, ScreenVertex, Segment, TriangleOptions, TriangleSetup,
 };
 use texcore::span::{EvalMode, EvalOptions, SpanEvaluator};
-use texcore::table::{TableLookup, TableWrap};
+use texcore::table::{KeySpacing, TableLookup, TableWrap};
 use texcore::transform::Affine3;
 
-use super::planes::{plane_span, table, SEGMENT, TABLE, TERMS};
+use crate::planes::{plane_span, SEGMENT, TABLE, TERMS};
 
 /// FNV-1a 32-bit offset basis.
 pub const FNV_OFFSET: u32 = 0x811C_9DC5;
@@ -208,7 +208,7 @@ fn sweep_f(i: u32) -> TexValue {
 
 /// Nearest look-up of the marble colour table (mod).
 pub fn color_lookup(_hash: HashKind, work: bool) -> u32 {
-    let Some(t) = table(&MARBLE_KEYS, false) else {
+    let Some(t) = texcore::ready::key_table::<TABLE>(&MARBLE_KEYS, KeySpacing::Linear).ok() else {
         return 0;
     };
     let t = core::hint::black_box(&t);
@@ -228,7 +228,7 @@ pub fn color_lookup(_hash: HashKind, work: bool) -> u32 {
 
 /// The summed-area box filter of the marble colour table (mod), widths from 0 to 2 N.
 pub fn csat(_hash: HashKind, work: bool) -> u32 {
-    let Some(t) = table(&MARBLE_KEYS, false) else {
+    let Some(t) = texcore::ready::key_table::<TABLE>(&MARBLE_KEYS, KeySpacing::Linear).ok() else {
         return 0;
     };
     let Ok(stage) =

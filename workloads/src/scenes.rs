@@ -22,10 +22,11 @@ use texcore::raster::{Perspective, ScreenVertex, TriangleOptions};
 use texcore::render::{Blend, DrawObject, FrameBins, GroupRows, Renderer, TriangleSource};
 use texcore::scene::{builtin, Scene, TextureSlot};
 use texcore::sink::ChecksumSink;
+use texcore::table::KeySpacing;
 use texcore::texture::Shader;
 use texcore::TexPoint;
 
-use super::planes::{material, texture, DeviceTexture, Material};
+use crate::planes::{material, texture, DeviceTexture, Material};
 
 /// Display width.
 pub const WIDTH: u16 = 320;
@@ -100,7 +101,7 @@ pub const FRAME_START: u32 = 0x811C_9DC5;
 /// The frame of built-in scene `name` the device renders: its still frame, the one
 /// `texsim render <name>` renders by default.
 pub fn builtin_frame(name: &str) -> Option<Scene> {
-    builtin::by_name(name).map(|s| s.at_frame(s.still))
+    builtin::by_name(name).map(|s| s.at_frame(s.still()))
 }
 
 /// The rows of strip `k` (of [`STRIPS`]) of an image `height` rows high: from `height * k /
@@ -272,7 +273,7 @@ fn floor_quad(z: u16) -> [ScreenVertex; 4] {
 }
 
 fn tex(name: &str, hash: HashKind) -> Option<DeviceTexture> {
-    texture(material(name, hash)?, Antialias::Csat)
+    texture(&material(name, hash)?, Antialias::Csat)
 }
 
 /// A marble floor in perspective (`Every16`), opaque, no depth: one texture, two triangles.
@@ -378,27 +379,21 @@ pub fn slot_texture(slot: &TextureSlot, hash: HashKind) -> Option<DeviceTexture>
         if slot.phase != 0 && slot.material == "fire" {
             presets::set_fire_phase(&mut model, slot.phase);
         }
-        Material {
-            wrap: model.wrap(),
-            shader: Shader::Model(model),
-            keys: p.keys,
-            squared: p.squared_keys,
-            plane: p.plane,
-        }
+        Material::model(model, p.keys)
     } else {
         let p = presets::perturbed_by_name(slot.material, hash)?;
         let mut params = p.params;
         for a in &mut params.alpha {
             *a = scale(*a);
         }
-        Material {
-            shader: Shader::Perturbed(PerturbedMaterial::new(&params, p.wrap).ok()?),
-            keys: p.keys,
-            squared: p.squared_keys,
-            wrap: p.wrap,
-            plane: p.plane,
-        }
+        let spacing = if p.squared_keys {
+            KeySpacing::Squared
+        } else {
+            KeySpacing::Linear
+        };
+        let shader = Shader::Perturbed(PerturbedMaterial::new(&params, p.wrap).ok()?);
+        Material::new(shader, p.wrap, p.keys).with_spacing(spacing)
     };
-    let keys = slot.keys.unwrap_or(m.keys);
-    texture(Material { keys, ..m }, Antialias::Csat)
+    let keys = slot.keys.unwrap_or(m.keys());
+    texture(&m.with_keys(keys), Antialias::Csat)
 }

@@ -1,0 +1,79 @@
+//! Builds each board example (`examples/boards/<board>/`, its own workspace) for its target, as
+//! `.ci/boards.sh` does (`host_sim::report::boards`), and checks that the result is a device ELF
+//! for that architecture with texcore's pixel path linked in:
+//!
+//! - `pico`: Raspberry Pi Pico, RP2040 Cortex-M0+, `thumbv6m-none-eabi` (ARM ELF);
+//! - `esp32c3`: ESP32-C3, `riscv32imc-unknown-none-elf` (RISC-V ELF).
+//!
+//! No hardware is needed. The targets must be installed (`rustup target add ..`, done by
+//! `.ci/run`); a missing target fails the test with the command to run.
+
+use std::path::PathBuf;
+
+use host_sim::device::workspace_root;
+use host_sim::report::boards::{Board, BOARDS};
+
+fn board(name: &str) -> Board {
+    *BOARDS.iter().find(|b| b.name == name).expect("board")
+}
+
+/// Builds the board; checks the ELF's machine (`e_machine`, offset 18) and that texcore's span
+/// evaluator is in it (named in the debug info even where LTO inlined it: `debug = 2`).
+fn build_and_check(name: &str, machine: u16) {
+    let b = board(name);
+    let cargo = PathBuf::from(std::env::var_os("CARGO").unwrap_or_else(|| "cargo".into()));
+    let elf = b
+        .build(&cargo, &workspace_root())
+        .unwrap_or_else(|e| panic!("{e}"));
+    let bytes = std::fs::read(&elf).expect("reading the ELF");
+    assert_eq!(&bytes[..4], b"\x7fELF", "{}", elf.display());
+    assert_eq!(
+        u16::from_le_bytes([bytes[18], bytes[19]]),
+        machine,
+        "{}",
+        elf.display()
+    );
+    let name = b"SpanEvaluator";
+    assert!(
+        bytes.windows(name.len()).any(|w| w == name),
+        "{}: texcore's span evaluator is not in the ELF",
+        elf.display()
+    );
+}
+
+#[test]
+fn pico_builds_for_thumbv6m() {
+    assert_eq!(board("pico").target, "thumbv6m-none-eabi");
+    build_and_check("pico", 0x28);
+}
+
+#[test]
+fn esp32c3_builds_for_riscv32imc() {
+    assert_eq!(board("esp32c3").target, "riscv32imc-unknown-none-elf");
+    build_and_check("esp32c3", 0xf3);
+}
+
+#[test]
+fn qemu_m0_builds_for_thumbv6m() {
+    assert_eq!(board("qemu-m0").target, "thumbv6m-none-eabi");
+    build_and_check("qemu-m0", 0x28);
+}
+
+/// Runs the Cortex-M0 example under QEMU (`microbit`, `-icount shift=0`): it must shade the
+/// host's checksum and count its instructions.
+#[test]
+fn qemu_m0_shades_the_host_checksum_and_counts_instructions() {
+    let cargo = PathBuf::from(std::env::var_os("CARGO").unwrap_or_else(|| "cargo".into()));
+    let elf = board("qemu-m0")
+        .build(&cargo, &workspace_root())
+        .unwrap_or_else(|e| panic!("{e}"));
+    let m0 = host_sim::report::boards::run_qemu_m0(&elf).unwrap_or_else(|e| panic!("{e}"));
+    assert_eq!(m0.pixels, 64 * 64);
+    assert_eq!(
+        Some(m0.checksum),
+        host_sim::report::boards::host_m0_checksum(),
+        "{m0:?}"
+    );
+    assert!(m0.instructions > 10 * m0.pixels, "{m0:?}");
+    assert!(m0.setup_instructions > 0, "{m0:?}");
+}

@@ -1,0 +1,29 @@
+//! texcore's device workloads, defined once: the firmware runs them under exact instruction
+//! counting (`firmware`), the host simulator uses the same code to know the job list, the work
+//! units of every job and to recompute their checksums (`host_sim::report`, `host_sim::accuracy`,
+//! `tests/tests/firmware_qemu.rs`).
+//!
+//! - [`job`]: a job (`fn(&mut Ctx) -> u32` returning a checksum), its context, the checksum fold
+//!   and the one [`job!`] macro that names a job;
+//! - [`jobs`]: the list the firmware runs, in order;
+//! - [`bench`]: lattice hash, span evaluator and marble benchmarks;
+//! - [`suite`]: the texture-unit suite's job wrappers around [`planes`], [`stages`], [`scenes`];
+//! - [`accuracy`]: the accuracy report's configurations and device jobs.
+//!
+//! Uses nothing but `texcore` and `core`: no allocation, no panics on the job paths (the
+//! firmware's `panic-never` build links every job with a panic handler that cannot link).
+#![no_std]
+#![deny(unsafe_code)]
+#![deny(missing_docs)]
+
+// (Its rows use the permutation hash: the firmware compiles it only for the accuracy builds.)
+#[cfg(any(feature = "accuracy", feature = "full"))]
+#[allow(missing_docs)]
+pub mod accuracy;
+pub mod bench;
+pub mod job;
+pub mod jobs;
+pub mod planes;
+pub mod scenes;
+pub mod stages;
+pub mod suite;
