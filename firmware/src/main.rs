@@ -84,6 +84,8 @@ pub mod jobs;
 #[cfg(all(target_os = "none", not(feature = "rtt")))]
 mod logger;
 #[cfg(target_os = "none")]
+pub mod peers_workload;
+#[cfg(target_os = "none")]
 pub mod planes;
 #[cfg(target_os = "none")]
 pub mod scenes;

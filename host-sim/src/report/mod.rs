@@ -12,6 +12,8 @@ pub mod cli;
 pub mod cycles;
 pub mod size;
 
+#[path = "../../../firmware/src/peers_workload.rs"]
+pub mod peers_workload;
 #[path = "../../../firmware/src/planes.rs"]
 pub mod planes;
 #[path = "../../../firmware/src/scenes.rs"]
@@ -38,6 +40,8 @@ pub enum JobKind {
     Stage,
     /// A scene through the banded renderer.
     Scene,
+    /// A workload of the peers' plane (noise alone, [`peers_workload`]).
+    Peers,
 }
 
 /// A row of the texture-unit suite: a workload, its amount of work and the device jobs that
@@ -99,6 +103,14 @@ pub fn suite() -> Vec<SuiteJob> {
             JobKind::Stage,
             u64::from(s.units),
             s.unit,
+        ));
+    }
+    for w in peers_workload::WORKLOADS {
+        jobs.push(one(
+            format!("peers:{}", w.name),
+            JobKind::Peers,
+            u64::from(w.samples()),
+            "sample",
         ));
     }
     for s in scenes::SCENES {
@@ -263,6 +275,7 @@ pub fn host_checksum(name: &str, hash: HashKind) -> Option<u32> {
         "plane" if work => host_plane_checksum(what, hash),
         "plane" => Some(planes::setup_checksum(what, hash)),
         "stage" => Some((stages::stage(what)?.run)(hash, work)),
+        "peers" => Some(peers_workload::workload(what)?.run(hash, work)),
         "scene" if scenes::builtin_strip_job(what).is_some() => {
             let (n, k) = scenes::builtin_strip_job(what)?;
             if work {
