@@ -250,9 +250,15 @@ pub static JOBS: &[Job] = &[
     crate::suite::job!("peers:value-4oct-grad", peers_value_4oct_grad),
     crate::suite::job!("peers:value-4oct-grad/setup", peers_value_4oct_grad_setup),
     crate::suite::job!("peers:value-4oct-span16", peers_value_4oct_span16),
-    crate::suite::job!("peers:value-4oct-span16/setup", peers_value_4oct_span16_setup),
+    crate::suite::job!(
+        "peers:value-4oct-span16/setup",
+        peers_value_4oct_span16_setup
+    ),
     crate::suite::job!("peers:value-1oct-direct", peers_value_1oct_direct),
-    crate::suite::job!("peers:value-1oct-direct/setup", peers_value_1oct_direct_setup),
+    crate::suite::job!(
+        "peers:value-1oct-direct/setup",
+        peers_value_1oct_direct_setup
+    ),
     crate::suite::job!("peers:smooth-1oct", peers_smooth_1oct),
     crate::suite::job!("peers:smooth-1oct/setup", peers_smooth_1oct_setup),
     crate::suite::job!("peers:perlin-1oct", peers_perlin_1oct),

@@ -88,7 +88,8 @@ impl PeerWorkload {
 
     /// Runs the workload with `hash` (`work == false`: builds the model, folds zero rows).
     pub fn run(&self, hash: HashKind, work: bool) -> u32 {
-        let model = core::hint::black_box(workload::peers_model(self.octaves, self.basis.noise(hash)));
+        let model =
+            core::hint::black_box(workload::peers_model(self.octaves, self.basis.noise(hash)));
         let opts = EvalOptions {
             mode: self.mode,
             gradients: self.gradients,
