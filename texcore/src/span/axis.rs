@@ -33,6 +33,27 @@ pub(super) fn single_axis(du: [i32; 3]) -> Option<usize> {
     }
 }
 
+/// The scaled corners of the face `c_k = b` of `cell` ([`scaled_face_bits`], specialised per
+/// axis so the permutation chain's shared look-ups are found at compile time).
+#[allow(clippy::too_many_arguments)]
+#[cfg_attr(not(texcore_lean), inline(always))]
+pub(super) fn face_bits(
+    k: usize,
+    hash: HashKind,
+    cell: [u16; 3],
+    b: usize,
+    amp: i32,
+    fv: u32,
+    vb: u32,
+) -> [i32; 4] {
+    let b = b as u16;
+    match k {
+        0 => scaled_face_bits::<0>(hash, cell, b, amp, fv, vb),
+        1 => scaled_face_bits::<1>(hash, cell, b, amp, fv, vb),
+        _ => scaled_face_bits::<2>(hash, cell, b, amp, fv, vb),
+    }
+}
+
 /// The two axes other than `k`, in ascending order.
 #[cfg_attr(not(texcore_lean), inline(always))]
 fn others(k: usize) -> (usize, usize) {
@@ -50,32 +71,31 @@ pub(super) struct Face {
     h: i64,
 }
 
-/// Blends the face `c_k = b` of the corners `v` (corner order `cx | cy << 1 | cz << 2`): lerps
-/// along axis `a`, then along axis `c`, with the constant fractions `f`, carrying the derivative
-/// along `e` as the dual part (only when `grads`).
-#[cfg_attr(not(texcore_lean), inline(always))]
-pub(super) fn face(
-    v: &[i32; 8],
-    k: usize,
-    b: usize,
-    f: [u32; 3],
-    e: [i32; 3],
-    grads: bool,
-) -> Face {
+/// The four corners of the face `c_k = b` of the cell corners `v` (corner order
+/// `cx | cy << 1 | cz << 2`), in the face order `ca | cc << 1` (`a < c` the two other axes).
+#[cfg(test)]
+fn face_corners(v: &[i32; 8], k: usize, b: usize) -> [i32; 4] {
     let (a, c) = others(k);
-    let at = |ca: usize, cc: usize| v[(b << k) | (ca << a) | (cc << c)];
+    core::array::from_fn(|i| v[(b << k) | ((i & 1) << a) | ((i >> 1) << c)])
+}
+
+/// Blends a face of a cell (its four scaled corners `w` in the order `ca | cc << 1`, `a < c` the
+/// two axes other than `k`): lerps along axis `a`, then along axis `c`, with the constant
+/// fractions `f`, carrying the derivative along `e` as the dual part (only when `grads`).
+#[cfg_attr(not(texcore_lean), inline(always))]
+pub(super) fn face(w: &[i32; 4], k: usize, f: [u32; 3], e: [i32; 3], grads: bool) -> Face {
+    let (a, c) = others(k);
     // Level a: t = v0 2^16 + (v1 - v0) f_a (v' fits 26 bits, model 4.4: exact 32 x 32 -> 64).
     let fa = i64::from(f[a]);
-    let lerp_a = |cc: usize| -> (i64, i64) {
-        let v0 = at(0, cc);
-        let dv = i64::from(at(1, cc).wrapping_sub(v0));
+    let lerp_a = |v0: i32, v1: i32| -> (i64, i64) {
+        let dv = i64::from(v1.wrapping_sub(v0));
         (
             wadd(i64::from(v0) << 16, dv * fa),
             wmul(dv, i64::from(e[a])),
         )
     };
-    let (t0, dt0) = lerp_a(0);
-    let (t1, dt1) = lerp_a(1);
+    let (t0, dt0) = lerp_a(w[0], w[1]);
+    let (t1, dt1) = lerp_a(w[2], w[3]);
     let fc = i64::from(f[c]);
     let d = wsub(t1, t0);
     let phi = wadd(t0 << 16, wmul(d, fc));
@@ -121,6 +141,34 @@ pub(super) fn poly(
     CubicPoly { g, h }
 }
 
+/// Adds the forward-difference state at local pixel 0 of a linear cell polynomial (`poly`'s
+/// output: `g2 = g3 = h2 = 0`) to the merged state: what `sum.add(&fd_start(c, grads))` adds,
+/// without the words that are zero.
+#[cfg_attr(not(texcore_lean), inline(always))]
+pub(super) fn linear_add(sum: &mut Cubic, c: &CubicPoly, grads: bool) {
+    sum.p[0] = wadd(sum.p[0], c.g[0]);
+    sum.p[1] = wadd(sum.p[1], c.g[1]);
+    if GRADIENTS && grads {
+        sum.gx[0] = wadd(sum.gx[0], c.g[1]);
+        sum.gy[0] = wadd(sum.gy[0], c.h[0]);
+        sum.gy[1] = wadd(sum.gy[1], c.h[1]);
+    }
+}
+
+/// Subtracts the state of a linear cell polynomial at local pixel `l` from the merged state:
+/// what `sum.sub(&fd_at(c, l, grads))` subtracts, without the words that are zero.
+#[cfg_attr(not(texcore_lean), inline(always))]
+pub(super) fn linear_sub(sum: &mut Cubic, c: &CubicPoly, l: u32, grads: bool) {
+    let l = i64::from(l);
+    sum.p[0] = wsub(sum.p[0], wadd(c.g[0], wmul(c.g[1], l)));
+    sum.p[1] = wsub(sum.p[1], c.g[1]);
+    if GRADIENTS && grads {
+        sum.gx[0] = wsub(sum.gx[0], c.g[1]);
+        sum.gy[0] = wsub(sum.gy[0], wadd(c.h[0], wmul(c.h[1], l)));
+        sum.gy[1] = wsub(sum.gy[1], c.h[1]);
+    }
+}
+
 /// The face blends of a single-axis term's current cell, kept across its cell events.
 #[derive(Clone, Copy, Debug, Default)]
 pub(super) struct AxisFaces {
@@ -132,8 +180,8 @@ pub(super) struct AxisFaces {
 impl AxisFaces {
     /// The polynomial of the term in `cell` (fractions `frac` at local pixel 0, steps `du` along
     /// and `dy` across the span, moving axis `k`), reusing the shared face when the previous
-    /// cell is the neighbour along `k`. `corners(cell)` hashes and scales a cell's corners;
-    /// returns the polynomial and whether the corners were hashed.
+    /// cell is the neighbour along `k`. `face_of(cell, b)` hashes and scales the four corners of
+    /// a cell's face `c_k = b` (`noise::value::scaled_face_bits`).
     #[allow(clippy::too_many_arguments)]
     #[cfg_attr(not(texcore_lean), inline(always))]
     pub(super) fn enter(
@@ -144,21 +192,18 @@ impl AxisFaces {
         du: [i32; 3],
         dy: [i32; 3],
         grads: bool,
-        corners: impl FnOnce([u16; 3]) -> [i32; 8],
+        face_of: impl Fn([u16; 3], usize) -> [i32; 4],
     ) -> CubicPoly {
         let step = match self.cell {
             Some(prev) if same_but(prev, cell, k) => cell[k].wrapping_sub(prev[k]),
             _ => 0,
         };
-        let v = corners(cell);
+        let blend = |b: usize| face(&face_of(cell, b), k, frac, dy, grads);
         // A step of +1 along k: the old face 1 is the new face 0, and -1 the reverse.
         self.faces = match step {
-            1 => [self.faces[1], face(&v, k, 1, frac, dy, grads)],
-            0xFFFF => [face(&v, k, 0, frac, dy, grads), self.faces[0]],
-            _ => [
-                face(&v, k, 0, frac, dy, grads),
-                face(&v, k, 1, frac, dy, grads),
-            ],
+            1 => [self.faces[1], blend(1)],
+            0xFFFF => [blend(0), self.faces[0]],
+            _ => [blend(0), blend(1)],
         };
         self.cell = Some(cell);
         poly(&self.faces, k, frac, du[k], dy, grads)
@@ -195,13 +240,45 @@ mod tests {
             let mut du = [0; 3];
             du[k] = d;
             prop_assert_eq!(single_axis(du), Some(k));
-            let faces = [face(&v, k, 0, frac, dy, grads), face(&v, k, 1, frac, dy, grads)];
+            let faces = [
+                face(&face_corners(&v, k, 0), k, frac, dy, grads),
+                face(&face_corners(&v, k, 1), k, frac, dy, grads),
+            ];
             let want = cubic_poly(&v, frac, du, dy, grads);
             let got = poly(&faces, k, frac, d, dy, grads);
             prop_assert_eq!(got.g, want.g);
             if GRADIENTS && grads {
                 prop_assert_eq!(got.h, want.h);
             }
+        }
+    }
+
+    proptest! {
+        #[test]
+        fn linear_state_updates_are_fd_start_and_fd_at(
+            v in corners(),
+            frac in proptest::array::uniform3(0u32..65536),
+            k in 0usize..3,
+            d in 1i32..=32768,
+            dy in proptest::array::uniform3(-32768i32..=32768),
+            l in 0u32..65536,
+            grads: bool,
+        ) {
+            let mut du = [0; 3];
+            du[k] = d;
+            let faces = [
+                face(&face_corners(&v, k, 0), k, frac, dy, grads),
+                face(&face_corners(&v, k, 1), k, frac, dy, grads),
+            ];
+            let c = poly(&faces, k, frac, d, dy, grads);
+            let mut a = Cubic::default();
+            let mut b = Cubic::default();
+            linear_add(&mut a, &c, grads);
+            b.add(&fd_start(&c, grads));
+            prop_assert_eq!((a.p, a.gx, a.gy), (b.p, b.gx, b.gy));
+            linear_sub(&mut a, &c, l, grads);
+            b.sub(&fd_at(&c, l, grads));
+            prop_assert_eq!((a.p, a.gx, a.gy), (b.p, b.gx, b.gy));
         }
     }
 
@@ -224,13 +301,16 @@ mod tests {
                 let mut faces = AxisFaces::default();
                 let mut cell = [5u16, 9, 13];
                 let frac = [123, 45_678, 9_999];
+                let mut first = true;
                 for _ in 0..6 {
-                    let mut hashed = 0;
-                    let got = faces.enter(cell, frac, k, du, dy, true, |c| {
-                        hashed += 1;
-                        at(c)
+                    let hashed = core::cell::Cell::new(0);
+                    let got = faces.enter(cell, frac, k, du, dy, true, |c, b| {
+                        hashed.set(hashed.get() + 1);
+                        face_corners(&at(c), k, b)
                     });
-                    assert_eq!(hashed, 1);
+                    // The shared face is reused after the first cell.
+                    assert_eq!(hashed.get(), if first { 2 } else { 1 });
+                    first = false;
                     let want = cubic_poly(&at(cell), frac, du, dy, true);
                     assert_eq!(got.g, want.g);
                     if GRADIENTS {

@@ -93,15 +93,18 @@ impl<'m, const T: usize> SpanEvaluator<'m, T> {
                 Strategy::Fd | Strategy::Fd32 => {
                     let g = grads && ts.gradient;
                     let (cell, frac) = split(ts.u0);
-                    let corners = |c: [u16; 3]| {
-                        scaled_corners_bits(term.basis.hash, c, term.amplitude.to_bits(), fv, vb)
-                    };
+                    let (hash, amp) = (term.basis.hash, term.amplitude.to_bits());
                     setups += 1;
                     let ax = single_axis(ts.du);
                     let mut af = AxisFaces::default();
                     let poly = match ax {
-                        Some(a) => af.enter(cell, frac, a, ts.du, ts.dy, g, corners),
-                        None => cubic_poly(&corners(cell), frac, ts.du, ts.dy, g),
+                        Some(a) => af.enter(cell, frac, a, ts.du, ts.dy, g, |c, b| {
+                            face_bits(a, hash, c, b, amp, fv, vb)
+                        }),
+                        None => {
+                            let v = scaled_corners_bits(hash, cell, amp, fv, vb);
+                            cubic_poly(&v, frac, ts.du, ts.dy, g)
+                        }
                     };
                     sum.add(&fd_start(&poly, g));
                     // At most T terms: never full.
@@ -143,23 +146,14 @@ impl<'m, const T: usize> SpanEvaluator<'m, T> {
                     let at = sink.chunk.len;
                     let c = &mut sink.chunk;
                     if let Some(out) = c.f.get_mut(at..at + k) {
-                        if affine {
-                            value_pass::<true>(out, fv, &mut sum.p, &mut quad);
-                        } else {
-                            value_pass::<false>(out, fv, &mut sum.p, &mut quad);
-                        }
+                        value_pass_for(out, fv, &mut sum.p, &mut quad, affine);
                     }
                     if grads {
                         if let (Some(ox), Some(oy)) =
                             (c.gx.get_mut(at..at + k), c.gy.get_mut(at..at + k))
                         {
-                            if affine {
-                                grad_pass::<true>(ox, fv, &mut sum.gx, &mut quad.gx, quad.dgx);
-                                grad_pass::<true>(oy, fv, &mut sum.gy, &mut quad.gy, quad.dgy);
-                            } else {
-                                grad_pass::<false>(ox, fv, &mut sum.gx, &mut quad.gx, quad.dgx);
-                                grad_pass::<false>(oy, fv, &mut sum.gy, &mut quad.gy, quad.dgy);
-                            }
+                            grad_pass_for(ox, fv, &mut sum.gx, &mut quad.gx, quad.dgx, affine);
+                            grad_pass_for(oy, fv, &mut sum.gy, &mut quad.gy, quad.dgy, affine);
                         }
                     }
                     sink.advance(k);
@@ -211,7 +205,12 @@ impl<'m, const T: usize> SpanEvaluator<'m, T> {
                     continue;
                 };
                 let g = grads && ts.gradient;
-                sum.sub(&fd_at(poly, i - *start, g));
+                let l = i - *start;
+                match *ax {
+                    // A linear cell polynomial: its state is two words (four with gradients).
+                    Some(_) => linear_sub(&mut sum, poly, l, g),
+                    None => sum.sub(&fd_at(poly, l, g)),
+                }
                 let at = i as i32;
                 let u = [
                     ts.u0[0].wrapping_add(ts.du[0].wrapping_mul(at)),
@@ -219,17 +218,28 @@ impl<'m, const T: usize> SpanEvaluator<'m, T> {
                     ts.u0[2].wrapping_add(ts.du[2].wrapping_mul(at)),
                 ];
                 let (cell, frac) = split(u);
-                let corners = |c: [u16; 3]| {
-                    scaled_corners_bits(term.basis.hash, c, term.amplitude.to_bits(), fv, vb)
-                };
+                let (hash, amp) = (term.basis.hash, term.amplitude.to_bits());
                 setups += 1;
                 *poly = match *ax {
-                    Some(a) => af.enter(cell, frac, a, ts.du, ts.dy, g, corners),
-                    None => cubic_poly(&corners(cell), frac, ts.du, ts.dy, g),
+                    Some(a) => af.enter(cell, frac, a, ts.du, ts.dy, g, |c, b| {
+                        face_bits(a, hash, c, b, amp, fv, vb)
+                    }),
+                    None => {
+                        let v = scaled_corners_bits(hash, cell, amp, fv, vb);
+                        cubic_poly(&v, frac, ts.du, ts.dy, g)
+                    }
                 };
-                sum.add(&fd_start(poly, g));
                 *start = i;
-                *next = i.saturating_add(pixels_in_cell(frac, ts.du));
+                match *ax {
+                    Some(a) => {
+                        linear_add(&mut sum, poly, g);
+                        *next = i.saturating_add(pixels_in_cell_axis(frac[a], ts.du[a]));
+                    }
+                    None => {
+                        sum.add(&fd_start(poly, g));
+                        *next = i.saturating_add(pixels_in_cell(frac, ts.du));
+                    }
+                }
             }
         }
 

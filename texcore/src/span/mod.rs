@@ -45,7 +45,7 @@
 use crate::format::{TexPoint, TexValue};
 use crate::hash::HashKind;
 use crate::model::{quantize_coord, NoiseTerm, TextureModel};
-use crate::noise::value::{scaled_corners_bits, CellDirection, CellPoly};
+use crate::noise::value::{scaled_corners_bits, scaled_face_bits, CellDirection, CellPoly};
 use crate::noise::{split, CellData};
 use crate::quadric::QuadraticSpan;
 use crate::table::TableWrap;
@@ -554,6 +554,12 @@ pub struct SpanEvaluator<'m, const T: usize> {
     /// The nonzero entries of the quadric's matrix (bit `4 r + c`), found once.
     qmask: u16,
     stats: SpanStats,
+    /// The per-term lattice steps along and across the last span ([`lattice_steps`]) and the
+    /// screen steps they were computed for: consecutive spans of a plane or a triangle share
+    /// `ds` and `dsdy`, so the two transforms per term are done once, not once per span (the
+    /// same function of the same inputs: exact).
+    steps: heapless::Vec<([i32; 3], [i32; 3], bool), T>,
+    steps_for: Option<(TexPoint, TexPoint)>,
     /// Tests only: run the size-lean loop shape ([`LEAN`]) whatever the build.
     #[cfg(test)]
     lean: bool,
@@ -567,6 +573,8 @@ impl<'m, const T: usize> SpanEvaluator<'m, T> {
             opts,
             qmask: quadric_mask(&quadric_matrix(model.quadric())),
             stats: SpanStats::default(),
+            steps: heapless::Vec::new(),
+            steps_for: None,
             #[cfg(test)]
             lean: LEAN,
         }
@@ -624,8 +632,15 @@ impl<'m, const T: usize> SpanEvaluator<'m, T> {
         // Coordinate precision (`docs/model.md` 3.2): `U0` and `DU` rounded to `F` fraction bits,
         // so `u(i) = U0 + i DU` stays linear in `i`; the Nyquist test uses the unrounded step.
         let cb = m.precision().coord_bits();
-        for term in m.terms().iter().take(T) {
-            let (du, dyl, beyond) = lattice_steps(term, span);
+        if self.steps_for != Some((span.ds, span.dsdy)) {
+            self.steps.clear();
+            for term in m.terms().iter().take(T) {
+                // At most T terms: never full.
+                let _ = self.steps.push(lattice_steps(term, span));
+            }
+            self.steps_for = Some((span.ds, span.dsdy));
+        }
+        for (term, &(du, dyl, beyond)) in m.terms().iter().take(T).zip(self.steps.iter()) {
             if beyond {
                 extra = extra.saturating_add(culled_width48(term));
                 if self.opts.cull {

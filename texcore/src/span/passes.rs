@@ -85,9 +85,11 @@ pub(super) fn pixels<F, X>(
 /// The value pass of the merged loop over `out.len()` pixels: `f = (q + (N >> fv)) >> 32` per
 /// pixel, stepping the merged cubic `p` (three additions) and the quadric (one, or two when not
 /// affine). State: 20 words, which fits a 32-bit core's registers (the whole merged state does
-/// not).
+/// not). Specialised per segment: `LINEAR` when the merged polynomial is linear over it (every
+/// merged term is a single-axis term, `axis`: `p[2] = p[3] = 0`, one addition a pixel) and
+/// `NOQ` when the quadric is zero over it (`f = N >> (32 + fv)`, one shift of the high word).
 #[cfg_attr(not(texcore_lean), inline(always))]
-pub(super) fn value_pass<const AFFINE: bool>(
+pub(super) fn value_pass<const AFFINE: bool, const LINEAR: bool, const NOQ: bool>(
     out: &mut [TexValue],
     fv: u32,
     p: &mut [i64; 4],
@@ -97,14 +99,22 @@ pub(super) fn value_pass<const AFFINE: bool>(
     let (mut p0, mut p1, mut p2, p3) = (p[0], p[1], p[2], p[3]);
     let (mut qq, mut dq, ddq) = (q.q, q.dq, q.ddq);
     for o in out.iter_mut() {
-        let f48 = qq.wrapping_add(p0 >> fv);
-        *o = TexValue::from_bits((f48 >> 32) as i32);
+        let f = if NOQ {
+            (p0 >> (fv + 32)) as i32
+        } else {
+            (qq.wrapping_add(p0 >> fv) >> 32) as i32
+        };
+        *o = TexValue::from_bits(f);
         p0 = p0.wrapping_add(p1);
-        p1 = p1.wrapping_add(p2);
-        p2 = p2.wrapping_add(p3);
-        qq = qq.wrapping_add(dq);
-        if !AFFINE {
-            dq = dq.wrapping_add(ddq);
+        if !LINEAR {
+            p1 = p1.wrapping_add(p2);
+            p2 = p2.wrapping_add(p3);
+        }
+        if !NOQ {
+            qq = qq.wrapping_add(dq);
+            if !AFFINE {
+                dq = dq.wrapping_add(ddq);
+            }
         }
     }
     p[0] = p0;
@@ -114,10 +124,31 @@ pub(super) fn value_pass<const AFFINE: bool>(
     q.dq = dq;
 }
 
+/// [`value_pass`] in the specialisation the segment allows (see there).
+#[cfg_attr(not(texcore_lean), inline(always))]
+pub(super) fn value_pass_for(
+    out: &mut [TexValue],
+    fv: u32,
+    p: &mut [i64; 4],
+    q: &mut QuadStep,
+    affine: bool,
+) {
+    let linear = p[2] == 0 && p[3] == 0;
+    let noq = q.q == 0 && q.dq == 0 && q.ddq == 0;
+    match (noq, linear, affine) {
+        (true, true, _) => value_pass::<true, true, true>(out, fv, p, q),
+        (true, false, _) => value_pass::<true, false, true>(out, fv, p, q),
+        (false, true, true) => value_pass::<true, true, false>(out, fv, p, q),
+        (false, true, false) => value_pass::<false, true, false>(out, fv, p, q),
+        (false, false, true) => value_pass::<true, false, false>(out, fv, p, q),
+        (false, false, false) => value_pass::<false, false, false>(out, fv, p, q),
+    }
+}
+
 /// A gradient pass of the merged loop: `g_out = qg + (G >> fv)` per pixel, stepping the merged
 /// quadratic `g` (two additions) and the quadric's gradient `qg` (constant when affine).
 #[cfg_attr(not(texcore_lean), inline(always))]
-pub(super) fn grad_pass<const AFFINE: bool>(
+pub(super) fn grad_pass<const AFFINE: bool, const LINEAR: bool>(
     out: &mut [i64],
     fv: u32,
     g: &mut [i64; 3],
@@ -130,7 +161,9 @@ pub(super) fn grad_pass<const AFFINE: bool>(
     for o in out.iter_mut() {
         *o = q.wrapping_add(g0 >> fv);
         g0 = g0.wrapping_add(g1);
-        g1 = g1.wrapping_add(g2);
+        if !LINEAR {
+            g1 = g1.wrapping_add(g2);
+        }
         if !AFFINE {
             q = q.wrapping_add(dqg);
         }
@@ -138,4 +171,23 @@ pub(super) fn grad_pass<const AFFINE: bool>(
     g[0] = g0;
     g[1] = g1;
     *qg = q;
+}
+
+/// [`grad_pass`], `LINEAR` when the merged gradient is linear over the segment (`g[2] = 0`: one
+/// addition a pixel).
+#[cfg_attr(not(texcore_lean), inline(always))]
+pub(super) fn grad_pass_for(
+    out: &mut [i64],
+    fv: u32,
+    g: &mut [i64; 3],
+    qg: &mut i64,
+    dqg: i64,
+    affine: bool,
+) {
+    match (affine, g[2] == 0) {
+        (true, true) => grad_pass::<true, true>(out, fv, g, qg, dqg),
+        (true, false) => grad_pass::<true, false>(out, fv, g, qg, dqg),
+        (false, true) => grad_pass::<false, true>(out, fv, g, qg, dqg),
+        (false, false) => grad_pass::<false, false>(out, fv, g, qg, dqg),
+    }
 }
