@@ -4,7 +4,7 @@
 
 use super::*;
 
-impl<'m, const T: usize> SpanEvaluator<'m, T> {
+impl<'m, const T: usize> EvalCore<'m, T> {
     /// The evaluation loop. `choose(term setup, is_cubic)` picks each term's strategy.
     pub(super) fn run<D>(
         &mut self,

@@ -5,7 +5,7 @@
 
 use super::*;
 
-impl<'m, const T: usize> SpanEvaluator<'m, T> {
+impl<'m, const T: usize> EvalCore<'m, T> {
     /// The fast path: every forward-differenced term is a non-turbulent trilinear term, and their
     /// forward differences are merged into **one** accumulator set (a sum of cubics is a cubic
     /// while no term changes cell; wrapping arithmetic keeps it exact). Per pixel that is three
@@ -106,9 +106,18 @@ impl<'m, const T: usize> SpanEvaluator<'m, T> {
                             cubic_poly(&v, frac, ts.du, ts.dy, g)
                         }
                     };
-                    sum.add(&fd_start(&poly, g));
+                    let exit = match ax {
+                        Some(a) => {
+                            linear_add(&mut sum, &poly, g);
+                            pixels_in_cell_axis(frac[a], ts.du[a])
+                        }
+                        None => {
+                            sum.add(&fd_start(&poly, g));
+                            pixels_in_cell(frac, ts.du)
+                        }
+                    };
                     // At most T terms: never full.
-                    let _ = merged.push((k, poly, 0, pixels_in_cell(frac, ts.du)));
+                    let _ = merged.push((k, poly, 0, exit));
                     let _ = faces.push((ax, af));
                 }
                 Strategy::Direct => {

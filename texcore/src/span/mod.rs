@@ -263,7 +263,7 @@ impl SampleChunk {
 
 /// A chunk being filled and the consumer it goes to when full (and at the end of the span).
 struct ChunkSink<'o, 'c> {
-    chunk: SampleChunk,
+    chunk: &'o mut SampleChunk,
     out: &'o mut (dyn FnMut(&SampleChunk) + 'c),
 }
 
@@ -549,6 +549,16 @@ impl Default for TermRun {
 /// Evaluates spans of one model.
 #[derive(Debug)]
 pub struct SpanEvaluator<'m, const T: usize> {
+    core: EvalCore<'m, T>,
+    /// The chunk the samples are handed over in, kept across spans (not cleared per span: every
+    /// slot handed over has been written).
+    chunk: SampleChunk,
+}
+
+/// The evaluator's state apart from its sample chunk (so a span can fill the chunk while the
+/// plan and the loops borrow the rest).
+#[derive(Debug)]
+struct EvalCore<'m, const T: usize> {
     model: &'m TextureModel<T>,
     opts: EvalOptions,
     /// The nonzero entries of the quadric's matrix (bit `4 r + c`), found once.
@@ -569,6 +579,88 @@ impl<'m, const T: usize> SpanEvaluator<'m, T> {
     /// An evaluator for `model` with `opts`.
     pub fn new(model: &'m TextureModel<T>, opts: EvalOptions) -> Self {
         SpanEvaluator {
+            core: EvalCore::new(model, opts),
+            chunk: SampleChunk::new(),
+        }
+    }
+
+    /// Whether the merged loop takes its size-lean shape ([`LEAN`]; tests choose either).
+    #[inline(always)]
+    fn lean(&self) -> bool {
+        self.core.lean()
+    }
+
+    /// The counters so far.
+    pub fn stats(&self) -> &SpanStats {
+        &self.core.stats
+    }
+
+    /// The options.
+    pub fn options(&self) -> EvalOptions {
+        self.core.opts
+    }
+
+    /// The extra filter width of `span` from octaves past the Nyquist limit (what
+    /// [`SpanInfo::extra_width48`] of [`SpanEvaluator::eval`] will be), without evaluating it.
+    pub fn extra_width48(&self, span: &Span) -> i64 {
+        let mut extra: i64 = 0;
+        for term in self.core.model.terms() {
+            if lattice_steps(term, span).2 {
+                extra = extra.saturating_add(culled_width48(term));
+            }
+        }
+        extra
+    }
+
+    /// Evaluates `span`, calling `emit` once per pixel in order. Returns the span's facts.
+    ///
+    /// Only this thin loop is generic over `emit`: the evaluator itself is compiled once per model
+    /// capacity `T` and hands its samples over in chunks of [`SAMPLE_CHUNK`], so a program with
+    /// many call sites carries one copy of the evaluator (code size on the device).
+    ///
+    /// In the size-lean shape (`opt-level = "s"` or `"z"`, crate documentation, "Code size")
+    /// the loop over a chunk's samples is compiled once and calls `emit` through a trait object,
+    /// instead of once per `emit`.
+    #[inline]
+    pub fn eval<F: FnMut(Sample)>(&mut self, span: &Span, mut emit: F) -> SpanInfo {
+        if self.lean() {
+            return self.eval_dyn(span, &mut emit);
+        }
+        self.eval_chunks(span, &mut |chunk: &SampleChunk| {
+            for s in chunk.iter() {
+                emit(s);
+            }
+        })
+    }
+
+    /// [`SpanEvaluator::eval`] with `emit` as a trait object (the size-lean shape).
+    #[inline(never)]
+    fn eval_dyn(&mut self, span: &Span, emit: &mut dyn FnMut(Sample)) -> SpanInfo {
+        self.eval_chunks(span, &mut |chunk: &SampleChunk| {
+            for s in chunk.iter() {
+                emit(s);
+            }
+        })
+    }
+
+    /// Evaluates `span`, handing the samples to `out` in order, in chunks of at most
+    /// [`SAMPLE_CHUNK`] (every chunk but the last of a span is full).
+    #[inline(never)]
+    pub fn eval_chunks(&mut self, span: &Span, out: &mut dyn FnMut(&SampleChunk)) -> SpanInfo {
+        let mut sink = ChunkSink {
+            chunk: &mut self.chunk,
+            out,
+        };
+        sink.chunk.len = 0;
+        let info = self.core.eval_inner(span, &mut sink);
+        sink.finish();
+        info
+    }
+}
+
+impl<'m, const T: usize> EvalCore<'m, T> {
+    fn new(model: &'m TextureModel<T>, opts: EvalOptions) -> Self {
+        EvalCore {
             model,
             opts,
             qmask: quadric_mask(&quadric_matrix(model.quadric())),
@@ -587,16 +679,6 @@ impl<'m, const T: usize> SpanEvaluator<'m, T> {
         return self.lean;
         #[cfg(not(test))]
         LEAN
-    }
-
-    /// The counters so far.
-    pub fn stats(&self) -> &SpanStats {
-        &self.stats
-    }
-
-    /// The options.
-    pub fn options(&self) -> EvalOptions {
-        self.opts
     }
 
     /// Fills `out` (empty, as [`Setup::empty`]) for `span`; in place, as the set-up is large.
@@ -665,62 +747,6 @@ impl<'m, const T: usize> SpanEvaluator<'m, T> {
             });
         }
         out.extra_width48 = extra;
-    }
-
-    /// The extra filter width of `span` from octaves past the Nyquist limit (what
-    /// [`SpanInfo::extra_width48`] of [`SpanEvaluator::eval`] will be), without evaluating it.
-    pub fn extra_width48(&self, span: &Span) -> i64 {
-        let mut extra: i64 = 0;
-        for term in self.model.terms() {
-            if lattice_steps(term, span).2 {
-                extra = extra.saturating_add(culled_width48(term));
-            }
-        }
-        extra
-    }
-
-    /// Evaluates `span`, calling `emit` once per pixel in order. Returns the span's facts.
-    ///
-    /// Only this thin loop is generic over `emit`: the evaluator itself is compiled once per model
-    /// capacity `T` and hands its samples over in chunks of [`SAMPLE_CHUNK`], so a program with
-    /// many call sites carries one copy of the evaluator (code size on the device).
-    ///
-    /// In the size-lean shape (`opt-level = "s"` or `"z"`, crate documentation, "Code size")
-    /// the loop over a chunk's samples is compiled once and calls `emit` through a trait object,
-    /// instead of once per `emit`.
-    #[inline]
-    pub fn eval<F: FnMut(Sample)>(&mut self, span: &Span, mut emit: F) -> SpanInfo {
-        if self.lean() {
-            return self.eval_dyn(span, &mut emit);
-        }
-        self.eval_chunks(span, &mut |chunk: &SampleChunk| {
-            for s in chunk.iter() {
-                emit(s);
-            }
-        })
-    }
-
-    /// [`SpanEvaluator::eval`] with `emit` as a trait object (the size-lean shape).
-    #[inline(never)]
-    fn eval_dyn(&mut self, span: &Span, emit: &mut dyn FnMut(Sample)) -> SpanInfo {
-        self.eval_chunks(span, &mut |chunk: &SampleChunk| {
-            for s in chunk.iter() {
-                emit(s);
-            }
-        })
-    }
-
-    /// Evaluates `span`, handing the samples to `out` in order, in chunks of at most
-    /// [`SAMPLE_CHUNK`] (every chunk but the last of a span is full).
-    #[inline(never)]
-    pub fn eval_chunks(&mut self, span: &Span, out: &mut dyn FnMut(&SampleChunk)) -> SpanInfo {
-        let mut sink = ChunkSink {
-            chunk: SampleChunk::new(),
-            out,
-        };
-        let info = self.eval_inner(span, &mut sink);
-        sink.finish();
-        info
     }
 
     /// The evaluation proper.
@@ -1273,7 +1299,7 @@ mod tests {
         lean: bool,
     ) -> (Vec<Sample>, SpanStats) {
         let mut ev = SpanEvaluator::new(m, opts);
-        ev.lean = lean;
+        ev.core.lean = lean;
         let mut out = Vec::new();
         ev.eval(span, |s| out.push(s));
         (out, *ev.stats())
