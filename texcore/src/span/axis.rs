@@ -194,6 +194,21 @@ impl AxisFaces {
         grads: bool,
         face_of: impl Fn([u16; 3], usize) -> [i32; 4],
     ) -> CubicPoly {
+        self.blend(cell, frac, k, dy, grads, face_of);
+        poly(&self.faces, k, frac, du[k], dy, grads)
+    }
+
+    /// Blends the faces of `cell` (see [`AxisFaces::enter`]), reusing the shared face.
+    #[cfg_attr(not(texcore_lean), inline(always))]
+    pub(super) fn blend(
+        &mut self,
+        cell: [u16; 3],
+        frac: [u32; 3],
+        k: usize,
+        dy: [i32; 3],
+        grads: bool,
+        face_of: impl Fn([u16; 3], usize) -> [i32; 4],
+    ) {
         let step = match self.cell {
             Some(prev) if same_but(prev, cell, k) => cell[k].wrapping_sub(prev[k]),
             _ => 0,
@@ -206,7 +221,14 @@ impl AxisFaces {
             _ => [blend(0), blend(1)],
         };
         self.cell = Some(cell);
-        poly(&self.faces, k, frac, du[k], dy, grads)
+    }
+
+    /// The term's value at fraction `fk` along the moving axis of the current cell:
+    /// `Phi_0 2^16 + (Phi_1 - Phi_0) fk`, exactly `noise::value::interpolate` there.
+    #[cfg_attr(not(texcore_lean), inline(always))]
+    pub(super) fn value_at(&self, fk: u32) -> i64 {
+        let [f0, f1] = &self.faces;
+        wadd(f0.phi << 16, wmul(wsub(f1.phi, f0.phi), i64::from(fk)))
     }
 }
 
@@ -279,6 +301,20 @@ mod tests {
             linear_sub(&mut a, &c, l, grads);
             b.sub(&fd_at(&c, l, grads));
             prop_assert_eq!((a.p, a.gx, a.gy), (b.p, b.gx, b.gy));
+        }
+    }
+
+    proptest! {
+        #[test]
+        fn face_value_is_interpolate(
+            v in corners(),
+            frac in proptest::array::uniform3(0u32..65536),
+            k in 0usize..3,
+        ) {
+            let mut af = AxisFaces::default();
+            af.blend([3, 4, 5], frac, k, [0; 3], false, |_, b| face_corners(&v, k, b));
+            let w = frac.map(i64::from);
+            prop_assert_eq!(af.value_at(frac[k]), crate::noise::value::interpolate(&v, w));
         }
     }
 

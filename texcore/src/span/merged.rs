@@ -135,6 +135,8 @@ impl<'m, const T: usize> EvalCore<'m, T> {
                         turbulence: term.turbulence,
                         grads: grads && ts.gradient,
                         dy: ts.dy,
+                        axis: single_axis(ts.du).filter(|_| !(grads && ts.gradient)),
+                        faces: AxisFaces::default(),
                     });
                 }
                 _ => {}

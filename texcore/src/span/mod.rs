@@ -41,6 +41,26 @@
 //! are culled when [`EvalOptions::cull`] is set: they contribute nothing to `f` and `2 |a_k|` (in
 //! `f` units) to the span's extra filter width, [`SpanInfo::extra_width48`]. Nothing here panics,
 //! for any span (any coordinates, any `ds`, any length up to 65535).
+//!
+//! # Structure
+//!
+//! - this module: the public types, the per-span set-up (`EvalCore::setup`: per-term
+//!   lattice start and steps; **the per-span
+//!   culling decision** is made there, per term, from [`lattice_steps`]) and the plan
+//!   (`EvalCore::eval_inner`: one strategy per term, decided once per span);
+//! - `merged`: the merged forward-difference loop (every forward-differenced term trilinear and
+//!   not turbulent), its cell events and the segment loop;
+//! - `general`: the general loop, one strategy per term;
+//! - `passes`: the pixel kernels of the merged loop, short loops over registers specialised per
+//!   segment (linear or cubic merged state, zero or affine or curved quadric, gradients on or
+//!   off); **the per-sample gradient output** is written by `passes::grad_pass` (the merged
+//!   path) and at the end of the general loop's pixel;
+//! - `cubic`: the exact cell polynomial of a trilinear term and its forward-difference states;
+//! - `axis`: the cell set-up of terms whose lattice step has one nonzero axis (a linear cell
+//!   polynomial from two face blends, the shared face kept from the previous cell);
+//! - `direct`: trilinear terms evaluated per pixel inside the merged loop (one cell set-up per
+//!   cell, then the cell's monomial form, or the face blends of a single-axis term);
+//! - `quad`: the quadric along the span.
 
 use crate::format::{TexPoint, TexValue};
 use crate::hash::HashKind;
@@ -52,6 +72,7 @@ use crate::table::TableWrap;
 
 mod axis;
 mod cubic;
+mod direct;
 mod general;
 mod merged;
 mod passes;
@@ -59,6 +80,7 @@ mod quad;
 
 use axis::*;
 use cubic::*;
+use direct::*;
 use passes::*;
 use quad::*;
 
@@ -550,13 +572,10 @@ impl Default for TermRun {
 #[derive(Debug)]
 pub struct SpanEvaluator<'m, const T: usize> {
     core: EvalCore<'m, T>,
-    /// The chunk the samples are handed over in, kept across spans (not cleared per span: every
-    /// slot handed over has been written).
-    chunk: SampleChunk,
 }
 
-/// The evaluator's state apart from its sample chunk (so a span can fill the chunk while the
-/// plan and the loops borrow the rest).
+/// The evaluator's state: the model, the options and the counters (the plan and the loops are
+/// its methods; the sample chunk of a span is borrowed beside it).
 #[derive(Debug)]
 struct EvalCore<'m, const T: usize> {
     model: &'m TextureModel<T>,
@@ -564,12 +583,6 @@ struct EvalCore<'m, const T: usize> {
     /// The nonzero entries of the quadric's matrix (bit `4 r + c`), found once.
     qmask: u16,
     stats: SpanStats,
-    /// The per-term lattice steps along and across the last span ([`lattice_steps`]) and the
-    /// screen steps they were computed for: consecutive spans of a plane or a triangle share
-    /// `ds` and `dsdy`, so the two transforms per term are done once, not once per span (the
-    /// same function of the same inputs: exact).
-    steps: heapless::Vec<([i32; 3], [i32; 3], bool), T>,
-    steps_for: Option<(TexPoint, TexPoint)>,
     /// Tests only: run the size-lean loop shape ([`LEAN`]) whatever the build.
     #[cfg(test)]
     lean: bool,
@@ -580,7 +593,6 @@ impl<'m, const T: usize> SpanEvaluator<'m, T> {
     pub fn new(model: &'m TextureModel<T>, opts: EvalOptions) -> Self {
         SpanEvaluator {
             core: EvalCore::new(model, opts),
-            chunk: SampleChunk::new(),
         }
     }
 
@@ -647,11 +659,11 @@ impl<'m, const T: usize> SpanEvaluator<'m, T> {
     /// [`SAMPLE_CHUNK`] (every chunk but the last of a span is full).
     #[inline(never)]
     pub fn eval_chunks(&mut self, span: &Span, out: &mut dyn FnMut(&SampleChunk)) -> SpanInfo {
+        let mut chunk = SampleChunk::new();
         let mut sink = ChunkSink {
-            chunk: &mut self.chunk,
+            chunk: &mut chunk,
             out,
         };
-        sink.chunk.len = 0;
         let info = self.core.eval_inner(span, &mut sink);
         sink.finish();
         info
@@ -665,8 +677,6 @@ impl<'m, const T: usize> EvalCore<'m, T> {
             opts,
             qmask: quadric_mask(&quadric_matrix(model.quadric())),
             stats: SpanStats::default(),
-            steps: heapless::Vec::new(),
-            steps_for: None,
             #[cfg(test)]
             lean: LEAN,
         }
@@ -714,15 +724,8 @@ impl<'m, const T: usize> EvalCore<'m, T> {
         // Coordinate precision (`docs/model.md` 3.2): `U0` and `DU` rounded to `F` fraction bits,
         // so `u(i) = U0 + i DU` stays linear in `i`; the Nyquist test uses the unrounded step.
         let cb = m.precision().coord_bits();
-        if self.steps_for != Some((span.ds, span.dsdy)) {
-            self.steps.clear();
-            for term in m.terms().iter().take(T) {
-                // At most T terms: never full.
-                let _ = self.steps.push(lattice_steps(term, span));
-            }
-            self.steps_for = Some((span.ds, span.dsdy));
-        }
-        for (term, &(du, dyl, beyond)) in m.terms().iter().take(T).zip(self.steps.iter()) {
+        for term in m.terms().iter().take(T) {
+            let (du, dyl, beyond) = lattice_steps(term, span);
             if beyond {
                 extra = extra.saturating_add(culled_width48(term));
                 if self.opts.cull {
@@ -951,63 +954,6 @@ fn eval_term(
         )
     } else {
         (v, 0, 0)
-    }
-}
-
-/// A trilinear term evaluated per pixel inside the merged loop: its lattice position, and the
-/// monomial form of its current cell with the derivatives along and across the span, rebuilt
-/// only when the term enters a new cell (the corners are hashed once per cell, not per pixel).
-struct DirectTerm {
-    u: [i32; 3],
-    du: [i32; 3],
-    dy: [i32; 3],
-    /// The cell `poly` belongs to (`None` before the first pixel).
-    cell: Option<[u16; 3]>,
-    poly: CellPoly,
-    along: CellDirection,
-    across: CellDirection,
-    hash: HashKind,
-    amp: i32,
-    neg: bool,
-    turbulence: bool,
-    grads: bool,
-}
-
-impl DirectTerm {
-    /// Value and gradients at the current pixel (exactly [`crate::noise::value::interpolate`] and
-    /// [`crate::noise::value::directional`]), then one step along the span.
-    #[cfg_attr(not(texcore_lean), inline(always))]
-    fn sample(&mut self, fv: u32, vb: u32) -> (i64, i64, i64) {
-        let (cell, frac) = split(self.u);
-        if self.cell != Some(cell) {
-            let v = scaled_corners_bits(self.hash, cell, self.amp, fv, vb);
-            self.poly = CellPoly::new(&v);
-            if self.grads {
-                self.along = self.poly.direction(self.du);
-                self.across = self.poly.direction(self.dy);
-            }
-            self.cell = Some(cell);
-        }
-        let mut p = self.poly.value(frac);
-        let (mut a, mut b) = if self.grads {
-            (
-                CellPoly::directional(&self.along, frac),
-                CellPoly::directional(&self.across, frac),
-            )
-        } else {
-            (0, 0)
-        };
-        if self.turbulence && ((p < 0) != self.neg) {
-            p = p.wrapping_neg();
-            a = a.wrapping_neg();
-            b = b.wrapping_neg();
-        }
-        self.u = [
-            self.u[0].wrapping_add(self.du[0]),
-            self.u[1].wrapping_add(self.du[1]),
-            self.u[2].wrapping_add(self.du[2]),
-        ];
-        (p, a, b)
     }
 }
 
