@@ -430,16 +430,16 @@ fn marble_scene_bound(target: DeviceTarget) -> u64 {
 /// round). About 10% above what was measured when the bounds were set; lower them when the span
 /// evaluator gets faster.
 fn peers_bound(target: DeviceTarget, workload: &str) -> u64 {
-    // (Cortex-M4F, rv32imc); measured in the job-suite firmware at 56.4 / 63.5, 329.1 / 427.1,
-    // 408.3 / 528.2, 431.3 / 578.3, 222.5 / 295.4, 383.5 / 480.3 and 637.9 / 1010.0.
+    // (Cortex-M4F, rv32imc); measured in the job-suite firmware at 58.2 / 64.6, 336.5 / 440.4,
+    // 419.8 / 535.9, 497.0 / 679.6, 229.7 / 299.7, 376.5 / 492.5 and 630.8 / 1022.2.
     let (m4f, rv) = match workload {
-        "value-1oct" => (62, 68),
-        "value-4oct" => (365, 465),
-        "value-4oct-grad" => (455, 576),
-        "value-4oct-span16" => (487, 634),
-        "value-1oct-direct" => (245, 325),
-        "smooth-1oct" => (416, 528),
-        "perlin-1oct" => (696, 1111),
+        "value-1oct" => (64, 71),
+        "value-4oct" => (370, 484),
+        "value-4oct-grad" => (462, 590),
+        "value-4oct-span16" => (547, 748),
+        "value-1oct-direct" => (253, 330),
+        "smooth-1oct" => (414, 542),
+        "perlin-1oct" => (694, 1124),
         other => panic!("no bound for peers workload {other}"),
     };
     match target {

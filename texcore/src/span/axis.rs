@@ -286,8 +286,6 @@ mod tests {
             l in 0u32..65536,
             grads: bool,
         ) {
-            let mut du = [0; 3];
-            du[k] = d;
             let faces = [
                 face(&face_corners(&v, k, 0), k, frac, dy, grads),
                 face(&face_corners(&v, k, 1), k, frac, dy, grads),

@@ -315,7 +315,7 @@ impl ChunkSink<'_, '_> {
         self.chunk.len += k;
         if self.chunk.len >= SAMPLE_CHUNK {
             self.chunk.len = SAMPLE_CHUNK;
-            (self.out)(&self.chunk);
+            (self.out)(self.chunk);
             self.chunk.len = 0;
         }
     }
@@ -323,7 +323,7 @@ impl ChunkSink<'_, '_> {
     /// Hands over what is left.
     fn finish(&mut self) {
         if self.chunk.len > 0 {
-            (self.out)(&self.chunk);
+            (self.out)(self.chunk);
             self.chunk.len = 0;
         }
     }
