@@ -540,6 +540,26 @@ pub mod workload {
         use super::*;
 
         #[test]
+        fn peers_plane_is_x_over_32() {
+            for (x0, y, len) in [(0u16, 0u16, PEERS_SIZE), (16, 5, 16), (240, 255, 16)] {
+                let sp = peers_span(x0, y, len);
+                for i in [0u16, 1, len - 1] {
+                    let x = i32::from(x0 + i);
+                    let s = sp.s0.to_bits();
+                    let d = sp.ds.to_bits();
+                    // s = (x / 32, y / 32, 0.37) in 16.16.
+                    assert_eq!(s[0] + i32::from(i) * d[0], x << 11);
+                    assert_eq!(s[1] + i32::from(i) * d[1], i32::from(y) << 11);
+                    assert_eq!(s[2] + i32::from(i) * d[2], (0.37f64 * 65536.0) as i32);
+                }
+                assert_eq!(sp.len, len);
+            }
+            let m = peers_model(4, NoiseBasis::trilinear(HashKind::Integer));
+            assert_eq!(m.terms().len(), 4);
+            assert!(m.quadric().is_zero());
+        }
+
+        #[test]
         fn marble_workload_is_the_preset() {
             for hash in [
                 HashKind::Integer,
