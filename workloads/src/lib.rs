@@ -23,6 +23,7 @@ pub mod accuracy;
 pub mod bench;
 pub mod job;
 pub mod jobs;
+pub mod peers_workload;
 pub mod planes;
 pub mod scenes;
 pub mod stages;

@@ -16,7 +16,7 @@
 
 // With feature `accuracy` or `peers` the firmware runs those reports' jobs instead of these.
 #![cfg_attr(
-    any(feature = "accuracy", feature = "peers"),
+    feature = "accuracy",
     allow(unused_macros, unused_imports)
 )]
 
@@ -119,6 +119,35 @@ stage_jobs! {
     raster_setup => stage_raster_setup, stage_raster_setup_setup;
     perspective_every16 => stage_perspective_every16, stage_perspective_every16_setup;
     perspective_affine => stage_perspective_affine, stage_perspective_affine_setup;
+}
+
+macro_rules! peers_jobs {
+    ($($k:literal => $job:ident, $setup:ident;)*) => {$(
+        #[doc = concat!("`peers:` workload ", stringify!($k), " of `peers_workload::WORKLOADS`.")]
+        pub fn $job(_: &mut Ctx) -> u32 {
+            if STUBBED {
+                return 0;
+            }
+            crate::peers_workload::WORKLOADS[$k].run(hash(), true)
+        }
+        #[doc = concat!("Its `/setup` job.")]
+        pub fn $setup(_: &mut Ctx) -> u32 {
+            if STUBBED {
+                return 0;
+            }
+            crate::peers_workload::WORKLOADS[$k].run(hash(), false)
+        }
+    )*};
+}
+
+peers_jobs! {
+    0 => peers_value_1oct, peers_value_1oct_setup;
+    1 => peers_value_4oct, peers_value_4oct_setup;
+    2 => peers_value_4oct_grad, peers_value_4oct_grad_setup;
+    3 => peers_value_4oct_span16, peers_value_4oct_span16_setup;
+    4 => peers_value_1oct_direct, peers_value_1oct_direct_setup;
+    5 => peers_smooth_1oct, peers_smooth_1oct_setup;
+    6 => peers_perlin_1oct, peers_perlin_1oct_setup;
 }
 
 /// The RGBA band and the depth band of the scene renders: one band of [`scenes::BAND_ROWS`] rows

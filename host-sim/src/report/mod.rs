@@ -14,7 +14,7 @@ pub mod cycles;
 pub mod peers;
 pub mod size;
 
-pub use workloads::{planes, scenes, stages};
+pub use workloads::{peers_workload, planes, scenes, stages};
 
 use std::path::Path;
 
@@ -35,6 +35,8 @@ pub enum JobKind {
     Stage,
     /// A scene through the banded renderer.
     Scene,
+    /// A workload of the peers' plane (noise alone, [`peers_workload`]).
+    Peers,
 }
 
 /// A row of the texture-unit suite: a workload, its amount of work and the device jobs that
@@ -96,6 +98,14 @@ pub fn suite() -> Vec<SuiteJob> {
             JobKind::Stage,
             u64::from(s.units),
             s.unit,
+        ));
+    }
+    for w in peers_workload::WORKLOADS {
+        jobs.push(one(
+            format!("peers:{}", w.name),
+            JobKind::Peers,
+            u64::from(w.samples()),
+            "sample",
         ));
     }
     for s in scenes::SCENES {
@@ -260,6 +270,7 @@ pub fn host_checksum(name: &str, hash: HashKind) -> Option<u32> {
         "plane" if work => host_plane_checksum(what, hash),
         "plane" => Some(planes::setup_checksum(what, hash)),
         "stage" => Some((stages::stage(what)?.run)(hash, work)),
+        "peers" => Some(peers_workload::workload(what)?.run(hash, work)),
         "scene" if scenes::builtin_strip_job(what).is_some() => {
             let (n, k) = scenes::builtin_strip_job(what)?;
             if work {

@@ -57,13 +57,76 @@ pub fn scaled_corners_bits(
     }
     let mut out = [0i32; 8];
     for (o, v) in out.iter_mut().zip(raw) {
-        let x = i64::from(amp_raw) * i64::from(v) + round;
-        // `(x >> shift) as i32` from the two 32-bit halves (`15 <= shift <= 31`): a 32-bit core
-        // needs no general 64-bit shift.
-        let (lo, hi) = (x as u32, (x >> 32) as u32);
-        *o = (lo.wrapping_shr(shift) | hi.wrapping_shl(32 - shift)) as i32;
+        *o = scale_bits(v, amp_raw, shift, round);
     }
     out
+}
+
+/// `(amp * v + round) >> shift` as i32 (`15 <= shift <= 31`).
+#[cfg_attr(not(texcore_lean), inline(always))]
+fn scale_bits(v: i16, amp_raw: i32, shift: u32, round: i64) -> i32 {
+    let x = i64::from(amp_raw) * i64::from(v) + round;
+    // `(x >> shift) as i32` from the two 32-bit halves (`15 <= shift <= 31`): a 32-bit core
+    // needs no general 64-bit shift.
+    let (lo, hi) = (x as u32, (x >> 32) as u32);
+    (lo.wrapping_shr(shift) | hi.wrapping_shl(32 - shift)) as i32
+}
+
+/// The four scaled corner values of the face `c_k = b` of `cell` (`K = k`, `0..3`), exactly the
+/// entries `(b << k) | (ca << a) | (cc << c)` of [`scaled_corners_bits`] (`a < c` the two other
+/// axes), in the order `ca | cc << 1`: half the hashing of a cell, for a span that steps into the
+/// neighbouring cell along `k` and keeps the shared face. The permutation chain shares its
+/// look-ups between the face's corners (7 to 10 instead of 12).
+#[cfg_attr(not(texcore_lean), inline(always))]
+pub fn scaled_face_bits<const K: usize>(
+    hash: HashKind,
+    cell: [u16; 3],
+    b: u16,
+    amp_raw: i32,
+    fv: u32,
+    value_bits: u32,
+) -> [i32; 4] {
+    let shift = 31 - fv.min(16);
+    let round = 1i64 << (shift - 1);
+    // The corner offsets of face corner `i` along x, y and z.
+    let off = |i: usize| -> [u16; 3] {
+        let (ca, cc) = ((i & 1) as u16, (i >> 1) as u16);
+        match K {
+            0 => [b, ca, cc],
+            1 => [ca, b, cc],
+            _ => [ca, cc, b],
+        }
+    };
+    let raw: [i16; 4] = match hash {
+        #[cfg(feature = "perm-hash")]
+        HashKind::Permutation => {
+            let p = &crate::hash::PERMUTATION;
+            let [x, y, z] = cell.map(|c| c as u8);
+            let h = |o: [u16; 3]| {
+                let a = p[usize::from(x.wrapping_add(o[0] as u8))];
+                let bb = p[usize::from(a.wrapping_add(y.wrapping_add(o[1] as u8)))];
+                p[usize::from(bb.wrapping_add(z.wrapping_add(o[2] as u8)))]
+            };
+            core::array::from_fn(|i| (i32::from(h(off(i))) * 257 - 32768) as i16)
+        }
+        HashKind::Integer => core::array::from_fn(|i| {
+            let o = off(i);
+            crate::hash::lattice_value(
+                HashKind::Integer,
+                cell[0].wrapping_add(o[0]),
+                cell[1].wrapping_add(o[1]),
+                cell[2].wrapping_add(o[2]),
+            )
+        }),
+    };
+    raw.map(|v| {
+        let v = if value_bits < 16 {
+            quantize_value(v, value_bits)
+        } else {
+            v
+        };
+        scale_bits(v, amp_raw, shift, round)
+    })
 }
 
 /// The eight corner values `lattice_value(hash, cell + c)` (corner order `cx | cy << 1 | cz << 2`),
@@ -271,6 +334,36 @@ mod tests {
 
     fn corners() -> [i32; 8] {
         [1000, -2000, 3000, 8191, -8192, 17, 0, -5000]
+    }
+
+    #[test]
+    fn face_values_are_the_cell_corners() {
+        let kinds = [
+            HashKind::Integer,
+            #[cfg(feature = "perm-hash")]
+            HashKind::Permutation,
+        ];
+        for hash in kinds {
+            for cell in [[0u16, 0, 0], [255, 7, 65535], [1234, 40000, 99]] {
+                for (amp, fv, vb) in [(65536, 16, 16), (-12345, 3, 9), (32768, 0, 12)] {
+                    let all = scaled_corners_bits(hash, cell, amp, fv, vb);
+                    for k in 0..3 {
+                        let (a, c) = [(1, 2), (0, 2), (0, 1)][k];
+                        for b in 0..2 {
+                            let f = match k {
+                                0 => scaled_face_bits::<0>(hash, cell, b as u16, amp, fv, vb),
+                                1 => scaled_face_bits::<1>(hash, cell, b as u16, amp, fv, vb),
+                                _ => scaled_face_bits::<2>(hash, cell, b as u16, amp, fv, vb),
+                            };
+                            for (i, v) in f.iter().enumerate() {
+                                let idx = (b << k) | ((i & 1) << a) | ((i >> 1) << c);
+                                assert_eq!(*v, all[idx], "{hash:?} {cell:?} k {k} b {b} i {i}");
+                            }
+                        }
+                    }
+                }
+            }
+        }
     }
 
     #[test]

@@ -41,14 +41,48 @@
 //! are culled when [`EvalOptions::cull`] is set: they contribute nothing to `f` and `2 |a_k|` (in
 //! `f` units) to the span's extra filter width, [`SpanInfo::extra_width48`]. Nothing here panics,
 //! for any span (any coordinates, any `ds`, any length up to 65535).
+//!
+//! # Structure
+//!
+//! - this module: the public types, the per-span set-up (`EvalCore::setup`: per-term
+//!   lattice start and steps; **the per-span
+//!   culling decision** is made there, per term, from [`lattice_steps`]) and the plan
+//!   (`EvalCore::eval_inner`: one strategy per term, decided once per span);
+//! - `merged`: the merged forward-difference loop (every forward-differenced term trilinear and
+//!   not turbulent), its cell events and the segment loop;
+//! - `general`: the general loop, one strategy per term;
+//! - `passes`: the pixel kernels of the merged loop, short loops over registers specialised per
+//!   segment (linear or cubic merged state, zero or affine or curved quadric, gradients on or
+//!   off); **the per-sample gradient output** is written by `passes::grad_pass` (the merged
+//!   path) and at the end of the general loop's pixel;
+//! - `cubic`: the exact cell polynomial of a trilinear term and its forward-difference states;
+//! - `axis`: the cell set-up of terms whose lattice step has one nonzero axis (a linear cell
+//!   polynomial from two face blends, the shared face kept from the previous cell);
+//! - `direct`: trilinear terms evaluated per pixel inside the merged loop (one cell set-up per
+//!   cell, then the cell's monomial form, or the face blends of a single-axis term);
+//! - `quad`: the quadric along the span.
 
 use crate::format::{TexPoint, TexValue};
 use crate::hash::HashKind;
 use crate::model::{quantize_coord, NoiseTerm, TextureModel};
-use crate::noise::value::{scaled_corners_bits, CellDirection, CellPoly};
+use crate::noise::value::{scaled_corners_bits, scaled_face_bits, CellDirection, CellPoly};
 use crate::noise::{split, CellData};
 use crate::quadric::QuadraticSpan;
 use crate::table::TableWrap;
+
+mod axis;
+mod cubic;
+mod direct;
+mod general;
+mod merged;
+mod passes;
+mod quad;
+
+use axis::*;
+use cubic::*;
+use direct::*;
+use passes::*;
+use quad::*;
 
 /// A span of pixels: `s(i) = s0 + i ds`, with the second screen direction `dsdy` for the filter
 /// width (zero if unknown).
@@ -257,7 +291,7 @@ impl SampleChunk {
 
 /// A chunk being filled and the consumer it goes to when full (and at the end of the span).
 struct ChunkSink<'o, 'c> {
-    chunk: SampleChunk,
+    chunk: &'o mut SampleChunk,
     out: &'o mut (dyn FnMut(&SampleChunk) + 'c),
 }
 
@@ -287,7 +321,7 @@ impl ChunkSink<'_, '_> {
         self.chunk.len += k;
         if self.chunk.len >= SAMPLE_CHUNK {
             self.chunk.len = SAMPLE_CHUNK;
-            (self.out)(&self.chunk);
+            (self.out)(self.chunk);
             self.chunk.len = 0;
         }
     }
@@ -295,7 +329,7 @@ impl ChunkSink<'_, '_> {
     /// Hands over what is left.
     fn finish(&mut self) {
         if self.chunk.len > 0 {
-            (self.out)(&self.chunk);
+            (self.out)(self.chunk);
             self.chunk.len = 0;
         }
     }
@@ -543,6 +577,13 @@ impl Default for TermRun {
 /// Evaluates spans of one model.
 #[derive(Debug)]
 pub struct SpanEvaluator<'m, const T: usize> {
+    core: EvalCore<'m, T>,
+}
+
+/// The evaluator's state: the model, the options and the counters (the plan and the loops are
+/// its methods; the sample chunk of a span is borrowed beside it).
+#[derive(Debug)]
+struct EvalCore<'m, const T: usize> {
     model: &'m TextureModel<T>,
     opts: EvalOptions,
     /// The nonzero entries of the quadric's matrix (bit `4 r + c`), found once.
@@ -557,6 +598,96 @@ impl<'m, const T: usize> SpanEvaluator<'m, T> {
     /// An evaluator for `model` with `opts`.
     pub fn new(model: &'m TextureModel<T>, opts: EvalOptions) -> Self {
         SpanEvaluator {
+            core: EvalCore::new(model, opts),
+        }
+    }
+
+    /// Whether the merged loop takes its size-lean shape ([`LEAN`]; tests choose either).
+    #[inline(always)]
+    fn lean(&self) -> bool {
+        self.core.lean()
+    }
+
+    /// The counters so far.
+    pub fn stats(&self) -> &SpanStats {
+        &self.core.stats
+    }
+
+    /// The options.
+    pub fn options(&self) -> EvalOptions {
+        self.core.opts
+    }
+
+    /// The extra filter width of `span` from octaves past the Nyquist limit (what
+    /// [`SpanInfo::extra_width48`] of [`SpanEvaluator::eval`] will be), without evaluating it.
+    pub fn extra_width48(&self, span: &Span) -> i64 {
+        let mut extra: i64 = 0;
+        for term in self.core.model.terms() {
+            if lattice_steps(term, span).2 {
+                extra = extra.saturating_add(culled_width48(term));
+            }
+        }
+        extra
+    }
+
+    /// Evaluates `span`, calling `emit` once per pixel in order. Returns the span's facts.
+    ///
+    /// Only this thin loop is generic over `emit`: the evaluator itself is compiled once per model
+    /// capacity `T` and hands its samples over in chunks of [`SAMPLE_CHUNK`], so a program with
+    /// many call sites carries one copy of the evaluator (code size on the device).
+    ///
+    /// In the size-lean shape (`opt-level = "s"` or `"z"`, crate documentation, "Code size")
+    /// the loop over a chunk's samples is compiled once and calls `emit` through a trait object,
+    /// instead of once per `emit`.
+    #[inline]
+    pub fn eval<F: FnMut(Sample)>(&mut self, span: &Span, mut emit: F) -> SpanInfo {
+        if self.lean() {
+            return self.eval_dyn(span, &mut emit);
+        }
+        self.eval_chunks(span, &mut |chunk: &SampleChunk| {
+            for s in chunk.iter() {
+                emit(s);
+            }
+        })
+    }
+
+    /// [`SpanEvaluator::eval`] with `emit` as a trait object (the size-lean shape).
+    #[inline(never)]
+    fn eval_dyn(&mut self, span: &Span, emit: &mut dyn FnMut(Sample)) -> SpanInfo {
+        self.eval_chunks(span, &mut |chunk: &SampleChunk| {
+            for s in chunk.iter() {
+                emit(s);
+            }
+        })
+    }
+
+    /// Evaluates `span`, handing the samples to `out` in order, in chunks of at most
+    /// [`SAMPLE_CHUNK`] (every chunk but the last of a span is full).
+    #[inline(never)]
+    pub fn eval_chunks(&mut self, span: &Span, out: &mut dyn FnMut(&SampleChunk)) -> SpanInfo {
+        let mut chunk = SampleChunk::new();
+        let mut sink = ChunkSink {
+            chunk: &mut chunk,
+            out,
+        };
+        #[cfg(feature = "multipass")]
+        if let EvalMode::Multipass(cfg) = self.core.opts.mode {
+            sink.chunk.extra_width48 = self.extra_width48(span);
+            let core = &mut self.core;
+            let (m, o, st) = (core.model, core.opts, &mut core.stats);
+            let info = crate::multipass::eval_span(m, o, cfg, span, st, &mut |s| sink.push(s));
+            sink.finish();
+            return info;
+        }
+        let info = self.core.eval_inner(span, &mut sink);
+        sink.finish();
+        info
+    }
+}
+
+impl<'m, const T: usize> EvalCore<'m, T> {
+    fn new(model: &'m TextureModel<T>, opts: EvalOptions) -> Self {
+        EvalCore {
             model,
             opts,
             qmask: quadric_mask(&quadric_matrix(model.quadric())),
@@ -573,16 +704,6 @@ impl<'m, const T: usize> SpanEvaluator<'m, T> {
         return self.lean;
         #[cfg(not(test))]
         LEAN
-    }
-
-    /// The counters so far.
-    pub fn stats(&self) -> &SpanStats {
-        &self.stats
-    }
-
-    /// The options.
-    pub fn options(&self) -> EvalOptions {
-        self.opts
     }
 
     /// Fills `out` (empty, as [`Setup::empty`]) for `span`; in place, as the set-up is large.
@@ -646,70 +767,6 @@ impl<'m, const T: usize> SpanEvaluator<'m, T> {
         out.extra_width48 = extra;
     }
 
-    /// The extra filter width of `span` from octaves past the Nyquist limit (what
-    /// [`SpanInfo::extra_width48`] of [`SpanEvaluator::eval`] will be), without evaluating it.
-    pub fn extra_width48(&self, span: &Span) -> i64 {
-        let mut extra: i64 = 0;
-        for term in self.model.terms() {
-            if lattice_steps(term, span).2 {
-                extra = extra.saturating_add(culled_width48(term));
-            }
-        }
-        extra
-    }
-
-    /// Evaluates `span`, calling `emit` once per pixel in order. Returns the span's facts.
-    ///
-    /// Only this thin loop is generic over `emit`: the evaluator itself is compiled once per model
-    /// capacity `T` and hands its samples over in chunks of [`SAMPLE_CHUNK`], so a program with
-    /// many call sites carries one copy of the evaluator (code size on the device).
-    ///
-    /// In the size-lean shape (`opt-level = "s"` or `"z"`, crate documentation, "Code size")
-    /// the loop over a chunk's samples is compiled once and calls `emit` through a trait object,
-    /// instead of once per `emit`.
-    #[inline]
-    pub fn eval<F: FnMut(Sample)>(&mut self, span: &Span, mut emit: F) -> SpanInfo {
-        if self.lean() {
-            return self.eval_dyn(span, &mut emit);
-        }
-        self.eval_chunks(span, &mut |chunk: &SampleChunk| {
-            for s in chunk.iter() {
-                emit(s);
-            }
-        })
-    }
-
-    /// [`SpanEvaluator::eval`] with `emit` as a trait object (the size-lean shape).
-    #[inline(never)]
-    fn eval_dyn(&mut self, span: &Span, emit: &mut dyn FnMut(Sample)) -> SpanInfo {
-        self.eval_chunks(span, &mut |chunk: &SampleChunk| {
-            for s in chunk.iter() {
-                emit(s);
-            }
-        })
-    }
-
-    /// Evaluates `span`, handing the samples to `out` in order, in chunks of at most
-    /// [`SAMPLE_CHUNK`] (every chunk but the last of a span is full).
-    #[inline(never)]
-    pub fn eval_chunks(&mut self, span: &Span, out: &mut dyn FnMut(&SampleChunk)) -> SpanInfo {
-        let mut sink = ChunkSink {
-            chunk: SampleChunk::new(),
-            out,
-        };
-        #[cfg(feature = "multipass")]
-        if let EvalMode::Multipass(cfg) = self.opts.mode {
-            sink.chunk.extra_width48 = self.extra_width48(span);
-            let (m, o, st) = (self.model, self.opts, &mut self.stats);
-            let info = crate::multipass::eval_span(m, o, cfg, span, st, &mut |s| sink.push(s));
-            sink.finish();
-            return info;
-        }
-        let info = self.eval_inner(span, &mut sink);
-        sink.finish();
-        info
-    }
-
     /// The evaluation proper.
     fn eval_inner(&mut self, span: &Span, sink: &mut ChunkSink<'_, '_>) -> SpanInfo {
         let mut setup = Setup::empty();
@@ -771,683 +828,6 @@ impl<'m, const T: usize> SpanEvaluator<'m, T> {
         );
         info
     }
-
-    /// The fast path: every forward-differenced term is a non-turbulent trilinear term, and their
-    /// forward differences are merged into **one** accumulator set (a sum of cubics is a cubic
-    /// while no term changes cell; wrapping arithmetic keeps it exact). Per pixel that is three
-    /// 64-bit additions for the value and four for the two gradients, whatever the number of
-    /// terms. When a term leaves its cell, its state at that pixel is subtracted (evaluated from
-    /// its polynomial, [`fd_at`]) and the new cell's added ([`cubic_poly`]). Terms evaluated
-    /// per pixel (`Direct`, trilinear only) are added on top. The quadric and its gradients are
-    /// stepped in i64, which is exact when they provably stay in range over the span (checked
-    /// here; `mod` tables only need `q` modulo 2^64). Returns `false`, having emitted nothing,
-    /// when the span needs the general loop.
-    ///
-    /// Exactness of the merged gradient: every trilinear term's derivative inside its cell is at
-    /// most `3 * 2^48 * max|v'|` per pixel step of at most half a cell (terms past Nyquist have no
-    /// gradient), and `sum_k max|v'_k| <= 2^13 + T` (model 4.4), so the sum stays below 2^63 and
-    /// the general loop's saturating sum never saturates: wrapping and saturating sums agree.
-    fn run_merged(
-        &mut self,
-        len: u16,
-        setup: &Setup<T>,
-        strategies: &[Strategy; T],
-        sink: &mut ChunkSink<'_, '_>,
-    ) -> bool {
-        let m = self.model;
-        let lean = self.lean();
-        let terms = m.terms();
-        let fv = m.noise_frac_bits();
-        let vb = m.precision().value_bits();
-        let grads = GRADIENTS && self.opts.gradients;
-        let clamp = m.wrap() == TableWrap::Clamp;
-        let len = u32::from(len);
-        let mut n_fd = 0usize;
-        let mut n_direct = 0usize;
-        for (term, st) in terms.iter().zip(strategies) {
-            match st {
-                Strategy::Off => {}
-                Strategy::Fd | Strategy::Fd32 if term.basis.is_cubic() && !term.turbulence => {
-                    n_fd += 1
-                }
-                Strategy::Direct if term.basis.is_cubic() => n_direct += 1,
-                _ => return false,
-            }
-        }
-        // Below 2^62 the quadric (clamp tables) and its gradients plus the noise (|N| <= 2^61,
-        // gradients below 2^59 after `>> fv`, see above) can never saturate, so the pixel loop
-        // adds with plain wrapping additions; `mod` tables wrap `q` by definition.
-        let qc = setup.quad.c;
-        if clamp && !fits(&qc, len) {
-            return false;
-        }
-        if grads && !(fits(&setup.gqx, len) && fits(&setup.gqy, len)) {
-            return false;
-        }
-        // An affine quadric along the span (linear `q`, constant gradients) skips three additions.
-        let affine = qc[2] == 0 && setup.gqx[1] == 0 && setup.gqy[1] == 0;
-        let mut quad = QuadStep {
-            q: qc[0] as i64,
-            dq: qc[1].wrapping_add(qc[2]) as i64,
-            ddq: qc[2].wrapping_mul(2) as i64,
-            gx: setup.gqx[0] as i64,
-            dgx: setup.gqx[1] as i64,
-            gy: setup.gqy[0] as i64,
-            dgy: setup.gqy[1] as i64,
-        };
-
-        // Merged terms: their polynomials, entry pixel and exit pixel.
-        // (Vectors, not arrays: nothing is written for the slots a span does not use.)
-        let mut merged: heapless::Vec<(usize, CubicPoly, u32, u32), T> = heapless::Vec::new();
-        let mut direct: heapless::Vec<DirectTerm, T> = heapless::Vec::new();
-        let mut sum = Cubic::default();
-        let mut setups: u64 = 0;
-        let mut grad_terms: u64 = 0;
-        for (k, ((term, st), ts)) in terms
-            .iter()
-            .zip(strategies)
-            .zip(setup.terms.iter())
-            .enumerate()
-        {
-            if *st != Strategy::Off && grads && ts.gradient {
-                grad_terms += 1;
-            }
-            match st {
-                Strategy::Fd | Strategy::Fd32 => {
-                    let g = grads && ts.gradient;
-                    let (cell, frac) = split(ts.u0);
-                    let v = scaled_corners_bits(
-                        term.basis.hash,
-                        cell,
-                        term.amplitude.to_bits(),
-                        fv,
-                        vb,
-                    );
-                    setups += 1;
-                    let poly = cubic_poly(&v, frac, ts.du, ts.dy, g);
-                    sum.add(&fd_start(&poly, g));
-                    // At most T terms: never full.
-                    let _ = merged.push((k, poly, 0, pixels_in_cell(frac, ts.du)));
-                }
-                Strategy::Direct => {
-                    let (amp, neg) = amp_and_sign(term);
-                    let _ = direct.push(DirectTerm {
-                        u: ts.u0,
-                        du: ts.du,
-                        cell: None,
-                        poly: CellPoly::default(),
-                        along: CellDirection::default(),
-                        across: CellDirection::default(),
-                        hash: term.basis.hash,
-                        amp,
-                        neg,
-                        turbulence: term.turbulence,
-                        grads: grads && ts.gradient,
-                        dy: ts.dy,
-                    });
-                }
-                _ => {}
-            }
-        }
-        let (nm, nd) = (merged.len(), direct.len());
-        debug_assert_eq!((nm, nd), (n_fd, n_direct));
-
-        let mut i = 0u32;
-        while i < len {
-            let end = merged.iter().fold(len, |e, t| e.min(t.3));
-            let seg = end - i;
-            if !lean && nd == 0 && seg >= PASS_MIN {
-                // Component passes over the chunk: value, then each gradient.
-                let mut left = seg as usize;
-                while left > 0 {
-                    let k = left.min(sink.room());
-                    let at = sink.chunk.len;
-                    let c = &mut sink.chunk;
-                    if let Some(out) = c.f.get_mut(at..at + k) {
-                        if affine {
-                            value_pass::<true>(out, fv, &mut sum.p, &mut quad);
-                        } else {
-                            value_pass::<false>(out, fv, &mut sum.p, &mut quad);
-                        }
-                    }
-                    if grads {
-                        if let (Some(ox), Some(oy)) =
-                            (c.gx.get_mut(at..at + k), c.gy.get_mut(at..at + k))
-                        {
-                            if affine {
-                                grad_pass::<true>(ox, fv, &mut sum.gx, &mut quad.gx, quad.dgx);
-                                grad_pass::<true>(oy, fv, &mut sum.gy, &mut quad.gy, quad.dgy);
-                            } else {
-                                grad_pass::<false>(ox, fv, &mut sum.gx, &mut quad.gx, quad.dgx);
-                                grad_pass::<false>(oy, fv, &mut sum.gy, &mut quad.gy, quad.dgy);
-                            }
-                        }
-                    }
-                    sink.advance(k);
-                    left -= k;
-                }
-            } else if !lean && nd == 0 {
-                // Short segments (cells of a few pixels): one fused pass costs less than three.
-                pixel_loop(
-                    lean,
-                    seg,
-                    fv,
-                    grads,
-                    affine,
-                    &mut sum,
-                    &mut quad,
-                    &mut |smp: Sample| sink.push(smp),
-                    |_, _, _| {},
-                );
-            } else {
-                let direct = &mut direct;
-                pixel_loop(
-                    lean,
-                    seg,
-                    fv,
-                    grads,
-                    affine,
-                    &mut sum,
-                    &mut quad,
-                    &mut |smp: Sample| sink.push(smp),
-                    |n: &mut i64, gx: &mut i64, gy: &mut i64| {
-                        for t in direct.iter_mut() {
-                            let (p, a, b) = t.sample(fv, vb);
-                            *n = n.wrapping_add(p);
-                            *gx = gx.wrapping_add(a);
-                            *gy = gy.wrapping_add(b);
-                        }
-                    },
-                );
-            }
-            i = end;
-            if i >= len {
-                break;
-            }
-            for (k, poly, start, next) in merged.iter_mut() {
-                if *next != i {
-                    continue;
-                }
-                let (Some(term), Some(ts)) = (terms.get(*k), setup.terms.get(*k)) else {
-                    continue;
-                };
-                let g = grads && ts.gradient;
-                sum.sub(&fd_at(poly, i - *start, g));
-                let at = i as i32;
-                let u = [
-                    ts.u0[0].wrapping_add(ts.du[0].wrapping_mul(at)),
-                    ts.u0[1].wrapping_add(ts.du[1].wrapping_mul(at)),
-                    ts.u0[2].wrapping_add(ts.du[2].wrapping_mul(at)),
-                ];
-                let (cell, frac) = split(u);
-                let v =
-                    scaled_corners_bits(term.basis.hash, cell, term.amplitude.to_bits(), fv, vb);
-                setups += 1;
-                *poly = cubic_poly(&v, frac, ts.du, ts.dy, g);
-                sum.add(&fd_start(poly, g));
-                *start = i;
-                *next = i.saturating_add(pixels_in_cell(frac, ts.du));
-            }
-        }
-
-        let px = u64::from(len);
-        let st = &mut self.stats;
-        st.cell_setups += setups + px * nd as u64;
-        st.noise_evaluations += px * (nm + nd) as u64;
-        if grads {
-            st.gradient_evaluations += px * (1 + grad_terms);
-        }
-        if nm > 0 {
-            st.fd_pixels += px;
-        }
-        true
-    }
-
-    /// The evaluation loop. `choose(term setup, is_cubic)` picks each term's strategy.
-    fn run<D>(&mut self, len: u16, setup: &Setup<T>, choose: D, sink: &mut ChunkSink<'_, '_>)
-    where
-        D: Fn(&TermSetup, bool) -> Strategy,
-    {
-        let m = self.model;
-        let fv = m.noise_frac_bits();
-        let vb = m.precision().value_bits();
-        let wrap = m.wrap();
-        let grads = GRADIENTS && self.opts.gradients;
-        let terms = m.terms();
-        // A model holds at most T terms; `min` lets the compiler see it (no bounds checks).
-        let n = terms.len().min(T);
-
-        let mut strategies = [Strategy::Off; T];
-        for ((st, ts), term) in strategies.iter_mut().zip(setup.terms.iter()).zip(terms) {
-            if ts.active {
-                *st = choose(ts, term.basis.is_cubic());
-                // Without the general loop's forward differencing, turbulent cubic terms are
-                // evaluated per pixel, which the merged loop does (identical samples).
-                if !GENERAL_FD && *st == Strategy::Fd && term.turbulence {
-                    *st = Strategy::Direct;
-                }
-            }
-        }
-        // Without forward differencing every term is `Direct` or `Cached`: the general loop. The
-        // size-lean shape leaves the merged loop out when the general loop forward-differences.
-        if FD && !(GENERAL_FD && self.lean()) && self.run_merged(len, setup, &strategies, sink) {
-            return;
-        }
-
-        // A vector, not an array: only the model's terms are initialised.
-        let mut runs: heapless::Vec<TermRun, T> = heapless::Vec::new();
-        for (ts, st) in setup.terms.iter().zip(strategies.iter()).take(n) {
-            let mut r = TermRun::default();
-            if ts.active {
-                r.strategy = match *st {
-                    // Exact either way: per pixel is the direct computation.
-                    Strategy::Fd if !GENERAL_FD => Strategy::Direct,
-                    s => s,
-                };
-                r.u = ts.u0;
-                if r.strategy == Strategy::Direct {
-                    r.remaining = u32::MAX;
-                }
-            }
-            // At most T terms: never full.
-            let _ = runs.push(r);
-        }
-
-        // Quadric forward differences (exact, wrapping i128); a model without a quadric (no
-        // nonzero matrix entry) skips them.
-        let quad_zero = self.qmask == 0;
-        let qc = setup.quad.c;
-        let mut q = qc[0];
-        let mut dq = qc[1].wrapping_add(qc[2]);
-        let ddq = qc[2].wrapping_mul(2);
-        let mut gqx = setup.gqx[0];
-        let mut gqy = setup.gqy[0];
-
-        let len = u32::from(len);
-        let mut i = 0u32;
-        while i < len {
-            // (Re-)anchor every term whose segment ended; the segment is the shortest of them.
-            let mut seg = len - i;
-            for ((r, ts), term) in runs.iter_mut().zip(setup.terms.iter()).zip(terms) {
-                // Without strategies that keep state, every term is `Off` or `Direct` (never
-                // re-anchored).
-                if !GENERAL_ANCHORS || r.strategy == Strategy::Off {
-                    continue;
-                }
-                if r.remaining == 0 {
-                    let (amp, _) = amp_and_sign(term);
-                    let (cell, frac) = split(r.u);
-                    if !r.cached || cell != r.cell {
-                        r.data = term.basis.cell_bits(cell, amp, fv, vb);
-                        r.cell = cell;
-                        r.cached = true;
-                        self.stats.cell_setups += 1;
-                    }
-                    let in_cell = pixels_in_cell(frac, ts.du);
-                    // Unused when only the cell cache keeps state.
-                    #[allow(unused_variables)]
-                    let want_g = grads && ts.gradient;
-                    r.remaining = match (r.strategy, &r.data) {
-                        #[cfg(feature = "turbulence-fd")]
-                        (Strategy::Fd, CellData::Value(v)) => {
-                            r.fd = cubic_setup(v, frac, ts, want_g);
-                            in_cell
-                        }
-                        #[cfg(feature = "fd32")]
-                        (Strategy::Fd32, CellData::Value(v)) => {
-                            r.fd32 = narrow(&cubic_setup(v, frac, ts, want_g));
-                            in_cell.min(FD32_ANCHOR)
-                        }
-                        #[cfg(texcore_hermite)]
-                        (Strategy::Hermite, data) => {
-                            // At most a quarter of a cell along the span, at most 16 pixels.
-                            let step = ts.du.iter().map(|d| d.unsigned_abs()).max().unwrap_or(0);
-                            let quarter = (1u32 << 14) / step.max(1);
-                            let l = in_cell
-                                .min(HERMITE_SEGMENT)
-                                .min(quarter.max(2))
-                                .min(len - i);
-                            r.fd = hermite_setup(term, data, r.u, ts, l, amp, fv, want_g);
-                            l
-                        }
-                        _ => in_cell,
-                    };
-                }
-                seg = seg.min(r.remaining);
-            }
-
-            for _ in 0..seg {
-                let mut nsum: i64 = 0;
-                let mut gxn: i64 = 0;
-                let mut gyn: i64 = 0;
-                // Never set when no forward-difference strategy is compiled in.
-                #[allow(unused_mut)]
-                let mut any_fd = false;
-                for ((r, ts), term) in runs.iter_mut().zip(setup.terms.iter()).zip(terms) {
-                    let (amp, neg) = amp_and_sign(term);
-                    let want_g = grads && ts.gradient;
-                    let (mut v, mut gx, mut gy) = match r.strategy {
-                        Strategy::Off => continue,
-                        // A Hermite segment steps like a cubic (its `gy[2]` is zero).
-                        #[cfg(texcore_fd_state)]
-                        Strategy::Fd | Strategy::Hermite => {
-                            any_fd = true;
-                            let c = &mut r.fd;
-                            let out = (c.p[0], c.gx[0], c.gy[0]);
-                            c.p[0] = c.p[0].wrapping_add(c.p[1]);
-                            c.p[1] = c.p[1].wrapping_add(c.p[2]);
-                            c.p[2] = c.p[2].wrapping_add(c.p[3]);
-                            if want_g {
-                                c.gx[0] = c.gx[0].wrapping_add(c.gx[1]);
-                                c.gx[1] = c.gx[1].wrapping_add(c.gx[2]);
-                                c.gy[0] = c.gy[0].wrapping_add(c.gy[1]);
-                                c.gy[1] = c.gy[1].wrapping_add(c.gy[2]);
-                            }
-                            out
-                        }
-                        #[cfg(feature = "fd32")]
-                        Strategy::Fd32 => {
-                            any_fd = true;
-                            let c = &mut r.fd32;
-                            let out = (
-                                i64::from(c.p[0]) << 32,
-                                i64::from(c.gx[0]) << 32,
-                                i64::from(c.gy[0]) << 32,
-                            );
-                            c.p[0] = c.p[0].wrapping_add(c.p[1]);
-                            c.p[1] = c.p[1].wrapping_add(c.p[2]);
-                            c.p[2] = c.p[2].wrapping_add(c.p[3]);
-                            if want_g {
-                                c.gx[0] = c.gx[0].wrapping_add(c.gx[1]);
-                                c.gx[1] = c.gx[1].wrapping_add(c.gx[2]);
-                                c.gy[0] = c.gy[0].wrapping_add(c.gy[1]);
-                                c.gy[1] = c.gy[1].wrapping_add(c.gy[2]);
-                            }
-                            out
-                        }
-                        #[cfg(any(
-                            feature = "smooth-fade",
-                            feature = "gradient-noise",
-                            feature = "mnoise"
-                        ))]
-                        Strategy::Cached => {
-                            let (_, frac) = split(r.u);
-                            eval_term(term, &r.data, frac, ts, amp, fv, want_g)
-                        }
-                        Strategy::Direct => {
-                            let (cell, frac) = split(r.u);
-                            let data = term.basis.cell_bits(cell, amp, fv, vb);
-                            self.stats.cell_setups += 1;
-                            eval_term(term, &data, frac, ts, amp, fv, want_g)
-                        }
-                        // Strategies that are not compiled in are never chosen.
-                        #[allow(unreachable_patterns)]
-                        _ => continue,
-                    };
-                    if term.turbulence {
-                        if v < 0 {
-                            v = v.wrapping_neg();
-                            gx = gx.wrapping_neg();
-                            gy = gy.wrapping_neg();
-                        }
-                        if neg {
-                            v = v.wrapping_neg();
-                            gx = gx.wrapping_neg();
-                            gy = gy.wrapping_neg();
-                        }
-                    }
-                    nsum = nsum.wrapping_add(v);
-                    if want_g {
-                        gxn = gxn.saturating_add(gx);
-                        gyn = gyn.saturating_add(gy);
-                        self.stats.gradient_evaluations += 1;
-                    }
-                    self.stats.noise_evaluations += 1;
-                    r.u = [
-                        r.u[0].wrapping_add(ts.du[0]),
-                        r.u[1].wrapping_add(ts.du[1]),
-                        r.u[2].wrapping_add(ts.du[2]),
-                    ];
-                    r.remaining = r.remaining.saturating_sub(1);
-                    if r.strategy == Strategy::Direct {
-                        r.remaining = u32::MAX;
-                    }
-                }
-                if any_fd {
-                    self.stats.fd_pixels += 1;
-                }
-
-                let f = combine(wrap, if quad_zero { 0 } else { q }, nsum, fv);
-                let sample = if grads {
-                    self.stats.gradient_evaluations += 1;
-                    Sample {
-                        f,
-                        gx: sat_i64(gqx).saturating_add(gxn >> fv),
-                        gy: sat_i64(gqy).saturating_add(gyn >> fv),
-                    }
-                } else {
-                    Sample { f, gx: 0, gy: 0 }
-                };
-                sink.push(sample);
-
-                if !quad_zero {
-                    q = q.wrapping_add(dq);
-                    dq = dq.wrapping_add(ddq);
-                }
-                if grads {
-                    gqx = gqx.wrapping_add(setup.gqx[1]);
-                    gqy = gqy.wrapping_add(setup.gqy[1]);
-                }
-            }
-            i += seg;
-        }
-    }
-}
-
-/// The quadric's symmetric matrix (raw 16.16 entries).
-fn quadric_matrix(q: &crate::quadric::Quadric) -> [[i32; 4]; 4] {
-    let [a, b, c, d, e, f, g, h, i, j] = q.coefficients().map(|k| k.to_bits());
-    [[a, b, c, d], [b, e, f, g], [c, f, h, i], [d, g, i, j]]
-}
-
-/// The nonzero entries of `m`: bit `4 r + c` for entry `(r, c)`.
-fn quadric_mask(m: &[[i32; 4]; 4]) -> u16 {
-    m.iter()
-        .flatten()
-        .enumerate()
-        .fold(0, |acc, (k, &q)| if q != 0 { acc | 1 << k } else { acc })
-}
-
-/// `Q v` for a homogeneous vector of 32-bit components (as i64), visiting only the entries in
-/// `mask` (the nonzero ones, [`quadric_mask`]); exact.
-fn mat_vec(m: &[[i32; 4]; 4], mask: u16, v: &[i64; 4]) -> [i128; 4] {
-    let mut out = [0i128; 4];
-    let mut bits = mask;
-    while bits != 0 {
-        let k = bits.trailing_zeros() as usize;
-        bits &= bits - 1;
-        let (r, c) = (k >> 2, k & 3);
-        if let (Some(o), Some(&q), Some(&x)) = (
-            out.get_mut(r),
-            m.get(r).and_then(|row| row.get(c)),
-            v.get(c),
-        ) {
-            // |q| < 2^31 and |x| <= 2^31 (span coordinates are raw i32): exact in i64.
-            *o = o.wrapping_add(i128::from(i64::from(q).wrapping_mul(x)));
-        }
-    }
-    out
-}
-
-/// `v . w` in wrapping i128, skipping zero products.
-fn dot(v: &[i64; 4], w: &[i128; 4]) -> i128 {
-    let mut acc: i128 = 0;
-    for (&a, &b) in v.iter().zip(w) {
-        if a != 0 && b != 0 {
-            acc = acc.wrapping_add(b.wrapping_mul(i128::from(a)));
-        }
-    }
-    acc
-}
-
-/// The quadric (48 fraction bits) and its two screen derivatives along a span, stepped in i64.
-struct QuadStep {
-    q: i64,
-    dq: i64,
-    ddq: i64,
-    gx: i64,
-    dgx: i64,
-    gy: i64,
-    dgy: i64,
-}
-
-/// Whether the polynomial `sum_m c_m i^m` (degree <= 2) provably stays below 2^62 in magnitude for
-/// `i` in `0..len` (`len <= 65535`), then its wrapping i64 forward differences are exact values
-/// and adding a value below 2^62 cannot overflow. Conservative and cheap (no wide
-/// multiplications, which are library calls on 32-bit cores): each nonzero term must satisfy
-/// `|c_m| len^m < 2^60`, checked on bit lengths (`bits(|c_m|) + 16 m <= 60`).
-fn fits(c: &[i128], len: u32) -> bool {
-    let lbits = 32 - len.leading_zeros(); // len < 2^lbits
-    c.iter().enumerate().all(|(m, &cm)| {
-        cm == 0 || (128 - cm.unsigned_abs().leading_zeros()) + lbits * m as u32 <= 60
-    })
-}
-
-/// `seg` pixels of the merged loop, specialised per span (gradients on or off, affine quadric or
-/// not) so that nothing is tested per pixel; `extra` adds per-pixel (direct) terms. No addition
-/// here can saturate (see [`SpanEvaluator::run_merged`]), so all are wrapping.
-#[allow(clippy::too_many_arguments)]
-#[cfg_attr(not(texcore_lean), inline(always))]
-fn pixel_loop<F: FnMut(Sample), X: FnMut(&mut i64, &mut i64, &mut i64)>(
-    lean: bool,
-    seg: u32,
-    fv: u32,
-    grads: bool,
-    affine: bool,
-    s: &mut Cubic,
-    q: &mut QuadStep,
-    emit: &mut F,
-    extra: X,
-) {
-    if lean {
-        return pixels(grads, affine, seg, fv, s, q, emit, extra);
-    }
-    match (grads, affine) {
-        (true, true) => pixels(true, true, seg, fv, s, q, emit, extra),
-        (true, false) => pixels(true, false, seg, fv, s, q, emit, extra),
-        (false, true) => pixels(false, true, seg, fv, s, q, emit, extra),
-        (false, false) => pixels(false, false, seg, fv, s, q, emit, extra),
-    }
-}
-
-#[allow(clippy::too_many_arguments)]
-#[cfg_attr(not(texcore_lean), inline(always))]
-fn pixels<F, X>(
-    grads: bool,
-    affine: bool,
-    seg: u32,
-    fv: u32,
-    s: &mut Cubic,
-    q: &mut QuadStep,
-    emit: &mut F,
-    mut extra: X,
-) where
-    F: FnMut(Sample),
-    X: FnMut(&mut i64, &mut i64, &mut i64),
-{
-    // fv <= 16 (model 4.4): saying so lets 32-bit targets shift a 64-bit value in four
-    // instructions instead of a general sequence with a test for shifts of 32 and more.
-    let fv = fv & 31;
-    for _ in 0..seg {
-        let (mut n, mut gxn, mut gyn) = (s.p[0], s.gx[0], s.gy[0]);
-        extra(&mut n, &mut gxn, &mut gyn);
-        let f48 = q.q.wrapping_add(n >> fv);
-        let f = TexValue::from_bits((f48 >> 32) as i32);
-        if grads {
-            emit(Sample {
-                f,
-                gx: q.gx.wrapping_add(gxn >> fv),
-                gy: q.gy.wrapping_add(gyn >> fv),
-            });
-        } else {
-            emit(Sample { f, gx: 0, gy: 0 });
-        }
-        s.p[0] = s.p[0].wrapping_add(s.p[1]);
-        s.p[1] = s.p[1].wrapping_add(s.p[2]);
-        s.p[2] = s.p[2].wrapping_add(s.p[3]);
-        q.q = q.q.wrapping_add(q.dq);
-        if !affine {
-            q.dq = q.dq.wrapping_add(q.ddq);
-        }
-        if grads {
-            s.gx[0] = s.gx[0].wrapping_add(s.gx[1]);
-            s.gx[1] = s.gx[1].wrapping_add(s.gx[2]);
-            s.gy[0] = s.gy[0].wrapping_add(s.gy[1]);
-            s.gy[1] = s.gy[1].wrapping_add(s.gy[2]);
-            if !affine {
-                q.gx = q.gx.wrapping_add(q.dgx);
-                q.gy = q.gy.wrapping_add(q.dgy);
-            }
-        }
-    }
-}
-
-/// The value pass of the merged loop over `out.len()` pixels: `f = (q + (N >> fv)) >> 32` per
-/// pixel, stepping the merged cubic `p` (three additions) and the quadric (one, or two when not
-/// affine). State: 20 words, which fits a 32-bit core's registers (the whole merged state does
-/// not).
-#[cfg_attr(not(texcore_lean), inline(always))]
-fn value_pass<const AFFINE: bool>(
-    out: &mut [TexValue],
-    fv: u32,
-    p: &mut [i64; 4],
-    q: &mut QuadStep,
-) {
-    let fv = fv & 31;
-    let (mut p0, mut p1, mut p2, p3) = (p[0], p[1], p[2], p[3]);
-    let (mut qq, mut dq, ddq) = (q.q, q.dq, q.ddq);
-    for o in out.iter_mut() {
-        let f48 = qq.wrapping_add(p0 >> fv);
-        *o = TexValue::from_bits((f48 >> 32) as i32);
-        p0 = p0.wrapping_add(p1);
-        p1 = p1.wrapping_add(p2);
-        p2 = p2.wrapping_add(p3);
-        qq = qq.wrapping_add(dq);
-        if !AFFINE {
-            dq = dq.wrapping_add(ddq);
-        }
-    }
-    p[0] = p0;
-    p[1] = p1;
-    p[2] = p2;
-    q.q = qq;
-    q.dq = dq;
-}
-
-/// A gradient pass of the merged loop: `g_out = qg + (G >> fv)` per pixel, stepping the merged
-/// quadratic `g` (two additions) and the quadric's gradient `qg` (constant when affine).
-#[cfg_attr(not(texcore_lean), inline(always))]
-fn grad_pass<const AFFINE: bool>(
-    out: &mut [i64],
-    fv: u32,
-    g: &mut [i64; 3],
-    qg: &mut i64,
-    dqg: i64,
-) {
-    let fv = fv & 31;
-    let (mut g0, mut g1, g2) = (g[0], g[1], g[2]);
-    let mut q = *qg;
-    for o in out.iter_mut() {
-        *o = q.wrapping_add(g0 >> fv);
-        g0 = g0.wrapping_add(g1);
-        g1 = g1.wrapping_add(g2);
-        if !AFFINE {
-            q = q.wrapping_add(dqg);
-        }
-    }
-    g[0] = g0;
-    g[1] = g1;
-    *qg = q;
 }
 
 /// Amplitude used for the corner values and the sign applied afterwards (turbulence).
@@ -1592,266 +972,6 @@ fn eval_term(
     } else {
         (v, 0, 0)
     }
-}
-
-/// A trilinear term evaluated per pixel inside the merged loop: its lattice position, and the
-/// monomial form of its current cell with the derivatives along and across the span, rebuilt
-/// only when the term enters a new cell (the corners are hashed once per cell, not per pixel).
-struct DirectTerm {
-    u: [i32; 3],
-    du: [i32; 3],
-    dy: [i32; 3],
-    /// The cell `poly` belongs to (`None` before the first pixel).
-    cell: Option<[u16; 3]>,
-    poly: CellPoly,
-    along: CellDirection,
-    across: CellDirection,
-    hash: HashKind,
-    amp: i32,
-    neg: bool,
-    turbulence: bool,
-    grads: bool,
-}
-
-impl DirectTerm {
-    /// Value and gradients at the current pixel (exactly [`crate::noise::value::interpolate`] and
-    /// [`crate::noise::value::directional`]), then one step along the span.
-    #[cfg_attr(not(texcore_lean), inline(always))]
-    fn sample(&mut self, fv: u32, vb: u32) -> (i64, i64, i64) {
-        let (cell, frac) = split(self.u);
-        if self.cell != Some(cell) {
-            let v = scaled_corners_bits(self.hash, cell, self.amp, fv, vb);
-            self.poly = CellPoly::new(&v);
-            if self.grads {
-                self.along = self.poly.direction(self.du);
-                self.across = self.poly.direction(self.dy);
-            }
-            self.cell = Some(cell);
-        }
-        let mut p = self.poly.value(frac);
-        let (mut a, mut b) = if self.grads {
-            (
-                CellPoly::directional(&self.along, frac),
-                CellPoly::directional(&self.across, frac),
-            )
-        } else {
-            (0, 0)
-        };
-        if self.turbulence && ((p < 0) != self.neg) {
-            p = p.wrapping_neg();
-            a = a.wrapping_neg();
-            b = b.wrapping_neg();
-        }
-        self.u = [
-            self.u[0].wrapping_add(self.du[0]),
-            self.u[1].wrapping_add(self.du[1]),
-            self.u[2].wrapping_add(self.du[2]),
-        ];
-        (p, a, b)
-    }
-}
-
-/// A trilinear term inside one cell as exact polynomials in the local pixel index `j` (pixel 0
-/// is where the set-up was made): the value `P(j) = g0 + g1 j + g2 j^2 + g3 j^3` and the
-/// directional derivative across the span `Gy(j) = h0 + h1 j + h2 j^2`. The derivative along the
-/// span is `P'(j)`. All coefficients are exact integers taken modulo 2^64 (wrapping), which is all
-/// forward differencing needs: every value derived from them is an integer polynomial of the
-/// coefficients, and the true values fit in i64.
-#[derive(Clone, Copy, Debug, Default)]
-struct CubicPoly {
-    g: [i64; 4],
-    h: [i64; 3],
-}
-
-#[cfg_attr(not(texcore_lean), inline(always))]
-fn wmul(a: i64, b: i64) -> i64 {
-    a.wrapping_mul(b)
-}
-
-#[cfg_attr(not(texcore_lean), inline(always))]
-fn wadd(a: i64, b: i64) -> i64 {
-    a.wrapping_add(b)
-}
-
-#[cfg_attr(not(texcore_lean), inline(always))]
-fn wsub(a: i64, b: i64) -> i64 {
-    a.wrapping_sub(b)
-}
-
-/// The exact polynomials of a trilinear term (corner values `v`, fractions `frac` at pixel 0,
-/// lattice steps `du` along and `dy` across the span), by symbolic expansion of the three lerp
-/// levels of `docs/model.md` 4.2 (`lerp(p, q, w) = p 2^16 + (q - p) w` with `w = f + j d`):
-/// x-lerps are linear in `j`, y-lerps quadratic, the z-lerp cubic. The derivative across the span
-/// is carried along as the dual part of every lerp (`d lerp = dp 2^16 + (dq - dp) w + (q - p) e`).
-/// This is the same integer polynomial as [`crate::noise::value::interpolate`] and
-/// [`crate::noise::value::directional`] at `w = f + j d`, so the forward differences are
-/// bit-identical to direct evaluation. 22 multiplications (41 with the derivative across), the
-/// x level as exact 32 x 32 -> 64-bit products.
-#[inline]
-fn cubic_poly(v: &[i32; 8], frac: [u32; 3], du: [i32; 3], dy: [i32; 3], grads: bool) -> CubicPoly {
-    let grads = GRADIENTS && grads;
-    // Fractions are below 2^16: zero-extended, their products with 64-bit values need one
-    // multiplication less on a 32-bit core.
-    let f = [i64::from(frac[0]), i64::from(frac[1]), i64::from(frac[2])];
-    // x level: e(j) = e0 + e1 j, derivative across de (constant). v' fits 26 bits (model 4.4),
-    // so dv fits i32 and every product here is an exact 32 x 32 -> 64-bit one.
-    let xl = |a: usize| -> (i64, i64, i64) {
-        let v0 = v[a];
-        let dv = i64::from(v[a + 1].wrapping_sub(v0));
-        (
-            wadd(i64::from(v0) << 16, dv * f[0]),
-            wmul(dv, i64::from(du[0])),
-            wmul(dv, i64::from(dy[0])),
-        )
-    };
-    // y level: F(j) = F0 + F1 j + F2 j^2, dF(j) = dF0 + dF1 j.
-    let (fy, sy, ey) = (f[1], i64::from(du[1]), i64::from(dy[1]));
-    let yl = |a: (i64, i64, i64), b: (i64, i64, i64)| -> ([i64; 3], [i64; 2]) {
-        let d0 = wsub(b.0, a.0);
-        let d1 = wsub(b.1, a.1);
-        let ff = [
-            wadd(a.0 << 16, wmul(d0, fy)),
-            wadd(wadd(a.1 << 16, wmul(d1, fy)), wmul(d0, sy)),
-            wmul(d1, sy),
-        ];
-        if !grads {
-            return (ff, [0, 0]);
-        }
-        let dd = wsub(b.2, a.2);
-        (
-            ff,
-            [
-                wadd(wadd(a.2 << 16, wmul(dd, fy)), wmul(d0, ey)),
-                wadd(wmul(dd, sy), wmul(d1, ey)),
-            ],
-        )
-    };
-    let (fa, dfa) = yl(xl(0), xl(2));
-    let (fb, dfb) = yl(xl(4), xl(6));
-    // z level: P(j) cubic, Gy(j) quadratic.
-    let (fz, sz, ez) = (f[2], i64::from(du[2]), i64::from(dy[2]));
-    let e = [wsub(fb[0], fa[0]), wsub(fb[1], fa[1]), wsub(fb[2], fa[2])];
-    let g = [
-        wadd(fa[0] << 16, wmul(e[0], fz)),
-        wadd(wadd(fa[1] << 16, wmul(e[1], fz)), wmul(e[0], sz)),
-        wadd(wadd(fa[2] << 16, wmul(e[2], fz)), wmul(e[1], sz)),
-        wmul(e[2], sz),
-    ];
-    if !grads {
-        return CubicPoly { g, h: [0; 3] };
-    }
-    let k = [wsub(dfb[0], dfa[0]), wsub(dfb[1], dfa[1])];
-    let h = [
-        wadd(wadd(dfa[0] << 16, wmul(k[0], fz)), wmul(e[0], ez)),
-        wadd(
-            wadd(wadd(dfa[1] << 16, wmul(k[1], fz)), wmul(k[0], sz)),
-            wmul(e[1], ez),
-        ),
-        wadd(wmul(k[1], sz), wmul(e[2], ez)),
-    ];
-    CubicPoly { g, h }
-}
-
-/// Forward-difference state of `c` at local pixel 0 (gradient parts zero unless `grads`).
-#[cfg_attr(not(texcore_lean), inline(always))]
-fn fd_start(c: &CubicPoly, grads: bool) -> Cubic {
-    let grads = GRADIENTS && grads;
-    let [g0, g1, g2, g3] = c.g;
-    let [h0, h1, h2] = c.h;
-    let d3 = wmul(g3, 6);
-    let p = [g0, wadd(wadd(g1, g2), g3), wadd(wmul(g2, 2), d3), d3];
-    if !grads {
-        return Cubic {
-            p,
-            ..Cubic::default()
-        };
-    }
-    Cubic {
-        p,
-        gx: [g1, wadd(wmul(g2, 2), wmul(g3, 3)), d3],
-        gy: [h0, wadd(h1, h2), wmul(h2, 2)],
-    }
-}
-
-/// Forward-difference state of `c` at local pixel `l <= 65535` (12 multiplications; gradient
-/// parts zero unless `grads`).
-#[inline]
-fn fd_at(c: &CubicPoly, l: u32, grads: bool) -> Cubic {
-    let grads = GRADIENTS && grads;
-    let [g0, g1, g2, g3] = c.g;
-    let [h0, h1, h2] = c.h;
-    let l = i64::from(l.min(1 << 16));
-    let l2 = l * l; // l <= 2^16: exact
-    let t = 2 * l + 1;
-    let d3 = wmul(g3, 6);
-    let p = [
-        wadd(g0, wmul(l, wadd(g1, wmul(l, wadd(g2, wmul(l, g3)))))),
-        wadd(wadd(g1, wmul(g2, t)), wmul(g3, 3 * l2 + 3 * l + 1)),
-        wadd(wmul(g2, 2), wmul(g3, 6 * l + 6)),
-        d3,
-    ];
-    if !grads {
-        return Cubic {
-            p,
-            ..Cubic::default()
-        };
-    }
-    Cubic {
-        p,
-        gx: [
-            wadd(g1, wmul(l, wadd(wmul(g2, 2), wmul(wmul(g3, 3), l)))),
-            wadd(wmul(g2, 2), wmul(wmul(g3, 3), t)),
-            d3,
-        ],
-        gy: [
-            wadd(h0, wmul(l, wadd(h1, wmul(l, h2)))),
-            wadd(h1, wmul(h2, t)),
-            wmul(h2, 2),
-        ],
-    }
-}
-
-impl Cubic {
-    #[cfg_attr(not(texcore_lean), inline(always))]
-    fn add(&mut self, o: &Cubic) {
-        for (a, b) in self.p.iter_mut().zip(o.p) {
-            *a = a.wrapping_add(b);
-        }
-        // Without the feature the gradient parts stay zero.
-        if !GRADIENTS {
-            return;
-        }
-        for (a, b) in self.gx.iter_mut().zip(o.gx) {
-            *a = a.wrapping_add(b);
-        }
-        for (a, b) in self.gy.iter_mut().zip(o.gy) {
-            *a = a.wrapping_add(b);
-        }
-    }
-
-    #[cfg_attr(not(texcore_lean), inline(always))]
-    fn sub(&mut self, o: &Cubic) {
-        for (a, b) in self.p.iter_mut().zip(o.p) {
-            *a = a.wrapping_sub(b);
-        }
-        // Without the feature the gradient parts stay zero.
-        if !GRADIENTS {
-            return;
-        }
-        for (a, b) in self.gx.iter_mut().zip(o.gx) {
-            *a = a.wrapping_sub(b);
-        }
-        for (a, b) in self.gy.iter_mut().zip(o.gy) {
-            *a = a.wrapping_sub(b);
-        }
-    }
-}
-
-/// Forward-difference start values of a trilinear term in a new cell (see [`cubic_poly`]).
-#[cfg(any(feature = "turbulence-fd", feature = "fd32"))]
-#[inline]
-fn cubic_setup(v: &[i32; 8], frac: [u32; 3], ts: &TermSetup, grads: bool) -> Cubic {
-    fd_start(&cubic_poly(v, frac, ts.du, ts.dy, grads), grads)
 }
 
 #[cfg(feature = "defmt")]
@@ -2142,7 +1262,7 @@ mod tests {
         lean: bool,
     ) -> (Vec<Sample>, SpanStats) {
         let mut ev = SpanEvaluator::new(m, opts);
-        ev.lean = lean;
+        ev.core.lean = lean;
         let mut out = Vec::new();
         ev.eval(span, |s| out.push(s));
         (out, *ev.stats())

@@ -1,0 +1,71 @@
+//! The quadric along a span: its matrix, the sparse matrix-vector set-up and the 64-bit
+//! stepping state with its exactness bound ([`fits`]).
+
+/// The quadric's symmetric matrix (raw 16.16 entries).
+pub(super) fn quadric_matrix(q: &crate::quadric::Quadric) -> [[i32; 4]; 4] {
+    let [a, b, c, d, e, f, g, h, i, j] = q.coefficients().map(|k| k.to_bits());
+    [[a, b, c, d], [b, e, f, g], [c, f, h, i], [d, g, i, j]]
+}
+
+/// The nonzero entries of `m`: bit `4 r + c` for entry `(r, c)`.
+pub(super) fn quadric_mask(m: &[[i32; 4]; 4]) -> u16 {
+    m.iter()
+        .flatten()
+        .enumerate()
+        .fold(0, |acc, (k, &q)| if q != 0 { acc | 1 << k } else { acc })
+}
+
+/// `Q v` for a homogeneous vector of 32-bit components (as i64), visiting only the entries in
+/// `mask` (the nonzero ones, [`quadric_mask`]); exact.
+pub(super) fn mat_vec(m: &[[i32; 4]; 4], mask: u16, v: &[i64; 4]) -> [i128; 4] {
+    let mut out = [0i128; 4];
+    let mut bits = mask;
+    while bits != 0 {
+        let k = bits.trailing_zeros() as usize;
+        bits &= bits - 1;
+        let (r, c) = (k >> 2, k & 3);
+        if let (Some(o), Some(&q), Some(&x)) = (
+            out.get_mut(r),
+            m.get(r).and_then(|row| row.get(c)),
+            v.get(c),
+        ) {
+            // |q| < 2^31 and |x| <= 2^31 (span coordinates are raw i32): exact in i64.
+            *o = o.wrapping_add(i128::from(i64::from(q).wrapping_mul(x)));
+        }
+    }
+    out
+}
+
+/// `v . w` in wrapping i128, skipping zero products.
+pub(super) fn dot(v: &[i64; 4], w: &[i128; 4]) -> i128 {
+    let mut acc: i128 = 0;
+    for (&a, &b) in v.iter().zip(w) {
+        if a != 0 && b != 0 {
+            acc = acc.wrapping_add(b.wrapping_mul(i128::from(a)));
+        }
+    }
+    acc
+}
+
+/// The quadric (48 fraction bits) and its two screen derivatives along a span, stepped in i64.
+pub(super) struct QuadStep {
+    pub(super) q: i64,
+    pub(super) dq: i64,
+    pub(super) ddq: i64,
+    pub(super) gx: i64,
+    pub(super) dgx: i64,
+    pub(super) gy: i64,
+    pub(super) dgy: i64,
+}
+
+/// Whether the polynomial `sum_m c_m i^m` (degree <= 2) provably stays below 2^62 in magnitude for
+/// `i` in `0..len` (`len <= 65535`), then its wrapping i64 forward differences are exact values
+/// and adding a value below 2^62 cannot overflow. Conservative and cheap (no wide
+/// multiplications, which are library calls on 32-bit cores): each nonzero term must satisfy
+/// `|c_m| len^m < 2^60`, checked on bit lengths (`bits(|c_m|) + 16 m <= 60`).
+pub(super) fn fits(c: &[i128], len: u32) -> bool {
+    let lbits = 32 - len.leading_zeros(); // len < 2^lbits
+    c.iter().enumerate().all(|(m, &cm)| {
+        cm == 0 || (128 - cm.unsigned_abs().leading_zeros()) + lbits * m as u32 <= 60
+    })
+}
