@@ -102,24 +102,20 @@ pub struct Job {
     pub run: JobFn,
 }
 
-/// The lattice hash of the texture jobs: the permutation table on the Cortex-M, the table-free
-/// integer hash on the RISC-V soft-core class.
-#[cfg(target_arch = "arm")]
-pub const HASH: HashKind = HashKind::Permutation;
-/// The lattice hash of the texture jobs: the permutation table on the Cortex-M, the table-free
-/// integer hash on the RISC-V soft-core class.
-#[cfg(not(target_arch = "arm"))]
-pub const HASH: HashKind = HashKind::Integer;
+/// The lattice hash of the texture jobs: the suite's ([`crate::suite::HASH`]): the permutation
+/// table on the Cortex-M with `perm-hash` (a default feature), the table-free integer hash
+/// otherwise (the RISC-V soft-core class, and a Cortex-M build without `perm-hash`).
+pub const HASH: HashKind = crate::suite::HASH;
 
 /// Side of the square planes of the span and texture jobs, in pixels.
 pub const PLANE: u16 = 128;
 
-/// A job whose name ends in the hash and plane size: `<name>_perm_128` on the Cortex-M,
-/// `<name>_int_128` on the RISC-V.
+/// A job whose name ends in the hash and plane size: `<name>_perm_128` with the permutation
+/// hash ([`HASH`]), `<name>_int_128` with the integer hash.
 macro_rules! job {
     ($name:literal, $f:expr) => {
         Job {
-            name: if cfg!(target_arch = "arm") {
+            name: if cfg!(all(target_arch = "arm", feature = "perm-hash")) {
                 concat!($name, "_perm_128")
             } else {
                 concat!($name, "_int_128")
