@@ -77,6 +77,8 @@ fn main() {}
 pub mod accuracy;
 #[cfg(target_os = "none")]
 pub mod counter;
+#[cfg(all(target_os = "none", target_arch = "arm", feature = "stack-guard"))]
+pub mod guard;
 #[cfg(target_os = "none")]
 pub mod harness;
 #[cfg(target_os = "none")]
