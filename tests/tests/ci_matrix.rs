@@ -21,7 +21,11 @@ fn firmware_matrix_checks_every_size_report_set() {
             Some((it.next()?.into(), it.next()?.into(), it.next()?.into()))
         })
         .collect();
-    assert_eq!(listed.len(), FEATURE_SETS.len(), "sets in the script: {listed:?}");
+    assert_eq!(
+        listed.len(),
+        FEATURE_SETS.len(),
+        "sets in the script: {listed:?}"
+    );
     for set in FEATURE_SETS {
         let want = (
             set.name.to_string(),
@@ -55,7 +59,8 @@ fn feature_matrix_builds_every_texcore_feature_alone() {
         .expect("features=( in .ci/feature-matrix.sh");
     for f in features {
         assert!(
-            list.split(|c: char| c == ' ' || c == '(' || c == ')').any(|w| w == f),
+            list.split(|c: char| c == ' ' || c == '(' || c == ')')
+                .any(|w| w == f),
             "texcore feature `{f}` is not built alone by .ci/feature-matrix.sh"
         );
     }

@@ -469,7 +469,10 @@ fn cortex_m4f_stack_guard() {
     assert!(run.pass(), "{}", run.log.join("\n"));
     let names: Vec<&str> = run.jobs.iter().map(|j| j.name.as_str()).collect();
     assert_eq!(names, ["scene:overlay", "scene:overlay/setup"]);
-    let stack = run.stack.as_ref().expect("the firmware reports its stack use");
+    let stack = run
+        .stack
+        .as_ref()
+        .expect("the firmware reports its stack use");
     eprintln!(
         "{target} stack-guard: stack used {} of {} bytes (deepest: {})",
         stack.used, stack.size, stack.job

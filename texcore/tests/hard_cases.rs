@@ -4,6 +4,7 @@
 //! the widest `1/w` ratio the format holds).
 
 use texcore::format::TexPoint;
+use texcore::format::{Amplitude, MatrixEntry, QuadricCoeff};
 use texcore::hash::HashKind;
 use texcore::model::{Octaves, TextureModel};
 use texcore::noise::NoiseBasis;
@@ -12,7 +13,6 @@ use texcore::raster::{Perspective, Rasterizer, Rect, ScreenVertex, Segment, Tria
 use texcore::span::{EvalMode, EvalOptions, Sample, Span, SpanEvaluator};
 use texcore::table::TableWrap;
 use texcore::transform::Affine3;
-use texcore::format::{Amplitude, MatrixEntry, QuadricCoeff};
 
 fn eval(m: &TextureModel<8>, mode: EvalMode, span: &Span) -> Vec<Sample> {
     let mut ev = SpanEvaluator::new(
@@ -33,7 +33,12 @@ fn eval(m: &TextureModel<8>, mode: EvalMode, span: &Span) -> Vec<Sample> {
 #[test]
 fn longest_span_is_exact() {
     let m: TextureModel<8> = TextureModel::new(
-        Quadric::linear(QuadricCoeff::ZERO, QuadricCoeff::ZERO, QuadricCoeff::ONE, QuadricCoeff::ZERO),
+        Quadric::linear(
+            QuadricCoeff::ZERO,
+            QuadricCoeff::ZERO,
+            QuadricCoeff::ONE,
+            QuadricCoeff::ZERO,
+        ),
         TableWrap::Mod,
     )
     .with_octaves(&Octaves {
@@ -54,7 +59,10 @@ fn longest_span_is_exact() {
     let direct = eval(&m, EvalMode::Direct, &span);
     assert_eq!(direct.len(), usize::from(u16::MAX));
     for mode in [EvalMode::Fd, EvalMode::Auto] {
-        assert!(eval(&m, mode, &span) == direct, "{mode:?} differs from Direct");
+        assert!(
+            eval(&m, mode, &span) == direct,
+            "{mode:?} differs from Direct"
+        );
     }
 }
 
@@ -90,10 +98,17 @@ fn grazing_angle_slivers() {
             ScreenVertex::from_bits(16 * 4000 + 5, y2, 65535, 1, tex(1 << 30)),
         ];
         let p = v.map(|q| [i64::from(q.x.to_bits()), i64::from(q.y.to_bits())]);
-        for mode in [Perspective::Exact, Perspective::Every8, Perspective::Every16, Perspective::Affine] {
+        for mode in [
+            Perspective::Exact,
+            Perspective::Every8,
+            Perspective::Every16,
+            Perspective::Affine,
+        ] {
             let mut r = Rasterizer::new(clip);
             let mut segs = Vec::new();
-            r.draw(&v, &TriangleOptions::new(mode), &mut |s: &Segment| segs.push(*s));
+            r.draw(&v, &TriangleOptions::new(mode), &mut |s: &Segment| {
+                segs.push(*s)
+            });
             let mut count = vec![0u8; 4096 * 8];
             for s in &segs {
                 assert!(s.len >= 1 && u32::from(s.x0) + u32::from(s.len) <= 4096 && s.y < 8);
@@ -112,7 +127,11 @@ fn grazing_angle_slivers() {
             for y in 0..8u16 {
                 for x in 0..4096u16 {
                     let want = covered(p, 16 * i64::from(x) + 8, 16 * i64::from(y) + 8);
-                    assert_eq!(count[usize::from(y) * 4096 + usize::from(x)], u8::from(want), "{mode:?} ({x}, {y})");
+                    assert_eq!(
+                        count[usize::from(y) * 4096 + usize::from(x)],
+                        u8::from(want),
+                        "{mode:?} ({x}, {y})"
+                    );
                 }
             }
         }
