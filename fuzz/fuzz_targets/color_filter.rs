@@ -62,8 +62,13 @@ fn run<const N: usize>(b: &mut Bytes) {
     let csat = Csat::new(&table);
     let csat3 = Csat3::new(&table, wrap);
     let mip = ColorMip::new(table);
-    let stages = [Antialias::None, Antialias::Mip, Antialias::Csat, Antialias::Csat3]
-        .map(|aa| ColorStage::new(table, wrap, lookup, aa).expect("every filter is compiled in"));
+    let stages = [
+        Antialias::None,
+        Antialias::Mip,
+        Antialias::Csat,
+        Antialias::Csat3,
+    ]
+    .map(|aa| ColorStage::new(table, wrap, lookup, aa).expect("every filter is compiled in"));
     let mut fs = Vec::new();
     let mut ws = Vec::new();
     while !b.is_empty() && fs.len() < 64 {
@@ -71,14 +76,26 @@ fn run<const N: usize>(b: &mut Bytes) {
         let w = width(b);
         let x = TableCoord::from_bits(b.u32());
         for s in &stages {
-            assert_in(s.shade(f, w), &r, &format!("{:?} shade({f:?}, {w:?})", s.antialias()));
+            assert_in(
+                s.shade(f, w),
+                &r,
+                &format!("{:?} shade({f:?}, {w:?})", s.antialias()),
+            );
         }
         assert_in(csat.box_filter(x, w, wrap), &r, "Csat::box_filter");
         assert_in(csat3.box_filter(x, w), &r, "Csat3::box_filter");
         assert_in(mip.lookup(x, w, wrap, lookup), &r, "ColorMip::lookup");
-        assert_in(mip.level_lookup(u32::from(b.u8()), x, wrap, lookup), &r, "ColorMip::level_lookup");
+        assert_in(
+            mip.level_lookup(u32::from(b.u8()), x, wrap, lookup),
+            &r,
+            "ColorMip::level_lookup",
+        );
         if u64::from(w.to_bits()) >= (N as u64) << 16 {
-            assert_eq!(csat.box_filter(x, w, wrap), csat.mean(), "csat width {w:?} past the table");
+            assert_eq!(
+                csat.box_filter(x, w, wrap),
+                csat.mean(),
+                "csat width {w:?} past the table"
+            );
         }
         fs.push(f);
         ws.push(w);
@@ -87,7 +104,12 @@ fn run<const N: usize>(b: &mut Bytes) {
         let mut each = Vec::new();
         s.shade_each(&fs, &ws, |c| each.push(c));
         let one: Vec<_> = fs.iter().zip(&ws).map(|(&f, &w)| s.shade(f, w)).collect();
-        assert_eq!(each, one, "{:?}: shade_each differs from shade", s.antialias());
+        assert_eq!(
+            each,
+            one,
+            "{:?}: shade_each differs from shade",
+            s.antialias()
+        );
     }
 }
 

@@ -64,8 +64,9 @@ fn orient(p: [[i64; 2]; 3]) -> i128 {
 }
 
 fn in_guard_band(v: &[ScreenVertex; 3]) -> bool {
-    v.iter()
-        .all(|p| p.x.to_bits().unsigned_abs() < GUARD_BAND && p.y.to_bits().unsigned_abs() < GUARD_BAND)
+    v.iter().all(|p| {
+        p.x.to_bits().unsigned_abs() < GUARD_BAND && p.y.to_bits().unsigned_abs() < GUARD_BAND
+    })
 }
 
 /// Per-pixel counts over the target; checks each segment against the clip and the mode.
@@ -76,7 +77,10 @@ fn count(segs: &[Segment], clip: Rect, persp: Perspective, counts: &mut [u8]) {
             assert!(s.len <= max, "{persp:?} segment of {} pixels", s.len);
         }
         assert!(
-            s.y >= clip.y0 && s.y < clip.y1 && s.x0 >= clip.x0 && u32::from(s.x0) + u32::from(s.len) <= u32::from(clip.x1),
+            s.y >= clip.y0
+                && s.y < clip.y1
+                && s.x0 >= clip.x0
+                && u32::from(s.x0) + u32::from(s.len) <= u32::from(clip.x1),
             "segment {s:?} outside the clip {clip:?}"
         );
         for x in s.x0..s.x0 + s.len {
@@ -96,14 +100,34 @@ fn draw(clip: Rect, v: &[ScreenVertex; 3], opts: &TriangleOptions) -> Vec<Segmen
 fuzz_target!(|data: &[u8]| {
     let mut b = Bytes::new(data);
     let v = [vertex(&mut b), vertex(&mut b), vertex(&mut b)];
-    let persp = b.pick(&[Perspective::Exact, Perspective::Every8, Perspective::Every16, Perspective::Affine]);
-    let cull = b.pick(&[CullMode::None, CullMode::Clockwise, CullMode::CounterClockwise]);
-    let (x0, y0) = (u16::from(b.below(SIDE as u8)), u16::from(b.below(SIDE as u8)));
-    let clip = Rect::new(x0, y0, x0 + 1 + u16::from(b.below((SIDE - x0) as u8)), y0 + 1 + u16::from(b.below((SIDE - y0) as u8)));
+    let persp = b.pick(&[
+        Perspective::Exact,
+        Perspective::Every8,
+        Perspective::Every16,
+        Perspective::Affine,
+    ]);
+    let cull = b.pick(&[
+        CullMode::None,
+        CullMode::Clockwise,
+        CullMode::CounterClockwise,
+    ]);
+    let (x0, y0) = (
+        u16::from(b.below(SIDE as u8)),
+        u16::from(b.below(SIDE as u8)),
+    );
+    let clip = Rect::new(
+        x0,
+        y0,
+        x0 + 1 + u16::from(b.below((SIDE - x0) as u8)),
+        y0 + 1 + u16::from(b.below((SIDE - y0) as u8)),
+    );
     let band = 1 + u16::from(b.below(9));
     let fourth = vertex(&mut b);
 
-    let opts = TriangleOptions { cull, ..TriangleOptions::new(persp) };
+    let opts = TriangleOptions {
+        cull,
+        ..TriangleOptions::new(persp)
+    };
     let all = TriangleOptions::new(persp);
     let segs = draw(clip, &v, &all);
     let mut counts = vec![0u8; usize::from(SIDE) * usize::from(SIDE)];
@@ -116,7 +140,11 @@ fuzz_target!(|data: &[u8]| {
         for x in clip.x0..clip.x1 {
             let c = counts[usize::from(y) * usize::from(SIDE) + usize::from(x)];
             let want = inside && reference_covered(p, 16 * i64::from(x) + 8, 16 * i64::from(y) + 8);
-            assert_eq!(c, u8::from(want), "pixel ({x}, {y}) drawn {c} times; triangle {p:?}");
+            assert_eq!(
+                c,
+                u8::from(want),
+                "pixel ({x}, {y}) drawn {c} times; triangle {p:?}"
+            );
         }
     }
 
@@ -128,7 +156,11 @@ fuzz_target!(|data: &[u8]| {
         CullMode::CounterClockwise => orient(p) < 0,
     };
     if dropped {
-        assert!(culled.is_empty(), "a culled triangle drew {} segments", culled.len());
+        assert!(
+            culled.is_empty(),
+            "a culled triangle drew {} segments",
+            culled.len()
+        );
     } else {
         assert_eq!(culled, segs, "culling changed a kept triangle");
     }
@@ -145,19 +177,28 @@ fuzz_target!(|data: &[u8]| {
             y = y1;
         }
     }
-    assert_eq!(banded, segs, "bands of {band} rows differ from the whole clip");
+    assert_eq!(
+        banded, segs,
+        "bands of {band} rows differ from the whole clip"
+    );
 
     // A depth-tested draw covers a subset of the pixels.
     let mut zbuf = vec![0u16; usize::from(clip.width()) * usize::from(clip.height())];
     let mut depth = DepthBuffer::new(&mut zbuf, clip).expect("buffer fits the clip");
     depth.clear(u16::MAX);
-    let dopts = TriangleOptions { depth_func: DepthFunc::LessEqual, ..all };
+    let dopts = TriangleOptions {
+        depth_func: DepthFunc::LessEqual,
+        ..all
+    };
     let mut r = Rasterizer::new(clip);
     let mut dsegs = Vec::new();
     r.draw_depth(&v, &dopts, &mut depth, &mut |s: &Segment| dsegs.push(*s));
     let mut dcounts = vec![0u8; counts.len()];
     count(&dsegs, clip, persp, &mut dcounts);
-    assert!(dcounts.iter().zip(&counts).all(|(d, c)| d <= c), "depth test drew an uncovered pixel");
+    assert!(
+        dcounts.iter().zip(&counts).all(|(d, c)| d <= c),
+        "depth test drew an uncovered pixel"
+    );
 
     // A neighbour across the edge v0-v1 never draws a pixel of this triangle.
     let w = [v[1], v[0], fourth];
@@ -166,6 +207,9 @@ fuzz_target!(|data: &[u8]| {
         // (v1, v0, x) has the orientation of (v0, v1, v2) when x lies on the other side of v0-v1.
         let mut both = counts.clone();
         count(&draw(clip, &w, &all), clip, persp, &mut both);
-        assert!(both.iter().all(|&c| c <= 1), "triangles sharing an edge overlap: {p:?} {q:?}");
+        assert!(
+            both.iter().all(|&c| c <= 1),
+            "triangles sharing an edge overlap: {p:?} {q:?}"
+        );
     }
 });

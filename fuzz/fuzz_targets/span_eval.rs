@@ -75,8 +75,21 @@ fn model(b: &mut Bytes) -> TextureModel<4> {
     m
 }
 
-fn eval(m: &TextureModel<4>, mode: EvalMode, gradients: bool, cull: bool, span: &Span) -> Vec<Sample> {
-    let mut ev = SpanEvaluator::new(m, EvalOptions { mode, gradients, cull });
+fn eval(
+    m: &TextureModel<4>,
+    mode: EvalMode,
+    gradients: bool,
+    cull: bool,
+    span: &Span,
+) -> Vec<Sample> {
+    let mut ev = SpanEvaluator::new(
+        m,
+        EvalOptions {
+            mode,
+            gradients,
+            cull,
+        },
+    );
     let mut out = Vec::with_capacity(usize::from(span.len));
     ev.eval(span, |s| out.push(s));
     out
