@@ -803,7 +803,6 @@ impl<'m, const T: usize> SpanEvaluator<'m, T> {
         let fv = m.noise_frac_bits();
         let vb = m.precision().value_bits();
         let grads = GRADIENTS && self.opts.gradients;
-        let clamp = m.wrap() == TableWrap::Clamp;
         let len = u32::from(len);
         if !self.merged_takes(len, setup, strategies) {
             return false;
