@@ -70,10 +70,12 @@ fn in_guard_band(v: &[ScreenVertex; 3]) -> bool {
 }
 
 /// Per-pixel counts over the target; checks each segment against the clip and the mode.
-fn count(segs: &[Segment], clip: Rect, persp: Perspective, counts: &mut [u8]) {
+/// `persp` is `None` when the triangle is interpolated affinely whatever the mode (all `1/w`
+/// zero, as the module documents): whole runs.
+fn count(segs: &[Segment], clip: Rect, persp: Option<Perspective>, counts: &mut [u8]) {
     for s in segs {
         assert!(s.len >= 1, "empty segment {s:?}");
-        if let Some(max) = persp.max_len() {
+        if let Some(max) = persp.and_then(|p| p.max_len()) {
             assert!(s.len <= max, "{persp:?} segment of {} pixels", s.len);
         }
         assert!(
@@ -129,6 +131,12 @@ fuzz_target!(|data: &[u8]| {
         ..TriangleOptions::new(persp)
     };
     let all = TriangleOptions::new(persp);
+    // All `1/w` zero: interpolated affinely in every mode (whole-run segments).
+    let persp = if v.iter().all(|p| p.inv_w.to_bits() == 0) {
+        None
+    } else {
+        Some(persp)
+    };
     let segs = draw(clip, &v, &all);
     let mut counts = vec![0u8; usize::from(SIDE) * usize::from(SIDE)];
     count(&segs, clip, persp, &mut counts);
@@ -206,7 +214,12 @@ fuzz_target!(|data: &[u8]| {
     if inside && in_guard_band(&w) && orient(p).signum() * orient(q).signum() == 1 {
         // (v1, v0, x) has the orientation of (v0, v1, v2) when x lies on the other side of v0-v1.
         let mut both = counts.clone();
-        count(&draw(clip, &w, &all), clip, persp, &mut both);
+        let wp = if w.iter().all(|p| p.inv_w.to_bits() == 0) {
+            None
+        } else {
+            Some(all.perspective)
+        };
+        count(&draw(clip, &w, &all), clip, wp, &mut both);
         assert!(
             both.iter().all(|&c| c <= 1),
             "triangles sharing an edge overlap: {p:?} {q:?}"
