@@ -13,14 +13,14 @@ use crate::device::{self, DeviceTarget};
 #[derive(Debug, Subcommand)]
 pub enum ReportCommand {
     /// Instructions per pixel of every device job under QEMU, with device/host checksum checks;
-    /// writes docs/cycles.md.
+    /// with --write-docs, writes docs/cycles.md.
     Cycles(CyclesArgs),
     /// Firmware section sizes per target and feature set, texcore's share of .text and the RAM
-    /// of a texture-unit instance; writes docs/size.md.
+    /// of a texture-unit instance; with --write-docs, writes docs/size.md.
     Size(SizeArgs),
     /// Error and cost (host time, exact device instructions, code size) of every accuracy knob,
-    /// the Pareto front; writes docs/accuracy.md, docs/accuracy.png, docs/precision.png and the
-    /// README summary.
+    /// the Pareto front; with --write-docs, writes docs/accuracy.md, docs/accuracy.png,
+    /// docs/precision.png and the README summary.
     Accuracy(crate::accuracy::AccuracyArgs),
 }
 
@@ -50,17 +50,21 @@ pub struct CommonArgs {
     /// Print the rows as one JSON array instead of a table.
     #[arg(long)]
     pub json: bool,
-    /// Only a subset (fast; for tests). Never writes the markdown unless --markdown is given.
+    /// Only a subset (fast; for tests).
     #[arg(long)]
     pub quick: bool,
     /// Targets (default: both).
     #[arg(long = "target", value_enum)]
     pub targets: Vec<TargetArg>,
-    /// Where to write the markdown (default: docs/cycles.md or docs/size.md of the workspace).
+    /// Write the markdown to the workspace's docs/cycles.md or docs/size.md (without it, or
+    /// --markdown, the report only prints).
+    #[arg(long, conflicts_with = "markdown")]
+    pub write_docs: bool,
+    /// Write the markdown to this file instead.
     #[arg(long)]
     pub markdown: Option<PathBuf>,
-    /// Do not write the markdown.
-    #[arg(long, conflicts_with = "markdown")]
+    /// Write no markdown (the default; kept for older command lines).
+    #[arg(long, hide = true, conflicts_with_all = ["markdown", "write_docs"])]
     pub no_write: bool,
 }
 
@@ -74,14 +78,12 @@ impl CommonArgs {
     }
 
     fn markdown(&self, default_name: &str) -> Option<PathBuf> {
-        if self.no_write {
-            None
-        } else if let Some(p) = &self.markdown {
+        if let Some(p) = &self.markdown {
             Some(p.clone())
-        } else if self.quick {
-            None
-        } else {
+        } else if self.write_docs {
             Some(device::workspace_root().join("docs").join(default_name))
+        } else {
+            None
         }
     }
 }
