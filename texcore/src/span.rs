@@ -771,8 +771,8 @@ impl<'m, const T: usize> SpanEvaluator<'m, T> {
         });
         let grads = GRADIENTS && self.opts.gradients;
         accepted
-            && !(m.wrap() == TableWrap::Clamp && !fits(&setup.quad.c, len))
-            && !(grads && !(fits(&setup.gqx, len) && fits(&setup.gqy, len)))
+            && (m.wrap() != TableWrap::Clamp || fits(&setup.quad.c, len))
+            && (!grads || (fits(&setup.gqx, len) && fits(&setup.gqy, len)))
     }
 
     /// The fast path: every forward-differenced term is a non-turbulent trilinear term, and their
