@@ -38,18 +38,18 @@ pub static CANARY: &[Job] = if cfg!(feature = "stack-guard-canary") {
     &[]
 };
 
-fn canary(ctx: &mut Ctx) -> u32 {
-    deeper(core::hint::black_box(1), ctx)
+fn canary(_: &mut Ctx) -> u32 {
+    deeper(core::hint::black_box(1))
 }
 
 #[inline(never)]
-fn deeper(n: u32, ctx: &mut Ctx) -> u32 {
+fn deeper(n: u32) -> u32 {
     let mut frame = [0u32; 256];
     frame[(n as usize) & 255] = n;
     let frame = core::hint::black_box(frame);
     // Always true at run time, opaque to the optimiser: the recursion has no base case.
     if core::hint::black_box(n) != 0 {
-        deeper(n.wrapping_add(1), ctx).wrapping_add(frame[(n as usize / 3) & 255])
+        deeper(n.wrapping_add(1)).wrapping_add(frame[(n as usize / 3) & 255])
     } else {
         frame[0]
     }
