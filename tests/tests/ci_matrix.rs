@@ -59,8 +59,7 @@ fn feature_matrix_builds_every_texcore_feature_alone() {
         .expect("features=( in .ci/feature-matrix.sh");
     for f in features {
         assert!(
-            list.split(|c: char| c == ' ' || c == '(' || c == ')')
-                .any(|w| w == f),
+            list.split([' ', '(', ')']).any(|w| w == f),
             "texcore feature `{f}` is not built alone by .ci/feature-matrix.sh"
         );
     }
