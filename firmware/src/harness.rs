@@ -23,7 +23,8 @@
 //! painted before the first job and checked after each), out of `size` bytes between the static
 //! data and the top of RAM, and the first job that reached that depth. The run does not fail on
 //! it (an overflow would already have corrupted the static data); the host test asserts a
-//! margin.
+//! margin. With feature `stack-guard` (Cortex-M4F, `crate::guard`) the stack lies above unmapped
+//! memory instead, and an overflow ends the run with `TEXFW error what=stack-overflow`.
 
 use crate::counter::{Counter, Sample, NAME, UNIT};
 use crate::stack;
@@ -43,6 +44,10 @@ const TARGET: &str = env!("FIRMWARE_TARGET");
 /// Jobs whose name contains `TEXFW_ONLY` (set at build time; unset: every job). For profiling one
 /// job (`firmware/profile.sh`).
 fn selected(name: &str) -> bool {
+    #[cfg(all(target_arch = "arm", feature = "stack-guard"))]
+    if !crate::guard::selected(name) {
+        return false;
+    }
     match option_env!("TEXFW_ONLY") {
         Some(only) if !only.is_empty() => contains(name, only),
         _ => true,
@@ -127,7 +132,12 @@ pub fn run() -> bool {
     stack::paint();
     let mut peak = (stack::used(), "harness");
     let mut count = 0u32;
-    for job in JOBS.iter().chain(SCENE_JOBS).filter(|j| selected(j.name)) {
+    #[cfg(all(target_arch = "arm", feature = "stack-guard"))]
+    let canary = crate::guard::CANARY;
+    #[cfg(not(all(target_arch = "arm", feature = "stack-guard")))]
+    let canary: &[crate::jobs::Job] = &[];
+    let jobs = JOBS.iter().chain(SCENE_JOBS).filter(|j| selected(j.name));
+    for job in jobs.chain(canary) {
         let (Some(a), Some(b)) = (
             measure(&mut counter, job.run, &mut ctx, job.name),
             measure(&mut counter, job.run, &mut ctx, job.name),

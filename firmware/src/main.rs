@@ -101,6 +101,8 @@ fn main() -> std::process::ExitCode {
 
 #[cfg(target_os = "none")]
 pub mod counter;
+#[cfg(all(target_os = "none", target_arch = "arm", feature = "stack-guard"))]
+pub mod guard;
 #[cfg(target_os = "none")]
 pub mod harness;
 #[cfg(all(target_os = "none", not(feature = "rtt")))]

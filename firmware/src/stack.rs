@@ -21,7 +21,12 @@ extern "C" {
     /// Top of the stack (one past the highest word), from the runtime's linker script.
     static _stack_start: u32;
     /// End of the static data: the lowest address the stack may reach.
+    #[cfg(not(target_arch = "arm"))]
     static __sheap: u32;
+    /// The lowest address the stack may reach: the end of the static data (cortex-m-rt's
+    /// default), or the bottom of RAM with the `stack-guard` memory map.
+    #[cfg(target_arch = "arm")]
+    static _stack_end: u32;
 }
 
 fn top() -> usize {
@@ -29,7 +34,10 @@ fn top() -> usize {
 }
 
 fn bottom() -> usize {
+    #[cfg(not(target_arch = "arm"))]
     let b = core::ptr::addr_of!(__sheap) as usize;
+    #[cfg(target_arch = "arm")]
+    let b = core::ptr::addr_of!(_stack_end) as usize;
     (b + 3) & !3
 }
 

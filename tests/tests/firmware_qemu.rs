@@ -202,9 +202,27 @@ fn qemu_or_skip(target: DeviceTarget) -> bool {
     }
 }
 
+/// Serialises the firmware builds of this test binary: builds with different features write the
+/// same ELF path, so each build is copied to a path of its own before the lock is released.
+static BUILD: std::sync::Mutex<()> = std::sync::Mutex::new(());
+
+/// Builds the firmware for `target` with `features` (besides the defaults) and returns a copy
+/// of the ELF that no other build of this test binary overwrites.
+fn build(target: DeviceTarget, features: &[&str]) -> std::path::PathBuf {
+    let opts = RunOptions {
+        features: features.iter().map(|f| f.to_string()).collect(),
+        ..RunOptions::default()
+    };
+    let _lock = BUILD.lock().unwrap_or_else(|e| e.into_inner());
+    let elf = device::build_firmware(target, &opts).unwrap_or_else(|e| panic!("{e}"));
+    let copy = elf.with_file_name(format!("firmware-test-{}", features.join("+")));
+    std::fs::copy(&elf, &copy).unwrap_or_else(|e| panic!("{}: {e}", copy.display()));
+    copy
+}
+
 fn run_twice(target: DeviceTarget) -> (DeviceRun, DeviceRun) {
     let opts = RunOptions::default();
-    let elf = device::build_firmware(target, &opts).unwrap_or_else(|e| panic!("{e}"));
+    let elf = build(target, &[]);
     let a = device::run_elf(target, &elf, opts.timeout).unwrap_or_else(|e| panic!("{e}"));
     let b = device::run_elf(target, &elf, opts.timeout).unwrap_or_else(|e| panic!("{e}"));
     (a, b)
@@ -465,10 +483,66 @@ fn timeout_is_reported() {
     if !qemu_or_skip(target) {
         return;
     }
-    let elf =
-        device::build_firmware(target, &RunOptions::default()).unwrap_or_else(|e| panic!("{e}"));
+    let elf = build(target, &[]);
     match device::run_elf(target, &elf, Duration::from_millis(1)) {
         Err(DeviceError::Timeout { .. }) => {}
         other => panic!("expected a timeout, got {other:?}"),
+    }
+}
+
+/// The deepest job of the suite (`firmware/src/guard.rs`: `scene:overlay`, three slot textures
+/// on its stack) renders under the smallest RAM the documentation promises (the 128 KiB of
+/// `memory.x`, laid out by `firmware/memory-stack-guard.x`: 104 KiB of stack above unmapped
+/// memory, the static data above it), with its checksum unchanged and the stack within its
+/// margin; the guard turns an overflow into a reported failure (exit 103) rather than silent
+/// corruption of the static data, as the canary build (a recursion without bound) shows.
+#[test]
+#[ignore = "the stack-guard memory map does not take effect yet: the linker finds the root \
+            memory.x in its working directory before the build script's copy (stack size \
+            111460, not 104 KiB); see docs/reliability.md"]
+fn cortex_m4f_stack_guard() {
+    let target = DeviceTarget::CortexM4F;
+    if !qemu_or_skip(target) {
+        return;
+    }
+    let timeout = RunOptions::default().timeout;
+    let elf = build(target, &["stack-guard"]);
+    let run = device::run_elf(target, &elf, timeout).unwrap_or_else(|e| panic!("{e}"));
+    assert!(run.pass(), "{}", run.log.join("\n"));
+    let names: Vec<&str> = run.jobs.iter().map(|j| j.name.as_str()).collect();
+    assert_eq!(names, ["scene:overlay", "scene:overlay/setup"]);
+    let stack = run
+        .stack
+        .as_ref()
+        .expect("the firmware reports its stack use");
+    eprintln!(
+        "{target} stack-guard: stack used {} of {} bytes (deepest: {})",
+        stack.used, stack.size, stack.job
+    );
+    assert_eq!(stack.job, "scene:overlay");
+    assert!(
+        stack.size <= 104 * 1024 && stack.used + STACK_MARGIN <= stack.size,
+        "{target} stack-guard: {} of {} bytes used",
+        stack.used,
+        stack.size
+    );
+    // The host's checksums (the same work as in the unguarded firmware).
+    for job in &run.jobs {
+        let want = report::host_checksum(&job.name, HashKind::Permutation).expect("suite job");
+        assert_eq!(job.checksum, want, "{target} stack-guard: {}", job.name);
+    }
+
+    let canary = build(target, &["stack-guard-canary"]);
+    match device::run_elf(target, &canary, timeout) {
+        Err(DeviceError::Run {
+            exit_code: Some(103),
+            log,
+            ..
+        }) => assert!(
+            log.iter().any(|l| l.contains("what=stack-overflow")),
+            "{}",
+            log.join("\n")
+        ),
+        other => panic!("expected the stack guard to stop the canary (exit 103), got {other:?}"),
     }
 }

@@ -99,11 +99,11 @@ pub struct Job {
 
 /// The lattice hash of the texture jobs: the permutation table on the Cortex-M, the table-free
 /// integer hash on the RISC-V soft-core class.
-#[cfg(target_arch = "arm")]
+#[cfg(all(target_arch = "arm", feature = "perm-hash"))]
 pub const HASH: HashKind = HashKind::Permutation;
 /// The lattice hash of the texture jobs: the permutation table on the Cortex-M, the table-free
 /// integer hash on the RISC-V soft-core class.
-#[cfg(not(target_arch = "arm"))]
+#[cfg(not(all(target_arch = "arm", feature = "perm-hash")))]
 pub const HASH: HashKind = HashKind::Integer;
 
 /// Side of the square planes of the span and texture jobs, in pixels.
@@ -115,7 +115,7 @@ pub const PLANE: u16 = 128;
 macro_rules! job {
     (per_target $name:literal, $f:expr) => {
         $crate::job::Job {
-            name: if cfg!(target_arch = "arm") {
+            name: if cfg!(all(target_arch = "arm", feature = "perm-hash")) {
                 concat!($name, "_perm_128")
             } else {
                 concat!($name, "_int_128")

@@ -40,6 +40,16 @@ impl<'m, const T: usize> EvalCore<'m, T> {
         if FD && !(GENERAL_FD && self.lean()) && self.run_merged(len, setup, &strategies, sink) {
             return;
         }
+        // The size-lean shape without the merged loop: where the merged loop would have taken
+        // the span, it would have stepped `Fd32`'s terms exactly; so does the general loop.
+        if FD && GENERAL_FD && self.lean() && self.merged_takes(u32::from(len), setup, &strategies)
+        {
+            for st in strategies.iter_mut() {
+                if *st == Strategy::Fd32 {
+                    *st = Strategy::Fd;
+                }
+            }
+        }
 
         // A vector, not an array: only the model's terms are initialised.
         let mut runs: heapless::Vec<TermRun, T> = heapless::Vec::new();

@@ -6,6 +6,30 @@
 use super::*;
 
 impl<'m, const T: usize> EvalCore<'m, T> {
+    /// Whether [`Self::run_merged`] takes a span of `len` pixels with these strategies: every
+    /// active term a cubic, forward differenced (not turbulent) or per pixel, and (clamp tables,
+    /// gradients) the quadric's sums below 2^62. Below 2^62 the quadric and its gradients plus
+    /// the noise (|N| <= 2^61, gradients below 2^59 after `>> fv`) can never saturate, so the
+    /// merged pixel loop adds with plain wrapping additions; `mod` tables wrap `q` by definition.
+    pub(super) fn merged_takes(
+        &self,
+        len: u32,
+        setup: &Setup<T>,
+        strategies: &[Strategy; T],
+    ) -> bool {
+        let m = self.model;
+        let accepted = m.terms().iter().zip(strategies).all(|(term, st)| match st {
+            Strategy::Off => true,
+            Strategy::Fd | Strategy::Fd32 => term.basis.is_cubic() && !term.turbulence,
+            Strategy::Direct => term.basis.is_cubic(),
+            _ => false,
+        });
+        let grads = GRADIENTS && self.opts.gradients;
+        accepted
+            && (m.wrap() != TableWrap::Clamp || fits(&setup.quad.c, len))
+            && (!grads || (fits(&setup.gqx, len) && fits(&setup.gqy, len)))
+    }
+
     /// The fast path: every forward-differenced term is a non-turbulent trilinear term, and their
     /// forward differences are merged into **one** accumulator set (a sum of cubics is a cubic
     /// while no term changes cell; wrapping arithmetic keeps it exact). Per pixel that is three
@@ -34,30 +58,20 @@ impl<'m, const T: usize> EvalCore<'m, T> {
         let fv = m.noise_frac_bits();
         let vb = m.precision().value_bits();
         let grads = GRADIENTS && self.opts.gradients;
-        let clamp = m.wrap() == TableWrap::Clamp;
         let len = u32::from(len);
+        if !self.merged_takes(len, setup, strategies) {
+            return false;
+        }
         let mut n_fd = 0usize;
         let mut n_direct = 0usize;
-        for (term, st) in terms.iter().zip(strategies) {
+        for st in strategies.iter().take(terms.len()) {
             match st {
-                Strategy::Off => {}
-                Strategy::Fd | Strategy::Fd32 if term.basis.is_cubic() && !term.turbulence => {
-                    n_fd += 1
-                }
-                Strategy::Direct if term.basis.is_cubic() => n_direct += 1,
-                _ => return false,
+                Strategy::Fd | Strategy::Fd32 => n_fd += 1,
+                Strategy::Direct => n_direct += 1,
+                _ => {}
             }
         }
-        // Below 2^62 the quadric (clamp tables) and its gradients plus the noise (|N| <= 2^61,
-        // gradients below 2^59 after `>> fv`, see above) can never saturate, so the pixel loop
-        // adds with plain wrapping additions; `mod` tables wrap `q` by definition.
         let qc = setup.quad.c;
-        if clamp && !fits(&qc, len) {
-            return false;
-        }
-        if grads && !(fits(&setup.gqx, len) && fits(&setup.gqy, len)) {
-            return false;
-        }
         // An affine quadric along the span (linear `q`, constant gradients) skips three additions.
         let affine = qc[2] == 0 && setup.gqx[1] == 0 && setup.gqy[1] == 0;
         let mut quad = QuadStep {
