@@ -16,7 +16,7 @@
 // unsafe: the handler is a `global_asm!` symbol and `hard_fault` an exported, unmangled function
 // it branches to; neither touches memory the program uses (see above).
 
-use crate::jobs::{Ctx, Job};
+use workloads::job::{Ctx, Job};
 
 /// The jobs the guarded firmware runs: the deepest scene (three slot textures with csat on its
 /// stack, 91 KiB on the Cortex-M4F when the guard was added) and its set-up.

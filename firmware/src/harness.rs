@@ -135,7 +135,7 @@ pub fn run() -> bool {
     #[cfg(all(target_arch = "arm", feature = "stack-guard"))]
     let canary = crate::guard::CANARY;
     #[cfg(not(all(target_arch = "arm", feature = "stack-guard")))]
-    let canary: &[crate::jobs::Job] = &[];
+    let canary: &[workloads::job::Job] = &[];
     let jobs = JOBS.iter().chain(SCENE_JOBS).filter(|j| selected(j.name));
     for job in jobs.chain(canary) {
         let (Some(a), Some(b)) = (
