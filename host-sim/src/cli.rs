@@ -42,6 +42,11 @@ pub enum Command {
     /// accuracy knob costs (`accuracy`).
     #[command(subcommand)]
     Report(crate::report::cli::ReportCommand),
+    /// Mesh files: validate and pack for the device.
+    #[command(subcommand)]
+    Mesh(crate::atlas::cli::MeshCommand),
+    /// Lay a mesh out in a texture atlas, bake a material into it, print its measures.
+    Atlas(crate::atlas::cli::AtlasArgs),
 }
 
 /// What the pixels show (`--show`).
@@ -271,6 +276,8 @@ pub fn run(cli: Cli) -> ExitCode {
         }
         Command::Check(a) => check(&a),
         Command::Report(r) => crate::report::cli::run(&r),
+        Command::Mesh(m) => crate::atlas::cli::run_mesh(&m),
+        Command::Atlas(a) => crate::atlas::cli::run_atlas(&a),
         Command::Presets => {
             let mut out = std::io::stdout().lock();
             for name in texcore::presets::NAMES {

@@ -2,9 +2,11 @@
 #![deny(missing_docs, unsafe_code)]
 
 pub mod accuracy;
+pub mod atlas;
 pub mod bridge;
 pub mod cli;
 pub mod device;
+pub mod mesh;
 pub mod metrics;
 pub mod output;
 pub mod reference;

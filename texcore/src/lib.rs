@@ -37,6 +37,8 @@
 #![cfg_attr(not(test), no_std)]
 #![deny(missing_docs, unsafe_code)]
 
+#[cfg(feature = "atlas")]
+pub mod atlas;
 pub mod color;
 pub mod filter;
 pub mod format;
@@ -45,6 +47,8 @@ pub mod hash;
 pub mod material;
 pub mod model;
 pub mod noise;
+#[cfg(feature = "atlas")]
+pub mod packed_mesh;
 pub mod presets;
 pub mod quadric;
 pub mod raster;
