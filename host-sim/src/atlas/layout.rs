@@ -25,6 +25,10 @@ use texcore::format::TexPoint;
 use super::partition::Partition;
 use crate::mesh::{longest_edge, triangle_area, TriMesh};
 
+/// How far inside its atlas triangle a mesh triangle's atlas coordinates lie, in texels
+/// ([`Layout::uv`]).
+pub const INSET: f64 = 1.0 / 64.0;
+
 /// The layout kinds (`--kind`).
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, clap::ValueEnum, serde::Serialize)]
 #[serde(rename_all = "lowercase")]
@@ -295,13 +299,22 @@ impl Layout {
         })
     }
 
-    /// The atlas positions (texels, `f64`) of mesh triangle `t`'s corners in mesh corner order.
+    /// The atlas coordinates (texels, `f64`) of mesh triangle `t`'s corners in mesh corner
+    /// order: the atlas triangle's corners moved towards its incentre so that its edges lie
+    /// [`INSET`] texels inside the exact ones. A renderer's rounding (a few `2^-16` texel) then
+    /// never carries a look-up across an edge that lies on a texel boundary.
     pub fn uv(&self, t: usize) -> [[f64; 2]; 3] {
         let c = self.triangles[t].corners_x16();
+        let p = c.map(|q| [q[0] as f64 / 16.0, q[1] as f64 / 16.0]);
+        let leg = self.triangles[t].leg() as f64;
+        let r = leg * (2.0 - 2f64.sqrt()) / 2.0;
+        let su = (p[1][0] - p[0][0]).signum();
+        let sv = (p[2][1] - p[0][1]).signum();
+        let inc = [p[0][0] + su * r, p[0][1] + sv * r];
+        let k = 1.0 - INSET / r;
         let mut out = [[0.0; 2]; 3];
-        for k in 0..3 {
-            let corner = self.corners[t][k] as usize;
-            out[corner] = [c[k][0] as f64 / 16.0, c[k][1] as f64 / 16.0];
+        for (q, &corner) in p.iter().zip(&self.corners[t]) {
+            out[corner as usize] = [inc[0] + (q[0] - inc[0]) * k, inc[1] + (q[1] - inc[1]) * k];
         }
         out
     }

@@ -49,6 +49,9 @@ pub struct Frame {
     pub pixels: Vec<Rgba8888>,
     /// Pixels shaded (including overdraw).
     pub shaded: u64,
+    /// Shaded pixels whose look-up gave alpha below 255, i.e. read an unused texel
+    /// ([`super::UNUSED`]) with a non-zero weight.
+    pub loud: u64,
 }
 
 /// The baked atlas in the form a look-up needs.
@@ -152,6 +155,7 @@ pub fn draw(
         depth_write: true,
     };
     let mut shaded = 0u64;
+    let mut loud = 0u64;
     for tri in screen_triangles(mesh, layout, cam) {
         rast.draw_depth(&tri, &opts, &mut db, &mut |seg: &Segment| {
             let d = seg.ds.to_bits();
@@ -176,6 +180,7 @@ pub fn draw(
                     *p = c;
                 }
                 shaded += 1;
+                loud += u64::from(c.a < 255);
             }
         });
     }
@@ -183,5 +188,6 @@ pub fn draw(
         size,
         pixels,
         shaded,
+        loud,
     }
 }
