@@ -205,3 +205,41 @@ fn bunny_packs_and_lays_out() {
     assert_eq!(r.status, 2);
     assert!(r.stderr.contains("do not fit"), "{}", r.stderr);
 }
+
+/// A scene file's mesh file: loaded relative to the scene file; a bad one is bad input naming
+/// the mesh file and line, and nothing is written.
+#[test]
+fn scene_files_take_mesh_files() {
+    let d = tmp("scene");
+    std::fs::create_dir_all(d.join("m")).unwrap();
+    std::fs::write(
+        d.join("m/tet.obj"),
+        "v 0 0 0\nv 1 0 0\nv 0 1 0\nv 0 0 1\nf 1 3 2\nf 1 2 4\nf 1 4 3\nf 2 3 4\n",
+    )
+    .unwrap();
+    std::fs::write(d.join("m/bad.obj"), "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 4\n").unwrap();
+    let scene = |mesh: &str| {
+        format!(
+            "[camera]\neye = [2, 2, 3]\ntarget = [0.3, 0.3, 0.3]\n[materials.m]\npreset = \"marble\"\n[[objects]]\nmesh = {{ file = \"{mesh}\" }}\n"
+        )
+    };
+    std::fs::write(d.join("good.toml"), scene("m/tet.obj")).unwrap();
+    std::fs::write(d.join("bad.toml"), scene("m/bad.obj")).unwrap();
+    std::fs::write(d.join("missing.toml"), scene("m/none.obj")).unwrap();
+    let png = d.join("good.png");
+    let r = texsim(&["render", s(&d.join("good.toml")), "-o", s(&png), "--stats"]);
+    assert_eq!(r.status, 0, "{}", r.stderr);
+    assert!(png.exists());
+    for (file, what) in [("bad.toml", "bad.obj:4:"), ("missing.toml", "none.obj")] {
+        let out = d.join(format!("{file}.png"));
+        let r = texsim(&["render", s(&d.join(file)), "-o", s(&out)]);
+        assert_eq!(r.status, 2, "{file}");
+        assert!(r.stderr.contains(what), "{file}: {}", r.stderr);
+        assert!(
+            r.stderr.contains("objects[0].mesh.file"),
+            "{file}: {}",
+            r.stderr
+        );
+        assert!(!out.exists());
+    }
+}

@@ -68,7 +68,8 @@ pub fn checksum(bytes: &[u8]) -> u32 {
 }
 
 /// A validated packed mesh borrowed from its bytes.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
 pub struct PackedMesh<'a> {
     vertices: &'a [u8],
     triangles: &'a [u8],
