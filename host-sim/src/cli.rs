@@ -87,6 +87,13 @@ pub struct RenderArgs {
     /// What the pixels show.
     #[arg(long, value_enum, default_value_t = ShowArg::Color)]
     pub show: ShowArg,
+    /// Draw every object from an N x N atlas baked once (meshed texture atlases) instead of
+    /// shading it procedurally; prints the atlas frame's PSNR against the procedural one.
+    #[arg(long, value_name = "N", value_parser = clap::value_parser!(u32).range(8..=4096))]
+    pub via_atlas: Option<u32>,
+    /// Atlas look-up with --via-atlas.
+    #[arg(long, value_enum, default_value_t = crate::atlas::Sampling::Bilinear)]
+    pub atlas_sampling: crate::atlas::Sampling,
     /// Accuracy knobs.
     #[command(flatten)]
     pub knobs: KnobArgs,
@@ -315,6 +322,9 @@ fn render(a: &RenderArgs) -> ExitCode {
         Ok(s) => s,
         Err(e) => return bad_input(e),
     };
+    if let Some(n) = a.via_atlas {
+        return crate::atlas::cli::render_via_atlas(a, &host, n);
+    }
     let scene = &host.scene;
     let cfg = a.knobs.config();
     let hash = a.knobs.hash();

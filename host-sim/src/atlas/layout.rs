@@ -147,12 +147,24 @@ fn shelves(legs: &[u32], size: u32, g: u32) -> Option<Vec<Block>> {
 }
 
 impl Layout {
-    /// Lays out `mesh` in a `size x size` atlas of `kind` with gutter `gutter` (0 or 1).
+    /// Lays out `mesh` in a `size x size` atlas of `kind` with gutter `gutter` (0 or 1), solid
+    /// coordinates from [`solid_map`].
     pub fn new(
         mesh: &TriMesh,
         kind: AtlasKind,
         size: u32,
         gutter: u8,
+    ) -> Result<Layout, LayoutError> {
+        Layout::with_solid(mesh, kind, size, gutter, &solid_map(mesh))
+    }
+
+    /// [`Layout::new`] with the solid coordinates of each mesh point given by `solid`.
+    pub fn with_solid(
+        mesh: &TriMesh,
+        kind: AtlasKind,
+        size: u32,
+        gutter: u8,
+        solid: &dyn Fn([f64; 3]) -> TexPoint,
     ) -> Result<Layout, LayoutError> {
         if !(8..=4096).contains(&size) {
             return Err(LayoutError::Size(size, ""));
@@ -262,7 +274,6 @@ impl Layout {
                 (pairs, blocks)
             }
         };
-        let solid = solid_map(mesh);
         let mut triangles = vec![None; m];
         let mut corners = vec![[0u8, 1, 2]; m];
         for (pair, b) in pairs.iter().zip(&blocks) {

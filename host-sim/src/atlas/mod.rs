@@ -10,6 +10,7 @@
 pub mod cli;
 pub mod layout;
 pub mod partition;
+pub mod scene;
 pub mod view;
 
 use texcore::color::Rgba8888;
