@@ -1,6 +1,13 @@
 //! `texsim mesh pack` and `texsim atlas`.
 
 use std::io::Write;
+
+/// Prints a line to stdout, ignoring a closed pipe (never a panic).
+macro_rules! out {
+    ($($t:tt)*) => {{
+        let _ = writeln!(std::io::stdout().lock(), $($t)*);
+    }};
+}
 use std::path::{Path, PathBuf};
 use std::process::ExitCode;
 
@@ -146,7 +153,7 @@ pub fn run_mesh(c: &MeshCommand) -> ExitCode {
             if let Err(e) = r {
                 return bad_input(e);
             }
-            println!(
+            out!(
                 "{}: {} vertices, {} triangles, {} bytes",
                 a.output.display(),
                 m.positions().len(),
@@ -234,8 +241,12 @@ pub fn run_atlas(a: &AtlasArgs) -> ExitCode {
     }
     let coverage = layout.coverage();
     let scale = layout.relative_scale(&m);
+    // The MIP atlas's partition: mean connected components of its sections, root down.
+    let components = (a.kind == AtlasKind::Mip)
+        .then(|| super::partition::Partition::new(m.triangles()).components(m.triangles()));
     if a.json {
         let j = serde_json::json!({
+            "section_components": components,
             "mesh": a.mesh,
             "kind": a.kind,
             "size": a.size,
@@ -246,9 +257,9 @@ pub fn run_atlas(a: &AtlasArgs) -> ExitCode {
             "texels_baked": baked.written,
             "bake_seconds": bake_seconds,
         });
-        println!("{j}");
+        out!("{j}");
     } else {
-        println!(
+        out!(
             "{}: {:?} atlas {}x{} (gutter {}): triangles {}, coverage {:.1}%, relative_scale {:.3}, {} texels baked in {:.3} s",
             a.mesh,
             a.kind,
@@ -261,6 +272,13 @@ pub fn run_atlas(a: &AtlasArgs) -> ExitCode {
             baked.written,
             bake_seconds
         );
+        if let Some(c) = components {
+            let c: Vec<String> = c.iter().map(|x| format!("{x:.2}")).collect();
+            out!(
+                "mean components of a section, per quadtree level: {}",
+                c.join(" ")
+            );
+        }
     }
     ExitCode::SUCCESS
 }
@@ -326,9 +344,9 @@ pub fn render_via_atlas(
             "checksum": crate::scenes::checksum(&r.frame),
             "seconds": seconds,
         });
-        println!("{j}");
+        out!("{j}");
     } else {
-        println!(
+        out!(
             "{} frame {frame} via {n}x{n} atlases ({:?}): {} texels baked, {} pixels shaded; against the procedural frame PSNR {:.2} dB, {:.1}% within one step",
             host.scene.name,
             a.atlas_sampling,
