@@ -48,7 +48,11 @@ pub struct AtlasRendered {
     pub shaded: u64,
 }
 
-fn object_mesh(mesh: &Mesh) -> (Vec<[i32; 3]>, Vec<[u32; 3]>, Vec<Option<u32>>) {
+/// A procedural mesh as indexed triangles: raw positions, triangles, and the triangle of each
+/// (quad, half) (`None` for a skipped degenerate half).
+type IndexedMesh = (Vec<[i32; 3]>, Vec<[u32; 3]>, Vec<Option<u32>>);
+
+fn object_mesh(mesh: &Mesh) -> IndexedMesh {
     let mut positions = Vec::new();
     let mut index = std::collections::HashMap::new();
     let mut tris = Vec::new();
