@@ -16,8 +16,11 @@
 //! Per target: the RISC-V soft-core class build runs only table-free code (no ROM tables); the
 //! Cortex-M build additionally runs the 256-byte permutation-table hash.
 
-// With feature `accuracy` the firmware runs the accuracy report's jobs instead of these.
-#![cfg_attr(feature = "accuracy", allow(dead_code, unused_macros))]
+// With feature `accuracy` or `peers` the firmware runs those reports' jobs instead of these.
+#![cfg_attr(
+    any(feature = "accuracy", feature = "peers"),
+    allow(dead_code, unused_macros)
+)]
 
 use texcore::hash::{hash61, int_hash, lattice_value, HashKind};
 use texcore::model::TextureModel;
@@ -133,8 +136,12 @@ macro_rules! job {
 #[cfg(feature = "accuracy")]
 pub use crate::accuracy::JOBS;
 
+/// With feature `peers` (and not `accuracy`): the peer-comparison jobs (`crate::peer_jobs`).
+#[cfg(all(feature = "peers", not(feature = "accuracy")))]
+pub use crate::peer_jobs::JOBS;
+
 /// Every job the firmware runs, in order.
-#[cfg(not(feature = "accuracy"))]
+#[cfg(not(any(feature = "accuracy", feature = "peers")))]
 pub static JOBS: &[Job] = &[
     Job {
         name: "int_hash_256x256",
@@ -256,7 +263,7 @@ pub static JOBS: &[Job] = &[
 
 /// The built-in scene jobs (see `crate::suite::scene_strip`), run after [`JOBS`]: the strips of
 /// each scene's frame, top to bottom, each with its `/setup` job.
-#[cfg(not(feature = "accuracy"))]
+#[cfg(not(any(feature = "accuracy", feature = "peers")))]
 pub static SCENE_JOBS: &[Job] = &crate::suite::builtin_scene_jobs![
     0 => "wood",
     1 => "marble",
@@ -268,8 +275,8 @@ pub static SCENE_JOBS: &[Job] = &crate::suite::builtin_scene_jobs![
     7 => "torus",
 ];
 
-/// With feature `accuracy`: none (the accuracy report's jobs are all in [`JOBS`]).
-#[cfg(feature = "accuracy")]
+/// With feature `accuracy` or `peers`: none (their jobs are all in [`JOBS`]).
+#[cfg(any(feature = "accuracy", feature = "peers"))]
 pub static SCENE_JOBS: &[Job] = &[];
 
 /// A job with a bounds-checked index the optimiser cannot remove (only with feature

@@ -63,6 +63,8 @@
 //!
 //! - `rtt`: log over RTT (`defmt-rtt`, real hardware with probe-rs) instead of semihosting.
 //! - `dwt`: Cortex-M hardware cycle counter (DWT CYCCNT) instead of the QEMU SysTick vernier.
+//! - `peers`: run the peer-comparison jobs ([`peers`], `texsim report peers`) instead of the
+//!   default jobs: texcore next to `fastnoise-lite`; `peers-band` shortens them to one band.
 //! - `panic-never`: the panic handler calls an undefined symbol, so the release link fails if
 //!   any panicking path survives optimisation; `firmware/check-panic-never.sh` builds it for both
 //!   targets (and builds a deliberately panicking canary, feature `panic-never-canary`, which
@@ -83,6 +85,10 @@ pub mod harness;
 pub mod jobs;
 #[cfg(all(target_os = "none", not(feature = "rtt")))]
 mod logger;
+#[cfg(all(target_os = "none", feature = "peers"))]
+pub mod peer_jobs;
+#[cfg(all(target_os = "none", feature = "peers"))]
+pub mod peers;
 #[cfg(target_os = "none")]
 pub mod planes;
 #[cfg(target_os = "none")]

@@ -14,8 +14,11 @@
 //! - `<job>/setup`: the same job's set-up alone (textures, tables, inputs); the host subtracts
 //!   its count to get the per-pixel cost of the work itself.
 
-// With feature `accuracy` the firmware runs the accuracy report's jobs instead of these.
-#![cfg_attr(feature = "accuracy", allow(unused_macros, unused_imports))]
+// With feature `accuracy` or `peers` the firmware runs those reports' jobs instead of these.
+#![cfg_attr(
+    any(feature = "accuracy", feature = "peers"),
+    allow(unused_macros, unused_imports)
+)]
 
 use crate::jobs::Ctx;
 use crate::scenes::{self, BAND_PIXELS, SCENE_GROUPS};

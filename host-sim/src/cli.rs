@@ -63,17 +63,19 @@ pub enum ShowArg {
 pub struct RenderArgs {
     /// Built-in scene name (see `texsim scenes`) or a scene file (.toml).
     pub scene: String,
-    /// Output image: .png (an APNG when animated) or .gif (animations).
+    /// Output image: .png (an APNG when animated) or .gif (animations); `-` writes PNG/APNG to
+    /// standard output. Required unless --checksum, --stats or --json asks for a printed result.
     #[arg(short, long)]
     pub output: Option<std::path::PathBuf>,
-    /// Render an animation of N frames (0: the scene's own frame count).
-    #[arg(long)]
+    /// Render an animation of N frames (0: the scene's own frame count; at most 1000000). Frames
+    /// render in parallel on every core and stream to the encoder in order.
+    #[arg(long, value_parser = crate::flags::Checked(crate::flags::frame_count))]
     pub frames: Option<u32>,
     /// Render this frame of the animation (default: the scene's still frame).
-    #[arg(long)]
+    #[arg(long, value_parser = crate::flags::Checked(crate::flags::frame_index))]
     pub frame: Option<u32>,
-    /// Milliseconds per animation frame.
-    #[arg(long, default_value_t = 80)]
+    /// Milliseconds per animation frame (0..=65535).
+    #[arg(long, default_value_t = 80, value_parser = crate::flags::Checked(crate::flags::delay_ms))]
     pub delay: u16,
     /// Print per-stage activity counts.
     #[arg(long)]
@@ -182,7 +184,7 @@ pub struct KnobArgs {
     #[arg(long, value_enum, default_value_t = LookupArg::Nearest)]
     pub lookup: LookupArg,
     /// Colour-table entries (a power of two, 2..=1024).
-    #[arg(long, default_value_t = 256)]
+    #[arg(long, default_value_t = 256, value_parser = crate::flags::Checked(crate::flags::table_size))]
     pub table_size: usize,
     /// Keep octaves past the Nyquist limit (they alias; their width still widens the filter).
     #[arg(long)]
@@ -243,16 +245,16 @@ pub struct CheckArgs {
     #[arg(long)]
     pub scene: bool,
     /// Animation frame of a scene (default: its still frame).
-    #[arg(long)]
+    #[arg(long, value_parser = crate::flags::Checked(crate::flags::frame_index))]
     pub frame: Option<u32>,
     /// Print one JSON object instead of text.
     #[arg(long)]
     pub json: bool,
     /// Image size of a preset's check plane in pixels (square).
-    #[arg(long, default_value_t = 256, value_parser = clap::value_parser!(u32).range(1..=4096))]
+    #[arg(long, default_value_t = 256, value_parser = crate::flags::Checked(crate::flags::plane_size))]
     pub size: u32,
-    /// Fail (exit 1) unless at least this fraction of pixels is within one 8-bit step.
-    #[arg(long)]
+    /// Fail (exit 1) unless at least this fraction (0 to 1) of pixels is within one 8-bit step.
+    #[arg(long, value_parser = crate::flags::Checked(crate::flags::fraction))]
     pub min_within: Option<f64>,
     /// Accuracy knobs.
     #[command(flatten)]
@@ -318,6 +320,12 @@ pub fn load_scene(name: &str) -> Result<scenes::HostScene, String> {
 }
 
 fn render(a: &RenderArgs) -> ExitCode {
+    if a.output.is_none() && !(a.checksum || a.stats || a.json) {
+        return bad_input(
+            "render: no output: give -o FILE (.png, or .gif for animations; - for standard \
+             output), or ask for --checksum, --stats or --json",
+        );
+    }
     let host = match load_scene(&a.scene) {
         Ok(s) => s,
         Err(e) => return bad_input(e),
@@ -332,63 +340,58 @@ fn render(a: &RenderArgs) -> ExitCode {
         ShowArg::Color => texcore::render::Output::Color,
         ShowArg::FilterWidth => texcore::render::Output::FilterWidth,
     };
-    if let Some(out) = &a.output {
+    if let Some(out) = a.output.as_deref().filter(|o| !crate::output::is_stdout(o)) {
         if let Some(parent) = out.parent().filter(|p| !p.as_os_str().is_empty()) {
             if !parent.is_dir() {
                 return bad_input(format!("{}: directory does not exist", parent.display()));
             }
         }
     }
-    let frames: Vec<u32> = match a.frames {
-        Some(n) => {
-            let n = if n == 0 { scene.frames.max(1) } else { n };
-            (0..n).collect()
-        }
-        None => vec![a.frame.unwrap_or(scene.still)],
+    let (first, count) = match a.frames {
+        Some(n) => (0, if n == 0 { scene.frames.max(1) } else { n }),
+        None => (a.frame.unwrap_or(scene.still), 1),
     };
-    let bar = if frames.len() > 1 && !a.json {
-        let b = indicatif::ProgressBar::new(frames.len() as u64);
-        b.set_style(
-            indicatif::ProgressStyle::with_template("{msg} [{bar:30}] {pos}/{len} frames {eta}")
-                .unwrap_or_else(|_| indicatif::ProgressStyle::default_bar()),
-        );
-        b.set_message(scene.name.to_string());
-        Some(b)
-    } else {
-        None
+    let format = match a.output.as_deref().map(crate::output::Format::of) {
+        Some(Err(e)) => return bad_input(e),
+        Some(Ok(f)) => Some(f),
+        None => None,
     };
-    let mut rendered = Vec::with_capacity(frames.len());
     let start = std::time::Instant::now();
-    for &f in &frames {
-        match scenes::render_host_frame(&host, f, &cfg, hash, show) {
-            Ok(r) => rendered.push(r),
+    let frame = |i: u32| {
+        scenes::render_host_frame(&host, first.wrapping_add(i), &cfg, hash, show)
+            .map_err(|e| crate::output::OutputError::Frame(e.to_string()))
+    };
+    let last = if count == 1 {
+        // A still (or a one-frame animation for .gif).
+        let r = match frame(0) {
+            Ok(r) => r,
             Err(e) => return bad_input(e),
-        }
-        if let Some(b) = &bar {
-            b.inc(1);
-        }
-    }
-    let elapsed = start.elapsed();
-    if let Some(b) = bar {
-        b.finish_and_clear();
-    }
-    if let Some(out) = &a.output {
-        let frames: Vec<_> = rendered.iter().map(|r| r.frame.clone()).collect();
-        let result = if frames.len() > 1 {
-            crate::output::write_animation(out, &frames, a.delay)
-        } else if out
-            .extension()
-            .is_some_and(|e| e.eq_ignore_ascii_case("png"))
-        {
-            crate::output::write_png(out, &frames[0])
-        } else {
-            crate::output::write_animation(out, &frames, a.delay)
         };
-        if let Err(e) = result {
+        let written = match (&a.output, format) {
+            (Some(out), Some(crate::output::Format::Png)) => {
+                crate::output::write_png(out, &r.frame)
+            }
+            (Some(out), Some(_)) => {
+                crate::output::write_animation(out, std::slice::from_ref(&r.frame), a.delay)
+            }
+            _ => Ok(()),
+        };
+        if let Err(e) = written {
             return bad_input(e);
         }
-    }
-    let last = &rendered[rendered.len() - 1];
+        r
+    } else {
+        match animate(a, &host, count, format, frame) {
+            Ok(r) => r,
+            Err(crate::output::OutputError::Interrupted) => {
+                eprintln!("texsim: interrupted; no file written");
+                return ExitCode::from(crate::interrupt::EXIT_INTERRUPTED);
+            }
+            Err(e) => return bad_input(e),
+        }
+    };
+    let elapsed = start.elapsed();
+    let rendered_len = count;
     let sum = scenes::checksum(&last.frame);
     let mut out = std::io::stdout().lock();
     if a.json {
@@ -398,11 +401,11 @@ fn render(a: &RenderArgs) -> ExitCode {
             o.insert("scene".into(), scene.name.into());
             o.insert("width".into(), last.frame.width.into());
             o.insert("height".into(), last.frame.height.into());
-            o.insert("frames".into(), (rendered.len() as u64).into());
+            o.insert("frames".into(), u64::from(rendered_len).into());
             o.insert("checksum".into(), format!("{sum:08x}").into());
             o.insert(
                 "host_ms".into(),
-                (elapsed.as_secs_f64() * 1000.0 / rendered.len() as f64).into(),
+                (elapsed.as_secs_f64() * 1000.0 / f64::from(rendered_len)).into(),
             );
         }
         let _ = writeln!(out, "{v}");
@@ -425,6 +428,75 @@ fn render(a: &RenderArgs) -> ExitCode {
         }
     }
     ExitCode::SUCCESS
+}
+
+/// Renders `count` frames in parallel (rayon) and streams them in order to the encoder of
+/// `format` (none: rendered for the printed counts only), with a progress bar on a terminal and a
+/// clean stop on Ctrl-C. Returns the last frame.
+fn animate(
+    a: &RenderArgs,
+    host: &scenes::HostScene,
+    count: u32,
+    format: Option<crate::output::Format>,
+    frame: impl Fn(u32) -> Result<scenes::Rendered, crate::output::OutputError> + Sync,
+) -> Result<scenes::Rendered, crate::output::OutputError> {
+    use crate::output::{AnimationEncoder, OutputError};
+    use crate::stream::{self, Stopped};
+    // Hidden when standard error is not a terminal (and with --json or `-o -`).
+    let bar = if a.json || a.output.as_deref().is_some_and(crate::output::is_stdout) {
+        indicatif::ProgressBar::hidden()
+    } else {
+        let b = indicatif::ProgressBar::new(u64::from(count));
+        b.set_style(
+            indicatif::ProgressStyle::with_template("{msg} [{bar:30}] {pos}/{len} frames {eta}")
+                .unwrap_or_else(|_| indicatif::ProgressStyle::default_bar()),
+        );
+        b.set_message(host.scene.name.to_string());
+        b
+    };
+    let stop = crate::interrupt::flag();
+    let chunk = stream::default_chunk();
+    let mut last = None;
+    let run = |enc: &mut dyn FnMut(&scenes::Rendered) -> Result<(), OutputError>,
+               last: &mut Option<scenes::Rendered>| {
+        let r = stream::ordered(count, chunk, stop, &frame, |_, r| {
+            enc(&r)?;
+            bar.inc(1);
+            *last = Some(r);
+            Ok(())
+        });
+        match r {
+            Ok(()) => Ok(()),
+            Err(Stopped::Interrupted) => Err(OutputError::Interrupted),
+            Err(Stopped::Failed(e)) => Err(e),
+        }
+    };
+    let result = match (&a.output, format) {
+        (Some(out), Some(format)) => crate::output::write_dest(out, |w| {
+            let mut enc: Option<AnimationEncoder<&mut dyn std::io::Write>> = None;
+            let mut w = Some(w);
+            run(
+                &mut |r| {
+                    if enc.is_none() {
+                        let w = w.take().ok_or(OutputError::Interrupted)?;
+                        enc = Some(AnimationEncoder::new(
+                            w, out, format, &r.frame, count, a.delay,
+                        )?);
+                    }
+                    match enc.as_mut() {
+                        Some(e) => e.write_frame(&r.frame),
+                        None => Err(OutputError::Interrupted),
+                    }
+                },
+                &mut last,
+            )?;
+            enc.ok_or(OutputError::Interrupted)?.finish()
+        }),
+        _ => run(&mut |_| Ok(()), &mut last),
+    };
+    bar.finish_and_clear();
+    result?;
+    last.ok_or(OutputError::Interrupted)
 }
 
 fn gallery(a: &GalleryArgs) -> ExitCode {

@@ -14,6 +14,7 @@
 
 mod build;
 mod convert;
+mod limits;
 mod schema;
 
 use std::ops::Range;
@@ -28,6 +29,7 @@ use crate::unit::{MaterialSpec, UnitError};
 use convert::{Fail, SceneDef, Target};
 
 pub use convert::{AMPLITUDE_MAX, COORD_MAX, DEGREES_MAX, FRAMES_MAX, SIZE_MAX, TERMS_MAX};
+pub use limits::{FILE_MAX, NAME_MAX, STRING_MAX};
 
 /// A scene file problem: where it is and what is wrong.
 #[derive(Clone, Debug, PartialEq, Eq)]
@@ -193,6 +195,9 @@ pub fn parse(source: &str, file: &str) -> Result<HostScene, SceneFileError> {
             message,
         }
     };
+    if let Some((span, field, message)) = limits::long_string(source) {
+        return Err(err(Some(span), field, message));
+    }
     let parsed: schema::FileDef = match toml::from_str(source) {
         Ok(p) => p,
         Err(e) => {
@@ -201,7 +206,7 @@ pub fn parse(source: &str, file: &str) -> Result<HostScene, SceneFileError> {
                 .map(|r| path_at(source, r.start))
                 .unwrap_or_default();
             let span = e.span().or(Some(0..0));
-            return Err(err(span, field, e.message().trim_end().to_string()));
+            return Err(err(span, field, limits::toml_words(e.message().trim_end())));
         }
     };
     let stem = Path::new(file)
@@ -219,15 +224,17 @@ pub fn parse(source: &str, file: &str) -> Result<HostScene, SceneFileError> {
     })
 }
 
-/// Loads and validates a scene file.
+/// Loads and validates a scene file. A file larger than [`FILE_MAX`] is refused after reading
+/// `FILE_MAX + 1` bytes, whatever it is (a regular file, `/dev/zero`, a FIFO).
 pub fn load(path: &Path) -> Result<HostScene, SceneFileError> {
     let file = path.display().to_string();
-    let source = std::fs::read_to_string(path).map_err(|e| SceneFileError {
+    let fail = |message: String| SceneFileError {
         file: file.clone(),
         line: 0,
         column: 0,
         field: String::new(),
-        message: e.to_string(),
-    })?;
+        message,
+    };
+    let source = limits::read_limited(path, FILE_MAX).map_err(fail)?;
     parse(&source, &file)
 }

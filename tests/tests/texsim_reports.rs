@@ -162,3 +162,57 @@ fn cycles_report_schema() {
         );
     }
 }
+
+/// `texsim report peers --json --quick --no-host` (one band on each device under QEMU): the
+/// JSON schema: every workload with texcore's three modes, and fastnoise-lite.
+#[test]
+fn peers_report_schema() {
+    for t in host_sim::device::DeviceTarget::ALL {
+        match host_sim::device::check_qemu(t) {
+            Ok(_) => {}
+            Err(e) if std::env::var_os("CI").is_some() => {
+                panic!("CI is set and QEMU is required: {e}")
+            }
+            Err(e) => {
+                let msg =
+                    format!("\nSKIPPED peers_report_schema: {e} (with CI set this is an error)\n");
+                let _ = std::io::Write::write_all(&mut std::io::stderr(), msg.as_bytes());
+                return;
+            }
+        }
+    }
+    let rows = texsim_report(&["peers", "--json", "--quick", "--no-host"]);
+    let rows = rows.as_array().expect("an array of rows");
+    for t in TARGETS {
+        let of_target: Vec<&Value> = rows.iter().filter(|r| r["target"] == t).collect();
+        for w in [
+            "value-1oct",
+            "value-4oct",
+            "value-4oct-grad",
+            "value-4oct-span16",
+            "marble-csat-rgb565",
+            "marble-csat-rgb565-span16",
+            "smooth-1oct",
+            "perlin-1oct",
+        ] {
+            for i in ["texcore-fd", "texcore-auto", "texcore-direct"] {
+                let r = of_target
+                    .iter()
+                    .find(|r| r["workload"] == w && r["implementation"] == i)
+                    .unwrap_or_else(|| panic!("{t}: no row {w} {i}"));
+                let v = r["instructions_per_sample"]
+                    .as_f64()
+                    .unwrap_or_else(|| panic!("instructions_per_sample is not a number in {r}"));
+                assert!(v > 0.0, "{r}");
+                assert!(r["ns_per_sample"].is_null(), "{r}");
+                assert_eq!(r["checksum_match"], Value::Bool(true), "{r}");
+            }
+        }
+        assert!(
+            of_target
+                .iter()
+                .any(|r| r["workload"] == "value-1oct" && r["implementation"] == "fastnoise-lite"),
+            "{t}: fastnoise-lite"
+        );
+    }
+}

@@ -349,6 +349,8 @@ pub mod workload {
     /// Noise-term capacity of the workload models.
     pub const TERMS: usize = 8;
 
+    pub mod peers;
+
     /// FNV-1a 32-bit offset basis (the firmware's checksum).
     pub const FNV_OFFSET: u32 = 0x811C_9DC5;
 

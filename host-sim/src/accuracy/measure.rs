@@ -116,6 +116,34 @@ impl References {
         Ok(&self.plane[&key])
     }
 
+    /// Computes the plane references of `cfgs` that are not cached yet, in parallel (rayon),
+    /// each distinct one once.
+    pub fn fill_planes(&mut self, cfgs: &[&Config], size: u32) -> Result<(), UnitError> {
+        use rayon::prelude::*;
+        let mut todo: Vec<(String, &Config)> = Vec::new();
+        for cfg in cfgs {
+            let key = format!("{:?}/{size}", reference_key(cfg));
+            if !self.plane.contains_key(&key) && todo.iter().all(|(k, _)| *k != key) {
+                todo.push((key, cfg));
+            }
+        }
+        let made = todo
+            .into_par_iter()
+            .map(|(key, cfg)| {
+                let m = plane_material(cfg, size)?;
+                let r = unit::reference_plane(&m, &unit_config(&reference_key(cfg)), size)?;
+                Ok((key, r))
+            })
+            .collect::<Result<Vec<_>, UnitError>>()?;
+        self.plane.extend(made);
+        Ok(())
+    }
+
+    /// A plane reference computed before ([`References::plane`], [`References::fill_planes`]).
+    pub fn cached_plane(&self, cfg: &Config, size: u32) -> Option<&Vec<[f64; 4]>> {
+        self.plane.get(&format!("{:?}/{size}", reference_key(cfg)))
+    }
+
     /// A scene's f64 reference (cached by `key`).
     pub fn scene(
         &mut self,

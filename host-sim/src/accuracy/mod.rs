@@ -20,7 +20,8 @@
 //!   run here; and the **code size** of texcore on both targets for the features the row's
 //!   configuration needs, with the RAM of one texture-unit instance ([`codesize`]).
 //!
-//! It prints JSON rows (`--json`) or a summary, and writes `docs/accuracy.md`,
+//! Rows are measured in parallel (rayon); host timings run afterwards, one row at a time. It
+//! prints JSON rows (`--json`) or a summary, and with `--write-docs` writes `docs/accuracy.md`,
 //! `docs/accuracy.png` (error against device instructions, Pareto front highlighted),
 //! `docs/precision.png` (the paper's Fig. 10: the `marble` scene at each coordinate precision)
 //! and a generated summary between the `<!-- accuracy:begin -->` and `<!-- accuracy:end -->`
@@ -44,6 +45,7 @@ use std::path::PathBuf;
 use std::time::Instant;
 
 use clap::Args;
+use rayon::prelude::*;
 use serde::Serialize;
 use texcore::raster::Perspective;
 
@@ -56,23 +58,24 @@ use measure::References;
 /// `texsim report accuracy`.
 #[derive(Clone, Debug, Args)]
 pub struct AccuracyArgs {
-    /// Few configurations, small images, few timed runs (seconds to a minute; for CI). Writes
-    /// nothing unless --out or --readme is given.
+    /// Few configurations, small images, few timed runs (seconds to a minute; for CI).
     #[arg(long)]
     pub quick: bool,
     /// Print the rows as one JSON array.
     #[arg(long)]
     pub json: bool,
-    /// Directory for accuracy.md, accuracy.png and precision.png (default: the workspace's
-    /// docs/ on a full run).
+    /// Write accuracy.md, accuracy.png and precision.png to the workspace's docs/ and the
+    /// summary into its README.md (without it, --out or --readme, the report only prints).
+    #[arg(long)]
+    pub write_docs: bool,
+    /// Directory for accuracy.md, accuracy.png and precision.png.
     #[arg(long)]
     pub out: Option<PathBuf>,
-    /// README whose accuracy section is rewritten (default: the workspace's README.md on a full
-    /// run).
+    /// README whose accuracy section is rewritten.
     #[arg(long)]
     pub readme: Option<PathBuf>,
-    /// Write no files.
-    #[arg(long)]
+    /// Write no files (the default; kept for older command lines).
+    #[arg(long, hide = true, conflicts_with_all = ["write_docs", "out", "readme"])]
     pub no_write: bool,
     /// No device measurements: no instruction counts, no code size (not allowed when CI is
     /// set).
@@ -326,132 +329,158 @@ pub fn run(quick: bool, policy: DevicePolicy, log: &mut dyn FnMut(&str)) -> Resu
         measure::scene_reference(&s, 0, &BASELINE).map_err(err)?
     };
 
+    // The rows' own plane references (distinct ones computed once, in parallel), then every
+    // row's images and errors in parallel (rayon); the host timings run afterwards, one row at a
+    // time, so that they are not measured on a loaded machine.
+    let plane_cfgs: Vec<&Config> = rows
+        .iter()
+        .filter(|r| r.cfg.perspective.is_none())
+        .map(|r| &r.cfg)
+        .collect();
+    refs.fill_planes(&plane_cfgs, size).map_err(err)?;
+    log(&format!(
+        "accuracy: errors of {} rows on {} threads",
+        rows.len(),
+        rayon::current_num_threads()
+    ));
+    let measured = rows
+        .par_iter()
+        .map(|row| -> Result<_, String> {
+            let cfg = &row.cfg;
+            let mut precision_image = None;
+            let mut r = RowReport {
+                knob: row.knob.name(),
+                setting: row.setting,
+                id: row.id,
+                combination: row.combination,
+                baseline: *cfg == BASELINE,
+                config: describe(cfg),
+                reference: "",
+                psnr: 0.0,
+                max_error: 0.0,
+                mean_error: 0.0,
+                within_one_step: 0.0,
+                base: None,
+                supersampled: None,
+                scene: None,
+                scene_supersampled: None,
+                flicker: None,
+                flicker_nocull: None,
+                host_ns_per_pixel: 0.0,
+                host_ns_min: 0.0,
+                host_ns_max: 0.0,
+                host_runs: 0,
+                device_instructions_per_pixel: BTreeMap::new(),
+                device_setup_instructions: BTreeMap::new(),
+                device_checksum_match: BTreeMap::new(),
+                code_size: None,
+                code_features: codesize::feature_set(cfg),
+                checksum: String::new(),
+                pareto: false,
+            };
+            if let Some(mode) = cfg.perspective {
+                let scene = measure::static_scene(mode).ok_or("no seascape")?;
+                let img = measure::scene_image(cfg, &scene).ok_or("seascape render failed")?;
+                let m = measure::errors(&img, &persp_ref).map_err(err)?;
+                r.reference = "f64 reference of the seascape with exact perspective";
+                set_primary(&mut r, &m);
+                let sum = measure::scene_device_checksum(cfg, mode).ok_or("scene checksum")?;
+                r.checksum = format!("{sum:08x}");
+            } else {
+                let img = measure::plane_image(cfg, size).map_err(err)?;
+                let own = refs.cached_plane(cfg, size).ok_or("no plane reference")?;
+                let m = measure::errors(&img, own).map_err(err)?;
+                r.reference = "f64 reference with the row's table, filter, norm and culling \
+                           (ideal precision, exact evaluation)";
+                set_primary(&mut r, &m);
+                // The device computes the top-left 64x64 of this very image.
+                let sum = measure::plane_device_checksum(cfg).ok_or("plane checksum")?;
+                let side = u32::from(device_jobs::SIDE);
+                let window = measure::window_checksum(&img, size, side.min(size));
+                if size >= side && window != sum {
+                    return Err(format!(
+                        "{}: the device job's code and the host's pixel path disagree \
+                     ({sum:08x} vs {window:08x})",
+                        row.id
+                    ));
+                }
+                r.checksum = format!("{sum:08x}");
+                if measure::same_texture(cfg) {
+                    r.base = Some((&measure::errors(&img, &base_ref).map_err(err)?).into());
+                    r.supersampled = Some((&measure::errors(&img, &ss_truth).map_err(err)?).into());
+                }
+                if matches!(row.knob, Knob::CoordinateBits | Knob::ValueBits) && !row.combination {
+                    let img = crate::scenes::render_frame(
+                        &marble_scene,
+                        marble_still,
+                        &measure::unit_config(cfg),
+                        cfg.hash,
+                        texcore::render::Output::Color,
+                    )
+                    .map_err(err)?
+                    .frame
+                    .pixels;
+                    r.scene = Some((&measure::errors(&img, &marble_ref).map_err(err)?).into());
+                    if row.knob == Knob::CoordinateBits {
+                        precision_image = Some((cfg.coord_bits, img));
+                    }
+                }
+                if row.knob == Knob::Antialiasing && !row.combination {
+                    for cull in [true, false] {
+                        let c = Config { cull, ..*cfg };
+                        let mut frames = Vec::new();
+                        for t in 0..settings.flicker_frames {
+                            let f = crate::scenes::render_frame(
+                                &sea,
+                                t,
+                                &measure::unit_config(&c),
+                                c.hash,
+                                texcore::render::Output::Color,
+                            )
+                            .map_err(err)?
+                            .frame
+                            .pixels;
+                            if t == 0 && cull {
+                                r.scene_supersampled = Some(
+                                    (&measure::errors(&f, &sea_truth[0]).map_err(err)?).into(),
+                                );
+                            }
+                            frames.push(measure::to_f64(&f));
+                        }
+                        let fl = measure::flicker(&frames, u32::from(fw_), band.clone());
+                        let f = Some(Flicker {
+                            texcore: fl,
+                            reference: truth_flicker,
+                            excess: fl - truth_flicker,
+                        });
+                        if cull {
+                            r.flicker = f;
+                        } else {
+                            r.flicker_nocull = f;
+                        }
+                    }
+                }
+            }
+            Ok((r, precision_image))
+        })
+        .collect::<Result<Vec<_>, String>>()?;
     let mut out = Vec::new();
     let mut precision_images = Vec::new();
-    for row in &rows {
+    for (row, (mut r, image)) in rows.iter().zip(measured) {
         let cfg = &row.cfg;
-        log(&format!("accuracy: {}", row.id));
-        let mut r = RowReport {
-            knob: row.knob.name(),
-            setting: row.setting,
-            id: row.id,
-            combination: row.combination,
-            baseline: *cfg == BASELINE,
-            config: describe(cfg),
-            reference: "",
-            psnr: 0.0,
-            max_error: 0.0,
-            mean_error: 0.0,
-            within_one_step: 0.0,
-            base: None,
-            supersampled: None,
-            scene: None,
-            scene_supersampled: None,
-            flicker: None,
-            flicker_nocull: None,
-            host_ns_per_pixel: 0.0,
-            host_ns_min: 0.0,
-            host_ns_max: 0.0,
-            host_runs: 0,
-            device_instructions_per_pixel: BTreeMap::new(),
-            device_setup_instructions: BTreeMap::new(),
-            device_checksum_match: BTreeMap::new(),
-            code_size: None,
-            code_features: codesize::feature_set(cfg),
-            checksum: String::new(),
-            pareto: false,
-        };
-        let timing;
-        if let Some(mode) = cfg.perspective {
+        log(&format!("accuracy: {} (host timing)", row.id));
+        let timing = if let Some(mode) = cfg.perspective {
             let scene = measure::static_scene(mode).ok_or("no seascape")?;
-            let img = measure::scene_image(cfg, &scene).ok_or("seascape render failed")?;
-            let m = measure::errors(&img, &persp_ref).map_err(err)?;
-            r.reference = "f64 reference of the seascape with exact perspective";
-            set_primary(&mut r, &m);
-            timing = measure::scene_time(cfg, &scene, settings.host_runs).ok_or("scene timing")?;
-            let sum = measure::scene_device_checksum(cfg, mode).ok_or("scene checksum")?;
-            r.checksum = format!("{sum:08x}");
+            measure::scene_time(cfg, &scene, settings.host_runs).ok_or("scene timing")?
         } else {
-            let img = measure::plane_image(cfg, size).map_err(err)?;
-            let own = refs.plane(cfg, size).map_err(err)?;
-            let m = measure::errors(&img, own).map_err(err)?;
-            r.reference = "f64 reference with the row's table, filter, norm and culling \
-                           (ideal precision, exact evaluation)";
-            set_primary(&mut r, &m);
-            // The device computes the top-left 64x64 of this very image.
-            let sum = measure::plane_device_checksum(cfg).ok_or("plane checksum")?;
-            let side = u32::from(device_jobs::SIDE);
-            let window = measure::window_checksum(&img, size, side.min(size));
-            if size >= side && window != sum {
-                return Err(format!(
-                    "{}: the device job's code and the host's pixel path disagree \
-                     ({sum:08x} vs {window:08x})",
-                    row.id
-                ));
-            }
-            r.checksum = format!("{sum:08x}");
-            if measure::same_texture(cfg) {
-                r.base = Some((&measure::errors(&img, &base_ref).map_err(err)?).into());
-                r.supersampled = Some((&measure::errors(&img, &ss_truth).map_err(err)?).into());
-            }
-            timing =
-                measure::plane_time(cfg, size as u16, settings.host_runs).ok_or("plane timing")?;
-            if matches!(row.knob, Knob::CoordinateBits | Knob::ValueBits) && !row.combination {
-                let img = crate::scenes::render_frame(
-                    &marble_scene,
-                    marble_still,
-                    &measure::unit_config(cfg),
-                    cfg.hash,
-                    texcore::render::Output::Color,
-                )
-                .map_err(err)?
-                .frame
-                .pixels;
-                r.scene = Some((&measure::errors(&img, &marble_ref).map_err(err)?).into());
-                if row.knob == Knob::CoordinateBits {
-                    precision_images.push((cfg.coord_bits, img));
-                }
-            }
-            if row.knob == Knob::Antialiasing && !row.combination {
-                for cull in [true, false] {
-                    let c = Config { cull, ..*cfg };
-                    let mut frames = Vec::new();
-                    for t in 0..settings.flicker_frames {
-                        let f = crate::scenes::render_frame(
-                            &sea,
-                            t,
-                            &measure::unit_config(&c),
-                            c.hash,
-                            texcore::render::Output::Color,
-                        )
-                        .map_err(err)?
-                        .frame
-                        .pixels;
-                        if t == 0 && cull {
-                            r.scene_supersampled =
-                                Some((&measure::errors(&f, &sea_truth[0]).map_err(err)?).into());
-                        }
-                        frames.push(measure::to_f64(&f));
-                    }
-                    let fl = measure::flicker(&frames, u32::from(fw_), band.clone());
-                    let f = Some(Flicker {
-                        texcore: fl,
-                        reference: truth_flicker,
-                        excess: fl - truth_flicker,
-                    });
-                    if cull {
-                        r.flicker = f;
-                    } else {
-                        r.flicker_nocull = f;
-                    }
-                }
-            }
-        }
+            measure::plane_time(cfg, size as u16, settings.host_runs).ok_or("plane timing")?
+        };
         r.host_ns_per_pixel = timing.median;
         r.host_ns_min = timing.min;
         r.host_ns_max = timing.max;
         r.host_runs = timing.runs;
         out.push(r);
+        precision_images.extend(image);
     }
 
     log("accuracy: device runs (QEMU)");
@@ -558,15 +587,13 @@ pub fn cli(a: &AccuracyArgs) -> std::process::ExitCode {
         }
     };
     let root = crate::device::workspace_root();
-    let (out_dir, readme) = if a.no_write {
-        (None, None)
-    } else if a.quick {
-        (a.out.clone(), a.readme.clone())
-    } else {
+    let (out_dir, readme) = if a.write_docs {
         (
             Some(a.out.clone().unwrap_or_else(|| root.join("docs"))),
             Some(a.readme.clone().unwrap_or_else(|| root.join("README.md"))),
         )
+    } else {
+        (a.out.clone(), a.readme.clone())
     };
     if let Some(dir) = &out_dir {
         if let Err(e) = output::write_docs(&report, dir) {

@@ -6,22 +6,52 @@ use std::process::ExitCode;
 
 use clap::{Args, Subcommand, ValueEnum};
 
-use super::{cycles, size};
+use super::{cycles, peers, size};
 use crate::device::{self, DeviceTarget};
 
 /// `texsim report` subcommands.
 #[derive(Debug, Subcommand)]
 pub enum ReportCommand {
     /// Instructions per pixel of every device job under QEMU, with device/host checksum checks;
-    /// writes docs/cycles.md.
+    /// with --write-docs, writes docs/cycles.md.
     Cycles(CyclesArgs),
     /// Firmware section sizes per target and feature set, texcore's share of .text and the RAM
-    /// of a texture-unit instance; writes docs/size.md.
+    /// of a texture-unit instance; with --write-docs, writes docs/size.md.
     Size(SizeArgs),
     /// Error and cost (host time, exact device instructions, code size) of every accuracy knob,
-    /// the Pareto front; writes docs/accuracy.md, docs/accuracy.png, docs/precision.png and the
-    /// README summary.
+    /// the Pareto front; with --write-docs, writes docs/accuracy.md, docs/accuracy.png,
+    /// docs/precision.png and the README summary.
     Accuracy(crate::accuracy::AccuracyArgs),
+    /// texcore's modes next to fastnoise-lite (both devices under QEMU and the host) and noise-rs
+    /// (host) on the same plane and workloads; writes docs/peers.md only with --write-docs.
+    Peers(PeersArgs),
+}
+
+/// `texsim report peers`.
+#[derive(Clone, Debug, Args)]
+pub struct PeersArgs {
+    /// Print the rows as one JSON array instead of markdown.
+    #[arg(long)]
+    pub json: bool,
+    /// One 8-row band on the devices, 16 rows under callgrind, 3 timed runs (fast; for tests).
+    #[arg(long)]
+    pub quick: bool,
+    /// Device targets (default: both).
+    #[arg(long = "target", value_enum)]
+    pub targets: Vec<TargetArg>,
+    /// No device rows (host only).
+    #[arg(long, conflicts_with = "targets")]
+    pub no_device: bool,
+    /// No host rows (devices only).
+    #[arg(long)]
+    pub no_host: bool,
+    /// Write docs/peers.md.
+    #[arg(long)]
+    pub write_docs: bool,
+    /// Internal: run one host kernel (`<workload>:<implementation>:<rows>` or `fold:<rows>`),
+    /// print its checksum and exit (what the callgrind measurements run).
+    #[arg(long, hide = true)]
+    pub kernel: Option<String>,
 }
 
 /// A device target on the command line.
@@ -50,17 +80,21 @@ pub struct CommonArgs {
     /// Print the rows as one JSON array instead of a table.
     #[arg(long)]
     pub json: bool,
-    /// Only a subset (fast; for tests). Never writes the markdown unless --markdown is given.
+    /// Only a subset (fast; for tests).
     #[arg(long)]
     pub quick: bool,
     /// Targets (default: both).
     #[arg(long = "target", value_enum)]
     pub targets: Vec<TargetArg>,
-    /// Where to write the markdown (default: docs/cycles.md or docs/size.md of the workspace).
+    /// Write the markdown to the workspace's docs/cycles.md or docs/size.md (without it, or
+    /// --markdown, the report only prints).
+    #[arg(long, conflicts_with = "markdown")]
+    pub write_docs: bool,
+    /// Write the markdown to this file instead.
     #[arg(long)]
     pub markdown: Option<PathBuf>,
-    /// Do not write the markdown.
-    #[arg(long, conflicts_with = "markdown")]
+    /// Write no markdown (the default; kept for older command lines).
+    #[arg(long, hide = true, conflicts_with_all = ["markdown", "write_docs"])]
     pub no_write: bool,
 }
 
@@ -74,14 +108,12 @@ impl CommonArgs {
     }
 
     fn markdown(&self, default_name: &str) -> Option<PathBuf> {
-        if self.no_write {
-            None
-        } else if let Some(p) = &self.markdown {
+        if let Some(p) = &self.markdown {
             Some(p.clone())
-        } else if self.quick {
-            None
-        } else {
+        } else if self.write_docs {
             Some(device::workspace_root().join("docs").join(default_name))
+        } else {
+            None
         }
     }
 }
@@ -113,6 +145,7 @@ fn print_json<T: serde::Serialize>(rows: &T) {
 pub fn run(cmd: &ReportCommand) -> ExitCode {
     match cmd {
         ReportCommand::Accuracy(a) => crate::accuracy::cli(a),
+        ReportCommand::Peers(a) => peers::cli(a),
         ReportCommand::Cycles(a) => {
             let opts = cycles::CyclesOptions {
                 quick: a.common.quick,

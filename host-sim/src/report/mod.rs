@@ -10,6 +10,7 @@
 
 pub mod cli;
 pub mod cycles;
+pub mod peers;
 pub mod size;
 
 #[path = "../../../firmware/src/planes.rs"]

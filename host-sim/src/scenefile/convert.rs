@@ -18,6 +18,7 @@ use texcore::table::TableWrap;
 use texcore::transform::Affine3;
 use toml::Value;
 
+use super::limits::NAME_MAX;
 use super::schema::*;
 
 /// A semantic error: where, which field, what.
@@ -66,8 +67,19 @@ pub(crate) fn angle_units(deg: f64) -> i64 {
     (deg * 4_294_967_296.0 / 360.0).round() as i64
 }
 
+/// A real as echoed in a message: shortened to scientific notation when long (`1e300`, not its
+/// 301 digits).
 fn number(v: f64) -> String {
-    format!("{v}")
+    let s = format!("{v}");
+    if s.len() <= 16 {
+        return s;
+    }
+    let e = format!("{v:e}");
+    if e.len() <= 16 {
+        e
+    } else {
+        format!("{v:.6e}")
+    }
 }
 
 /// A real in a range (`ok`), described by `range` in the message.
@@ -297,6 +309,16 @@ fn colour(v: &S<String>, field: &str) -> R<[u8; 4]> {
 
 /// Names of materials and objects: used in animation parameters, so no dots or spaces.
 fn check_name(name: &str, span: Range<usize>, field: &str) -> R<()> {
+    if name.len() > NAME_MAX {
+        return fail(
+            span,
+            field,
+            format!(
+                "a name of {} bytes is too long (names are at most {NAME_MAX} bytes)",
+                name.len()
+            ),
+        );
+    }
     let ok = !name.is_empty()
         && name
             .chars()
@@ -486,6 +508,16 @@ pub(crate) fn convert(file: &FileDef, default_name: &str, base: &std::path::Path
             if n.get_ref().is_empty() {
                 return fail(n.span(), "name", "the scene name is empty");
             }
+            if n.get_ref().len() > NAME_MAX {
+                return fail(
+                    n.span(),
+                    "name",
+                    format!(
+                        "a scene name of {} bytes is too long (names are at most {NAME_MAX} bytes)",
+                        n.get_ref().len()
+                    ),
+                );
+            }
             leak(n.get_ref())
         }
         None => leak(default_name),
@@ -644,11 +676,12 @@ fn camera(c: &S<CameraDef>) -> R<CameraFx> {
         );
     }
     let near = match &d.near {
+        // The smallest positive 16.16 step; anything smaller rounds to zero.
         Some(n) => real(
             n,
             "camera.near",
-            |x| x > 0.0 && x < COORD_MAX,
-            "0 < near < 32767",
+            |x| q16(x) >= 1 && x < COORD_MAX,
+            "1/65536 = 0.0000153 <= near < 32767",
         )?,
         None => 0.1,
     };

@@ -1,0 +1,321 @@
+//! The peer-comparison workloads (`texsim report peers`, `docs/peers.md`): one plane and one
+//! per-row kernel per workload, shared by the device jobs (`firmware/src/peers.rs`), the host
+//! measurements and the benchmarks, so that texcore and the peer libraries measure the same
+//! thing.
+//!
+//! The plane: [`SIZE`] x [`SIZE`] pixels, pixel `(x, y)` at `s = x/32`, `t = y/32`, `r = R`
+//! (8 octave-0 cells across the image; [`R_BITS`] is `0.37` rounded to 16.16, `0.3699951..`, so
+//! that `R_BITS / 65536` is exact in `f32` and the float peers sample the very same points).
+//! Rows are evaluated as whole-row spans (or spans of 16 pixels for the `-span16` workloads) and
+//! every sample is stored into a line buffer of 32-bit words ([`value_row`], [`marble_row`]).
+//!
+//! | workload | texcore | stored word |
+//! |---|---|---|
+//! | `value-1oct` | `n(s)`, trilinear value noise | `f` |
+//! | `value-4oct` | `sum_{i<4} 2^-i n(2^i s)` | `f` |
+//! | `value-4oct-grad` | the same with the filter-width gradients | `f ^ gx ^ gy` words ([`grad_word`]) |
+//! | `value-4oct-span16` | `value-4oct` in spans of 16 pixels | `f` |
+//! | `marble-csat-rgb565` | the marble preset (`r` + 4 octaves), csat colour table, RGB565 | RGB565 |
+//! | `marble-csat-rgb565-span16` | the same in spans of 16 pixels | RGB565 |
+//! | `smooth-1oct` | value noise, smooth fade `3u^2 - 2u^3` | `f` |
+//! | `perlin-1oct` | Perlin's gradient noise, quintic fade | `f` |
+//! | `perlin-4oct` | 4 octaves of it | `f` |
+//!
+//! The noise models have no quadric term (`f` is the noise sum alone).
+
+use crate::format::{Amplitude, MatrixEntry, TexPoint};
+use crate::hash::HashKind;
+use crate::model::{Octaves, TextureModel};
+use crate::noise::NoiseBasis;
+use crate::quadric::Quadric;
+use crate::span::{Sample, Span, SpanEvaluator};
+use crate::table::TableWrap;
+use crate::transform::Affine3;
+
+use super::TERMS;
+
+/// Side of the plane in pixels.
+pub const SIZE: u16 = 256;
+/// Lattice step per pixel of octave 0, raw 16.16: 1/32.
+pub const STEP: i32 = 2048;
+/// The plane's `r`, raw 16.16: `0.37` rounded (`0.36999512`).
+pub const R_BITS: i32 = 24248;
+/// Rows of one 8-row band (the short run of the device bound test).
+pub const BAND: u16 = 8;
+
+/// A workload of the peer comparison.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
+pub enum Workload {
+    /// One octave of trilinear value noise.
+    Value1,
+    /// Four octaves.
+    Value4,
+    /// Four octaves with gradients.
+    Value4Grad,
+    /// Four octaves in 16-pixel spans.
+    Value4Span16,
+    /// The marble preset through csat to RGB565.
+    MarbleCsat,
+    /// The same in 16-pixel spans.
+    MarbleCsatSpan16,
+    /// One octave of smooth-fade value noise.
+    Smooth1,
+    /// One octave of Perlin gradient noise.
+    Perlin1,
+    /// Four octaves of Perlin gradient noise.
+    Perlin4,
+}
+
+impl Workload {
+    /// Every workload, in report order.
+    pub const ALL: [Workload; 9] = [
+        Workload::Value1,
+        Workload::Value4,
+        Workload::Value4Grad,
+        Workload::Value4Span16,
+        Workload::MarbleCsat,
+        Workload::MarbleCsatSpan16,
+        Workload::Smooth1,
+        Workload::Perlin1,
+        Workload::Perlin4,
+    ];
+
+    /// The name in reports (`value-1oct`, ...).
+    pub const fn name(self) -> &'static str {
+        match self {
+            Workload::Value1 => "value-1oct",
+            Workload::Value4 => "value-4oct",
+            Workload::Value4Grad => "value-4oct-grad",
+            Workload::Value4Span16 => "value-4oct-span16",
+            Workload::MarbleCsat => "marble-csat-rgb565",
+            Workload::MarbleCsatSpan16 => "marble-csat-rgb565-span16",
+            Workload::Smooth1 => "smooth-1oct",
+            Workload::Perlin1 => "perlin-1oct",
+            Workload::Perlin4 => "perlin-4oct",
+        }
+    }
+
+    /// The workload called `name`.
+    pub fn by_name(name: &str) -> Option<Workload> {
+        Workload::ALL.into_iter().find(|w| w.name() == name)
+    }
+
+    /// Pixels per span: [`SIZE`], or 16.
+    pub const fn span_len(self) -> u16 {
+        match self {
+            Workload::Value4Span16 | Workload::MarbleCsatSpan16 => 16,
+            _ => SIZE,
+        }
+    }
+
+    /// Octaves of the noise sum.
+    pub const fn octaves(self) -> u8 {
+        match self {
+            Workload::Value1 | Workload::Smooth1 | Workload::Perlin1 => 1,
+            _ => 4,
+        }
+    }
+
+    /// Whether texcore computes the filter-width gradients.
+    pub const fn gradients(self) -> bool {
+        matches!(
+            self,
+            Workload::Value4Grad | Workload::MarbleCsat | Workload::MarbleCsatSpan16
+        )
+    }
+
+    /// Whether the workload shades colours (the marble preset) rather than noise values.
+    pub const fn is_marble(self) -> bool {
+        matches!(self, Workload::MarbleCsat | Workload::MarbleCsatSpan16)
+    }
+
+    /// The noise basis of a noise workload, `None` when this build lacks it (feature
+    /// `smooth-fade` / `gradient-noise`).
+    pub fn basis(self, hash: HashKind) -> Option<NoiseBasis> {
+        match self {
+            Workload::Smooth1 => smooth_basis(hash),
+            Workload::Perlin1 | Workload::Perlin4 => perlin_basis(hash),
+            _ => Some(NoiseBasis::trilinear(hash)),
+        }
+    }
+}
+
+#[cfg(feature = "smooth-fade")]
+fn smooth_basis(hash: HashKind) -> Option<NoiseBasis> {
+    Some(NoiseBasis {
+        kind: crate::noise::BasisKind::Value,
+        fade: crate::noise::Fade::Smooth,
+        hash,
+    })
+}
+
+#[cfg(not(feature = "smooth-fade"))]
+fn smooth_basis(_: HashKind) -> Option<NoiseBasis> {
+    None
+}
+
+#[cfg(all(feature = "gradient-noise", feature = "smooth-fade"))]
+fn perlin_basis(hash: HashKind) -> Option<NoiseBasis> {
+    Some(NoiseBasis {
+        kind: crate::noise::BasisKind::Gradient,
+        fade: crate::noise::Fade::Quintic,
+        hash,
+    })
+}
+
+#[cfg(not(all(feature = "gradient-noise", feature = "smooth-fade")))]
+fn perlin_basis(_: HashKind) -> Option<NoiseBasis> {
+    None
+}
+
+/// The noise model of a noise workload: `sum_{i < octaves} 2^-i n(2^i s)` with the workload's
+/// basis, no quadric, `mod` wrap. `None` for the marble workloads ([`super::marble_model`]) and
+/// for a basis this build lacks.
+pub fn model(w: Workload, hash: HashKind) -> Option<TextureModel<TERMS>> {
+    if w.is_marble() {
+        return None;
+    }
+    let mut m = TextureModel::new(Quadric::ZERO, TableWrap::Mod);
+    m.push_octaves(&Octaves {
+        count: w.octaves(),
+        base: Affine3::scale(MatrixEntry::ONE),
+        amplitude: Amplitude::ONE,
+        rotate: false,
+        basis: w.basis(hash)?,
+        turbulence: false,
+    })
+    .ok()?;
+    Some(m)
+}
+
+/// The span of `len` pixels of row `y` from pixel `x0`: pixel `(x, y)` at
+/// `(x STEP, y STEP, R_BITS)`.
+pub fn span(y: u16, x0: u16, len: u16) -> Span {
+    Span {
+        s0: TexPoint::from_bits(i32::from(x0) * STEP, i32::from(y) * STEP, R_BITS),
+        ds: TexPoint::from_bits(STEP, 0, 0),
+        dsdy: TexPoint::from_bits(0, STEP, 0),
+        len,
+    }
+}
+
+/// The stored word of a sample with gradients: `f ^ gx_lo ^ rotl(gx_hi, 8) ^ rotl(gy_lo, 16) ^
+/// rotl(gy_hi, 24)`.
+#[inline(always)]
+pub fn grad_word(s: &Sample) -> u32 {
+    let (gx, gy) = (s.gx as u64, s.gy as u64);
+    (s.f.to_bits() as u32)
+        ^ (gx as u32)
+        ^ ((gx >> 32) as u32).rotate_left(8)
+        ^ (gy as u32).rotate_left(16)
+        ^ ((gy >> 32) as u32).rotate_left(24)
+}
+
+/// Row `y` of noise workload `w` into `line` (its first [`SIZE`] words), span by span
+/// ([`Workload::span_len`]): `f` raw, or [`grad_word`] when `w` has gradients. `ev` must have
+/// been built for `w`'s model with `gradients = w.gradients()`.
+#[inline(always)]
+pub fn value_row<const T: usize>(
+    ev: &mut SpanEvaluator<'_, T>,
+    w: Workload,
+    y: u16,
+    line: &mut [u32],
+) {
+    let len = w.span_len();
+    let mut x0 = 0;
+    for chunk in line[..usize::from(SIZE)].chunks_mut(usize::from(len)) {
+        let mut px = chunk.iter_mut();
+        let sp = span(y, x0, len);
+        if w.gradients() {
+            ev.eval(&sp, |s| {
+                if let Some(p) = px.next() {
+                    *p = grad_word(&s);
+                }
+            });
+        } else {
+            ev.eval(&sp, |s| {
+                if let Some(p) = px.next() {
+                    *p = s.f.to_bits() as u32;
+                }
+            });
+        }
+        x0 += len;
+    }
+}
+
+/// Row `y` of the marble workload `w` into `line`: each pixel's colour as RGB565 (zero-extended).
+#[cfg(feature = "csat")]
+#[inline(always)]
+pub fn marble_row<const T: usize, const N: usize>(
+    ev: &mut super::super::TextureEvaluator<'_, T, N>,
+    w: Workload,
+    y: u16,
+    line: &mut [u32],
+) {
+    let len = w.span_len();
+    let mut x0 = 0;
+    for chunk in line[..usize::from(SIZE)].chunks_mut(usize::from(len)) {
+        let mut px = chunk.iter_mut();
+        ev.shade(&span(y, x0, len), |c| {
+            if let Some(p) = px.next() {
+                *p = u32::from(c.to_rgb565().to_bits());
+            }
+        });
+        x0 += len;
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn names_round_trip_and_spans_tile_the_row() {
+        for w in Workload::ALL {
+            assert_eq!(Workload::by_name(w.name()), Some(w));
+            assert_eq!(SIZE % w.span_len(), 0);
+        }
+        assert_eq!(Workload::by_name("nope"), None);
+        let s = span(3, 16, 16);
+        assert_eq!(s.s0.to_bits(), [16 * 2048, 3 * 2048, R_BITS]);
+        // R_BITS / 65536 is 0.37 to 5e-6 and exact in f32.
+        assert!((f64::from(R_BITS) / 65536.0 - 0.37).abs() < 5e-6);
+    }
+
+    #[test]
+    fn rows_match_per_pixel_evaluation() {
+        use crate::span::{EvalMode, EvalOptions};
+        for w in Workload::ALL {
+            let Some(m) = model(w, HashKind::Integer) else {
+                assert!(w.is_marble() || w.basis(HashKind::Integer).is_none());
+                continue;
+            };
+            let opts = |mode| EvalOptions {
+                mode,
+                gradients: w.gradients(),
+                cull: true,
+            };
+            let mut fd = SpanEvaluator::new(&m, opts(EvalMode::Fd));
+            let mut direct = SpanEvaluator::new(&m, opts(EvalMode::Direct));
+            let (mut a, mut b) = ([0u32; 256], [0u32; 256]);
+            for y in [0, 77] {
+                value_row(&mut fd, w, y, &mut a);
+                value_row(&mut direct, w, y, &mut b);
+                assert_eq!(a, b, "{w:?} row {y}");
+                // Pixel 40 alone.
+                let mut one = 0;
+                direct.eval(&span(y, 40, 1), |s| {
+                    one = if w.gradients() {
+                        grad_word(&s)
+                    } else {
+                        s.f.to_bits() as u32
+                    }
+                });
+                if !w.gradients() {
+                    assert_eq!(a[40], one, "{w:?}");
+                }
+            }
+        }
+    }
+}
