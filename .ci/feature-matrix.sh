@@ -3,7 +3,7 @@
 # targets: features are additive, so every combination here must build without warnings.
 set -euo pipefail
 cd "$(dirname "$0")/.."
-features=(perm-hash fd gradients smooth-fade gradient-noise mnoise csat mip perturb turbulence-fd fd32 reanchor multipass defmt embedded-graphics lighting)
+features=(perm-hash fd gradients smooth-fade gradient-noise mnoise csat mip perturb turbulence-fd fd32 reanchor multipass atlas defmt embedded-graphics lighting)
 for target in x86_64-unknown-linux-gnu thumbv7em-none-eabihf riscv32imc-unknown-none-elf; do
   echo "-- $target: no features"
   RUSTFLAGS="-D warnings" cargo build -q -p texcore --no-default-features --target "$target"
@@ -17,8 +17,8 @@ for target in x86_64-unknown-linux-gnu thumbv7em-none-eabihf riscv32imc-unknown-
     echo "-- $target: $f"
     RUSTFLAGS="-D warnings" cargo build -q -p texcore --no-default-features --features "$f" --target "$target"
   done
-  echo "-- $target: full,defmt,embedded-graphics"
-  RUSTFLAGS="-D warnings" cargo build -q -p texcore --features "full,defmt,embedded-graphics" --target "$target"
+  echo "-- $target: full,atlas,defmt,embedded-graphics"
+  RUSTFLAGS="-D warnings" cargo build -q -p texcore --features "full,atlas,defmt,embedded-graphics" --target "$target"
   echo "-- $target: full,multipass,defmt"
   RUSTFLAGS="-D warnings" cargo build -q -p texcore --features "full,multipass,defmt" --target "$target"
 done

@@ -45,6 +45,11 @@ pub enum Command {
     /// Decode a firmware's defmt stream from standard input into text lines (the device
     /// runner's decoder when `defmt-print` is not installed).
     DefmtDecode(crate::defmt_log::DefmtDecodeArgs),
+    /// Mesh files: validate and pack for the device.
+    #[command(subcommand)]
+    Mesh(crate::atlas::cli::MeshCommand),
+    /// Lay a mesh out in a texture atlas, bake a material into it, print its measures.
+    Atlas(crate::atlas::cli::AtlasArgs),
 }
 
 /// What the pixels show (`--show`).
@@ -89,6 +94,13 @@ pub struct RenderArgs {
     /// What the pixels show.
     #[arg(long, value_enum, default_value_t = ShowArg::Color)]
     pub show: ShowArg,
+    /// Draw every object from an N x N atlas baked once (meshed texture atlases) instead of
+    /// shading it procedurally; prints the atlas frame's PSNR against the procedural one.
+    #[arg(long, value_name = "N", value_parser = clap::value_parser!(u32).range(8..=4096))]
+    pub via_atlas: Option<u32>,
+    /// Atlas look-up with --via-atlas.
+    #[arg(long, value_enum, default_value_t = crate::atlas::Sampling::Bilinear)]
+    pub atlas_sampling: crate::atlas::Sampling,
     /// Accuracy knobs.
     #[command(flatten)]
     pub knobs: KnobArgs,
@@ -296,6 +308,8 @@ pub fn run(cli: Cli) -> ExitCode {
         Command::Check(a) => check(&a),
         Command::Report(r) => crate::report::cli::run(&r),
         Command::DefmtDecode(a) => crate::defmt_log::run(&a),
+        Command::Mesh(m) => crate::atlas::cli::run_mesh(&m),
+        Command::Atlas(a) => crate::atlas::cli::run_atlas(&a),
         Command::Presets => {
             let mut out = std::io::stdout().lock();
             for name in texcore::presets::NAMES {
@@ -339,6 +353,9 @@ fn render(a: &RenderArgs) -> ExitCode {
         Ok(s) => s,
         Err(e) => return bad_input(e),
     };
+    if let Some(n) = a.via_atlas {
+        return crate::atlas::cli::render_via_atlas(a, &host, n);
+    }
     let scene = &host.scene;
     let cfg = a.knobs.config();
     let hash = a.knobs.hash();

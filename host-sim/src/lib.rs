@@ -2,12 +2,14 @@
 #![deny(missing_docs, unsafe_code)]
 
 pub mod accuracy;
+pub mod atlas;
 pub mod bridge;
 pub mod cli;
 pub mod defmt_log;
 pub mod device;
 pub mod flags;
 pub mod interrupt;
+pub mod mesh;
 pub mod metrics;
 pub mod multipass;
 pub mod output;

@@ -213,7 +213,8 @@ pub fn parse(source: &str, file: &str) -> Result<HostScene, SceneFileError> {
         .file_stem()
         .map(|s| s.to_string_lossy().into_owned())
         .unwrap_or_else(|| "scene".into());
-    let def = convert::convert(&parsed, &stem)
+    let base = Path::new(file).parent().unwrap_or(Path::new(""));
+    let def = convert::convert(&parsed, &stem, base)
         .and_then(|d| validate_frames(&d).map(|()| d))
         .map_err(|f| err(Some(f.span), f.field, f.message))?;
     let scene = def.scene();

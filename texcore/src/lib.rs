@@ -38,6 +38,8 @@
 #![cfg_attr(docsrs, feature(doc_cfg))]
 #![deny(missing_docs, unsafe_code)]
 
+#[cfg(feature = "atlas")]
+pub mod atlas;
 pub mod color;
 #[cfg(feature = "embedded-graphics")]
 #[cfg_attr(docsrs, doc(cfg(feature = "embedded-graphics")))]
@@ -55,6 +57,8 @@ pub mod model;
 pub mod multipass;
 pub mod noise;
 pub mod prelude;
+#[cfg(feature = "atlas")]
+pub mod packed_mesh;
 pub mod presets;
 pub mod quadric;
 pub mod raster;

@@ -502,7 +502,7 @@ fn amplitude_value(v: Option<&S<f64>>, field: &str) -> R<Amplitude> {
 // ---------------------------------------------------------------------------------------------
 // Conversion.
 
-pub(crate) fn convert(file: &FileDef, default_name: &str) -> R<SceneDef> {
+pub(crate) fn convert(file: &FileDef, default_name: &str, base: &std::path::Path) -> R<SceneDef> {
     let name = match &file.name {
         Some(n) => {
             if n.get_ref().is_empty() {
@@ -623,7 +623,7 @@ pub(crate) fn convert(file: &FileDef, default_name: &str) -> R<SceneDef> {
                 );
             }
         }
-        objects.push(object(o, &field, slot as u8)?);
+        objects.push(object(o, &field, slot as u8, base)?);
     }
     let materials: Vec<MaterialFx> = used
         .iter()
@@ -1041,8 +1041,40 @@ const MESH_FIELDS: [(&str, &[&str]); 6] = [
     ("plane", &["half_size", "rings"]),
 ];
 
-fn mesh(m: &S<MeshDef>, field: &str) -> R<Mesh> {
+/// A mesh file (`mesh = { file = ... }`, relative to `base`) as a packed mesh. The packed bytes
+/// live as long as the process (scenes hold `'static` meshes).
+fn mesh_file(m: &S<MeshDef>, f: &S<String>, field: &str, base: &std::path::Path) -> R<Mesh> {
+    if m.get_ref().kind.is_some() {
+        return fail(
+            f.span(),
+            format!("{field}.file"),
+            "a mesh is either a `kind` or a `file`, not both",
+        );
+    }
+    let path = base.join(f.get_ref());
+    let loaded = crate::mesh::load(&path)
+        .and_then(|t| t.pack(&path.display().to_string()))
+        .map_err(|e| e.to_string());
+    let bytes = match loaded {
+        Ok(b) => b,
+        Err(e) => return fail(f.span(), format!("{field}.file"), e),
+    };
+    let bytes: &'static [u8] = Box::leak(bytes.into_boxed_slice());
+    match texcore::packed_mesh::PackedMesh::new(bytes) {
+        Ok(p) => Ok(Mesh::Packed(p)),
+        Err(e) => fail(
+            f.span(),
+            format!("{field}.file"),
+            format!("{}: {e}", path.display()),
+        ),
+    }
+}
+
+fn mesh(m: &S<MeshDef>, field: &str, base: &std::path::Path) -> R<Mesh> {
     let d = m.get_ref();
+    if let Some(f) = &d.file {
+        return mesh_file(m, f, field, base);
+    }
     let (kind, kind_span) = match &d.kind {
         Some(k) if !k.span().is_empty() => (k.get_ref().as_str(), k.span()),
         Some(k) => (k.get_ref().as_str(), m.span()),
@@ -1159,9 +1191,9 @@ fn mesh(m: &S<MeshDef>, field: &str) -> R<Mesh> {
     })
 }
 
-fn object(o: &S<ObjectDef>, field: &str, slot: u8) -> R<ObjectFx> {
+fn object(o: &S<ObjectDef>, field: &str, slot: u8, base: &std::path::Path) -> R<ObjectFx> {
     let d = o.get_ref();
-    let mesh = mesh(&d.mesh, &format!("{field}.mesh"))?;
+    let mesh = mesh(&d.mesh, &format!("{field}.mesh"), base)?;
     let position = match &d.position {
         Some(p) => coord3(p, &format!("{field}.position"))?,
         None => [0; 3],

@@ -202,10 +202,12 @@ pub struct TextureDef {
     pub translate: Option<S<[f64; 3]>>,
 }
 
-/// A mesh: `"cube"` (all defaults) or a table `{ kind = "sphere", radius = 2 }`.
+/// A mesh: `"cube"` (all defaults), a table `{ kind = "sphere", radius = 2 }`, or a mesh file
+/// `{ file = "bunny.obj" }` (OBJ or PLY, relative to the scene file).
 #[derive(Debug, Default)]
 pub struct MeshDef {
     pub kind: Option<S<String>>,
+    pub file: Option<S<String>>,
     pub level: Option<S<i64>>,
     pub radius: Option<S<f64>>,
     pub stacks: Option<S<i64>>,
@@ -225,7 +227,8 @@ pub struct MeshDef {
 #[derive(Debug, Deserialize)]
 #[serde(deny_unknown_fields)]
 struct MeshTable {
-    kind: S<String>,
+    kind: Option<S<String>>,
+    file: Option<S<String>>,
     level: Option<S<i64>>,
     radius: Option<S<f64>>,
     stacks: Option<S<i64>>,
@@ -259,7 +262,8 @@ impl<'de> Deserialize<'de> for MeshDef {
             fn visit_map<A: MapAccess<'de>>(self, map: A) -> Result<MeshDef, A::Error> {
                 let t = MeshTable::deserialize(de::value::MapAccessDeserializer::new(map))?;
                 Ok(MeshDef {
-                    kind: Some(t.kind),
+                    kind: t.kind,
+                    file: t.file,
                     level: t.level,
                     radius: t.radius,
                     stacks: t.stacks,

@@ -74,6 +74,11 @@ pub enum Mesh {
         /// Grid lines on each side of the centre (`1..=20`).
         rings: u8,
     },
+    /// A triangle mesh from a file ([`crate::packed_mesh`], feature `atlas`): each triangle
+    /// `(a, b, c)` is the quad `(a, b, c, c)`, whose second half is degenerate and skipped, so
+    /// quad `q` is triangle `q`.
+    #[cfg(feature = "atlas")]
+    Packed(crate::packed_mesh::PackedMesh<'static>),
 }
 
 const MIN_STACKS: u16 = 2;
@@ -105,6 +110,8 @@ impl Mesh {
                 let r = rings.clamp(1, MAX_RINGS) as u32;
                 4 * r * r
             }
+            #[cfg(feature = "atlas")]
+            Mesh::Packed(m) => m.triangle_count() as u32,
         }
     }
 
@@ -175,6 +182,11 @@ impl Mesh {
                 let g = |k: u32| plane_line(half_size, r, k);
                 let p = |i: u32, j: u32| Vec3::new(g(j), 0, g(i));
                 [p(i, j), p(i + 1, j), p(i + 1, j + 1), p(i, j + 1)]
+            }
+            #[cfg(feature = "atlas")]
+            Mesh::Packed(m) => {
+                let [a, b, c] = m.triangle(q as u16);
+                [a, b, c, c]
             }
         })
     }

@@ -1,0 +1,402 @@
+//! Meshed texture atlases (Carr & Hart 2002): the device side of baking a solid texture into a
+//! 2-D atlas laid over a mesh, and of sampling it.
+//!
+//! The layout (which triangle goes where, computed on the host, `host_sim::atlas`) reaches the
+//! device as a slice of [`AtlasTriangle`]s. Every atlas triangle is an isosceles right triangle
+//! with integer legs `L` inside a rectangular **block** of texels that it shares with at most
+//! one other triangle (its **pair**, across the hypotenuse). In texel units (texel `(i, j)`
+//! covers `[i, i+1) x [j, j+1)`, centre `(i + 1/2, j + 1/2)`), for a block at `(X, Y)` of
+//! `W x H` texels and gutter `g`:
+//!
+//! - the **upper** triangle has its right angle at `(X + g, Y + g)` and legs along `+u`, `+v`;
+//!   it owns the texels with `di + dj <= W + H - 3 - (L + 2g)` (`di = i - X`, `dj = j - Y`);
+//! - the **lower** triangle has its right angle at `(X + W - g, Y + H - g)` and legs along
+//!   `-u`, `-v`; it owns the texels with `ei + ej <= L + 2g` (`ei = X + W - 1 - i`,
+//!   `ej = Y + H - 1 - j`).
+//!
+//! With `W >= L + 2g + 2` and `H >= L + 2g + 1` the two regions are disjoint and cover the block
+//! (the pair's shared diagonal is over-scanned on both sides: the paper's hypotenuse over-scan,
+//! one extra column per pair). Each triangle owns every texel a look-up at a point inside it
+//! reads with a non-zero weight: with `g = 0` the nearest texel, with `g = 1` the four texels of
+//! the bilinear footprint (texel centres less than `g` away in each axis). Owned texels
+//! outside the triangle hold the triangle's solid coordinates **extrapolated**, so a sample near
+//! an edge blends only this triangle's texture, never a neighbour's nor the background: no
+//! seams.
+//!
+//! [`bake`] evaluates the texture into the owned texels of every triangle, row by row: along an
+//! atlas row the solid coordinates are affine, so each row of a triangle is one
+//! [`Span`](crate::span::Span) (forward-differenced where the texture allows) whose `ds` and
+//! `dsdy` are the texel's footprint in solid space (the filter width). [`sample`] holds nearest,
+//! bilinear and MIP look-ups of a baked atlas. Nothing allocates; nothing panics.
+
+pub mod sample;
+
+use crate::color::Rgba8888;
+use crate::format::TexPoint;
+use crate::span::Span;
+use crate::texture::TextureEvaluator;
+
+/// Which half of a block an atlas triangle is.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
+pub enum Half {
+    /// Right angle at the block's top-left, legs along `+u` and `+v`.
+    Upper,
+    /// Right angle at the block's bottom-right, legs along `-u` and `-v`.
+    Lower,
+}
+
+/// Why an atlas triangle cannot be built.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
+pub enum AtlasError {
+    /// Leg length 0.
+    ZeroLeg,
+    /// The block is smaller than `(L + 2g + 2) x (L + 2g + 1)`.
+    BlockTooSmall,
+    /// The block does not fit `u16` texel coordinates.
+    OutOfRange,
+    /// A gutter other than 0 (nearest look-ups) or 1 (bilinear).
+    Gutter,
+}
+
+impl core::fmt::Display for AtlasError {
+    fn fmt(&self, f: &mut core::fmt::Formatter<'_>) -> core::fmt::Result {
+        match self {
+            AtlasError::ZeroLeg => write!(f, "atlas triangle with a zero leg"),
+            AtlasError::BlockTooSmall => write!(f, "atlas block too small for its triangle"),
+            AtlasError::OutOfRange => write!(f, "atlas block beyond 65535 texels"),
+            AtlasError::Gutter => write!(f, "atlas gutter other than 0 or 1"),
+        }
+    }
+}
+
+/// One triangle of an atlas layout: its block, half, leg and gutter, and the solid texture
+/// coordinates of its three corners (right-angle corner, the corner along `u`, the corner
+/// along `v`). Built by [`AtlasTriangle::new`], which checks the geometry once.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
+pub struct AtlasTriangle {
+    x: u16,
+    y: u16,
+    w: u16,
+    h: u16,
+    leg: u16,
+    gutter: u8,
+    half: Half,
+    solid: [TexPoint; 3],
+}
+
+impl AtlasTriangle {
+    /// A triangle of leg `leg` and gutter `gutter` (0: nearest look-ups, 1: bilinear) in the
+    /// `w x h` block at `(x, y)`.
+    #[allow(clippy::too_many_arguments)]
+    pub fn new(
+        x: u16,
+        y: u16,
+        w: u16,
+        h: u16,
+        leg: u16,
+        gutter: u8,
+        half: Half,
+        solid: [TexPoint; 3],
+    ) -> Result<AtlasTriangle, AtlasError> {
+        if leg == 0 {
+            return Err(AtlasError::ZeroLeg);
+        }
+        if gutter > 1 {
+            return Err(AtlasError::Gutter);
+        }
+        let need = leg as u32 + 2 * gutter as u32;
+        if (w as u32) < need + 2 || (h as u32) < need + 1 {
+            return Err(AtlasError::BlockTooSmall);
+        }
+        if x as u32 + w as u32 > u16::MAX as u32 || y as u32 + h as u32 > u16::MAX as u32 {
+            return Err(AtlasError::OutOfRange);
+        }
+        Ok(AtlasTriangle {
+            x,
+            y,
+            w,
+            h,
+            leg,
+            gutter,
+            half,
+            solid,
+        })
+    }
+
+    /// The block `(x, y, w, h)`.
+    pub fn block(&self) -> (u16, u16, u16, u16) {
+        (self.x, self.y, self.w, self.h)
+    }
+
+    /// The leg length in texels.
+    pub fn leg(&self) -> u16 {
+        self.leg
+    }
+
+    /// Which half of its block.
+    pub fn half(&self) -> Half {
+        self.half
+    }
+
+    /// The solid coordinates of the corners (right angle, along `u`, along `v`).
+    pub fn solid(&self) -> [TexPoint; 3] {
+        self.solid
+    }
+
+    /// The atlas positions of the corners, in texels times 16 (1/16 texel, exact):
+    /// right angle, along `u`, along `v`.
+    pub fn corners_x16(&self) -> [[i32; 2]; 3] {
+        let (g, l) = (self.gutter as i32, self.leg as i32);
+        let (x, y, w, h) = (self.x as i32, self.y as i32, self.w as i32, self.h as i32);
+        let (rx, ry, sx) = match self.half {
+            Half::Upper => (x + g, y + g, 1),
+            Half::Lower => (x + w - g, y + h - g, -1),
+        };
+        [
+            [rx * 16, ry * 16],
+            [(rx + sx * l) * 16, ry * 16],
+            [rx * 16, (ry + sx * l) * 16],
+        ]
+    }
+
+    /// The texels the triangle owns on atlas row `j`: `Some((first column, count))`.
+    pub fn row(&self, j: u16) -> Option<(u16, u16)> {
+        if j < self.y || j >= self.y + self.h {
+            return None;
+        }
+        let reach = self.leg as i32 + 2 * self.gutter as i32;
+        let (w, h) = (self.w as i32, self.h as i32);
+        match self.half {
+            Half::Upper => {
+                let dj = (j - self.y) as i32;
+                let max_sum = w + h - 3 - reach;
+                let n = (max_sum - dj + 1).clamp(0, w);
+                (n > 0).then_some((self.x, n as u16))
+            }
+            Half::Lower => {
+                let ej = (self.y + self.h - 1 - j) as i32;
+                let n = (reach - ej + 1).clamp(0, w);
+                (n > 0).then_some((self.x + self.w - n as u16, n as u16))
+            }
+        }
+    }
+
+    /// The solid coordinates (raw `Q16.16`) at the centre of texel `(i, j)`, and the steps per
+    /// texel along `u` and `v`: the affine map of the triangle, extrapolated outside it.
+    fn affine(&self, i: u16, j: u16) -> ([i64; 3], [i64; 3], [i64; 3]) {
+        let [r, a, b] = self.solid.map(|p| p.to_bits().map(i64::from));
+        let l2 = 2 * self.leg as i64;
+        let [[rx, ry], _, _] = self.corners_x16();
+        let sx: i64 = match self.half {
+            Half::Upper => 1,
+            Half::Lower => -1,
+        };
+        // Offsets of the texel centre from the right angle, in half texels, along the legs.
+        let du = sx * (2 * i as i64 + 1 - (rx as i64 >> 3));
+        let dv = sx * (2 * j as i64 + 1 - (ry as i64 >> 3));
+        let div = |n: i64| -> i64 {
+            // Round to nearest, ties away from zero (same on every target).
+            if n >= 0 {
+                (n + l2 / 2) / l2
+            } else {
+                -((-n + l2 / 2) / l2)
+            }
+        };
+        let mut s = [0i64; 3];
+        let mut su = [0i64; 3];
+        let mut sv = [0i64; 3];
+        for k in 0..3 {
+            let (eu, ev) = (a[k] - r[k], b[k] - r[k]);
+            s[k] = r[k] + div(eu * du + ev * dv);
+            su[k] = div(2 * sx * eu);
+            sv[k] = div(2 * sx * ev);
+        }
+        (s, su, sv)
+    }
+
+    /// The span of solid coordinates over the owned texels of row `j`, with its first column
+    /// (`None` when the triangle owns nothing there).
+    pub fn row_span(&self, j: u16) -> Option<(u16, Span)> {
+        let (x0, len) = self.row(j)?;
+        let (s, su, sv) = self.affine(x0, j);
+        let sat = |v: i64| v.clamp(i32::MIN as i64, i32::MAX as i64) as i32;
+        let p = |v: [i64; 3]| TexPoint::from_bits(sat(v[0]), sat(v[1]), sat(v[2]));
+        Some((
+            x0,
+            Span {
+                s0: p(s),
+                ds: p(su),
+                dsdy: p(sv),
+                len,
+            },
+        ))
+    }
+}
+
+/// Bakes `texture` into the owned texels of every triangle of `layout`, calling
+/// `put(x, y, colour)` once per owned texel (row by row, left to right within a triangle's row).
+/// Returns the number of texels written.
+pub fn bake<const T: usize, const N: usize, P: FnMut(u16, u16, Rgba8888)>(
+    layout: &[AtlasTriangle],
+    texture: &mut TextureEvaluator<'_, T, N>,
+    mut put: P,
+) -> u32 {
+    let mut texels = 0u32;
+    for t in layout {
+        let (_, y, _, h) = t.block();
+        for j in y..y.saturating_add(h) {
+            if let Some((x0, span)) = t.row_span(j) {
+                let mut x = x0;
+                texture.shade(&span, |c| {
+                    put(x, j, c);
+                    x = x.wrapping_add(1);
+                });
+                texels = texels.wrapping_add(span.len as u32);
+            }
+        }
+    }
+    texels
+}
+
+#[cfg(test)]
+mod tests {
+    extern crate std;
+    use super::*;
+    use std::vec;
+    use std::vec::Vec;
+
+    fn tp(s: i32, t: i32, r: i32) -> TexPoint {
+        TexPoint::from_bits(s, t, r)
+    }
+
+    fn pair(l: u16, g: u8) -> [AtlasTriangle; 2] {
+        let w = l + 2 * g as u16 + 2;
+        let h = l + 2 * g as u16 + 1;
+        let solid = [tp(0, 0, 0), tp(65536, 0, 0), tp(0, 65536, 0)];
+        [
+            AtlasTriangle::new(3, 5, w, h, l, g, Half::Upper, solid).unwrap(),
+            AtlasTriangle::new(3, 5, w, h, l, g, Half::Lower, solid).unwrap(),
+        ]
+    }
+
+    /// The two halves of a block own disjoint sets of texels covering the block, and each owns
+    /// the nearest texel (g = 0) or every texel of the bilinear footprint (g = 1) of every point
+    /// inside itself (checked on a 1/16-texel grid).
+    #[test]
+    fn halves_partition_the_block_and_own_their_footprints() {
+        for g in [0u8, 1] {
+            for l in 1..12u16 {
+                let p = pair(l, g);
+                let (x, y, w, h) = p[0].block();
+                let mut owner = vec![None; w as usize * h as usize];
+                for (k, t) in p.iter().enumerate() {
+                    for j in y..y + h {
+                        if let Some((x0, n)) = t.row(j) {
+                            for i in x0..x0 + n {
+                                let cell =
+                                    &mut owner[(j - y) as usize * w as usize + (i - x) as usize];
+                                assert!(cell.is_none(), "l {l} g {g}: texel ({i}, {j}) twice");
+                                *cell = Some(k);
+                            }
+                        }
+                    }
+                }
+                assert!(
+                    owner.iter().all(Option::is_some),
+                    "l {l} g {g}: block not covered"
+                );
+                for (k, t) in p.iter().enumerate() {
+                    let [r, a, b] = t.corners_x16().map(|c| c.map(i64::from));
+                    // Points p = r + (a - r) s/n + (b - r) q/n strictly inside the triangle
+                    // (1/16 texel steps), in units of 1/(16 n) texels.
+                    let n = 16 * l as i64;
+                    let unit = 16 * n;
+                    for s in 1..n {
+                        for q in 1..(n - s) {
+                            let px = r[0] * n + (a[0] - r[0]) * s + (b[0] - r[0]) * q;
+                            let py = r[1] * n + (a[1] - r[1]) * s + (b[1] - r[1]) * q;
+                            // The texels a look-up reads with a non-zero weight: nearest (g = 0)
+                            // the texel containing p; otherwise centres in the open window
+                            // (p - g, p + g) in each axis (g = 1: the bilinear footprint).
+                            let texels = |c: i64| {
+                                let f = c.div_euclid(unit);
+                                (f - 3..=f + 3).filter(move |&i| {
+                                    if g == 0 {
+                                        i == f
+                                    } else {
+                                        let centre = (2 * i + 1) * unit;
+                                        centre > 2 * c - 2 * g as i64 * unit
+                                            && centre < 2 * c + 2 * g as i64 * unit
+                                    }
+                                })
+                            };
+                            for j in texels(py) {
+                                for i in texels(px) {
+                                    assert!(i >= x as i64 && j >= y as i64, "l {l} g {g}");
+                                    let cell = owner[(j - y as i64) as usize * w as usize
+                                        + (i - x as i64) as usize];
+                                    assert_eq!(cell, Some(k), "l {l} g {g}: texel ({i}, {j})");
+                                }
+                            }
+                        }
+                    }
+                }
+            }
+        }
+    }
+
+    /// The baked solid coordinates are the triangle's affine map at the texel centres.
+    #[test]
+    fn spans_follow_the_affine_map() {
+        let p = pair(8, 1);
+        // Upper: right angle at (4, 6), leg 8; centre of texel (5, 6) is (5.5, 6.5):
+        // s = (1.5 / 8, 0.5 / 8).
+        let (x0, span) = p[0].row_span(6).unwrap();
+        assert_eq!(x0, 3);
+        let s = |i: u16| span.s0.to_bits()[0] + i as i32 * span.ds.to_bits()[0];
+        assert_eq!(s(2), 65536 * 3 / 16);
+        assert_eq!(span.s0.to_bits()[1], 65536 / 16);
+        assert_eq!(span.ds.to_bits(), [8192, 0, 0]);
+        assert_eq!(span.dsdy.to_bits(), [0, 8192, 0]);
+        // Lower: steps reversed.
+        let (_, span) = p[1].row_span(14).unwrap();
+        assert_eq!(span.ds.to_bits(), [-8192, 0, 0]);
+    }
+
+    #[test]
+    fn bad_geometry_is_refused() {
+        let s = [tp(0, 0, 0); 3];
+        assert_eq!(
+            AtlasTriangle::new(0, 0, 10, 10, 0, 0, Half::Upper, s),
+            Err(AtlasError::ZeroLeg)
+        );
+        assert_eq!(
+            AtlasTriangle::new(0, 0, 9, 10, 8, 0, Half::Upper, s),
+            Err(AtlasError::BlockTooSmall)
+        );
+        assert_eq!(
+            AtlasTriangle::new(65530, 0, 10, 10, 8, 0, Half::Upper, s),
+            Err(AtlasError::OutOfRange)
+        );
+    }
+
+    #[test]
+    fn bake_writes_each_owned_texel_once() {
+        use crate::hash::HashKind;
+        let tex =
+            crate::texture::workload::marble_csat(HashKind::Integer, crate::span::EvalMode::Auto)
+                .unwrap();
+        let p = pair(6, 1);
+        let mut ev = tex.evaluator();
+        let mut seen = Vec::new();
+        let n = bake(&p, &mut ev, |x, y, _| seen.push((x, y)));
+        let (_, _, w, h) = p[0].block();
+        assert_eq!(n as usize, w as usize * h as usize);
+        seen.sort_unstable();
+        seen.dedup();
+        assert_eq!(seen.len(), n as usize);
+    }
+}
