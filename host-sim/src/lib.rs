@@ -11,4 +11,5 @@ pub mod reference;
 pub mod report;
 pub mod scenefile;
 pub mod scenes;
+pub mod truth;
 pub mod unit;

@@ -37,6 +37,7 @@
 #![cfg_attr(not(test), no_std)]
 #![deny(missing_docs, unsafe_code)]
 
+pub mod bandlimit;
 pub mod color;
 pub mod filter;
 pub mod format;

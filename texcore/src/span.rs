@@ -37,11 +37,14 @@
 //! not compiled in falls back to an exact one (documented on the variants), so every feature
 //! combination gives the samples described here.
 //!
-//! Octaves past the Nyquist limit (more than half a cell per pixel along either screen direction)
-//! are culled when [`EvalOptions::cull`] is set: they contribute nothing to `f` and `2 |a_k|` (in
-//! `f` units) to the span's extra filter width, [`SpanInfo::extra_width48`]. Nothing here panics,
-//! for any span (any coordinates, any `ds`, any length up to 65535).
+//! Octaves whose cells are smaller than a pixel are band-limited when [`EvalOptions::cull`] is set
+//! ([`crate::bandlimit`]): per span, a term reaching more than one cell a pixel enters `f` with a
+//! faded amplitude (every mode uses the same faded amplitude, so the modes stay bit-identical),
+//! a negligible one is culled, and the spread they lose goes to the span's extra filter width,
+//! [`SpanInfo::extra_width48`]. Nothing here panics, for any span (any coordinates, any `ds`, any
+//! length up to 65535).
 
+use crate::bandlimit::{spread_width48, term_band};
 use crate::format::{TexPoint, TexValue};
 use crate::hash::HashKind;
 use crate::model::{quantize_coord, NoiseTerm, TextureModel};
@@ -157,8 +160,10 @@ pub struct SpanStats {
     pub cell_setups: u64,
     /// Noise term samples produced (per term per pixel).
     pub noise_evaluations: u64,
-    /// Octaves culled past the Nyquist limit (per term per span).
+    /// Octaves culled by band-limiting (per term per span; [`crate::bandlimit`]).
     pub culled_octaves: u64,
+    /// Octaves faded by band-limiting (per term per span; [`crate::bandlimit`]).
+    pub faded_octaves: u64,
     /// Gradient samples (per pixel, counting the quadric and each term).
     pub gradient_evaluations: u64,
     /// Pixels produced by forward differencing of at least one term.
@@ -173,6 +178,7 @@ impl SpanStats {
         self.cell_setups += o.cell_setups;
         self.noise_evaluations += o.noise_evaluations;
         self.culled_octaves += o.culled_octaves;
+        self.faded_octaves += o.faded_octaves;
         self.gradient_evaluations += o.gradient_evaluations;
         self.fd_pixels += o.fd_pixels;
     }
@@ -310,8 +316,12 @@ struct TermSetup {
     dy: [i32; 3],
     /// Evaluate the value.
     active: bool,
-    /// Evaluate the gradient (false when past Nyquist: its width goes to `extra_width48`).
+    /// Evaluate the gradient (false past one cell a pixel: the term's spread goes to
+    /// `extra_width48`, [`crate::bandlimit`]).
     gradient: bool,
+    /// The amplitude of this span (raw 16.16): the term's own, or faded
+    /// ([`crate::bandlimit::term_band`]).
+    amp: i32,
 }
 
 #[cfg_attr(not(texcore_lean), inline(always))]
@@ -608,20 +618,22 @@ impl<'m, const T: usize> SpanEvaluator<'m, T> {
         }
         // A vector, not an array: nothing is written for the slots past the model's terms.
         let terms = &mut out.terms;
-        let mut extra: i64 = 0;
+        let mut variance: u64 = 0;
         // Coordinate precision (`docs/model.md` 3.2): `U0` and `DU` rounded to `F` fraction bits,
-        // so `u(i) = U0 + i DU` stays linear in `i`; the Nyquist test uses the unrounded step.
+        // so `u(i) = U0 + i DU` stays linear in `i`; band-limiting uses the unrounded step.
         let cb = m.precision().coord_bits();
         for term in m.terms().iter().take(T) {
-            let (du, dyl, beyond) = lattice_steps(term, span);
-            if beyond {
-                extra = extra.saturating_add(culled_width48(term));
-                if self.opts.cull {
-                    self.stats.culled_octaves += 1;
-                    // At most T terms: never full.
-                    let _ = terms.push(TermSetup::default());
-                    continue;
-                }
+            let (du, dyl) = lattice_steps(term, span);
+            let band = term_band(term, du, dyl, self.opts.cull);
+            variance = variance.saturating_add(band.variance);
+            if !band.active {
+                self.stats.culled_octaves += 1;
+                // At most T terms: never full.
+                let _ = terms.push(TermSetup::default());
+                continue;
+            }
+            if !band.gradient && self.opts.cull {
+                self.stats.faded_octaves += 1;
             }
             let mut u0 = term.transform.apply_point(span.s0);
             let mut du = du;
@@ -634,22 +646,22 @@ impl<'m, const T: usize> SpanEvaluator<'m, T> {
                 du,
                 dy: dyl,
                 active: true,
-                gradient: grads && !beyond,
+                gradient: grads && band.gradient,
+                amp: band.amplitude,
             });
         }
-        out.extra_width48 = extra;
+        out.extra_width48 = spread_width48(variance);
     }
 
     /// The extra filter width of `span` from octaves past the Nyquist limit (what
     /// [`SpanInfo::extra_width48`] of [`SpanEvaluator::eval`] will be), without evaluating it.
     pub fn extra_width48(&self, span: &Span) -> i64 {
-        let mut extra: i64 = 0;
-        for term in self.model.terms() {
-            if lattice_steps(term, span).2 {
-                extra = extra.saturating_add(culled_width48(term));
-            }
+        let mut variance: u64 = 0;
+        for term in self.model.terms().iter().take(T) {
+            let (du, dy) = lattice_steps(term, span);
+            variance = variance.saturating_add(term_band(term, du, dy, self.opts.cull).variance);
         }
-        extra
+        spread_width48(variance)
     }
 
     /// Evaluates `span`, calling `emit` once per pixel in order. Returns the span's facts.
@@ -843,7 +855,7 @@ impl<'m, const T: usize> SpanEvaluator<'m, T> {
                     let v = scaled_corners_bits(
                         term.basis.hash,
                         cell,
-                        term.amplitude.to_bits(),
+                        ts.amp,
                         fv,
                         vb,
                     );
@@ -854,7 +866,7 @@ impl<'m, const T: usize> SpanEvaluator<'m, T> {
                     let _ = merged.push((k, poly, 0, pixels_in_cell(frac, ts.du)));
                 }
                 Strategy::Direct => {
-                    let (amp, neg) = amp_and_sign(term);
+                    let (amp, neg) = amp_and_sign(term, ts);
                     let _ = direct.push(DirectTerm {
                         u: ts.u0,
                         du: ts.du,
@@ -965,7 +977,7 @@ impl<'m, const T: usize> SpanEvaluator<'m, T> {
                 ];
                 let (cell, frac) = split(u);
                 let v =
-                    scaled_corners_bits(term.basis.hash, cell, term.amplitude.to_bits(), fv, vb);
+                    scaled_corners_bits(term.basis.hash, cell, ts.amp, fv, vb);
                 setups += 1;
                 *poly = cubic_poly(&v, frac, ts.du, ts.dy, g);
                 sum.add(&fd_start(poly, g));
@@ -1059,7 +1071,7 @@ impl<'m, const T: usize> SpanEvaluator<'m, T> {
                     continue;
                 }
                 if r.remaining == 0 {
-                    let (amp, _) = amp_and_sign(term);
+                    let (amp, _) = amp_and_sign(term, ts);
                     let (cell, frac) = split(r.u);
                     if !r.cached || cell != r.cell {
                         r.data = term.basis.cell_bits(cell, amp, fv, vb);
@@ -1108,7 +1120,7 @@ impl<'m, const T: usize> SpanEvaluator<'m, T> {
                 #[allow(unused_mut)]
                 let mut any_fd = false;
                 for ((r, ts), term) in runs.iter_mut().zip(setup.terms.iter()).zip(terms) {
-                    let (amp, neg) = amp_and_sign(term);
+                    let (amp, neg) = amp_and_sign(term, ts);
                     let want_g = grads && ts.gradient;
                     let (mut v, mut gx, mut gy) = match r.strategy {
                         Strategy::Off => continue,
@@ -1436,8 +1448,8 @@ fn grad_pass<const AFFINE: bool>(
 
 /// Amplitude used for the corner values and the sign applied afterwards (turbulence).
 #[cfg_attr(not(texcore_lean), inline(always))]
-fn amp_and_sign(term: &NoiseTerm) -> (i32, bool) {
-    let a = term.amplitude.to_bits();
+fn amp_and_sign(term: &NoiseTerm, ts: &TermSetup) -> (i32, bool) {
+    let a = ts.amp;
     if term.turbulence {
         (a.wrapping_abs(), a < 0)
     } else {
@@ -1535,23 +1547,12 @@ fn hermite_setup(
     }
 }
 
-/// A term's lattice steps along the span and across it, and whether either passes the Nyquist
-/// limit in any component.
+/// A term's lattice steps along the span and across it (raw 16.16 cells a pixel).
 #[inline]
-fn lattice_steps(term: &NoiseTerm, span: &Span) -> ([i32; 3], [i32; 3], bool) {
+fn lattice_steps(term: &NoiseTerm, span: &Span) -> ([i32; 3], [i32; 3]) {
     let du = term.transform.apply_vector(span.ds);
     let dy = term.transform.apply_vector(span.dsdy);
-    let beyond = du
-        .iter()
-        .chain(dy.iter())
-        .any(|c| c.unsigned_abs() > NYQUIST_STEP as u32);
-    (du, dy, beyond)
-}
-
-/// The filter width a culled (or aliasing) term adds: `2 |a|` in `f` units, 48 fraction bits.
-#[inline]
-fn culled_width48(term: &NoiseTerm) -> i64 {
-    (i64::from(term.amplitude.to_bits().unsigned_abs()) * 2) << 32
+    (du, dy)
 }
 
 /// Value and gradients of one term at a fraction of its cached cell.
