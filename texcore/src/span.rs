@@ -1976,9 +1976,17 @@ mod tests {
     }
 
     #[test]
-    fn culling_counts_and_widens() {
+    fn band_limiting_counts_fades_and_widens() {
         let m = marble();
-        // A far-away span: 2 cells per pixel at the base octave already.
+        let spread = |span: &Span, cull: bool| -> i64 {
+            let mut var = 0u64;
+            for t in m.terms() {
+                let (du, dy) = lattice_steps(t, span);
+                var += crate::bandlimit::term_band(t, du, dy, cull).variance;
+            }
+            crate::bandlimit::spread_width48(var)
+        };
+        // A far-away span: the octaves reach about 2, 4, 8 and 16 cells a pixel.
         let span = Span {
             s0: TexPoint::from_f64(0.0, 0.0, 0.0),
             ds: TexPoint::from_f64(0.5, 0.0, 0.0),
@@ -1986,14 +1994,51 @@ mod tests {
             len: 10,
         };
         let mut ev = SpanEvaluator::new(&m, EvalOptions::default());
-        let info = ev.eval(&span, |_| {});
-        assert_eq!(ev.stats().culled_octaves, 4);
-        assert_eq!(ev.stats().noise_evaluations, 0);
-        // 2 * (1 + 1/2 + 1/4 + 1/8) = 3.75
-        assert_eq!(info.extra_width48, (3 * 65536 + 49152) << 32);
+        let mut faded = Vec::new();
+        let info = ev.eval(&span, |s| faded.push(s.f));
+        let bands: Vec<_> = m
+            .terms()
+            .iter()
+            .map(|t| {
+                let (du, dy) = lattice_steps(t, &span);
+                crate::bandlimit::term_band(t, du, dy, true)
+            })
+            .collect();
+        let n_faded = bands.iter().filter(|b| b.active && !b.gradient).count() as u64;
+        let n_active = bands.iter().filter(|b| b.active).count() as u64;
+        assert!(n_faded >= 2, "{bands:?}");
+        assert_eq!(ev.stats().culled_octaves, 4 - n_active);
+        assert_eq!(ev.stats().faded_octaves, n_faded);
+        assert_eq!(ev.stats().noise_evaluations, 10 * n_active);
+        assert!(info.extra_width48 > 0);
+        assert_eq!(info.extra_width48, spread(&span, true));
         assert_eq!(ev.extra_width48(&span), info.extra_width48);
-        // Every chunk carries its span's culled width: here a span of 3 chunks whose two finest
-        // octaves are past Nyquist (2 * (1/4 + 1/8) = 0.75), then one with none.
+        // Without band-limiting every octave enters at full amplitude and the two far ones add
+        // their whole variance.
+        let opts = EvalOptions {
+            cull: false,
+            ..EvalOptions::default()
+        };
+        let mut full_ev = SpanEvaluator::new(&m, opts);
+        let mut full = Vec::new();
+        let info_full = full_ev.eval(&span, |s| full.push(s.f));
+        assert_eq!(full_ev.stats().faded_octaves, 0);
+        assert_eq!(info_full.extra_width48, spread(&span, false));
+        assert!(info_full.extra_width48 > info.extra_width48);
+        assert_ne!(faded, full);
+        // Every mode gives the same faded samples.
+        for mode in [EvalMode::Direct, EvalMode::Fd, EvalMode::Fd32, EvalMode::Reanchored] {
+            let o = EvalOptions {
+                mode,
+                ..EvalOptions::default()
+            };
+            let mut e = SpanEvaluator::new(&m, o);
+            let mut got = Vec::new();
+            e.eval(&span, |s| got.push(s.f));
+            assert_eq!(got, faded, "{mode:?}");
+        }
+        // Every chunk carries its span's spread: a span of 3 chunks whose finer octaves reach
+        // past one cell a pixel, then one with every octave resolved.
         let near = Span {
             ds: TexPoint::from_f64(1.0 / 16.0, 0.0, 0.0),
             len: 3 * SAMPLE_CHUNK as u16 - 5,
@@ -2003,7 +2048,8 @@ mod tests {
         let info = ev.eval_chunks(&near, &mut |c: &SampleChunk| {
             got.push((c.len(), c.extra_width48()))
         });
-        assert_eq!(info.extra_width48, 49152 << 32);
+        assert!(info.extra_width48 > 0);
+        assert_eq!(info.extra_width48, spread(&near, true));
         assert_eq!(ev.extra_width48(&near), info.extra_width48);
         let lens: Vec<usize> = got.iter().map(|g| g.0).collect();
         assert_eq!(lens, [SAMPLE_CHUNK, SAMPLE_CHUNK, SAMPLE_CHUNK - 5]);
