@@ -18,4 +18,5 @@ pub mod report;
 pub mod scenefile;
 pub mod scenes;
 pub mod stream;
+pub mod truth;
 pub mod unit;

@@ -358,6 +358,16 @@ pub fn reference_frame(
     reference_host_frame(&HostScene::builtin(scene.clone()), frame, cfg, hash)
 }
 
+/// The f64 reference image of an already framed scene with its slot materials (what
+/// [`reference_host_frame`] computes after [`HostScene::frame`]).
+pub fn reference_framed(
+    scene: &Scene,
+    materials: &[MaterialSpec],
+    cfg: &UnitConfig,
+) -> Result<Vec<[f64; 4]>, UnitError> {
+    crate::dispatch_table_size!(cfg.table_size, reference_n(scene, materials, cfg))
+}
+
 /// [`reference_frame`] of a host scene (built-in or from a file).
 pub fn reference_host_frame(
     scene: &HostScene,

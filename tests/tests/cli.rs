@@ -511,3 +511,36 @@ fn check_and_single_frames_of_scene_files() {
     assert_eq!(a.stdout, b.stdout, "the still is frame 63");
     assert_ne!(a.stdout, c.stdout);
 }
+
+#[test]
+fn check_against_the_supersampled_truth() {
+    let r = texsim(&[
+        "check",
+        "seascape",
+        "--supersampled",
+        "2",
+        "--image-size",
+        "64x48",
+        "--json",
+    ]);
+    ok(&r, "check --supersampled");
+    let v: serde_json::Value = serde_json::from_str(r.stdout.trim()).unwrap();
+    assert_eq!(v["name"], "seascape");
+    assert_eq!(v["width"], 64);
+    assert_eq!(v["height"], 48);
+    assert_eq!(v["supersampled"], 2);
+    for k in ["psnr_filtered", "psnr_unfiltered", "gain_db"] {
+        assert!(v[k].as_f64().unwrap().is_finite(), "{k}");
+    }
+    assert!(v["longest_flat_band"].as_u64().is_some());
+    // Out-of-range factors and sizes are refused.
+    for bad in [
+        &["check", "seascape", "--supersampled", "0"][..],
+        &["check", "seascape", "--supersampled", "17"],
+        &["check", "seascape", "--supersampled", "2", "--image-size", "0x10"],
+        &["check", "seascape", "--supersampled", "2", "--image-size", "64"],
+    ] {
+        let r = texsim(bad);
+        assert_eq!(r.status, 2, "{bad:?}: {}", r.stderr);
+    }
+}

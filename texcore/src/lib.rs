@@ -40,6 +40,7 @@
 
 #[cfg(feature = "atlas")]
 pub mod atlas;
+pub mod bandlimit;
 pub mod color;
 #[cfg(feature = "embedded-graphics")]
 #[cfg_attr(docsrs, doc(cfg(feature = "embedded-graphics")))]

@@ -27,7 +27,7 @@
 //! here allocates or panics.
 
 use crate::color::Rgba8888;
-use crate::filter::filter_width;
+use crate::filter::filter_width_spread;
 use crate::format::FilterWidth;
 use crate::raster::{
     Counters, DepthBuffer, Rasterizer, Rect, ScreenVertex, Segment, TriangleOptions,
@@ -777,11 +777,8 @@ fn width_span<const T: usize, const N: usize, F: FnMut(Rgba8888)>(
     match we.eval.as_mut() {
         Some(e) => {
             let extra = e.extra_width48(span);
-            let e16 = (extra >> 32).clamp(0, i64::from(u32::MAX)) as u64;
-            let extra_raw = (e16 << lg).min(u64::from(u32::MAX)) as u32;
             e.eval(span, |s| {
-                let w = filter_width(s.gx, s.gy, norm, lg).to_bits();
-                emit(grey(FilterWidth::from_bits(w.saturating_add(extra_raw))))
+                emit(grey(filter_width_spread(s.gx, s.gy, extra, norm, lg)))
             });
         }
         None => {

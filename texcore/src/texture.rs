@@ -4,7 +4,8 @@
 //! The pipeline of a [`Texture`] is fixed when it is built, never tested per pixel:
 //! - with [`Antialias::None`] the span evaluator computes no gradients (the gradient stage does not
 //!   run) and colours come from the plain table look-up;
-//! - otherwise the filter width `w = N * norm(gx, gy)` (plus the width of culled octaves) feeds the
+//! - otherwise the filter width `w = N * norm(gx, gy)` (with the spread of faded and culled octaves
+//!   in quadrature, [`crate::bandlimit`]) feeds the
 //!   colour table's box or MIP filter;
 //! - a model with no noise terms runs no noise stage, a zero quadric no quadric stage (see
 //!   [`crate::span`]).
@@ -212,34 +213,28 @@ impl<const T: usize, const N: usize> TextureEvaluator<'_, T, N> {
         self.filter_lookups += n;
         let norm = self.tex.norm;
         let lg = log2(N);
-        // Width of the octaves culled past Nyquist: (2 sum |a_k|, 16 fraction bits) * N, saturating.
-        let extra_raw = |extra48: i64| -> u32 {
-            let e16 = (extra48 >> 32).clamp(0, i64::from(u32::MAX)) as u64;
-            (e16 << lg).min(u64::from(u32::MAX)) as u32
-        };
-        // The L2 root of each pixel starts from its neighbour's (exact for any start).
+        // The L2 root of each pixel starts from its neighbour's (exact for any start); the span's
+        // spread (faded and culled octaves, `crate::bandlimit`) adds in quadrature.
         let mut widths = WidthStream::new(norm, lg);
-        let widen =
-            |w: FilterWidth, extra: u32| FilterWidth::from_bits(w.to_bits().saturating_add(extra));
         match &mut self.inner {
             Inner::Model(e) => {
                 // The model's samples arrive by component, a chunk at a time: widths for the
                 // chunk, then its colours with the filter chosen once. Each chunk carries its
                 // span's culled width (the span's set-up computed it once).
                 e.eval_chunks(span, &mut |c: &SampleChunk| {
-                    let extra = extra_raw(c.extra_width48());
+                    let extra = c.extra_width48();
                     let mut w = [FilterWidth::ZERO; SAMPLE_CHUNK];
                     for ((w, &gx), &gy) in w.iter_mut().zip(c.gx()).zip(c.gy()) {
-                        *w = widen(widths.width(gx, gy), extra);
+                        *w = widths.width_with(gx, gy, extra);
                     }
                     stage.shade_each(c.f(), &w, &mut emit);
                 });
             }
             #[cfg(feature = "perturb")]
             Inner::Perturbed(e) => {
-                let extra = extra_raw(e.extra_width48(span));
+                let extra = e.extra_width48(span);
                 e.eval(span, |s| {
-                    emit(stage.shade(s.f, widen(widths.width(s.gx, s.gy), extra)));
+                    emit(stage.shade(s.f, widths.width_with(s.gx, s.gy, extra)));
                 });
             }
         }

@@ -59,12 +59,63 @@ impl RefTerm {
             .map(|row| row[0] * ds[0] + row[1] * ds[1] + row[2] * ds[2])
     }
 
-    /// Past the Nyquist limit (`docs/model.md` 8): some component of `M dsdx` or `M dsdy` has
-    /// magnitude greater than 1/2 cell.
-    pub fn past_nyquist(&self, dsdx: [f64; 3], dsdy: [f64; 3]) -> bool {
+    /// The term's reach (`docs/model.md` 8): the largest magnitude of the components of `M dsdx`
+    /// and `M dsdy`, in cells a pixel.
+    pub fn reach(&self, dsdx: [f64; 3], dsdy: [f64; 3]) -> f64 {
         let dx = self.lattice_step(dsdx);
         let dy = self.lattice_step(dsdy);
-        dx.iter().chain(dy.iter()).any(|c| c.abs() > 0.5)
+        dx.iter().chain(dy.iter()).fold(0.0, |m, c| m.max(c.abs()))
+    }
+
+    /// Past one cell a pixel (`docs/model.md` 8): the term is faded (band-limited) or, without
+    /// band-limiting, widens the filter by its variance instead of its gradient.
+    pub fn past_nyquist(&self, dsdx: [f64; 3], dsdy: [f64; 3]) -> bool {
+        self.reach(dsdx, dsdy) > 1.0
+    }
+
+    /// The standard deviation of the term's basis values (texcore's `bandlimit::basis_sigma`).
+    pub fn sigma(&self) -> f64 {
+        let (plain, turb) = match self.basis {
+            Basis::Value => (22938.0, 13763.0),
+            Basis::Gradient => (17039.0, 9830.0),
+            Basis::MNoise => (13763.0, 7864.0),
+        };
+        (if self.turbulence { turb } else { plain }) / 65536.0
+    }
+
+    /// The term's band for a pixel with screen steps `dsdx`, `dsdy` (`docs/model.md` 8): the
+    /// factor its value enters `f` with (0: culled), whether its gradient widens the filter, and
+    /// the variance it adds to the filter instead.
+    pub fn band(&self, dsdx: [f64; 3], dsdy: [f64; 3], nyquist: Nyquist) -> Band {
+        let l = self.reach(dsdx, dsdy);
+        if nyquist == Nyquist::Evaluate || l <= 1.0 {
+            return Band {
+                weight: 1.0,
+                gradient: true,
+                variance: 0.0,
+            };
+        }
+        let full = (self.amplitude * self.sigma()).powi(2);
+        if nyquist == Nyquist::Widen {
+            return Band {
+                weight: 1.0,
+                gradient: false,
+                variance: full,
+            };
+        }
+        let w = (1.0 / l).max(FADE_FLOOR);
+        if (self.amplitude * w).abs() < CULL_AMPLITUDE {
+            return Band {
+                weight: 0.0,
+                gradient: false,
+                variance: full,
+            };
+        }
+        Band {
+            weight: w,
+            gradient: false,
+            variance: full * (1.0 - w),
+        }
     }
 
     /// The basis value at `s` (`n` or `|n|`, without the amplitude) and its gradient with respect
@@ -189,15 +240,33 @@ impl Norm {
     }
 }
 
-/// What to do with a noise term past the Nyquist limit ([`RefTerm::past_nyquist`]).
+/// The smallest fade weight of a band-limited term (texcore's `bandlimit::FADE_FLOOR`).
+pub const FADE_FLOOR: f64 = 0.125;
+/// Faded amplitudes below this are culled (texcore's `bandlimit::CULL_AMPLITUDE`).
+pub const CULL_AMPLITUDE: f64 = 1.0 / 256.0;
+
+/// How a term enters one pixel ([`RefTerm::band`]).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Band {
+    /// Factor of the term's value in `f` (1: unfaded, 0: culled).
+    pub weight: f64,
+    /// Its gradient widens the filter.
+    pub gradient: bool,
+    /// Variance (in `f` units squared) it adds to the filter instead.
+    pub variance: f64,
+}
+
+/// What to do with a noise term past one cell a pixel ([`RefTerm::band`]).
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
 pub enum Nyquist {
     /// Ideal: evaluate it and use its analytic derivative (the reference default).
     Evaluate,
-    /// The contract with culling off: evaluate it, but it contributes `2 |a| N` to `w` instead of
-    /// its derivative.
+    /// The contract with culling off: evaluate it at full amplitude, but it widens the filter by
+    /// its variance `a^2 sigma^2` instead of its derivative.
     Widen,
-    /// The contract with culling on: it contributes 0 to `f` and `2 |a| N` to `w`.
+    /// The contract with culling on (band-limiting): it enters `f` faded by
+    /// `w = max(1 / reach, 1/8)` (culled when `|a w| < 1/256`) and widens the filter by the
+    /// variance it loses, `(1 - w) a^2 sigma^2`.
     Cull,
 }
 
@@ -293,12 +362,19 @@ impl RefModel {
         self.f_grad_filtered(s, |_| false)
     }
 
-    /// `f` at a pixel: with [`Nyquist::Cull`] the terms past the Nyquist limit are left out.
+    /// `f` at a pixel: with [`Nyquist::Cull`] the terms past one cell a pixel are faded or
+    /// culled ([`RefTerm::band`]).
     pub fn f_at(&self, fp: &Footprint, nyquist: Nyquist) -> f64 {
         match nyquist {
             Nyquist::Cull => {
-                self.f_grad_filtered(fp.s, |t| t.past_nyquist(fp.dsdx, fp.dsdy))
-                    .0
+                let mut f = quadric::value(&self.quadric, fp.s);
+                for term in &self.terms {
+                    let b = term.band(fp.dsdx, fp.dsdy, nyquist);
+                    if b.weight > 0.0 {
+                        f += b.weight * term.eval(fp.s, self.mnoise_scale).0;
+                    }
+                }
+                f
             }
             Nyquist::Evaluate | Nyquist::Widen => self.f(fp.s),
         }
@@ -321,10 +397,10 @@ impl RefModel {
         let s = [0, 1, 2].map(|k| s0[k] + f64::from(i) * ds[k]);
         let mut f = quadric::value(&self.quadric, s);
         for term in &self.terms {
-            if nyquist == Nyquist::Cull && term.past_nyquist(ds, dsdy) {
-                continue;
+            let b = term.band(ds, dsdy, nyquist);
+            if b.weight > 0.0 {
+                f += b.weight * term.value_on_span(s0, ds, i, p, self.mnoise_scale);
             }
-            f += term.value_on_span(s0, ds, i, p, self.mnoise_scale);
         }
         f
     }
@@ -334,14 +410,16 @@ impl RefModel {
         self.wrap.arg(f)
     }
 
-    /// The screen derivatives `(df/dx, df/dy)` at a pixel, leaving out terms past the Nyquist
-    /// limit unless `nyquist` is [`Nyquist::Evaluate`], and the sum of `2 |a_k|` over those terms.
+    /// The screen derivatives `(df/dx, df/dy)` at a pixel, leaving out terms past one cell a
+    /// pixel unless `nyquist` is [`Nyquist::Evaluate`], and the spread width `sqrt(12 var)` of
+    /// the variance those terms add ([`RefTerm::band`]).
     pub fn screen_derivatives(&self, fp: &Footprint, nyquist: Nyquist) -> (f64, f64, f64) {
-        let mut extra = 0.0;
+        let mut var = 0.0;
         let mut g = quadric::gradient(&self.quadric, fp.s);
         for term in &self.terms {
-            if nyquist != Nyquist::Evaluate && term.past_nyquist(fp.dsdx, fp.dsdy) {
-                extra += 2.0 * term.amplitude.abs();
+            let b = term.band(fp.dsdx, fp.dsdy, nyquist);
+            var += b.variance;
+            if !b.gradient {
                 continue;
             }
             let (_, tg) = term.eval(fp.s, self.mnoise_scale);
@@ -349,12 +427,12 @@ impl RefModel {
                 g[i] += tg[i];
             }
         }
-        (dot(g, fp.dsdx), dot(g, fp.dsdy), extra)
+        (dot(g, fp.dsdx), dot(g, fp.dsdy), (12.0 * var).sqrt())
     }
 
-    /// Filter width in entries for an `n_entries` table: `w = N norm(df/dx, df/dy)`, saturated at
-    /// `N`. With `cull_nyquist`, terms past the Nyquist limit add `2 |a_k| N` instead of their
-    /// derivative (and are left out of `f` by [`RefModel::f_at`]); without it every term is
+    /// Filter width in entries for an `n_entries` table: `w = N sqrt(norm(df/dx, df/dy)^2 + e^2)`,
+    /// saturated at `N`, `e` the spread width of the terms past one cell a pixel. With
+    /// `cull_nyquist` those terms are band-limited ([`Nyquist::Cull`]); without it every term is
     /// differentiated (the ideal reference).
     pub fn filter_width(
         &self,
@@ -376,7 +454,7 @@ impl RefModel {
     ) -> f64 {
         let n = n_entries as f64;
         let (gx, gy, extra) = self.screen_derivatives(fp, nyquist);
-        let w = n * norm.apply(gx, gy) + n * extra;
+        let w = n * norm.apply(gx, gy).hypot(extra);
         if w.is_nan() {
             n
         } else {
@@ -549,37 +627,43 @@ mod tests {
             Wrap::Mod,
         );
         let s = [0.3, 0.7, 0.2];
-        // 64 / 256 = 1/4 cell per pixel: below the limit.
+        // 64 / 128 = 1/2 cell per pixel: resolved.
         let fine = Footprint {
             s,
-            dsdx: [1.0 / 256.0, 0.0, 0.0],
+            dsdx: [1.0 / 128.0, 0.0, 0.0],
             dsdy: [0.0, 1.0 / 256.0, 0.0],
         };
         assert!(!term.past_nyquist(fine.dsdx, fine.dsdy));
         assert_eq!(m.f_at(&fine, Nyquist::Cull), m.f(s));
-        // 64 / 100 = 0.64 cell per pixel along y only: past the limit.
+        // Exactly one cell a pixel is still resolved.
+        assert!(!term.past_nyquist([1.0 / 64.0, 0.0, 0.0], [0.0; 3]));
+        // 64 / 16 = 4 cells a pixel along y only: faded to 1/4.
         let coarse = Footprint {
             s,
             dsdx: [1.0 / 256.0, 0.0, 0.0],
-            dsdy: [0.0, 1.0 / 100.0, 0.0],
+            dsdy: [0.0, 1.0 / 16.0, 0.0],
         };
         assert!(term.past_nyquist(coarse.dsdx, coarse.dsdy));
-        // Exactly 1/2 is not past it.
-        assert!(!term.past_nyquist([1.0 / 128.0, 0.0, 0.0], [0.0; 3]));
+        assert_eq!(term.reach(coarse.dsdx, coarse.dsdy), 4.0);
         let q = s[2]; // f without the noise: the quadric 2 I r = r
-        assert!((m.f_at(&coarse, Nyquist::Cull) - q).abs() < 1e-15);
         let u = term.lattice_point(s);
         let n = gradient_noise(u, Fade::Smooth, HashKind::default()).value;
+        assert!((m.f_at(&coarse, Nyquist::Cull) - (q + 0.25 * 0.25 * n)).abs() < 1e-15);
         assert!((m.f_at(&coarse, Nyquist::Widen) - (q + 0.25 * n)).abs() < 1e-15);
         assert_eq!(m.f_at(&coarse, Nyquist::Evaluate), m.f(s));
-        // Width: quadric part N * |dr/dx, dr/dy| = 0 here, plus 2 |a| N.
+        // Far away the weight stops at 1/8; a small term is culled there.
+        let far = [0.0, 1.0, 0.0];
+        assert_eq!(term.band([0.0; 3], far, Nyquist::Cull).weight, 0.125);
+        let small = RefTerm::scaled(1.0 / 64.0, Basis::Gradient, 64.0, [0.0; 3]);
+        assert_eq!(small.band([0.0; 3], far, Nyquist::Cull).weight, 0.0);
+        // Width: quadric part N * |dr/dx, dr/dy| = 0 here, plus the spread sqrt(12 var).
         let n_entries = 64;
+        let sigma = term.sigma();
+        let full = (0.25 * sigma).powi(2);
         let w_cull = m.filter_width(&coarse, n_entries, Norm::L1, true);
-        assert!((w_cull - 2.0 * 0.25 * 64.0).abs() < 1e-12);
-        assert_eq!(
-            m.filter_width_with(&coarse, n_entries, Norm::L1, Nyquist::Widen),
-            w_cull
-        );
+        assert!((w_cull - 64.0 * (12.0 * full * 0.75).sqrt()).abs() < 1e-12);
+        let w_widen = m.filter_width_with(&coarse, n_entries, Norm::L1, Nyquist::Widen);
+        assert!((w_widen - 64.0 * (12.0 * full).sqrt()).abs() < 1e-12);
         let (gx, gy, extra) = m.screen_derivatives(&coarse, Nyquist::Evaluate);
         assert_eq!(extra, 0.0);
         let w_eval = m.filter_width(&coarse, n_entries, Norm::L1, false);

@@ -291,7 +291,9 @@ impl RefTable {
             0
         };
         let size = f64::from(1u32 << l);
-        let here = point_in(self.mip_level(l), x / size, lookup, wrap);
+        // Levels above 0 are always interpolated linearly (texcore's `ColorMip`).
+        let here_lookup = if l == 0 { lookup } else { Lookup::Linear };
+        let here = point_in(self.mip_level(l), x / size, here_lookup, wrap);
         if l == top {
             return here;
         }
@@ -299,7 +301,7 @@ impl RefTable {
         if t == 0.0 {
             return here;
         }
-        let up = point_in(self.mip_level(l + 1), x / (2.0 * size), lookup, wrap);
+        let up = point_in(self.mip_level(l + 1), x / (2.0 * size), Lookup::Linear, wrap);
         mix(here, up, t)
     }
 

@@ -10,7 +10,9 @@
 //! Look-up at width `w` (`FilterWidth`, in entries): `l = floor(log2 w)` clamped to
 //! `[0, log2 N]` (`l = 0` for `w < 1`), `t = (w / 2^l - 1)` in 8 bits (`((w.raw >> l) - 2^16) >> 8`,
 //! 0 for `w < 1` and at the last level); levels `l` and `l + 1` are looked up at `x / 2^l` (raw
-//! `x >> l`) with the table's nearest / linear mode and wrap, and blended with the model's 8-bit
+//! `x >> l`) with the table's wrap, level 0 with the table's nearest / linear mode and every
+//! higher level linearly (they are prefiltered: a nearest look-up in a coarse level would bring
+//! back its blocks, which is what kept a two-colour table's levels pure), and blended with the model's 8-bit
 //! lerp `(c_l (256 - t) + c_{l+1} t + 128) >> 8`. `w = 1` therefore gives the plain table look-up
 //! and `w >= N` the last level.
 //!
@@ -29,6 +31,16 @@ pub struct ColorMip<const N: usize> {
     /// Levels `1..=log2 N` back to back: level `l` at offset `N - (N >> (l - 1))`; the last slot is
     /// unused.
     upper: [Rgba8888; N],
+}
+
+/// The look-up mode of level `l`: the table's own at level 0, linear above it.
+#[cfg_attr(not(texcore_lean), inline(always))]
+const fn level_mode(l: u32, mode: TableLookup) -> TableLookup {
+    if l == 0 {
+        mode
+    } else {
+        TableLookup::Linear
+    }
 }
 
 /// Offset of level `l >= 1` in `upper`.
@@ -140,11 +152,13 @@ impl<const N: usize> ColorMip<N> {
             let t = ((w >> l) as i64 - 0x1_0000) >> 8;
             t.clamp(0, 255) as u32
         };
-        let c0 = self.level_lookup(l, x, wrap, mode);
+        // Levels above 0 are prefiltered: they are always interpolated linearly (a nearest
+        // look-up in a coarse level would bring the blocks of the level back).
+        let c0 = self.level_lookup(l, x, wrap, level_mode(l, mode));
         if t == 0 {
             c0
         } else {
-            lerp8(c0, self.level_lookup(l + 1, x, wrap, mode), t)
+            lerp8(c0, self.level_lookup(l + 1, x, wrap, TableLookup::Linear), t)
         }
     }
 }
@@ -326,12 +340,14 @@ mod tests {
                     for w in (0x1_0000u32..(40 << 16)).step_by(5003) {
                         let l = 31 - w.leading_zeros() - 16;
                         let l = l.min(5);
+                        // Level 0 in the table's mode, every higher level linearly.
+                        let lm = |l: u32| if l == 0 { mode } else { TableLookup::Linear };
                         let want = if l == 5 {
-                            m.level_lookup(5, xc, wrap, mode)
+                            m.level_lookup(5, xc, wrap, lm(5))
                         } else {
                             let t = ((w >> l) - 0x1_0000) >> 8;
-                            let a = m.level_lookup(l, xc, wrap, mode).to_array();
-                            let b = m.level_lookup(l + 1, xc, wrap, mode).to_array();
+                            let a = m.level_lookup(l, xc, wrap, lm(l)).to_array();
+                            let b = m.level_lookup(l + 1, xc, wrap, lm(l + 1)).to_array();
                             Rgba8888::from_array([0, 1, 2, 3].map(|i| {
                                 ((a[i] as u32 * (256 - t) + b[i] as u32 * t + 128) >> 8) as u8
                             }))
@@ -341,22 +357,23 @@ mod tests {
                 }
             }
         }
-        // Width 2 at entry 0: level 1 entry 0 exactly.
+        // Width 2 at the centre of level 1's entry 0 (x = 1): that entry exactly.
         let c = m.lookup(
-            U16F16::ZERO,
+            U16F16::ONE,
             U16F16::from_num(2),
             TableWrap::Mod,
             TableLookup::Nearest,
         );
         assert_eq!(c, m.level(1).unwrap()[0]);
-        // Width 1.5: half way (t = 128) between level 0 and level 1 (nearest, entry 0).
+        // Width 1.5: half way (t = 128) between level 0 (nearest: entry 1) and level 1 (linear,
+        // at its entry 0's centre).
         let c = m.lookup(
-            U16F16::ZERO,
+            U16F16::ONE,
             U16F16::from_num(1.5),
             TableWrap::Mod,
             TableLookup::Nearest,
         );
-        let (a, b) = (t.entries()[0].to_array(), m.level(1).unwrap()[0].to_array());
+        let (a, b) = (t.entries()[1].to_array(), m.level(1).unwrap()[0].to_array());
         assert_eq!(
             c.to_array(),
             [0, 1, 2, 3].map(|i| ((a[i] as u32 + b[i] as u32 + 1) >> 1) as u8)

@@ -26,7 +26,7 @@ pub mod width;
 pub use csat::{Csat, Csat3};
 #[cfg(feature = "mip")]
 pub use mip::ColorMip;
-pub use width::{filter_width, isqrt, GradientNorm, WidthStream};
+pub use width::{filter_width, filter_width_spread, isqrt, GradientNorm, WidthStream};
 
 use crate::color::Rgba8888;
 use crate::format::{FilterWidth, TexValue};

@@ -163,6 +163,40 @@ impl WidthStream {
         }
         scale_width(gradient_norm(gx, gy, self.norm), n_log2)
     }
+
+    /// [`filter_width_spread`]`(gx, gy, spread48, norm, n_log2)`: the width with a span's spread
+    /// ([`crate::bandlimit`]) in quadrature; [`WidthStream::width`] when the spread is zero.
+    #[cfg_attr(not(texcore_lean), inline(always))]
+    pub fn width_with(&mut self, gx: i64, gy: i64, spread48: i64) -> FilterWidth {
+        let e = saturate_to_u16f16(spread48);
+        if e == 0 {
+            return self.width(gx, gy);
+        }
+        let n_log2 = self.n_log2;
+        if let (GradientNorm::L2, true) = (self.norm, n_log2 <= 15) {
+            let a = saturate_to_u16f16(gx);
+            let b = saturate_to_u16f16(gy);
+            let cap = FilterWidth::from_bits(1 << (16 + n_log2));
+            if a >= 1 << 16 || b >= 1 << 16 || e >= 1 << 16 {
+                return cap;
+            }
+            // a, b, e < 2^16: the sum of squares is below 3 * 2^32.
+            let s = u64::from(a * a) + u64::from(b * b) + u64::from(e * e);
+            let g = if s <= u64::from(u32::MAX) {
+                let r = isqrt32_from(s as u32, self.root);
+                self.root = r;
+                r
+            } else {
+                isqrt(s) as u32
+            };
+            return if g >= 1 << 16 {
+                cap
+            } else {
+                FilterWidth::from_bits(g << n_log2)
+            };
+        }
+        filter_width_spread(gx, gy, spread48, self.norm, n_log2)
+    }
 }
 
 /// `w = g << n_log2` saturating at `N` (and at `u32::MAX`), `n_log2 <= 16`.
@@ -241,6 +275,50 @@ pub const fn filter_width(gx: i64, gy: i64, norm: GradientNorm, n_log2: u32) -> 
             }
         }
         _ => gradient_norm(gx, gy, norm),
+    };
+    scale_width(g, n_log2)
+}
+
+/// The box filter width with a spread: `w = N * sqrt(norm(gx, gy)^2 + e^2)` saturating at `N`,
+/// where `e` is the spread width of faded and culled octaves (`spread48`, `f` units with 48
+/// fraction bits, [`crate::bandlimit::spread_width48`]): a standard deviation, so it adds in
+/// quadrature. Each of `norm` and `e` is first saturated to `U16F16` (floor); either at 1.0 or
+/// more gives the cap. Equal to [`filter_width`] when `spread48` is zero or negative.
+pub const fn filter_width_spread(
+    gx: i64,
+    gy: i64,
+    spread48: i64,
+    norm: GradientNorm,
+    n_log2: u32,
+) -> FilterWidth {
+    let e = saturate_to_u16f16(spread48) as u64;
+    if spread48 <= 0 || e == 0 {
+        return filter_width(gx, gy, norm, n_log2);
+    }
+    let n_log2 = if n_log2 > 15 { 16 } else { n_log2 };
+    // The square of the gradient's norm (U16F16 squared), `None` at 1.0 or more (the cap).
+    let sq = match norm {
+        GradientNorm::L2 => {
+            let a = saturate_to_u16f16(gx) as u64;
+            let b = saturate_to_u16f16(gy) as u64;
+            if a >= 1 << 16 || b >= 1 << 16 {
+                None
+            } else {
+                Some(a * a + b * b)
+            }
+        }
+        _ => {
+            let n = gradient_norm(gx, gy, norm);
+            if n >= 1 << 16 {
+                None
+            } else {
+                Some(n * n)
+            }
+        }
+    };
+    let g = match sq {
+        Some(sq) if e < 1 << 16 => isqrt(sq + e * e),
+        _ => 1 << 16,
     };
     scale_width(g, n_log2)
 }

@@ -92,7 +92,7 @@ impl<'m, const T: usize> EvalCore<'m, T> {
                     continue;
                 }
                 if r.remaining == 0 {
-                    let (amp, _) = amp_and_sign(term);
+                    let (amp, _) = amp_and_sign(term, ts);
                     let (cell, frac) = split(r.u);
                     if !r.cached || cell != r.cell {
                         r.data = term.basis.cell_bits(cell, amp, fv, vb);
@@ -141,7 +141,7 @@ impl<'m, const T: usize> EvalCore<'m, T> {
                 #[allow(unused_mut)]
                 let mut any_fd = false;
                 for ((r, ts), term) in runs.iter_mut().zip(setup.terms.iter()).zip(terms) {
-                    let (amp, neg) = amp_and_sign(term);
+                    let (amp, neg) = amp_and_sign(term, ts);
                     let want_g = grads && ts.gradient;
                     let (mut v, mut gx, mut gy) = match r.strategy {
                         Strategy::Off => continue,

@@ -107,7 +107,7 @@ impl<'m, const T: usize> EvalCore<'m, T> {
                 Strategy::Fd | Strategy::Fd32 => {
                     let g = grads && ts.gradient;
                     let (cell, frac) = split(ts.u0);
-                    let (hash, amp) = (term.basis.hash, term.amplitude.to_bits());
+                    let (hash, amp) = (term.basis.hash, ts.amp);
                     setups += 1;
                     let ax = single_axis(ts.du);
                     let mut af = AxisFaces::default();
@@ -135,7 +135,7 @@ impl<'m, const T: usize> EvalCore<'m, T> {
                     let _ = faces.push((ax, af));
                 }
                 Strategy::Direct => {
-                    let (amp, neg) = amp_and_sign(term);
+                    let (amp, neg) = amp_and_sign(term, ts);
                     let _ = direct.push(DirectTerm {
                         u: ts.u0,
                         du: ts.du,
@@ -243,7 +243,7 @@ impl<'m, const T: usize> EvalCore<'m, T> {
                     ts.u0[2].wrapping_add(ts.du[2].wrapping_mul(at)),
                 ];
                 let (cell, frac) = split(u);
-                let (hash, amp) = (term.basis.hash, term.amplitude.to_bits());
+                let (hash, amp) = (term.basis.hash, ts.amp);
                 setups += 1;
                 *poly = match *ax {
                     Some(a) => af.enter(cell, frac, a, ts.du, ts.dy, g, |c, b| {

@@ -37,16 +37,19 @@
 //! not compiled in falls back to an exact one (documented on the variants), so every feature
 //! combination gives the samples described here.
 //!
-//! Octaves past the Nyquist limit (more than half a cell per pixel along either screen direction)
-//! are culled when [`EvalOptions::cull`] is set: they contribute nothing to `f` and `2 |a_k|` (in
-//! `f` units) to the span's extra filter width, [`SpanInfo::extra_width48`]. Nothing here panics,
-//! for any span (any coordinates, any `ds`, any length up to 65535).
+//! Octaves whose cells are smaller than a pixel are band-limited when [`EvalOptions::cull`] is set
+//! ([`crate::bandlimit`]): per span, a term reaching more than one cell a pixel enters `f` with a
+//! faded amplitude (every mode uses the same faded amplitude, so the modes stay bit-identical),
+//! a negligible one is culled, and the spread they lose goes to the span's extra filter width,
+//! [`SpanInfo::extra_width48`]. Nothing here panics, for any span (any coordinates, any `ds`, any
+//! length up to 65535).
 //!
 //! # Structure
 //!
 //! - this module: the public types, the per-span set-up (`EvalCore::setup`: per-term
 //!   lattice start and steps; **the per-span
-//!   culling decision** is made there, per term, from [`lattice_steps`]) and the plan
+//!   band-limiting decision** is made there, per term, from [`lattice_steps`] and
+//!   [`crate::bandlimit::term_band`]) and the plan
 //!   (`EvalCore::eval_inner`: one strategy per term, decided once per span);
 //! - `merged`: the merged forward-difference loop (every forward-differenced term trilinear and
 //!   not turbulent), its cell events and the segment loop;
@@ -62,6 +65,8 @@
 //!   cell, then the cell's monomial form, or the face blends of a single-axis term);
 //! - `quad`: the quadric along the span.
 
+
+use crate::bandlimit::{spread_width48, term_band};
 use crate::format::{TexPoint, TexValue};
 use crate::hash::HashKind;
 use crate::model::{quantize_coord, NoiseTerm, TextureModel};
@@ -197,8 +202,10 @@ pub struct SpanStats {
     pub cell_setups: u64,
     /// Noise term samples produced (per term per pixel).
     pub noise_evaluations: u64,
-    /// Octaves culled past the Nyquist limit (per term per span).
+    /// Octaves culled by band-limiting (per term per span; [`crate::bandlimit`]).
     pub culled_octaves: u64,
+    /// Octaves faded by band-limiting (per term per span; [`crate::bandlimit`]).
+    pub faded_octaves: u64,
     /// Gradient samples (per pixel, counting the quadric and each term).
     pub gradient_evaluations: u64,
     /// Pixels produced by forward differencing of at least one term.
@@ -213,6 +220,7 @@ impl SpanStats {
         self.cell_setups += o.cell_setups;
         self.noise_evaluations += o.noise_evaluations;
         self.culled_octaves += o.culled_octaves;
+        self.faded_octaves += o.faded_octaves;
         self.gradient_evaluations += o.gradient_evaluations;
         self.fd_pixels += o.fd_pixels;
     }
@@ -350,8 +358,12 @@ struct TermSetup {
     dy: [i32; 3],
     /// Evaluate the value.
     active: bool,
-    /// Evaluate the gradient (false when past Nyquist: its width goes to `extra_width48`).
+    /// Evaluate the gradient (false past one cell a pixel: the term's spread goes to
+    /// `extra_width48`, [`crate::bandlimit`]).
     gradient: bool,
+    /// The amplitude of this span (raw 16.16): the term's own, or faded
+    /// ([`crate::bandlimit::term_band`]).
+    amp: i32,
 }
 
 #[cfg_attr(not(texcore_lean), inline(always))]
@@ -621,13 +633,13 @@ impl<'m, const T: usize> SpanEvaluator<'m, T> {
     /// The extra filter width of `span` from octaves past the Nyquist limit (what
     /// [`SpanInfo::extra_width48`] of [`SpanEvaluator::eval`] will be), without evaluating it.
     pub fn extra_width48(&self, span: &Span) -> i64 {
-        let mut extra: i64 = 0;
-        for term in self.core.model.terms() {
-            if lattice_steps(term, span).2 {
-                extra = extra.saturating_add(culled_width48(term));
-            }
+        let core = &self.core;
+        let mut variance: u64 = 0;
+        for term in core.model.terms().iter().take(T) {
+            let (du, dy) = lattice_steps(term, span);
+            variance = variance.saturating_add(term_band(term, du, dy, core.opts.cull).variance);
         }
-        extra
+        spread_width48(variance)
     }
 
     /// Evaluates `span`, calling `emit` once per pixel in order. Returns the span's facts.
@@ -735,20 +747,22 @@ impl<'m, const T: usize> EvalCore<'m, T> {
         }
         // A vector, not an array: nothing is written for the slots past the model's terms.
         let terms = &mut out.terms;
-        let mut extra: i64 = 0;
+        let mut variance: u64 = 0;
         // Coordinate precision (`docs/model.md` 3.2): `U0` and `DU` rounded to `F` fraction bits,
-        // so `u(i) = U0 + i DU` stays linear in `i`; the Nyquist test uses the unrounded step.
+        // so `u(i) = U0 + i DU` stays linear in `i`; band-limiting uses the unrounded step.
         let cb = m.precision().coord_bits();
         for term in m.terms().iter().take(T) {
-            let (du, dyl, beyond) = lattice_steps(term, span);
-            if beyond {
-                extra = extra.saturating_add(culled_width48(term));
-                if self.opts.cull {
-                    self.stats.culled_octaves += 1;
-                    // At most T terms: never full.
-                    let _ = terms.push(TermSetup::default());
-                    continue;
-                }
+            let (du, dyl) = lattice_steps(term, span);
+            let band = term_band(term, du, dyl, self.opts.cull);
+            variance = variance.saturating_add(band.variance);
+            if !band.active {
+                self.stats.culled_octaves += 1;
+                // At most T terms: never full.
+                let _ = terms.push(TermSetup::default());
+                continue;
+            }
+            if !band.gradient && self.opts.cull {
+                self.stats.faded_octaves += 1;
             }
             let mut u0 = term.transform.apply_point(span.s0);
             let mut du = du;
@@ -761,10 +775,11 @@ impl<'m, const T: usize> EvalCore<'m, T> {
                 du,
                 dy: dyl,
                 active: true,
-                gradient: grads && !beyond,
+                gradient: grads && band.gradient,
+                amp: band.amplitude,
             });
         }
-        out.extra_width48 = extra;
+        out.extra_width48 = spread_width48(variance);
     }
 
     /// The evaluation proper.
@@ -832,8 +847,8 @@ impl<'m, const T: usize> EvalCore<'m, T> {
 
 /// Amplitude used for the corner values and the sign applied afterwards (turbulence).
 #[cfg_attr(not(texcore_lean), inline(always))]
-fn amp_and_sign(term: &NoiseTerm) -> (i32, bool) {
-    let a = term.amplitude.to_bits();
+fn amp_and_sign(term: &NoiseTerm, ts: &TermSetup) -> (i32, bool) {
+    let a = ts.amp;
     if term.turbulence {
         (a.wrapping_abs(), a < 0)
     } else {
@@ -931,23 +946,12 @@ fn hermite_setup(
     }
 }
 
-/// A term's lattice steps along the span and across it, and whether either passes the Nyquist
-/// limit in any component.
+/// A term's lattice steps along the span and across it (raw 16.16 cells a pixel).
 #[inline]
-fn lattice_steps(term: &NoiseTerm, span: &Span) -> ([i32; 3], [i32; 3], bool) {
+fn lattice_steps(term: &NoiseTerm, span: &Span) -> ([i32; 3], [i32; 3]) {
     let du = term.transform.apply_vector(span.ds);
     let dy = term.transform.apply_vector(span.dsdy);
-    let beyond = du
-        .iter()
-        .chain(dy.iter())
-        .any(|c| c.unsigned_abs() > NYQUIST_STEP as u32);
-    (du, dy, beyond)
-}
-
-/// The filter width a culled (or aliasing) term adds: `2 |a|` in `f` units, 48 fraction bits.
-#[inline]
-fn culled_width48(term: &NoiseTerm) -> i64 {
-    (i64::from(term.amplitude.to_bits().unsigned_abs()) * 2) << 32
+    (du, dy)
 }
 
 /// Value and gradients of one term at a fraction of its cached cell.
@@ -1111,9 +1115,17 @@ mod tests {
     }
 
     #[test]
-    fn culling_counts_and_widens() {
+    fn band_limiting_counts_fades_and_widens() {
         let m = marble();
-        // A far-away span: 2 cells per pixel at the base octave already.
+        let spread = |span: &Span, cull: bool| -> i64 {
+            let mut var = 0u64;
+            for t in m.terms() {
+                let (du, dy) = lattice_steps(t, span);
+                var += crate::bandlimit::term_band(t, du, dy, cull).variance;
+            }
+            crate::bandlimit::spread_width48(var)
+        };
+        // A far-away span: the octaves reach about 2, 4, 8 and 16 cells a pixel.
         let span = Span {
             s0: TexPoint::from_f64(0.0, 0.0, 0.0),
             ds: TexPoint::from_f64(0.5, 0.0, 0.0),
@@ -1121,14 +1133,51 @@ mod tests {
             len: 10,
         };
         let mut ev = SpanEvaluator::new(&m, EvalOptions::default());
-        let info = ev.eval(&span, |_| {});
-        assert_eq!(ev.stats().culled_octaves, 4);
-        assert_eq!(ev.stats().noise_evaluations, 0);
-        // 2 * (1 + 1/2 + 1/4 + 1/8) = 3.75
-        assert_eq!(info.extra_width48, (3 * 65536 + 49152) << 32);
+        let mut faded = Vec::new();
+        let info = ev.eval(&span, |s| faded.push(s.f));
+        let bands: Vec<_> = m
+            .terms()
+            .iter()
+            .map(|t| {
+                let (du, dy) = lattice_steps(t, &span);
+                crate::bandlimit::term_band(t, du, dy, true)
+            })
+            .collect();
+        let n_faded = bands.iter().filter(|b| b.active && !b.gradient).count() as u64;
+        let n_active = bands.iter().filter(|b| b.active).count() as u64;
+        assert!(n_faded >= 2, "{bands:?}");
+        assert_eq!(ev.stats().culled_octaves, 4 - n_active);
+        assert_eq!(ev.stats().faded_octaves, n_faded);
+        assert_eq!(ev.stats().noise_evaluations, 10 * n_active);
+        assert!(info.extra_width48 > 0);
+        assert_eq!(info.extra_width48, spread(&span, true));
         assert_eq!(ev.extra_width48(&span), info.extra_width48);
-        // Every chunk carries its span's culled width: here a span of 3 chunks whose two finest
-        // octaves are past Nyquist (2 * (1/4 + 1/8) = 0.75), then one with none.
+        // Without band-limiting every octave enters at full amplitude and the two far ones add
+        // their whole variance.
+        let opts = EvalOptions {
+            cull: false,
+            ..EvalOptions::default()
+        };
+        let mut full_ev = SpanEvaluator::new(&m, opts);
+        let mut full = Vec::new();
+        let info_full = full_ev.eval(&span, |s| full.push(s.f));
+        assert_eq!(full_ev.stats().faded_octaves, 0);
+        assert_eq!(info_full.extra_width48, spread(&span, false));
+        assert!(info_full.extra_width48 > info.extra_width48);
+        assert_ne!(faded, full);
+        // Every mode gives the same faded samples.
+        for mode in [EvalMode::Direct, EvalMode::Fd, EvalMode::Fd32, EvalMode::Reanchored] {
+            let o = EvalOptions {
+                mode,
+                ..EvalOptions::default()
+            };
+            let mut e = SpanEvaluator::new(&m, o);
+            let mut got = Vec::new();
+            e.eval(&span, |s| got.push(s.f));
+            assert_eq!(got, faded, "{mode:?}");
+        }
+        // Every chunk carries its span's spread: a span of 3 chunks whose finer octaves reach
+        // past one cell a pixel, then one with every octave resolved.
         let near = Span {
             ds: TexPoint::from_f64(1.0 / 16.0, 0.0, 0.0),
             len: 3 * SAMPLE_CHUNK as u16 - 5,
@@ -1138,7 +1187,8 @@ mod tests {
         let info = ev.eval_chunks(&near, &mut |c: &SampleChunk| {
             got.push((c.len(), c.extra_width48()))
         });
-        assert_eq!(info.extra_width48, 49152 << 32);
+        assert!(info.extra_width48 > 0);
+        assert_eq!(info.extra_width48, spread(&near, true));
         assert_eq!(ev.extra_width48(&near), info.extra_width48);
         let lens: Vec<usize> = got.iter().map(|g| g.0).collect();
         assert_eq!(lens, [SAMPLE_CHUNK, SAMPLE_CHUNK, SAMPLE_CHUNK - 5]);

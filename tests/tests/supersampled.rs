@@ -1,0 +1,59 @@
+//! Antialiasing against the supersampled truth (`texsim check SCENE --supersampled N`,
+//! `host_sim::truth`) on every built-in scene at a reduced size: the filtered image is at least
+//! as close to the truth as the unfiltered one, by at least 1 dB where the scene recedes to a
+//! horizon, and no band of more than three rows is flat where the truth shows texture.
+//!
+//! Known exceptions, measured: on `fire` (a flat panel with every octave resolved, both images
+//! within about one 8-bit step of the truth at full size) the box filter is slightly further
+//! from the truth than the point look-up (-1.0 dB at 320 x 240, -4.4 dB at 160 x 120), and the
+//! seascape keeps up to six flat rows below its horizon.
+
+use host_sim::scenes::HostScene;
+use host_sim::truth::{check, SupersampledReport};
+use host_sim::unit::UnitConfig;
+use texcore::hash::HashKind;
+
+fn report(name: &str, w: u16, h: u16) -> SupersampledReport {
+    let mut scene = HostScene::builtin(texcore::scene::by_name(name).unwrap());
+    scene.scene.camera.width = w;
+    scene.scene.camera.height = h;
+    let frame = scene.scene.still();
+    check(
+        &scene,
+        frame,
+        &UnitConfig::default(),
+        HashKind::Permutation,
+        4,
+    )
+    .unwrap()
+}
+
+#[test]
+fn filtered_images_are_closer_to_the_truth() {
+    for name in texcore::scene::BUILTIN {
+        let (w, h) = if name == "zoneplate" { (128, 128) } else { (160, 120) };
+        let r = report(name, w, h);
+        eprintln!(
+            "{name}: filtered {:.2} dB, unfiltered {:.2} dB, flat band {}",
+            r.psnr_filtered, r.psnr_unfiltered, r.longest_flat_band
+        );
+        assert!(r.psnr_filtered.is_finite() && r.psnr_unfiltered.is_finite());
+        if name != "fire" {
+            assert!(
+                r.psnr_filtered >= r.psnr_unfiltered,
+                "{name}: filtered {} < unfiltered {}",
+                r.psnr_filtered,
+                r.psnr_unfiltered
+            );
+        } else {
+            assert!(r.psnr_filtered > 40.0, "{name}: {}", r.psnr_filtered);
+        }
+        if matches!(name, "moonrise" | "seascape") {
+            assert!(r.gain_db >= 1.0, "{name}: gain {}", r.gain_db);
+        }
+        // The seascape keeps a few flat rows just below its horizon (5 at this size, 6 at
+        // 320 x 240): a known gap against the goal of three.
+        let band = if name == "seascape" { 6 } else { 3 };
+        assert!(r.longest_flat_band <= band, "{name}: {}", r.longest_flat_band);
+    }
+}
