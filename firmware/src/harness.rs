@@ -27,11 +27,11 @@
 //! memory instead, and an overflow ends the run with `TEXFW error what=stack-overflow`.
 
 use crate::counter::{Counter, Sample, NAME, UNIT};
+#[cfg(feature = "peers")]
+use crate::peer_jobs::JOBS;
 use crate::stack;
 use defmt::println;
 use workloads::job::{Ctx, JobFn};
-#[cfg(feature = "peers")]
-use crate::peer_jobs::JOBS;
 #[cfg(not(feature = "peers"))]
 use workloads::jobs::{JOBS, SCENE_JOBS};
 

@@ -2,9 +2,9 @@
 //! [`crate::peers::rows`] as `peers:<workload>:<implementation>` with its `/setup` job, then
 //! `peers:fold` (see [`crate::peers`]).
 
-use workloads::job::{Ctx, Job, HASH};
 use crate::peers::{fold_only, run, Implementation};
 use texcore::texture::workload::peers::{self as wl, Workload};
+use workloads::job::{Ctx, Job, HASH};
 
 /// Rows of the plane each job evaluates: the whole plane.
 #[cfg(not(feature = "peers-band"))]

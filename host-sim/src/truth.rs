@@ -21,8 +21,8 @@ use texcore::table::TableLookup;
 
 use crate::metrics::compare_to_reference;
 use crate::scenes::{reference_framed, render_host_frame, HostScene};
-use texcore::render::Output;
 use crate::unit::{UnitConfig, UnitError};
+use texcore::render::Output;
 
 /// A row whose luma standard deviation is below this (8-bit units) is flat.
 pub const FLAT_STD: f64 = 0.5;

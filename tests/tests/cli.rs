@@ -537,8 +537,22 @@ fn check_against_the_supersampled_truth() {
     for bad in [
         &["check", "seascape", "--supersampled", "0"][..],
         &["check", "seascape", "--supersampled", "17"],
-        &["check", "seascape", "--supersampled", "2", "--image-size", "0x10"],
-        &["check", "seascape", "--supersampled", "2", "--image-size", "64"],
+        &[
+            "check",
+            "seascape",
+            "--supersampled",
+            "2",
+            "--image-size",
+            "0x10",
+        ],
+        &[
+            "check",
+            "seascape",
+            "--supersampled",
+            "2",
+            "--image-size",
+            "64",
+        ],
     ] {
         let r = texsim(bad);
         assert_eq!(r.status, 2, "{bad:?}: {}", r.stderr);

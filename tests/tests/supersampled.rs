@@ -31,7 +31,11 @@ fn report(name: &str, w: u16, h: u16) -> SupersampledReport {
 #[test]
 fn filtered_images_are_closer_to_the_truth() {
     for name in texcore::scene::BUILTIN {
-        let (w, h) = if name == "zoneplate" { (128, 128) } else { (160, 120) };
+        let (w, h) = if name == "zoneplate" {
+            (128, 128)
+        } else {
+            (160, 120)
+        };
         let r = report(name, w, h);
         eprintln!(
             "{name}: filtered {:.2} dB, unfiltered {:.2} dB, flat band {}",
@@ -54,6 +58,10 @@ fn filtered_images_are_closer_to_the_truth() {
         // The seascape keeps a few flat rows just below its horizon (5 at this size, 6 at
         // 320 x 240): a known gap against the goal of three.
         let band = if name == "seascape" { 6 } else { 3 };
-        assert!(r.longest_flat_band <= band, "{name}: {}", r.longest_flat_band);
+        assert!(
+            r.longest_flat_band <= band,
+            "{name}: {}",
+            r.longest_flat_band
+        );
     }
 }

@@ -57,9 +57,9 @@ pub mod model;
 #[cfg(feature = "multipass")]
 pub mod multipass;
 pub mod noise;
-pub mod prelude;
 #[cfg(feature = "atlas")]
 pub mod packed_mesh;
+pub mod prelude;
 pub mod presets;
 pub mod quadric;
 pub mod raster;

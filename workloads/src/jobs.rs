@@ -136,9 +136,15 @@ pub static JOBS: &[Job] = &[
     job!("peers:value-4oct-grad", peers_value_4oct_grad),
     job!("peers:value-4oct-grad/setup", peers_value_4oct_grad_setup),
     job!("peers:value-4oct-span16", peers_value_4oct_span16),
-    job!("peers:value-4oct-span16/setup", peers_value_4oct_span16_setup),
+    job!(
+        "peers:value-4oct-span16/setup",
+        peers_value_4oct_span16_setup
+    ),
     job!("peers:value-1oct-direct", peers_value_1oct_direct),
-    job!("peers:value-1oct-direct/setup", peers_value_1oct_direct_setup),
+    job!(
+        "peers:value-1oct-direct/setup",
+        peers_value_1oct_direct_setup
+    ),
     job!("peers:smooth-1oct", peers_smooth_1oct),
     job!("peers:smooth-1oct/setup", peers_smooth_1oct_setup),
     job!("peers:perlin-1oct", peers_perlin_1oct),

@@ -15,10 +15,7 @@
 //!   its count to get the per-pixel cost of the work itself.
 
 // With feature `accuracy` or `peers` the firmware runs those reports' jobs instead of these.
-#![cfg_attr(
-    feature = "accuracy",
-    allow(unused_macros, unused_imports)
-)]
+#![cfg_attr(feature = "accuracy", allow(unused_macros, unused_imports))]
 
 use crate::job::Ctx;
 use crate::scenes::{self, BAND_PIXELS, SCENE_GROUPS};

@@ -301,7 +301,12 @@ impl RefTable {
         if t == 0.0 {
             return here;
         }
-        let up = point_in(self.mip_level(l + 1), x / (2.0 * size), Lookup::Linear, wrap);
+        let up = point_in(
+            self.mip_level(l + 1),
+            x / (2.0 * size),
+            Lookup::Linear,
+            wrap,
+        );
         mix(here, up, t)
     }
 

@@ -158,7 +158,11 @@ impl<const N: usize> ColorMip<N> {
         if t == 0 {
             c0
         } else {
-            lerp8(c0, self.level_lookup(l + 1, x, wrap, TableLookup::Linear), t)
+            lerp8(
+                c0,
+                self.level_lookup(l + 1, x, wrap, TableLookup::Linear),
+                t,
+            )
         }
     }
 }

@@ -65,7 +65,6 @@
 //!   cell, then the cell's monomial form, or the face blends of a single-axis term);
 //! - `quad`: the quadric along the span.
 
-
 use crate::bandlimit::{spread_width48, term_band};
 use crate::format::{TexPoint, TexValue};
 use crate::hash::HashKind;
@@ -1166,7 +1165,12 @@ mod tests {
         assert!(info_full.extra_width48 > info.extra_width48);
         assert_ne!(faded, full);
         // Every mode gives the same faded samples.
-        for mode in [EvalMode::Direct, EvalMode::Fd, EvalMode::Fd32, EvalMode::Reanchored] {
+        for mode in [
+            EvalMode::Direct,
+            EvalMode::Fd,
+            EvalMode::Fd32,
+            EvalMode::Reanchored,
+        ] {
             let o = EvalOptions {
                 mode,
                 ..EvalOptions::default()
