@@ -23,6 +23,7 @@ probe_sets=(
   "eval|turbulence-fd,fd32,reanchor|release-size"
   "perturb|perturb|release-size"
   "render|render|release-size"
+  "multipass|fd,multipass|release-size"
   "full|full,perm-hash|release-size"
   "full-fast|full,perm-hash|release"
 )

@@ -7,8 +7,11 @@
 //! `L` the term's **reach**, the largest lattice step a pixel makes along either screen direction
 //! (cells a pixel, [`reach`]):
 //!
-//! - `L <= 1` ([`FADE_START`]): the term is resolved. It enters `f` at full amplitude and its
-//!   analytic gradient widens the filter.
+//! - `L <= 1/2` ([`GRADIENT_REACH`], the Nyquist limit): the term is resolved. It enters `f` at
+//!   full amplitude and its analytic gradient widens the filter.
+//! - `1/2 < L <= 1` ([`FADE_START`]): the term enters `f` at full amplitude; half its variance
+//!   ([`NEAR_PART`]) widens the filter instead of its gradient (the span evaluator's exactness
+//!   bounds on the summed gradients hold for steps up to half a cell).
 //! - `L > 1`: the term is **faded**: it enters `f` with its amplitude times the weight
 //!   `w = max(1 / L, 1/8)` ([`fade_weight`]; the footprint average of an octave shrinks as
 //!   `1 / L`, and `1/8` is the residual of an 8 x 8 sample average, so that distant octaves
@@ -20,8 +23,8 @@
 //!   variance `a^2 sigma^2` goes to the filter.
 //!
 //! Without band-limiting (`EvalOptions::cull` off, the `--no-cull` contract) every term enters
-//! `f` at full amplitude; a term past `L = 1` still widens the filter by its whole variance
-//! instead of its gradient.
+//! `f` at full amplitude; a term past `L = 1/2` widens the filter by its whole variance instead
+//! of its gradient.
 //!
 //! The variances of a span's terms add up, and the filter width they stand for is the width of
 //! the box with the same variance, `sqrt(12 var)` in `f` units ([`spread_width48`]); it combines
@@ -35,8 +38,14 @@
 use crate::model::NoiseTerm;
 use crate::noise::BasisKind;
 
-/// Reach (raw 16.16 cells a pixel) up to which a term is resolved: one cell a pixel.
+/// Reach (raw 16.16 cells a pixel) up to which a term's gradient widens the filter: half a cell
+/// a pixel, the Nyquist limit (the span evaluator's exactness bounds on the summed gradients
+/// assume it).
+pub const GRADIENT_REACH: u32 = 1 << 15;
+/// Reach (raw 16.16 cells a pixel) up to which a term enters `f` unfaded: one cell a pixel.
 pub const FADE_START: u32 = 1 << 16;
+/// The part of its variance (raw 0.16) an unfaded term past [`GRADIENT_REACH`] adds: 1/2.
+pub const NEAR_PART: u32 = 1 << 15;
 /// The smallest fade weight (raw 0.16): 1/8.
 pub const FADE_FLOOR: u32 = 1 << 13;
 /// A faded term whose faded amplitude (raw 16.16) is below this is culled: 1/256.
@@ -119,7 +128,7 @@ const fn variance(a: i32, sigma: u32, part: u32) -> u64 {
 pub const fn term_band(term: &NoiseTerm, du: [i32; 3], dy: [i32; 3], band_limit: bool) -> TermBand {
     let a = term.amplitude.to_bits();
     let l = reach(du, dy);
-    if l <= FADE_START {
+    if l <= GRADIENT_REACH {
         return TermBand {
             amplitude: a,
             active: true,
@@ -128,6 +137,14 @@ pub const fn term_band(term: &NoiseTerm, du: [i32; 3], dy: [i32; 3], band_limit:
         };
     }
     let sigma = basis_sigma(term.basis.kind, term.turbulence);
+    if l <= FADE_START && band_limit {
+        return TermBand {
+            amplitude: a,
+            active: true,
+            gradient: false,
+            variance: variance(a, sigma, NEAR_PART),
+        };
+    }
     if !band_limit {
         return TermBand {
             amplitude: a,
@@ -223,6 +240,13 @@ mod tests {
                 variance: 0
             }
         );
+        // Three quarters of a cell a pixel: unfaded, half its variance instead of its gradient.
+        let near = term_band(&t, [3 << 14, 0, 0], [0; 3], true);
+        assert_eq!(near.amplitude, 1 << 15);
+        assert!(near.active && !near.gradient);
+        let near_full = term_band(&t, [3 << 14, 0, 0], [0; 3], false);
+        assert!(near.variance * 2 >= near_full.variance - 2);
+        assert!(near.variance * 2 <= near_full.variance + 2);
         // Two cells a pixel: half the amplitude, half the variance.
         let f = term_band(&t, [2 << 16, 0, 0], [0; 3], true);
         assert_eq!(f.amplitude, 1 << 14);

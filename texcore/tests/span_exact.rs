@@ -333,8 +333,11 @@ fn eight_octaves_far_past_nyquist() {
         len: 640,
     };
     let st = assert_exact(&m, &span);
-    // Octave i steps 2^(i+1) * 0.01 cells: octaves 5.. (0.64 cells/pixel and up) are culled.
-    assert_eq!(st.culled_octaves, 3);
+    // Octave i steps 2^(i+1) * 0.01 cells: octaves 6 and 7 (1.28 and 2.56 cells a pixel) are
+    // past one cell a pixel and band-limited: octave 6 faded (amplitude 1/64 to 1/82), octave 7
+    // culled (1/128 faded to 1/328, below 1/256).
+    assert_eq!(st.faded_octaves, 1);
+    assert_eq!(st.culled_octaves, 1);
 }
 
 /// The permutation hash where it is compiled in, else the integer hash.

@@ -67,10 +67,10 @@ impl RefTerm {
         dx.iter().chain(dy.iter()).fold(0.0, |m, c| m.max(c.abs()))
     }
 
-    /// Past one cell a pixel (`docs/model.md` 8): the term is faded (band-limited) or, without
-    /// band-limiting, widens the filter by its variance instead of its gradient.
+    /// Past the Nyquist limit, half a cell a pixel (`docs/model.md` 8): the term widens the filter
+    /// by (part of) its variance instead of its gradient, and past one cell it is faded.
     pub fn past_nyquist(&self, dsdx: [f64; 3], dsdy: [f64; 3]) -> bool {
-        self.reach(dsdx, dsdy) > 1.0
+        self.reach(dsdx, dsdy) > 0.5
     }
 
     /// The standard deviation of the term's basis values (texcore's `bandlimit::basis_sigma`).
@@ -88,7 +88,7 @@ impl RefTerm {
     /// the variance it adds to the filter instead.
     pub fn band(&self, dsdx: [f64; 3], dsdy: [f64; 3], nyquist: Nyquist) -> Band {
         let l = self.reach(dsdx, dsdy);
-        if nyquist == Nyquist::Evaluate || l <= 1.0 {
+        if nyquist == Nyquist::Evaluate || l <= 0.5 {
             return Band {
                 weight: 1.0,
                 gradient: true,
@@ -96,6 +96,14 @@ impl RefTerm {
             };
         }
         let full = (self.amplitude * self.sigma()).powi(2);
+        if nyquist == Nyquist::Cull && l <= 1.0 {
+            // Unfaded; half its variance instead of its gradient.
+            return Band {
+                weight: 1.0,
+                gradient: false,
+                variance: 0.5 * full,
+            };
+        }
         if nyquist == Nyquist::Widen {
             return Band {
                 weight: 1.0,
@@ -635,8 +643,14 @@ mod tests {
         };
         assert!(!term.past_nyquist(fine.dsdx, fine.dsdy));
         assert_eq!(m.f_at(&fine, Nyquist::Cull), m.f(s));
-        // Exactly one cell a pixel is still resolved.
-        assert!(!term.past_nyquist([1.0 / 64.0, 0.0, 0.0], [0.0; 3]));
+        // Exactly half a cell a pixel is still resolved; one cell is past the limit but unfaded.
+        assert!(!term.past_nyquist([1.0 / 128.0, 0.0, 0.0], [0.0; 3]));
+        assert!(term.past_nyquist([1.0 / 64.0, 0.0, 0.0], [0.0; 3]));
+        assert_eq!(
+            term.band([1.0 / 64.0, 0.0, 0.0], [0.0; 3], Nyquist::Cull)
+                .weight,
+            1.0
+        );
         // 64 / 16 = 4 cells a pixel along y only: faded to 1/4.
         let coarse = Footprint {
             s,

@@ -521,10 +521,11 @@ mod tests {
                     assert_eq!(t.mip(f, 0.5, lookup, wrap), t.point(f, lookup, wrap));
                     assert_eq!(t.mip(f, 1.0, lookup, wrap), t.point(f, lookup, wrap));
                     // Exact powers of two select one level.
-                    let l2 = point_in(t.mip_level(2), x / 4.0, lookup, wrap);
+                    // Levels above 0 are interpolated linearly.
+                    let l2 = point_in(t.mip_level(2), x / 4.0, Lookup::Linear, wrap);
                     assert_eq!(t.mip(f, 4.0, lookup, wrap), l2);
                     // Halfway between 4 and 8 blends levels 2 and 3 equally.
-                    let l3 = point_in(t.mip_level(3), x / 8.0, lookup, wrap);
+                    let l3 = point_in(t.mip_level(3), x / 8.0, Lookup::Linear, wrap);
                     assert!(close(t.mip(f, 6.0, lookup, wrap), mix(l2, l3, 0.5), 1e-9));
                     // w >= N: the one-entry top level, the mean.
                     assert!(close(t.mip(f, 64.0, lookup, wrap), t.mean(), 1e-9));

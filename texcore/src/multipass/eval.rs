@@ -10,10 +10,11 @@
 
 use super::band::{Band, PassTerm};
 use super::MultipassConfig;
+use crate::bandlimit::{spread_width48, term_band};
 use crate::format::TexValue;
 use crate::model::{quantize_coord, TextureModel};
 use crate::noise::{split, BasisKind};
-use crate::span::{EvalOptions, Sample, Span, SpanInfo, SpanStats, NYQUIST_STEP};
+use crate::span::{EvalOptions, Sample, Span, SpanInfo, SpanStats};
 use crate::table::TableWrap;
 
 /// Pixels per band of a span evaluated by multipass noise: one sample chunk
@@ -46,23 +47,21 @@ pub fn eval_span<const T: usize>(
     let gqx = model.quadric().derivative_along(s0, ds, ds);
     let gqy = model.quadric().derivative_along(s0, ds, dy);
 
-    // Per-term set-up: lattice origin, steps and culling, as the direct path.
-    let mut extra: i64 = 0;
-    let mut setups = [([0i32; 3], [0i32; 3], [0i32; 3], false, false); T];
+    // Per-term set-up: lattice origin, steps and band-limiting, as the direct path
+    // (`crate::bandlimit`): the span's faded amplitude, culling and spread.
+    let mut variance: u64 = 0;
+    let mut setups = [([0i32; 3], [0i32; 3], [0i32; 3], false, false, 0i32); T];
     for (st, term) in setups.iter_mut().zip(model.terms()) {
         let du = term.transform.apply_vector(span.ds);
         let dyl = term.transform.apply_vector(span.dsdy);
-        let beyond = du
-            .iter()
-            .chain(dyl.iter())
-            .any(|c| c.unsigned_abs() > NYQUIST_STEP as u32);
-        if beyond {
-            extra = extra
-                .saturating_add((i64::from(term.amplitude.to_bits().unsigned_abs()) * 2) << 32);
-            if opts.cull {
-                stats.culled_octaves += 1;
-                continue;
-            }
+        let b = term_band(term, du, dyl, opts.cull);
+        variance = variance.saturating_add(b.variance);
+        if !b.active {
+            stats.culled_octaves += 1;
+            continue;
+        }
+        if b.amplitude != term.amplitude.to_bits() {
+            stats.faded_octaves += 1;
         }
         let mut u0 = term.transform.apply_point(span.s0);
         let mut du = du;
@@ -70,10 +69,10 @@ pub fn eval_span<const T: usize>(
             u0 = u0.map(|c| quantize_coord(c, cb));
             du = du.map(|c| quantize_coord(c, cb));
         }
-        *st = (u0, du, dyl, true, grads && !beyond);
+        *st = (u0, du, dyl, true, grads && b.gradient, b.amplitude);
     }
     let info = SpanInfo {
-        extra_width48: extra,
+        extra_width48: spread_width48(variance),
     };
 
     let mut band = Band::<MULTIPASS_BAND>::new();
@@ -89,11 +88,10 @@ pub fn eval_span<const T: usize>(
         nsum[..n].fill(0);
         gxn[..n].fill(0);
         gyn[..n].fill(0);
-        for (&(u0, du, dyl, active, want_g), term) in setups.iter().zip(model.terms()) {
+        for (&(u0, du, dyl, active, want_g, a), term) in setups.iter().zip(model.terms()) {
             if !active {
                 continue;
             }
-            let a = term.amplitude.to_bits();
             let (amp, neg) = if term.turbulence {
                 (a.wrapping_abs(), a < 0)
             } else {

@@ -760,7 +760,7 @@ impl<'m, const T: usize> EvalCore<'m, T> {
                 let _ = terms.push(TermSetup::default());
                 continue;
             }
-            if !band.gradient && self.opts.cull {
+            if band.amplitude != term.amplitude.to_bits() {
                 self.stats.faded_octaves += 1;
             }
             let mut u0 = term.transform.apply_point(span.s0);
@@ -1142,7 +1142,11 @@ mod tests {
                 crate::bandlimit::term_band(t, du, dy, true)
             })
             .collect();
-        let n_faded = bands.iter().filter(|b| b.active && !b.gradient).count() as u64;
+        let n_faded = bands
+            .iter()
+            .zip(m.terms())
+            .filter(|(b, t)| b.active && b.amplitude != t.amplitude.to_bits())
+            .count() as u64;
         let n_active = bands.iter().filter(|b| b.active).count() as u64;
         assert!(n_faded >= 2, "{bands:?}");
         assert_eq!(ev.stats().culled_octaves, 4 - n_active);
