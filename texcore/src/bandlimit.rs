@@ -15,9 +15,10 @@
 //! - `L > 1`: the term is **faded**: it enters `f` with its amplitude times the weight
 //!   `w = max(1 / L, 1/8)` ([`fade_weight`]; the footprint average of an octave shrinks as
 //!   `1 / L`, and `1/8` is the residual of an 8 x 8 sample average, so that distant octaves
-//!   neither freeze nor alias), and the spread it loses, the variance `(1 - w) a^2 sigma^2`
-//!   (`sigma` the basis's standard deviation, [`basis_sigma`]), widens the filter instead of its
-//!   gradient.
+//!   neither freeze nor alias), and its spread inside the pixel, the variance
+//!   `(1 - w/2) a^2 sigma^2` (`sigma` the basis's standard deviation, [`basis_sigma`]; half the
+//!   variance at one cell a pixel, continuous with the unfaded terms), widens the filter instead
+//!   of its gradient.
 //! - A faded term whose faded amplitude is below [`CULL_AMPLITUDE`] (1/256 of the table's unit
 //!   range: it cannot move the colour by an entry) is **culled**: not evaluated at all, its whole
 //!   variance `a^2 sigma^2` goes to the filter.
@@ -44,7 +45,8 @@ use crate::noise::BasisKind;
 pub const GRADIENT_REACH: u32 = 1 << 15;
 /// Reach (raw 16.16 cells a pixel) up to which a term enters `f` unfaded: one cell a pixel.
 pub const FADE_START: u32 = 1 << 16;
-/// The part of its variance (raw 0.16) an unfaded term past [`GRADIENT_REACH`] adds: 1/2.
+/// Half the weight of an unfaded term (raw 0.16): an unfaded term past [`GRADIENT_REACH`] adds
+/// `1 - 1/2` of its variance, a faded one `1 - w/2`.
 pub const NEAR_PART: u32 = 1 << 15;
 /// The smallest fade weight (raw 0.16): 1/8.
 pub const FADE_FLOOR: u32 = 1 << 13;
@@ -142,7 +144,7 @@ pub const fn term_band(term: &NoiseTerm, du: [i32; 3], dy: [i32; 3], band_limit:
             amplitude: a,
             active: true,
             gradient: false,
-            variance: variance(a, sigma, NEAR_PART),
+            variance: variance(a, sigma, (1 << 16) - NEAR_PART),
         };
     }
     if !band_limit {
@@ -165,11 +167,13 @@ pub const fn term_band(term: &NoiseTerm, du: [i32; 3], dy: [i32; 3], band_limit:
             variance: variance(a, sigma, 1 << 16),
         };
     }
+    // The spread it adds: `1 - w/2` of its variance (half at one cell a pixel, continuous with
+    // the unfaded terms below; the whole variance only when culled).
     TermBand {
         amplitude: faded,
         active: true,
         gradient: false,
-        variance: variance(a, sigma, (1 << 16) - w),
+        variance: variance(a, sigma, (1 << 16) - w / 2),
     }
 }
 
@@ -254,7 +258,12 @@ mod tests {
         let full = term_band(&t, [2 << 16, 0, 0], [0; 3], false);
         assert_eq!(full.amplitude, 1 << 15);
         assert!(full.active && !full.gradient);
-        assert!(f.variance * 2 >= full.variance - 2 && f.variance * 2 <= full.variance + 2);
+        // 1 - w/2 = 3/4 of the variance.
+        assert!(f.variance * 4 >= full.variance * 3 - 4 && f.variance * 4 <= full.variance * 3 + 4);
+        // Continuous at one cell a pixel: the unfaded term just inside adds the same.
+        let inside = term_band(&t, [1 << 16, 0, 0], [0; 3], true);
+        let outside = term_band(&t, [(1 << 16) + 1, 0, 0], [0; 3], true);
+        assert!(inside.variance.abs_diff(outside.variance) <= 2);
         // Negative amplitudes fade symmetrically (up to the floor's rounding).
         let n = term_band(&term(-0.5, false), [2 << 16, 0, 0], [0; 3], true);
         assert_eq!(n.amplitude, -(1 << 14));

@@ -122,7 +122,7 @@ impl RefTerm {
         Band {
             weight: w,
             gradient: false,
-            variance: full * (1.0 - w),
+            variance: full * (1.0 - 0.5 * w),
         }
     }
 
@@ -273,8 +273,9 @@ pub enum Nyquist {
     /// its variance `a^2 sigma^2` instead of its derivative.
     Widen,
     /// The contract with culling on (band-limiting): it enters `f` faded by
-    /// `w = max(1 / reach, 1/8)` (culled when `|a w| < 1/256`) and widens the filter by the
-    /// variance it loses, `(1 - w) a^2 sigma^2`.
+    /// `w = max(1 / reach, 1/8)` (culled when `|a w| < 1/256`) and widens the filter by
+    /// `(1 - w/2) a^2 sigma^2` of its variance (half of it between half a cell and one cell a
+    /// pixel, unfaded).
     Cull,
 }
 
@@ -675,7 +676,7 @@ mod tests {
         let sigma = term.sigma();
         let full = (0.25 * sigma).powi(2);
         let w_cull = m.filter_width(&coarse, n_entries, Norm::L1, true);
-        assert!((w_cull - 64.0 * (12.0 * full * 0.75).sqrt()).abs() < 1e-12);
+        assert!((w_cull - 64.0 * (12.0 * full * (1.0 - 0.125)).sqrt()).abs() < 1e-12);
         let w_widen = m.filter_width_with(&coarse, n_entries, Norm::L1, Nyquist::Widen);
         assert!((w_widen - 64.0 * (12.0 * full).sqrt()).abs() < 1e-12);
         let (gx, gy, extra) = m.screen_derivatives(&coarse, Nyquist::Evaluate);
