@@ -11,7 +11,14 @@ use serde_json::Value;
 const TARGETS: [&str; 2] = ["thumbv7em-none-eabihf", "riscv32imc-unknown-none-elf"];
 
 /// `cargo run -q -p host-sim --bin texsim -- report <args>`; returns the parsed stdout.
+/// The reports build the firmware with different features into the same ELF path (the cycles
+/// report the default job suite, the peers report the `peers` build): one report at a time.
+static FIRMWARE_BUILDS: std::sync::Mutex<()> = std::sync::Mutex::new(());
+
 fn texsim_report(args: &[&str]) -> Value {
+    let _serial = FIRMWARE_BUILDS
+        .lock()
+        .unwrap_or_else(std::sync::PoisonError::into_inner);
     let cargo = std::env::var_os("CARGO").unwrap_or_else(|| "cargo".into());
     let root = host_sim::device::workspace_root();
     let mut cmd = Command::new(cargo);
