@@ -48,7 +48,7 @@
 //!
 //! - this module: the public types, the per-span set-up (`EvalCore::setup`: per-term
 //!   lattice start and steps; **the per-span
-//!   band-limiting decision** is made there, per term, from [`lattice_steps`] and
+//!   band-limiting decision** is made there, per term, from `lattice_steps` and
 //!   [`crate::bandlimit::term_band`]) and the plan
 //!   (`EvalCore::eval_inner`: one strategy per term, decided once per span);
 //! - `merged`: the merged forward-difference loop (every forward-differenced term trilinear and

@@ -7,7 +7,7 @@
 //! (8 octave-0 cells across the image; [`R_BITS`] is `0.37` rounded to 16.16, `0.3699951..`, so
 //! that `R_BITS / 65536` is exact in `f32` and the float peers sample the very same points).
 //! Rows are evaluated as whole-row spans (or spans of 16 pixels for the `-span16` workloads) and
-//! every sample is stored into a line buffer of 32-bit words ([`value_row`], [`marble_row`]).
+//! every sample is stored into a line buffer of 32-bit words (`value_row`, `marble_row`).
 //!
 //! | workload | texcore | stored word |
 //! |---|---|---|
