@@ -46,6 +46,7 @@ pub(super) fn face_bits(
     fv: u32,
     vb: u32,
 ) -> [i32; 4] {
+    let k = k.min(2); // always 0..=2: lets the compiler drop the bounds checks
     let b = b as u16;
     match k {
         0 => scaled_face_bits::<0>(hash, cell, b, amp, fv, vb),
@@ -57,6 +58,7 @@ pub(super) fn face_bits(
 /// The two axes other than `k`, in ascending order.
 #[cfg_attr(not(texcore_lean), inline(always))]
 fn others(k: usize) -> (usize, usize) {
+    let k = k.min(2); // always 0..=2: lets the compiler drop the bounds checks
     match k {
         0 => (1, 2),
         1 => (0, 2),
@@ -75,6 +77,7 @@ pub(super) struct Face {
 /// `cx | cy << 1 | cz << 2`), in the face order `ca | cc << 1` (`a < c` the two other axes).
 #[cfg(test)]
 fn face_corners(v: &[i32; 8], k: usize, b: usize) -> [i32; 4] {
+    let k = k.min(2); // always 0..=2: lets the compiler drop the bounds checks
     let (a, c) = others(k);
     core::array::from_fn(|i| v[(b << k) | ((i & 1) << a) | ((i >> 1) << c)])
 }
@@ -84,6 +87,7 @@ fn face_corners(v: &[i32; 8], k: usize, b: usize) -> [i32; 4] {
 /// fractions `f`, carrying the derivative along `e` as the dual part (only when `grads`).
 #[cfg_attr(not(texcore_lean), inline(always))]
 pub(super) fn face(w: &[i32; 4], k: usize, f: [u32; 3], e: [i32; 3], grads: bool) -> Face {
+    let k = k.min(2); // always 0..=2: lets the compiler drop the bounds checks
     let (a, c) = others(k);
     // Level a: t = v0 2^16 + (v1 - v0) f_a (v' fits 26 bits, model 4.4: exact 32 x 32 -> 64).
     let fa = i64::from(f[a]);
@@ -120,6 +124,7 @@ pub(super) fn poly(
     e: [i32; 3],
     grads: bool,
 ) -> CubicPoly {
+    let k = k.min(2); // always 0..=2: lets the compiler drop the bounds checks
     let [f0, f1] = faces;
     let dphi = wsub(f1.phi, f0.phi);
     let fk = i64::from(frac[k]);
@@ -194,6 +199,7 @@ impl AxisFaces {
         grads: bool,
         face_of: impl Fn([u16; 3], usize) -> [i32; 4],
     ) -> CubicPoly {
+        let k = k.min(2); // always 0..=2: lets the compiler drop the bounds checks
         self.blend(cell, frac, k, dy, grads, face_of);
         poly(&self.faces, k, frac, du[k], dy, grads)
     }
@@ -209,6 +215,7 @@ impl AxisFaces {
         grads: bool,
         face_of: impl Fn([u16; 3], usize) -> [i32; 4],
     ) {
+        let k = k.min(2); // always 0..=2: lets the compiler drop the bounds checks
         let step = match self.cell {
             Some(prev) if same_but(prev, cell, k) => cell[k].wrapping_sub(prev[k]),
             _ => 0,
@@ -235,6 +242,7 @@ impl AxisFaces {
 /// Whether `a` and `b` agree on every axis but `k`.
 #[cfg_attr(not(texcore_lean), inline(always))]
 fn same_but(a: [u16; 3], b: [u16; 3], k: usize) -> bool {
+    let k = k.min(2); // always 0..=2: lets the compiler drop the bounds checks
     (0..3).all(|i| i == k || a[i] == b[i])
 }
 

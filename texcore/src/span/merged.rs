@@ -123,7 +123,7 @@ impl<'m, const T: usize> EvalCore<'m, T> {
                     let exit = match ax {
                         Some(a) => {
                             linear_add(&mut sum, &poly, g);
-                            pixels_in_cell_axis(frac[a], ts.du[a])
+                            pixels_in_cell_axis(frac[a.min(2)], ts.du[a.min(2)])
                         }
                         None => {
                             sum.add(&fd_start(&poly, g));
@@ -258,7 +258,8 @@ impl<'m, const T: usize> EvalCore<'m, T> {
                 match *ax {
                     Some(a) => {
                         linear_add(&mut sum, poly, g);
-                        *next = i.saturating_add(pixels_in_cell_axis(frac[a], ts.du[a]));
+                        *next =
+                            i.saturating_add(pixels_in_cell_axis(frac[a.min(2)], ts.du[a.min(2)]));
                     }
                     None => {
                         sum.add(&fd_start(poly, g));
