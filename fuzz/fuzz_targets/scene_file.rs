@@ -21,7 +21,7 @@ fuzz_target!(|data: &[u8]| {
     // Render small: the file's own size may be up to the format's limit.
     scene.scene.camera.width = scene.scene.camera.width.min(8);
     scene.scene.camera.height = scene.scene.camera.height.min(6);
-    let last = scene.scene.frames.max(1) - 1;
+    let last = scene.scene.frames().max(1) - 1;
     for frame in [0, last] {
         for hash in [HashKind::Integer, HashKind::Permutation] {
             scene
