@@ -2,8 +2,10 @@
 //!
 //! - Cortex-M (`thumbv7em-none-eabihf`): cortex-m-rt's `link.x` does `INCLUDE memory.x`; the
 //!   device memory map is `memory.x` at the repository root, copied to `OUT_DIR` and put on the
-//!   linker search path. With feature `stack-guard`, `memory-stack-guard.x` (next to this file)
-//!   instead: the same RAM with the stack below the static data, above unmapped memory.
+//!   linker search path (the linker reads the root file itself first: it resolves `INCLUDE` in its
+//!   working directory, the workspace root). With feature `stack-guard`, the link also gets
+//!   `--defsym=_texcore_stack_guard=1`, which selects `memory.x`'s second layout: the same RAM
+//!   with the stack below the static data, above unmapped memory.
 //! - RISC-V (`riscv32imc-unknown-none-elf`): riscv-rt's `link.x` expects the `REGION_*` aliases
 //!   to be defined by an earlier script; `memory-riscv.x` (next to this file) is passed first.
 //! - Both: `defmt.x` for the defmt string table.
@@ -17,13 +19,10 @@ fn main() {
     let arch = env::var("CARGO_CFG_TARGET_ARCH").unwrap_or_default();
     let os = env::var("CARGO_CFG_TARGET_OS").unwrap_or_default();
 
+    let cortex_m = manifest.join("../memory.x");
     // With `stack-guard` the Cortex-M stack sits below the static data, above unmapped memory
-    // (see that file).
-    let cortex_m = if env::var_os("CARGO_FEATURE_STACK_GUARD").is_some() {
-        manifest.join("memory-stack-guard.x")
-    } else {
-        manifest.join("../memory.x")
-    };
+    // (memory.x's second layout).
+    let stack_guard = env::var_os("CARGO_FEATURE_STACK_GUARD").is_some();
     // The accuracy firmware's scene part needs more rv32imc program memory (see that file).
     let riscv = if env::var_os("CARGO_FEATURE_ACCURACY").is_some() {
         manifest.join("memory-riscv-accuracy.x")
@@ -31,10 +30,6 @@ fn main() {
         manifest.join("memory-riscv.x")
     };
     println!("cargo:rerun-if-changed={}", cortex_m.display());
-    println!(
-        "cargo:rerun-if-changed={}",
-        manifest.join("memory-stack-guard.x").display()
-    );
     println!("cargo:rerun-if-changed={}", riscv.display());
     println!("cargo:rerun-if-changed=build.rs");
 
@@ -49,6 +44,9 @@ fn main() {
         "arm" => {
             fs::copy(&cortex_m, out.join("memory.x")).expect("copy memory.x");
             println!("cargo:rustc-link-search={}", out.display());
+            if stack_guard {
+                println!("cargo:rustc-link-arg-bins=--defsym=_texcore_stack_guard=1");
+            }
             println!("cargo:rustc-link-arg-bins=-Tlink.x");
         }
         "riscv32" => {

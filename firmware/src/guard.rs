@@ -1,8 +1,8 @@
 //! Hardware stack guard of the Cortex-M4F firmware (feature `stack-guard`).
 //!
-//! `memory-stack-guard.x` lays the 128 KiB RAM out with the stack at the bottom, growing down
-//! towards 0x2000_0000, below which nothing is mapped, and the static data at the top. An
-//! overflow therefore touches unmapped memory first, whatever the size of the frame that
+//! `memory.x`'s guarded layout (selected by this feature's build) puts the stack of the 128 KiB
+//! RAM at the bottom, growing down towards 0x2000_0000, below which nothing is mapped, and the
+//! static data at the top. An overflow therefore touches unmapped memory first, whatever the size of the frame that
 //! overflows, and raises a bus fault (escalated to HardFault) before any byte of the static data
 //! changes. The HardFault handler below runs without the stack (it cannot be used any more): it
 //! moves the stack pointer to the top of the stack region, then [`hard_fault`] reports

@@ -492,14 +492,11 @@ fn timeout_is_reported() {
 
 /// The deepest job of the suite (`firmware/src/guard.rs`: `scene:overlay`, three slot textures
 /// on its stack) renders under the smallest RAM the documentation promises (the 128 KiB of
-/// `memory.x`, laid out by `firmware/memory-stack-guard.x`: 104 KiB of stack above unmapped
+/// `memory.x`, in its guarded layout: 104 KiB of stack above unmapped
 /// memory, the static data above it), with its checksum unchanged and the stack within its
 /// margin; the guard turns an overflow into a reported failure (exit 103) rather than silent
 /// corruption of the static data, as the canary build (a recursion without bound) shows.
 #[test]
-#[ignore = "the stack-guard memory map does not take effect yet: the linker finds the root \
-            memory.x in its working directory before the build script's copy (stack size \
-            111460, not 104 KiB); see docs/reliability.md"]
 fn cortex_m4f_stack_guard() {
     let target = DeviceTarget::CortexM4F;
     if !qemu_or_skip(target) {
