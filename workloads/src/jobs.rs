@@ -149,6 +149,22 @@ pub static JOBS: &[Job] = &[
     job!("peers:smooth-1oct/setup", peers_smooth_1oct_setup),
     job!("peers:perlin-1oct", peers_perlin_1oct),
     job!("peers:perlin-1oct/setup", peers_perlin_1oct_setup),
+    job!("band:direct", band_direct),
+    job!("band:direct/setup", band_direct_setup),
+    job!("band:fd", band_fd),
+    job!("band:fd/setup", band_fd_setup),
+    #[cfg(feature = "multipass")]
+    job!("band:multipass-native", band_multipass_native),
+    #[cfg(feature = "multipass")]
+    job!("band:multipass-native/setup", band_multipass_native_setup),
+    #[cfg(feature = "multipass")]
+    job!("band:multipass-16.8", band_multipass_16_8),
+    #[cfg(feature = "multipass")]
+    job!("band:multipass-16.8/setup", band_multipass_16_8_setup),
+    #[cfg(feature = "multipass")]
+    job!("band:multipass-8", band_multipass_8),
+    #[cfg(feature = "multipass")]
+    job!("band:multipass-8/setup", band_multipass_8_setup),
     job!("scene:floor", scene_floor),
     job!("scene:floor/setup", scene_floor_setup),
     job!("scene:overlay", scene_overlay),

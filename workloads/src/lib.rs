@@ -7,7 +7,8 @@
 //!   and the one [`job!`] macro that names a job;
 //! - [`jobs`]: the list the firmware runs, in order;
 //! - [`bench`]: lattice hash, span evaluator and marble benchmarks;
-//! - [`suite`]: the texture-unit suite's job wrappers around [`planes`], [`stages`], [`scenes`];
+//! - [`suite`]: the texture-unit suite's job wrappers around [`planes`], [`stages`], [`scenes`],
+//!   [`band`];
 //! - [`accuracy`]: the accuracy report's configurations and device jobs.
 //!
 //! Uses nothing but `texcore` and `core`: no allocation, no panics on the job paths (the
@@ -20,6 +21,7 @@
 #[cfg(any(feature = "accuracy", feature = "full"))]
 #[allow(missing_docs)]
 pub mod accuracy;
+pub mod band;
 pub mod bench;
 pub mod job;
 pub mod jobs;

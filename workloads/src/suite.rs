@@ -7,6 +7,7 @@
 //!   integer hash (the host computes its expected checksums with the same hash);
 //! - `plane:<material>`: a material's 64 x 64 check plane with csat ([`crate::planes`]);
 //! - `stage:<stage>`: one stage of the pixel path alone ([`crate::stages`]);
+//! - `band:<mode>`: one evaluation mode over a 320 x 8 band of value noise ([`crate::band`]);
 //! - `scene:<scene>`: a scene at display size through the banded renderer ([`crate::scenes`]);
 //! - `scene:<builtin>@<k>`: strip `k` of a built-in scene's frame ([`crate::scenes::builtin_strip`],
 //!   [`crate::scenes::STRIPS`] strips), its checksum continuing strip `k - 1`'s, so that the last
@@ -145,6 +146,38 @@ peers_jobs! {
     4 => peers_value_1oct_direct, peers_value_1oct_direct_setup;
     5 => peers_smooth_1oct, peers_smooth_1oct_setup;
     6 => peers_perlin_1oct, peers_perlin_1oct_setup;
+}
+
+macro_rules! band_jobs {
+    ($($(#[$m:meta])* $name:literal => $job:ident, $setup:ident;)*) => {$(
+        $(#[$m])*
+        #[doc = concat!("`band:", $name, "`.")]
+        pub fn $job(_: &mut Ctx) -> u32 {
+            if STUBBED {
+                return 0;
+            }
+            crate::band::band($name).map_or(0, |b| b.run(hash(), true))
+        }
+        $(#[$m])*
+        #[doc = concat!("`band:", $name, "/setup`.")]
+        pub fn $setup(_: &mut Ctx) -> u32 {
+            if STUBBED {
+                return 0;
+            }
+            crate::band::band($name).map_or(0, |b| b.run(hash(), false))
+        }
+    )*};
+}
+
+band_jobs! {
+    "direct" => band_direct, band_direct_setup;
+    "fd" => band_fd, band_fd_setup;
+    #[cfg(feature = "multipass")]
+    "multipass-native" => band_multipass_native, band_multipass_native_setup;
+    #[cfg(feature = "multipass")]
+    "multipass-16.8" => band_multipass_16_8, band_multipass_16_8_setup;
+    #[cfg(feature = "multipass")]
+    "multipass-8" => band_multipass_8, band_multipass_8_setup;
 }
 
 /// The RGBA band and the depth band of the scene renders: one band of [`scenes::BAND_ROWS`] rows

@@ -278,7 +278,10 @@ pub fn markdown(rows: &[CycleRow], quick: bool) -> String {
          SysTick vernier; see `firmware/src/counter.rs`), release build. `instr/unit` is the \
          job's count minus its `/setup` job's count (textures, tables and inputs built, nothing \
          shaded), divided by its units. Check planes are 64 x 64 pixels in spans of 16 with a \
-         256-entry colour table and csat; scenes are rendered at display size (320 x 240; the \
+         256-entry colour table and csat; `band:<mode>` rows are one renderer band (8 rows of \
+         320 pixels) of 4-octave trilinear value noise with gradients, one span per row, in each \
+         evaluation mode (multipass corner-by-corner noise against `Direct` and `Fd`: \
+         `docs/multipass.md`), every sample folded into the checksum; scenes are rendered at display size (320 x 240; the \
          zone plate 256 x 256) through `Renderer::render_banded` with 8-row bands into a \
          `ChecksumSink` (FNV-1a over RGB565), no frame buffer. The built-in scenes (`scene:wood` \
          to `scene:torus`, their still frame) are rendered in {} horizontal strips \

@@ -14,7 +14,7 @@ pub mod cycles;
 pub mod peers;
 pub mod size;
 
-pub use workloads::{peers_workload, planes, scenes, stages};
+pub use workloads::{band, peers_workload, planes, scenes, stages};
 
 use std::path::Path;
 
@@ -37,6 +37,8 @@ pub enum JobKind {
     Scene,
     /// A workload of the peers' plane (noise alone, [`peers_workload`]).
     Peers,
+    /// An evaluation mode over a 320 x 8 band of value noise ([`band`]).
+    Band,
 }
 
 /// A row of the texture-unit suite: a workload, its amount of work and the device jobs that
@@ -106,6 +108,14 @@ pub fn suite() -> Vec<SuiteJob> {
             JobKind::Peers,
             u64::from(w.samples()),
             "sample",
+        ));
+    }
+    for b in band::BANDS {
+        jobs.push(one(
+            format!("band:{}", b.name),
+            JobKind::Band,
+            u64::from(b.pixels()),
+            "pixel",
         ));
     }
     for s in scenes::SCENES {
@@ -271,6 +281,7 @@ pub fn host_checksum(name: &str, hash: HashKind) -> Option<u32> {
         "plane" => Some(planes::setup_checksum(what, hash)),
         "stage" => Some((stages::stage(what)?.run)(hash, work)),
         "peers" => Some(peers_workload::workload(what)?.run(hash, work)),
+        "band" => Some(band::band(what)?.run(hash, work)),
         "scene" if scenes::builtin_strip_job(what).is_some() => {
             let (n, k) = scenes::builtin_strip_job(what)?;
             if work {
@@ -335,6 +346,34 @@ mod tests {
             );
         }
         assert_eq!(scenes::BUILTIN_SCENES, texcore::scene::BUILTIN);
+    }
+
+    /// The band jobs: native multipass gives the direct samples (the same checksum), the
+    /// reduced precisions differ, on both hashes; set-up is the same model for every mode.
+    #[test]
+    fn band_multipass_native_is_direct() {
+        let names: Vec<_> = band::BANDS.iter().map(|b| b.name).collect();
+        assert_eq!(
+            names,
+            [
+                "direct",
+                "fd",
+                "multipass-native",
+                "multipass-16.8",
+                "multipass-8"
+            ]
+        );
+        for hash in [HashKind::Permutation, HashKind::Integer] {
+            let c = |n: &str| host_checksum(&format!("band:{n}"), hash).expect(n);
+            assert_eq!(c("multipass-native"), c("direct"), "{hash:?}");
+            assert_ne!(c("multipass-16.8"), c("direct"), "{hash:?}");
+            assert_ne!(c("multipass-8"), c("direct"), "{hash:?}");
+            assert_ne!(c("fd"), c("multipass-8"), "{hash:?}");
+            let setup = host_checksum("band:direct/setup", hash);
+            assert_eq!(setup, host_checksum("band:multipass-8/setup", hash));
+            assert_ne!(setup, host_checksum("band:direct", hash));
+        }
+        assert_eq!(band::band("fd").map(|b| b.pixels()), Some(2560));
     }
 
     #[test]
