@@ -6,7 +6,7 @@
 //!
 //! The model is `texcore::texture::workload::value_fbm(4, hash)` (trilinear value noise, `mod`
 //! wrap, octave 0 at 16 cells across the 320 pixels: `plane_span(CELLS_8 / 2, y, 320)`), filter
-//! width gradients and culling on, one span per row: the band is [`ROWS`] spans of [`WIDTH`]
+//! width gradients and culling on (the `-1oct` rows: one octave, no gradients), one span per row: the band is [`ROWS`] spans of [`WIDTH`]
 //! pixels. Every sample is folded into an FNV-1a checksum (`workload::fold_sample`: `f`, then `gx`
 //! and `gy`, low word then high word; five folds a pixel, the same for every mode and part of the
 //! figure).
@@ -26,6 +26,7 @@
 //! | `multipass-native` | `EvalMode::Multipass`, native precision, texcore's hash (bit-identical to `direct`) |
 //! | `multipass-16.8` | `EvalMode::Multipass`, the 16.8 format |
 //! | `multipass-8` | `EvalMode::Multipass`, 8-bit passes |
+//! | `direct-1oct`, `fd-1oct`, `multipass-native-1oct` | the same modes on one octave without gradients: the single noise of the paper's Table 1 |
 //!
 //! The multipass workloads exist with feature `multipass` only (the job-suite firmware's default).
 
@@ -47,6 +48,10 @@ pub struct BandWorkload {
     pub name: &'static str,
     /// The evaluation mode.
     pub mode: EvalMode,
+    /// Octaves of the model (4; 1 for the paper's single noise).
+    pub octaves: u8,
+    /// Filter-width gradients on.
+    pub gradients: bool,
 }
 
 impl BandWorkload {
@@ -57,7 +62,7 @@ impl BandWorkload {
 
     /// Runs the workload with `hash` (`work == false`: builds the model only).
     pub fn run(&self, hash: HashKind, work: bool) -> u32 {
-        band_checksum(self.mode, hash, work)
+        band_checksum(self.mode, self.octaves, self.gradients, hash, work)
     }
 }
 
@@ -66,31 +71,52 @@ const fn multipass(p: texcore::multipass::PassPrecision) -> EvalMode {
     EvalMode::Multipass(texcore::multipass::MultipassConfig::with_precision(p))
 }
 
+/// The 4-octave workload with gradients in `mode`.
+const fn four(name: &'static str, mode: EvalMode) -> BandWorkload {
+    BandWorkload {
+        name,
+        mode,
+        octaves: 4,
+        gradients: true,
+    }
+}
+
+/// One octave without gradients (the paper's single noise, its Table 1 workload) in `mode`.
+const fn one(name: &'static str, mode: EvalMode) -> BandWorkload {
+    BandWorkload {
+        name,
+        mode,
+        octaves: 1,
+        gradients: false,
+    }
+}
+
 /// Every workload, in firmware order.
 pub const BANDS: &[BandWorkload] = &[
-    BandWorkload {
-        name: "direct",
-        mode: EvalMode::Direct,
-    },
-    BandWorkload {
-        name: "fd",
-        mode: EvalMode::Fd,
-    },
+    four("direct", EvalMode::Direct),
+    four("fd", EvalMode::Fd),
     #[cfg(feature = "multipass")]
-    BandWorkload {
-        name: "multipass-native",
-        mode: multipass(texcore::multipass::PassPrecision::Native),
-    },
+    four(
+        "multipass-native",
+        multipass(texcore::multipass::PassPrecision::Native),
+    ),
     #[cfg(feature = "multipass")]
-    BandWorkload {
-        name: "multipass-16.8",
-        mode: multipass(texcore::multipass::PassPrecision::Fixed16_8),
-    },
+    four(
+        "multipass-16.8",
+        multipass(texcore::multipass::PassPrecision::Fixed16_8),
+    ),
     #[cfg(feature = "multipass")]
-    BandWorkload {
-        name: "multipass-8",
-        mode: multipass(texcore::multipass::PassPrecision::Bits8),
-    },
+    four(
+        "multipass-8",
+        multipass(texcore::multipass::PassPrecision::Bits8),
+    ),
+    one("direct-1oct", EvalMode::Direct),
+    one("fd-1oct", EvalMode::Fd),
+    #[cfg(feature = "multipass")]
+    one(
+        "multipass-native-1oct",
+        multipass(texcore::multipass::PassPrecision::Native),
+    ),
 ];
 
 /// The workload named `name` (without the `band:` prefix).
@@ -101,8 +127,14 @@ pub fn band(name: &str) -> Option<&'static BandWorkload> {
 /// The body of every band workload (one copy of the evaluator in flash): the band's checksum,
 /// rows top to bottom.
 #[inline(never)]
-pub fn band_checksum(mode: EvalMode, hash: HashKind, work: bool) -> u32 {
-    let model = workload::value_fbm(4, hash);
+pub fn band_checksum(
+    mode: EvalMode,
+    octaves: u8,
+    gradients: bool,
+    hash: HashKind,
+    work: bool,
+) -> u32 {
+    let model = workload::value_fbm(octaves, hash);
     let model = core::hint::black_box(&model);
     if !work {
         return workload::fold(workload::FNV_OFFSET, model.terms().len() as u32);
@@ -111,7 +143,7 @@ pub fn band_checksum(mode: EvalMode, hash: HashKind, work: bool) -> u32 {
         model,
         EvalOptions {
             mode: core::hint::black_box(mode),
-            gradients: true,
+            gradients,
             cull: true,
         },
     );

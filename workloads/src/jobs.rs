@@ -165,6 +165,17 @@ pub static JOBS: &[Job] = &[
     job!("band:multipass-8", band_multipass_8),
     #[cfg(feature = "multipass")]
     job!("band:multipass-8/setup", band_multipass_8_setup),
+    job!("band:direct-1oct", band_direct_1oct),
+    job!("band:direct-1oct/setup", band_direct_1oct_setup),
+    job!("band:fd-1oct", band_fd_1oct),
+    job!("band:fd-1oct/setup", band_fd_1oct_setup),
+    #[cfg(feature = "multipass")]
+    job!("band:multipass-native-1oct", band_multipass_native_1oct),
+    #[cfg(feature = "multipass")]
+    job!(
+        "band:multipass-native-1oct/setup",
+        band_multipass_native_1oct_setup
+    ),
     job!("scene:floor", scene_floor),
     job!("scene:floor/setup", scene_floor_setup),
     job!("scene:overlay", scene_overlay),

@@ -178,6 +178,10 @@ band_jobs! {
     "multipass-16.8" => band_multipass_16_8, band_multipass_16_8_setup;
     #[cfg(feature = "multipass")]
     "multipass-8" => band_multipass_8, band_multipass_8_setup;
+    "direct-1oct" => band_direct_1oct, band_direct_1oct_setup;
+    "fd-1oct" => band_fd_1oct, band_fd_1oct_setup;
+    #[cfg(feature = "multipass")]
+    "multipass-native-1oct" => band_multipass_native_1oct, band_multipass_native_1oct_setup;
 }
 
 /// The RGBA band and the depth band of the scene renders: one band of [`scenes::BAND_ROWS`] rows

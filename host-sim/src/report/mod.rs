@@ -360,7 +360,10 @@ mod tests {
                 "fd",
                 "multipass-native",
                 "multipass-16.8",
-                "multipass-8"
+                "multipass-8",
+                "direct-1oct",
+                "fd-1oct",
+                "multipass-native-1oct"
             ]
         );
         for hash in [HashKind::Permutation, HashKind::Integer] {
@@ -369,6 +372,9 @@ mod tests {
             assert_ne!(c("multipass-16.8"), c("direct"), "{hash:?}");
             assert_ne!(c("multipass-8"), c("direct"), "{hash:?}");
             assert_ne!(c("fd"), c("multipass-8"), "{hash:?}");
+            assert_eq!(c("multipass-native-1oct"), c("direct-1oct"), "{hash:?}");
+            assert_eq!(c("fd-1oct"), c("direct-1oct"), "{hash:?}");
+            assert_ne!(c("direct-1oct"), c("direct"), "{hash:?}");
             let setup = host_checksum("band:direct/setup", hash);
             assert_eq!(setup, host_checksum("band:multipass-8/setup", hash));
             assert_ne!(setup, host_checksum("band:direct", hash));
