@@ -5,8 +5,9 @@
 //! same band on the host).
 //!
 //! The model is `texcore::texture::workload::value_fbm(4, hash)` (trilinear value noise, `mod`
-//! wrap, octave 0 at 16 cells across the 320 pixels: `plane_span(CELLS_8 / 2, y, 320)`), filter
-//! width gradients and culling on (the `-1oct` rows: one octave, no gradients), one span per row: the band is [`ROWS`] spans of [`WIDTH`]
+//! wrap, octave 0 at 64 pixels per cell: `plane_span(CELLS_8 / 2, y, 320)`), filter-width
+//! gradients and culling on (the `-1oct` rows: one octave, no gradients), one span per row: the
+//! band is [`ROWS`] spans of [`WIDTH`]
 //! pixels. Every sample is folded into an FNV-1a checksum (`workload::fold_sample`: `f`, then `gx`
 //! and `gy`, low word then high word; five folds a pixel, the same for every mode and part of the
 //! figure).
@@ -38,7 +39,8 @@ use texcore::texture::workload;
 pub const WIDTH: u16 = 320;
 /// Rows of the band (`texcore`'s renderer band height).
 pub const ROWS: u16 = 8;
-/// Octave-0 lattice step of the band: 16 cells across its 320 pixels (raw 16.16).
+/// Octave-0 lattice step of the band: 1/64 cell per pixel, 5 cells across its 320 pixels (raw
+/// 16.16).
 pub const STEP: i32 = workload::CELLS_8 / 2;
 
 /// One evaluation mode over the band.
