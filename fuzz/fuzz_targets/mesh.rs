@@ -19,12 +19,18 @@ fn check_mesh(m: &TriMesh, name: &str) {
     let n = m.triangles().len();
     assert!((1..=MAX_TRIANGLES).contains(&n), "{n} triangles accepted");
     for p in m.positions() {
-        assert!(p.iter().all(|c| c.is_finite() && c.abs() <= MAX_COORD), "{p:?}");
+        assert!(
+            p.iter().all(|c| c.is_finite() && c.abs() <= MAX_COORD),
+            "{p:?}"
+        );
     }
     for (t, tri) in m.triangles().iter().enumerate() {
         assert!(tri.iter().all(|&i| (i as usize) < m.positions().len()));
         let [a, b, c] = m.corners(t);
-        assert!(mesh::triangle_area(a, b, c) > 0.0, "degenerate triangle {t} accepted");
+        assert!(
+            mesh::triangle_area(a, b, c) > 0.0,
+            "degenerate triangle {t} accepted"
+        );
     }
     match m.pack(name) {
         Ok(bytes) => {
