@@ -3,12 +3,13 @@
 //! layout, [`UniformLayout`]), the object's texture is baked into it once with texcore's bake
 //! kernel (`texcore::atlas::bake`: row spans of the span evaluator, the filter width from the
 //! texel's footprint on the surface), then the frame is drawn in bands of
-//! [`crate::scenes::BAND_ROWS`] rows with texcore's rasterizer interpolating atlas coordinates
+//! [`DRAW_ROWS`] rows with texcore's rasterizer interpolating atlas coordinates
 //! perspective-correctly and every pixel reading its nearest atlas texel.
 //!
 //! Memory: the atlas is caller-owned frame memory like the band buffers (32 KB for 128 x 128
-//! RGB565, on the job's stack), not texture-unit state; the RGB565 band ([`BAND_PIXELS`] x 2
-//! bytes) is on the stack too, the depth band and the quad bins are the suite's static ones.
+//! RGB565, on the job's stack), not texture-unit state; the RGB565 band and its depth band
+//! ([`DRAW_PIXELS`] x 2 bytes each) are on the stack too (taller bands than the procedural
+//! renderer's: a triangle is set up once per band it touches), the quad bins are the suite's.
 //!
 //! Atlas coordinates of a screen vertex: the scene's walk hands over screen triangles whose
 //! vertices carry solid coordinates. A vertex of an unclipped triangle carries exactly the solid
@@ -32,7 +33,7 @@ use texcore::render::{GroupRows, TriangleSource};
 use texcore::scene::{Object, Scene};
 use texcore::sink::ChecksumSink;
 
-use crate::scenes::{builtin_frame, slot_texture, BAND_PIXELS, BAND_ROWS, FRAME_START};
+use crate::scenes::{builtin_frame, slot_texture, FRAME_START, WIDTH};
 
 /// Side of the device atlas in texels.
 pub const SIDE: u16 = 128;
@@ -40,6 +41,10 @@ pub const SIDE: u16 = 128;
 pub const TEXELS: usize = SIDE as usize * SIDE as usize;
 /// Gutter of the device layout: 0, the paper's atlas for nearest look-ups.
 pub const GUTTER: u8 = 0;
+/// Rows of a band of the atlas draw.
+pub const DRAW_ROWS: u16 = 24;
+/// Pixels of a band of the atlas draw (and entries of its depth band): the widest scene's.
+pub const DRAW_PIXELS: usize = WIDTH as usize * DRAW_ROWS as usize;
 /// The built-in scene the atlas jobs draw.
 pub const SCENE: &str = "marble";
 
@@ -331,18 +336,13 @@ fn triangle_rows(tri: &[ScreenVertex; 3], h: u16) -> Option<(u16, u16)> {
     Some((lo.max(0) as u16, hi.min(i32::from(h) - 1) as u16))
 }
 
-/// Draws `scene` from `atlas` (laid out by [`scene_layout`]) in bands of [`BAND_ROWS`] rows and
+/// Draws `scene` from `atlas` (laid out by [`scene_layout`]) in bands of [`DRAW_ROWS`] rows and
 /// returns the frame's checksum (FNV-1a over its RGB565 pixels, row-major, as `ChecksumSink`);
 /// 0 if the scene has no layout or the buffers are too small. See [`draw_scene_rows`].
 #[inline(never)]
-pub fn draw_scene(
-    scene: &Scene,
-    atlas: &AtlasTexels,
-    depth: &mut [u16],
-    bins: &mut [GroupRows],
-) -> u32 {
+pub fn draw_scene(scene: &Scene, atlas: &AtlasTexels, bins: &mut [GroupRows]) -> u32 {
     let mut sink = ChecksumSink::resume(FRAME_START);
-    let drawn = draw_scene_rows(scene, atlas, depth, bins, |row| {
+    let drawn = draw_scene_rows(scene, atlas, bins, |row| {
         for p in row {
             sink.add_rgb565(*p);
         }
@@ -354,15 +354,14 @@ pub fn draw_scene(
     }
 }
 
-/// Draws `scene` from `atlas` (laid out by [`scene_layout`]) in bands of [`BAND_ROWS`] rows,
+/// Draws `scene` from `atlas` (laid out by [`scene_layout`]) in bands of [`DRAW_ROWS`] rows,
 /// handing every RGB565 row to `out`, top to bottom: one walk over the scene bins its quads into
 /// `bins` (one per quad; quads past the bins are walked in every band), then every band walks
-/// the quads that touch it. `depth` holds one band's depth. `false` (and no row) if the scene
-/// has no layout or the buffers are too small.
+/// the quads that touch it. `false` (and no row) if the scene has no layout or is wider than
+/// [`WIDTH`].
 pub fn draw_scene_rows<O: FnMut(&[u16])>(
     scene: &Scene,
     atlas: &AtlasTexels,
-    depth: &mut [u16],
     bins: &mut [GroupRows],
     mut out: O,
 ) -> bool {
@@ -371,13 +370,14 @@ pub fn draw_scene_rows<O: FnMut(&[u16])>(
     };
     let (w, h) = scene.size();
     let wu = usize::from(w);
-    if wu * usize::from(BAND_ROWS) > BAND_PIXELS {
+    if wu * usize::from(DRAW_ROWS) > DRAW_PIXELS {
         return false;
     }
-    let Some(depth) = depth.get_mut(..wu * usize::from(BAND_ROWS)) else {
+    let mut depth = [0u16; DRAW_PIXELS];
+    let Some(depth) = depth.get_mut(..wu * usize::from(DRAW_ROWS)) else {
         return false;
     };
-    let Some(mut db) = DepthBuffer::new(depth, Rect::new(0, 0, w, BAND_ROWS)) else {
+    let Some(mut db) = DepthBuffer::new(depth, Rect::new(0, 0, w, DRAW_ROWS)) else {
         return false;
     };
     for b in bins.iter_mut() {
@@ -402,12 +402,12 @@ pub fn draw_scene_rows<O: FnMut(&[u16])>(
         *s = at;
         at += o.mesh.quad_count();
     }
-    let mut band = [0u16; BAND_PIXELS];
+    let mut band = [0u16; DRAW_PIXELS];
     let mut raster = Rasterizer::new(Rect::from_size(w, h));
     let mut cache: Option<(usize, QuadAtlas)> = None;
     let mut y0 = 0u16;
     while y0 < h {
-        let y1 = y0.saturating_add(BAND_ROWS).min(h);
+        let y1 = y0.saturating_add(DRAW_ROWS).min(h);
         let rect = Rect::new(0, y0, w, y1);
         raster.set_clip(rect);
         db.set_rect(rect);
@@ -488,7 +488,7 @@ pub fn bake_job(hash: HashKind, work: bool) -> u32 {
 /// with `work` the frame drawn from the atlas, returning the frame's checksum (the set-up
 /// returns the texels baked).
 #[inline(never)]
-pub fn draw_job(hash: HashKind, work: bool, depth: &mut [u16], bins: &mut [GroupRows]) -> u32 {
+pub fn draw_job(hash: HashKind, work: bool, bins: &mut [GroupRows]) -> u32 {
     let Some(scene) = builtin_frame(SCENE) else {
         return 0;
     };
@@ -499,5 +499,5 @@ pub fn draw_job(hash: HashKind, work: bool, depth: &mut [u16], bins: &mut [Group
     if !work {
         return n;
     }
-    draw_scene(&scene, atlas, depth, bins)
+    draw_scene(&scene, atlas, bins)
 }

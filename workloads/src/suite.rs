@@ -223,7 +223,7 @@ pub fn atlas_draw(_: &mut Ctx) -> u32 {
     if STUBBED {
         return 0;
     }
-    with_bands(|_, d, g| crate::atlas::draw_job(hash(), true, d, g))
+    with_bands(|_, _, g| crate::atlas::draw_job(hash(), true, g))
 }
 
 /// `atlas:marble/setup`.
@@ -232,7 +232,7 @@ pub fn atlas_draw_setup(_: &mut Ctx) -> u32 {
     if STUBBED {
         return 0;
     }
-    with_bands(|_, d, g| crate::atlas::draw_job(hash(), false, d, g))
+    with_bands(|_, _, g| crate::atlas::draw_job(hash(), false, g))
 }
 
 /// `scene:<BUILTIN_SCENES[S]>@<K>`: strip `K` of a built-in scene's frame.

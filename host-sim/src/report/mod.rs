@@ -277,9 +277,8 @@ fn host_atlas(what: &str, hash: HashKind, work: bool) -> Option<u32> {
     if what != atlas::SCENE {
         return None;
     }
-    let mut depth = vec![0u16; scenes::BAND_PIXELS];
     let mut bins = vec![texcore::render::GroupRows::EMPTY; scenes::SCENE_GROUPS];
-    Some(atlas::draw_job(hash, work, &mut depth, &mut bins))
+    Some(atlas::draw_job(hash, work, &mut bins))
 }
 
 /// The host's checksum of device job `name` (with or without the `/setup` suffix) for a device
