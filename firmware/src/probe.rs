@@ -216,7 +216,8 @@ mod probe {
             if let Ok(t) = AtlasTriangle::new(0, 0, SIDE, SIDE - 1, leg, 1, half, solid) {
                 let mut ev = tex.evaluator();
                 bake(core::slice::from_ref(&t), &mut ev, |x, y, c| {
-                    if let Some(p) = buf.get_mut(usize::from(y) * usize::from(SIDE) + usize::from(x))
+                    if let Some(p) =
+                        buf.get_mut(usize::from(y) * usize::from(SIDE) + usize::from(x))
                     {
                         *p = c;
                     }

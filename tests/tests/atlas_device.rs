@@ -16,12 +16,10 @@ fn atlas_frame(hash: HashKind) -> (Vec<[u8; 4]>, u32, u32) {
     let baked = atlas::bake_scene(&scene, hash, &mut texels, true);
     let mut bins = vec![GroupRows::EMPTY; scenes::SCENE_GROUPS];
     let mut px = Vec::new();
-    assert!(atlas::draw_scene_rows(
-        &scene,
-        &texels,
-        &mut bins,
-        |row| px.extend(row.iter().map(|p| Rgb565(*p).to_rgba8888().to_array()))
-    ));
+    assert!(atlas::draw_scene_rows(&scene, &texels, &mut bins, |row| px
+        .extend(
+            row.iter().map(|p| Rgb565(*p).to_rgba8888().to_array())
+        )));
     let c = atlas::draw_scene(&scene, &texels, &mut bins);
     (px, c, baked)
 }
@@ -63,7 +61,12 @@ fn device_atlas_frame_resembles_the_procedural_frame() {
     assert_eq!(sink.checksum(), checksum);
     assert_eq!(u64::from(baked), u64::from(atlas::owned_texels(&frame)));
     // Against the procedural frame (the same RGB565 quantisation on both sides).
-    let q = |p: &[u8; 4]| Rgba8888::from_array(*p).to_rgb565().to_rgba8888().to_array();
+    let q = |p: &[u8; 4]| {
+        Rgba8888::from_array(*p)
+            .to_rgb565()
+            .to_rgba8888()
+            .to_array()
+    };
     let proc565: Vec<[u8; 4]> = procedural.pixels.iter().map(q).collect();
     let db = psnr(&px, &proc565);
     let bg = q(&[36, 38, 48, 255]);

@@ -260,8 +260,11 @@ fn scene_files_draw_objects_from_atlases() {
             bunny().replace('\\', "/")
         )
     };
-    std::fs::write(d.join("good.toml"), scene("atlas = { size = 512, sampling = \"bilinear\" }\n"))
-        .unwrap();
+    std::fs::write(
+        d.join("good.toml"),
+        scene("atlas = { size = 512, sampling = \"bilinear\" }\n"),
+    )
+    .unwrap();
     std::fs::write(d.join("bad.toml"), scene("atlas = { size = 500 }\n")).unwrap();
     let png = d.join("good.png");
     let r = texsim(&["render", s(&d.join("good.toml")), "-o", s(&png), "--json"]);

@@ -193,9 +193,8 @@ impl QuadAtlas {
         if all_in(1) {
             return 1;
         }
-        let centroid = [0, 1, 2].map(|j| {
-            ((i64::from(v[0][j]) + i64::from(v[1][j]) + i64::from(v[2][j])) / 3) as i32
-        });
+        let centroid = [0, 1, 2]
+            .map(|j| ((i64::from(v[0][j]) + i64::from(v[1][j]) + i64::from(v[2][j])) / 3) as i32);
         match bary(&self.half_solid(0), centroid) {
             // A small tolerance (1/256): a centroid on the shared diagonal belongs to either.
             Some((b, g)) if b >= -256 && g >= -256 && b + g <= (1 << 16) + 256 => 0,
@@ -261,7 +260,10 @@ pub fn owned_texels(scene: &Scene) -> u32 {
                     let t = layout.triangle(group, *half, idx.map(|i| tex(solid[i & 3])));
                     if let (true, Some(t)) = (live, t) {
                         let (_, y, _, h) = t.block();
-                        n += (y..y + h).filter_map(|j| t.row(j)).map(|r| u32::from(r.1)).sum::<u32>();
+                        n += (y..y + h)
+                            .filter_map(|j| t.row(j))
+                            .map(|r| u32::from(r.1))
+                            .sum::<u32>();
                     }
                 }
             }
@@ -329,7 +331,10 @@ pub fn atlas_checksum(atlas: &AtlasTexels) -> u32 {
 /// The rows a screen triangle can cover in an image `h` rows high (a superset).
 fn triangle_rows(tri: &[ScreenVertex; 3], h: u16) -> Option<(u16, u16)> {
     let ys = tri.map(|v| v.y.to_bits());
-    let (lo, hi) = (ys.iter().min()?.div_euclid(16), ys.iter().max()?.div_euclid(16));
+    let (lo, hi) = (
+        ys.iter().min()?.div_euclid(16),
+        ys.iter().max()?.div_euclid(16),
+    );
     if hi < 0 || lo >= i32::from(h) {
         return None;
     }

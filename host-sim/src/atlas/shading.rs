@@ -116,7 +116,8 @@ mod tests {
 
     #[test]
     fn atlas_shading_is_read_and_bad_values_name_their_line() {
-        let ok = format!("{BASE}shading = \"atlas\"\natlas = {{ size = 256, sampling = \"mip\" }}\n");
+        let ok =
+            format!("{BASE}shading = \"atlas\"\natlas = {{ size = 256, sampling = \"mip\" }}\n");
         let s = scenefile::parse(&ok, "a.toml").unwrap();
         let plan = super::super::scene::atlas_plan(&s).expect("an atlas-shaded object");
         assert_eq!(plan.len(), 1);
@@ -124,11 +125,23 @@ mod tests {
         let none = scenefile::parse(BASE, "a.toml").unwrap();
         assert!(super::super::scene::atlas_plan(&none).is_none());
         for (bad, line, what) in [
-            ("shading = \"atlas\"\natlas = { size = 300 }\n", 12, "atlas.size"),
-            ("shading = \"atlas\"\natlas = { size = 4096 }\n", 12, "atlas.size"),
+            (
+                "shading = \"atlas\"\natlas = { size = 300 }\n",
+                12,
+                "atlas.size",
+            ),
+            (
+                "shading = \"atlas\"\natlas = { size = 4096 }\n",
+                12,
+                "atlas.size",
+            ),
             ("atlas = { size = 256 }\n", 11, "atlas"),
             ("shading = \"baked\"\n", 11, "shading"),
-            ("shading = \"atlas\"\natlas = { sampling = \"cubic\" }\n", 12, "sampling"),
+            (
+                "shading = \"atlas\"\natlas = { sampling = \"cubic\" }\n",
+                12,
+                "sampling",
+            ),
         ] {
             let e = scenefile::parse(&format!("{BASE}{bad}"), "a.toml").unwrap_err();
             let text = e.to_string();
