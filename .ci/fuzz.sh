@@ -19,7 +19,7 @@ seconds="${1:-60}"
 shift || true
 targets=("$@")
 if [ ${#targets[@]} -eq 0 ]; then
-  targets=(scene_file span_eval raster color_filter)
+  targets=(scene_file span_eval raster color_filter mesh)
 fi
 
 rustup toolchain list | grep -q '^nightly' || rustup toolchain install nightly --profile minimal
@@ -27,7 +27,7 @@ command -v cargo-fuzz >/dev/null || cargo +stable install cargo-fuzz --locked
 
 # Sizes past these cover every field the targets read (the scene loader's own limits apply to
 # larger files, but fuzzing them only slows the search).
-declare -A max_len=([scene_file]=8192 [span_eval]=512 [raster]=256 [color_filter]=4096)
+declare -A max_len=([scene_file]=8192 [span_eval]=512 [raster]=256 [color_filter]=4096 [mesh]=8192)
 
 cd fuzz
 echo "-- build (nightly, cargo-fuzz)"
