@@ -100,12 +100,13 @@ impl UniformLayout {
     /// The atlas triangle of half `half` of quad `q` with solid corners `solid` (right angle,
     /// along `u`, along `v`).
     pub fn triangle(&self, q: u32, half: Half, solid: [TexPoint; 3]) -> Option<AtlasTriangle> {
-        if q >= self.quads || self.cols == 0 {
+        if q >= self.quads {
             return None;
         }
         let (w, h) = self.block();
-        let x = (q % u32::from(self.cols)) as u16 * w;
-        let y = (q / u32::from(self.cols)) as u16 * h;
+        let cols = u32::from(self.cols);
+        let x = q.checked_rem(cols)? as u16 * w;
+        let y = q.checked_div(cols)? as u16 * h;
         AtlasTriangle::new(x, y, w, h, self.leg, GUTTER, half, solid).ok()
     }
 }
@@ -238,7 +239,8 @@ fn bary(s: &[[i32; 3]; 3], p: [i32; 3]) -> Option<(i64, i64)> {
     }
     let bn = d[i] * e2[j] - d[j] * e2[i];
     let gn = e1[i] * d[j] - e1[j] * d[i];
-    Some(((bn << 16) / den, (gn << 16) / den))
+    // (`checked_div`: no panic path; `den` is not 0 here and the quotients fit.)
+    Some(((bn << 16).checked_div(den)?, (gn << 16).checked_div(den)?))
 }
 
 /// The layout of `scene`'s quads (every object's, in the scene's group order).
@@ -445,7 +447,7 @@ pub fn draw_scene_rows<O: FnMut(&[u16])>(
                 raster.draw(&v, &d.raster, &mut shade);
             }
         });
-        for row in band.chunks(wu).take(usize::from(y1 - y0)) {
+        for row in band.chunks(wu.max(1)).take(usize::from(y1 - y0)) {
             out(row);
         }
         y0 = y1;
