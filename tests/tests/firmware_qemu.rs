@@ -464,7 +464,7 @@ fn marble_scene_bound(target: DeviceTarget) -> u64 {
 /// Upper bound of the net instructions per frame pixel of `atlas:marble`: the marble scene's
 /// still frame (320 x 240) drawn from its 128 x 128 device atlas (scene walk and binning,
 /// triangle set-up per 24-row band, perspective-correct atlas coordinates, nearest look-ups,
-/// depth test, checksum). Measured at 392.2 (Cortex-M4F) and 531.1 (rv32imc) when the bound was
+/// depth test, checksum). Measured at 392.3 (Cortex-M4F) and 531.9 (rv32imc) when the bound was
 /// set (the goal is 60 / 100: not reached); about 10% of headroom.
 fn atlas_draw_bound(target: DeviceTarget) -> u64 {
     match target {
@@ -475,7 +475,7 @@ fn atlas_draw_bound(target: DeviceTarget) -> u64 {
 
 /// Upper bound of the net instructions per baked texel of `atlas:marble-bake` (15 060 texels,
 /// legs of 4 texels: row spans of at most 6 texels, so the span set-up dominates). Measured at
-/// 3506.0 (Cortex-M4F) and 4894.6 (rv32imc) when the bound was set; about 10% of headroom.
+/// 3508.4 (Cortex-M4F) and 4908.2 (rv32imc) when the bound was set; about 10% of headroom.
 fn atlas_bake_bound(target: DeviceTarget) -> u64 {
     match target {
         DeviceTarget::CortexM4F => 3_860,
