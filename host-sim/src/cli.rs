@@ -378,6 +378,9 @@ fn render(a: &RenderArgs) -> ExitCode {
     if let Some(n) = a.via_atlas {
         return crate::atlas::cli::render_via_atlas(a, &host, n);
     }
+    if let Some(plan) = crate::atlas::scene::atlas_plan(&host) {
+        return crate::atlas::cli::render_planned(a, &host, &plan);
+    }
     let scene = &host.scene;
     let cfg = a.knobs.config();
     let hash = a.knobs.hash();

@@ -120,6 +120,11 @@ pub fn render_frame(
 pub trait FrameHook: Send + Sync {
     /// The scene and one material per slot at `frame` (already taken modulo the frame count).
     fn frame(&self, frame: u32, hash: HashKind) -> Result<(Scene, Vec<MaterialSpec>), UnitError>;
+    /// Per object, whether it is drawn from a baked atlas (`shading = "atlas"` in scene files,
+    /// [`crate::atlas::shading`]); empty: every object procedural.
+    fn atlas_shading(&self) -> Vec<Option<crate::atlas::shading::AtlasShading>> {
+        Vec::new()
+    }
 }
 
 /// A scene as the host renders it: texcore's [`Scene`] and, for scene files, a [`FrameHook`]

@@ -8,6 +8,7 @@
 //! - [`jobs`]: the list the firmware runs, in order;
 //! - [`bench`]: lattice hash, span evaluator and marble benchmarks;
 //! - [`suite`]: the texture-unit suite's job wrappers around [`planes`], [`stages`], [`scenes`];
+//! - `atlas` (feature `atlas`): a built-in scene baked into a texture atlas and drawn from it;
 //! - [`accuracy`]: the accuracy report's configurations and device jobs.
 //!
 //! Uses nothing but `texcore` and `core`: no allocation, no panics on the job paths (the
@@ -20,6 +21,8 @@
 #[cfg(any(feature = "accuracy", feature = "full"))]
 #[allow(missing_docs)]
 pub mod accuracy;
+#[cfg(feature = "atlas")]
+pub mod atlas;
 pub mod bench;
 pub mod job;
 pub mod jobs;

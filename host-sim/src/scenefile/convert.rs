@@ -416,6 +416,8 @@ pub(crate) struct ObjectFx {
     pub cull: CullMode,
     pub depth_test: bool,
     pub depth_write: bool,
+    /// `Some`: drawn from a baked atlas.
+    pub shading: Option<crate::atlas::shading::AtlasShading>,
 }
 
 /// What an animation track drives.
@@ -1287,6 +1289,7 @@ fn object(o: &S<ObjectDef>, field: &str, slot: u8, base: &std::path::Path) -> R<
         },
         depth_test: d.depth_test.as_ref().is_none_or(|b| *b.get_ref()),
         depth_write: d.depth_write.as_ref().is_none_or(|b| *b.get_ref()),
+        shading: crate::atlas::shading::convert(d.shading.as_ref(), d.atlas.as_ref(), field)?,
     })
 }
 

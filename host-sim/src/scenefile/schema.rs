@@ -190,6 +190,8 @@ pub struct ObjectDef {
     pub cull: Option<S<CullDef>>,
     pub depth_test: Option<S<bool>>,
     pub depth_write: Option<S<bool>>,
+    pub shading: Option<S<crate::atlas::shading::ShadingDef>>,
+    pub atlas: Option<S<crate::atlas::shading::AtlasDef>>,
 }
 
 /// The texture mapping of an object.
