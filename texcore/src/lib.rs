@@ -47,6 +47,8 @@ pub mod color;
 pub mod draw;
 pub mod filter;
 pub mod format;
+#[cfg(feature = "lighting")]
+pub mod gouraud;
 pub mod hash;
 #[cfg(feature = "lighting")]
 pub mod light;

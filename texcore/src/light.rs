@@ -319,7 +319,7 @@ pub fn smooth_normals(
 
 /// The unit normal of a counter-clockwise triangle, computed exactly in wide arithmetic (so
 /// small triangles do not round to zero), or `None` when it is degenerate.
-fn face_normal(a: Vec3, b: Vec3, c: Vec3) -> Option<Vec3> {
+pub(crate) fn face_normal(a: Vec3, b: Vec3, c: Vec3) -> Option<Vec3> {
     let u = [(b.x - a.x) as i64, (b.y - a.y) as i64, (b.z - a.z) as i64];
     let v = [(c.x - a.x) as i64, (c.y - a.y) as i64, (c.z - a.z) as i64];
     let w = [

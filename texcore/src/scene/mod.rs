@@ -66,6 +66,8 @@
 
 pub mod builtin;
 pub mod camera;
+#[cfg(feature = "lighting")]
+mod lit;
 pub mod math;
 pub mod mesh;
 pub mod teapot;
@@ -86,6 +88,8 @@ use camera::{CamVertex, ClipOutcome};
 pub const MAX_OBJECTS: usize = 8;
 /// Most texture slots in a scene.
 pub const MAX_SLOTS: usize = 6;
+/// Most lights in a scene (feature `lighting`).
+pub const MAX_LIGHTS: usize = 4;
 
 /// How an object's pixels combine with the frame.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]
@@ -218,6 +222,8 @@ pub enum SceneError {
     TooManyObjects,
     /// The scene already has [`MAX_SLOTS`] texture slots.
     TooManySlots,
+    /// The scene already has its most lights (`MAX_LIGHTS`, feature `lighting`).
+    TooManyLights,
     /// An animation of no frames.
     NoFrames,
     /// The still frame is not one of the animation's frames.
@@ -236,6 +242,7 @@ impl core::fmt::Display for SceneError {
             SceneError::TooManySlots => {
                 write!(f, "a scene has at most {MAX_SLOTS} texture slots")
             }
+            SceneError::TooManyLights => write!(f, "a scene has at most {MAX_LIGHTS} lights"),
             SceneError::NoFrames => f.write_str("an animation has at least 1 frame"),
             SceneError::StillOutOfRange { still, frames } => write!(
                 f,
@@ -268,6 +275,9 @@ pub struct Scene {
     pub slots: heapless::Vec<TextureSlot, MAX_SLOTS>,
     /// The animation (`None`: static).
     pub animate: Option<AnimateFn>,
+    /// The lights (none: the scene is unlit and pays nothing for lighting).
+    #[cfg(feature = "lighting")]
+    lighting: crate::light::Lighting<MAX_LIGHTS>,
 }
 
 impl Scene {
@@ -282,6 +292,8 @@ impl Scene {
             objects: heapless::Vec::new(),
             slots: heapless::Vec::new(),
             animate: None,
+            #[cfg(feature = "lighting")]
+            lighting: crate::light::Lighting::new(),
         }
     }
 
@@ -423,6 +435,18 @@ impl Scene {
         K: FnMut(usize) -> bool,
         F: FnMut(usize, usize, &[ScreenVertex; 3]),
     {
+        self.walk_quads(keep, &mut |g, o, t, _: [(); 3]| f(g, o, t), &())
+    }
+
+    /// The walk of [`Scene::for_each_triangle_by_quad`], with `corner` computing what each
+    /// emitted vertex carries besides its screen position (nothing for `()`: then no work at
+    /// all is done for it). A triangle cut by clipping gets the mean of its input corners'.
+    fn walk_quads<K, F, L>(&self, keep: &mut K, f: &mut F, corner: &L) -> SceneCounters
+    where
+        K: FnMut(usize) -> bool,
+        F: FnMut(usize, usize, &[ScreenVertex; 3], [L::Value; 3]),
+        L: CornerValue,
+    {
         let mut c = SceneCounters::default();
         let view = self.camera.view();
         let mut first_group = 0usize;
@@ -462,6 +486,7 @@ impl Scene {
                 });
                 let oc = cam.map(|v| view.outcodes(&v.p));
                 let mut projected: [Option<(ScreenVertex, u64)>; 4] = [None; 4];
+                let mut values: [Option<L::Value>; 4] = [None; 4];
                 for (tri, live) in halves.iter().zip(live) {
                     if !live {
                         continue;
@@ -477,12 +502,20 @@ impl Scene {
                             *projected[i].get_or_insert_with(|| view.project(&cam[i]))
                         };
                         let t = camera::assemble([p(a), p(b), p(d)]);
+                        let mut v = |i: usize| -> L::Value {
+                            *values[i].get_or_insert_with(|| corner.at(o, &corners, i))
+                        };
+                        let lit = [v(a), v(b), v(d)];
                         c.generated = c.generated.wrapping_add(1);
-                        f(group, index, &t);
+                        f(group, index, &t, lit);
                     } else {
+                        let mut v = |i: usize| -> L::Value {
+                            *values[i].get_or_insert_with(|| corner.at(o, &corners, i))
+                        };
+                        let lit = [L::mean([v(a), v(b), v(d)]); 3];
                         let mut emit = |t: &[ScreenVertex; 3]| {
                             c.generated = c.generated.wrapping_add(1);
-                            f(group, index, t);
+                            f(group, index, t, lit);
                         };
                         let outcome = view.clip_project(&[cam[a], cam[b], cam[d]], &mut emit);
                         match outcome {
@@ -500,6 +533,25 @@ impl Scene {
         }
         c
     }
+}
+
+/// What a scene walk computes for each corner of a mesh quad besides its screen position.
+trait CornerValue {
+    /// The value (`()` for none).
+    type Value: Copy;
+    /// The value of corner `i` of the quad `corners` (object space) of object `o`.
+    fn at(&self, o: &Object, corners: &[Vec3; 4], i: usize) -> Self::Value;
+    /// The value of a vertex made by clipping: the mean of the input triangle's.
+    fn mean(v: [Self::Value; 3]) -> Self::Value;
+}
+
+/// Nothing: the unlit walk.
+impl CornerValue for () {
+    type Value = ();
+    #[inline(always)]
+    fn at(&self, _: &Object, _: &[Vec3; 4], _: usize) {}
+    #[inline(always)]
+    fn mean(_: [(); 3]) {}
 }
 
 #[cfg(test)]
