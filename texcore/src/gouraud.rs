@@ -185,4 +185,193 @@ mod tests {
         sliver.modulate_span(u16::MAX - 8, u16::MAX, &mut px);
         let _ = sliver.at(u16::MAX, u16::MAX);
     }
+
+    // The stage in the renderer.
+    extern crate std;
+    use crate::filter::Antialias;
+    use crate::light::{Light, Lighting};
+    use crate::ready::{Material, PresetName};
+    use crate::render::{FrameBins, GroupRows, RenderStats, Renderer, TriangleSource};
+    use crate::scene::{self, Camera, Mesh, Object, Scene, TextureSlot, Vec3};
+    use crate::sink::RgbaBuffer;
+    use crate::texture::Texture;
+    use std::vec;
+    use std::vec::Vec;
+
+    type Tex = Texture<{ crate::presets::PRESET_TERMS }, 256>;
+
+    fn marble() -> Vec<Tex> {
+        vec![Material::preset(PresetName::Marble)
+            .texture::<256>(Antialias::None)
+            .unwrap()]
+    }
+
+    /// A sphere filling most of a 48 x 48 image, without depth (so it can stream too).
+    fn sphere() -> Scene {
+        let cam = Camera::perspective(
+            Vec3::units(0, 0, 4),
+            Vec3::ZERO,
+            Vec3::Y,
+            scene::focal_from_fov(scene::Angle::from_degrees(40)),
+            ONE / 4,
+            100 * ONE,
+            48,
+            48,
+        );
+        let mut s = Scene::new("lit", cam);
+        s.add_slot(TextureSlot::preset("marble")).unwrap();
+        let mut o = Object::new(Mesh::Sphere {
+            radius: ONE,
+            stacks: 10,
+            slices: 12,
+        });
+        o.cull = crate::raster::CullMode::Clockwise;
+        o.depth_test = false;
+        o.depth_write = false;
+        s.add(o).unwrap();
+        s
+    }
+
+    fn banded<S: TriangleSource>(
+        s: &S,
+        strips: &[core::ops::Range<u16>],
+    ) -> (Vec<Rgba8888>, RenderStats) {
+        let tex = marble();
+        let r = Renderer::new(&tex);
+        let (w, h) = s.size();
+        let mut img = vec![Rgba8888::TRANSPARENT; usize::from(w) * usize::from(h)];
+        let mut sink = RgbaBuffer::new(&mut img, w, 0, h).unwrap();
+        let mut band = vec![Rgba8888::BLACK; usize::from(w) * 8];
+        let mut depth = vec![0u16; usize::from(w) * 8];
+        let mut rows = vec![GroupRows::EMPTY; 256];
+        let mut bins = FrameBins::new(&mut rows);
+        let mut stats = RenderStats::default();
+        for strip in strips {
+            let st = r
+                .render_banded_rows_binned(
+                    s,
+                    strip.clone(),
+                    &mut band,
+                    &mut depth,
+                    8,
+                    &mut bins,
+                    &mut sink,
+                )
+                .unwrap();
+            stats.lit_pixels += st.lit_pixels;
+            stats.shade.span.pixels += st.shade.span.pixels;
+        }
+        (img, stats)
+    }
+
+    fn streamed(s: &Scene) -> (Vec<Rgba8888>, RenderStats) {
+        let tex = marble();
+        let r = Renderer::new(&tex);
+        let (w, h) = s.size();
+        let mut img = vec![Rgba8888::TRANSPARENT; usize::from(w) * usize::from(h)];
+        let mut sink = RgbaBuffer::new(&mut img, w, 0, h).unwrap();
+        let st = r.render_streamed(s, &mut sink).unwrap();
+        (img, st)
+    }
+
+    /// Ambient light only (a light of no colour): every drawn pixel is the unlit one times the
+    /// ambient, exactly; the background is untouched; every shaded pixel is counted as lit.
+    #[test]
+    fn ambient_scales_every_drawn_pixel() {
+        let s = sphere();
+        let (plain, st0) = banded(&s, &[0..48]);
+        assert_eq!(st0.lit_pixels, 0);
+        let mut lit = s.clone();
+        let mut l = Lighting::new().with_ambient([ONE / 2; 3]).unwrap();
+        l.try_add(Light::directional(Vec3::Z, [0; 3], ONE).unwrap())
+            .unwrap();
+        lit.set_lighting(l);
+        let (img, st) = banded(&lit, &[0..48]);
+        assert!(st.lit_pixels > 48 * 48 / 3, "{}", st.lit_pixels);
+        assert_eq!(st.lit_pixels, st.shade.span.pixels);
+        let bg = Rgba8888::from_array(s.background);
+        let mut drawn = 0;
+        for (p, q) in plain.iter().zip(&img) {
+            if *p == bg {
+                assert_eq!(q, p);
+            } else {
+                drawn += 1;
+                let want = crate::light::modulate([p.r, p.g, p.b], [ONE / 2; 3]);
+                assert_eq!([q.r, q.g, q.b, q.a], [want[0], want[1], want[2], p.a]);
+            }
+        }
+        assert!(drawn > 500);
+    }
+
+    /// A light from the left: the left of the sphere is brighter; streamed, banded and banded
+    /// in binned strips give the same pixels.
+    #[test]
+    fn directional_light_shades_the_sphere_the_same_in_every_renderer() {
+        let mut s = sphere();
+        s.add_light(Light::directional(Vec3::new(-ONE, 0, ONE / 2), [ONE; 3], ONE).unwrap())
+            .unwrap();
+        let (img, st) = banded(&s, &[0..48]);
+        let (strips, _) = banded(&s, &[0..13, 13..30, 30..48]);
+        let (stream, sst) = streamed(&s);
+        assert_eq!(img, strips);
+        assert_eq!(img, stream);
+        assert_eq!(st.lit_pixels, sst.lit_pixels);
+        let luma = |x0: usize, x1: usize| -> u32 {
+            (16..32)
+                .flat_map(|y| (x0..x1).map(move |x| (x, y)))
+                .map(|(x, y)| {
+                    let p = img[y * 48 + x];
+                    u32::from(p.r) + u32::from(p.g) + u32::from(p.b)
+                })
+                .sum()
+        };
+        let (left, right) = (luma(12, 20), luma(28, 36));
+        assert!(left > 2 * right, "{left} {right}");
+    }
+
+    /// A scene without lights takes the unlit walk: the lit walk is never asked for, no pixel
+    /// is lit, and the pixels are those of the plain scene.
+    #[test]
+    fn unlit_scene_never_walks_lit() {
+        struct Spy<'a>(&'a Scene, core::cell::Cell<u32>);
+        impl TriangleSource for Spy<'_> {
+            fn size(&self) -> (u16, u16) {
+                self.0.size()
+            }
+            fn background(&self) -> Rgba8888 {
+                TriangleSource::background(self.0)
+            }
+            fn object_count(&self) -> usize {
+                TriangleSource::object_count(self.0)
+            }
+            fn object(&self, i: usize) -> Option<crate::render::DrawObject> {
+                TriangleSource::object(self.0, i)
+            }
+            fn for_each_triangle<F: FnMut(usize, &[ScreenVertex; 3])>(&self, f: F) {
+                TriangleSource::for_each_triangle(self.0, f)
+            }
+            fn is_lit(&self) -> bool {
+                TriangleSource::is_lit(self.0)
+            }
+            fn for_each_lit_triangle_grouped<K, F>(&self, keep: K, f: F)
+            where
+                K: FnMut(usize) -> bool,
+                F: FnMut(usize, usize, &[ScreenVertex; 3], &[LightRgb; 3]),
+            {
+                self.1.set(self.1.get() + 1);
+                TriangleSource::for_each_lit_triangle_grouped(self.0, keep, f)
+            }
+        }
+        let s = sphere();
+        let spy = Spy(&s, core::cell::Cell::new(0));
+        let (img, st) = banded(&spy, &[0..48]);
+        assert_eq!((spy.1.get(), st.lit_pixels), (0, 0));
+        assert_eq!(img, banded(&s, &[0..48]).0);
+        let mut lit = s.clone();
+        lit.add_light(Light::directional(Vec3::Z, [ONE; 3], ONE).unwrap())
+            .unwrap();
+        let spy = Spy(&lit, core::cell::Cell::new(0));
+        let (_, st) = banded(&spy, &[0..48]);
+        assert!(spy.1.get() > 0 && st.lit_pixels > 0);
+    }
 }
