@@ -14,6 +14,7 @@
 
 mod build;
 mod convert;
+mod lights;
 mod limits;
 mod schema;
 
