@@ -359,10 +359,7 @@ impl TriangleSource for crate::scene::Scene {
         let o = self.objects.get(i)?;
         Some(DrawObject {
             texture: usize::from(o.slot),
-            blend: match o.blend {
-                crate::scene::Blend::Opaque => Blend::Opaque,
-                crate::scene::Blend::Over => Blend::Over,
-            },
+            blend: o.blend,
             depth: o.depth_test || o.depth_write,
             raster: o.options(),
         })

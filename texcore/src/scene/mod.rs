@@ -91,16 +91,9 @@ pub const MAX_SLOTS: usize = 6;
 /// Most lights in a scene (feature `lighting`).
 pub const MAX_LIGHTS: usize = 4;
 
-/// How an object's pixels combine with the frame.
-#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]
-#[cfg_attr(feature = "defmt", derive(defmt::Format))]
-pub enum Blend {
-    /// Replace.
-    #[default]
-    Opaque,
-    /// Porter-Duff "over" with the colour table's alpha.
-    Over,
-}
+/// How an object's pixels combine with the frame: the renderer's [`crate::render::Blend`] (one
+/// type for both).
+pub use crate::render::Blend;
 
 /// A material for the renderer: a preset by name and the per-scene parameters that vary.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
