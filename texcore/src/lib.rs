@@ -58,6 +58,7 @@ pub mod material;
 pub mod model;
 #[cfg(feature = "multipass")]
 pub mod multipass;
+pub mod names;
 pub mod noise;
 #[cfg(feature = "atlas")]
 pub mod packed_mesh;
