@@ -137,6 +137,25 @@ type TriLight = crate::gouraud::TriangleLight;
 #[cfg(not(feature = "lighting"))]
 type TriLight = core::convert::Infallible;
 
+/// The lights of a triangle's three vertices (`Q16.16` per channel); without the `lighting`
+/// feature a type with no values, like [`TriLight`].
+#[cfg(feature = "lighting")]
+type VertexLights = [crate::light::LightRgb; 3];
+#[cfg(not(feature = "lighting"))]
+type VertexLights = core::convert::Infallible;
+
+/// The light plane of a triangle from its vertices' lights.
+#[inline(always)]
+fn tri_light(tri: &[ScreenVertex; 3], v: &VertexLights) -> TriLight {
+    #[cfg(feature = "lighting")]
+    return crate::gouraud::TriangleLight::new(tri, v);
+    #[cfg(not(feature = "lighting"))]
+    {
+        let _ = tri;
+        match *v {}
+    }
+}
+
 /// The lighting stage: multiplies the pixels `x..` of row `y` by the triangle's light.
 #[inline(always)]
 fn light_span(light: &TriLight, x: u16, y: u16, px: &mut [Rgba8888]) {
@@ -528,36 +547,40 @@ impl<'t, const T: usize, const N: usize> Renderer<'t, T, N> {
         let mut raster = Rasterizer::new(Rect::from_size(w, h));
         let mut stats = RenderStats::default();
         let mut lit = 0u64;
-        let mut draw = |obj: usize, tri: &[ScreenVertex; 3], light: Option<&TriLight>| {
-            let Some(o) = scene.object(obj) else { return };
-            let mut seg_sink = |seg: &Segment| {
-                shade_segment(
-                    &mut slots,
-                    o.texture,
-                    self.output,
-                    seg,
-                    light,
-                    |x, chunk| {
-                        if light.is_some() {
-                            lit += chunk.len() as u64;
-                        }
-                        sink.write_span(x, seg.y, chunk)
-                    },
-                );
-            };
-            raster.draw(tri, &o.raster, &mut seg_sink);
-        };
+        // As in the banded renderer: one copy per walk, the unlit one without lighting code.
+        macro_rules! draw {
+            ($obj:expr, $tri:expr, $light:expr) => {{
+                let (tri, light): (&[ScreenVertex; 3], Option<&VertexLights>) = ($tri, $light);
+                let Some(o) = scene.object($obj) else { return };
+                let mut plane: Option<TriLight> = None;
+                let mut seg_sink = |seg: &Segment| {
+                    let light = light.map(|v| &*plane.get_or_insert_with(|| tri_light(tri, v)));
+                    shade_segment(
+                        &mut slots,
+                        o.texture,
+                        self.output,
+                        seg,
+                        light,
+                        |x, chunk| {
+                            if light.is_some() {
+                                lit += chunk.len() as u64;
+                            }
+                            sink.write_span(x, seg.y, chunk)
+                        },
+                    );
+                };
+                raster.draw(tri, &o.raster, &mut seg_sink);
+            }};
+        }
         #[cfg(feature = "lighting")]
         if scene.is_lit() {
-            scene.for_each_lit_triangle_grouped(
-                |_| true,
-                |_, obj, tri, l| draw(obj, tri, Some(&TriLight::new(tri, l))),
-            );
+            scene
+                .for_each_lit_triangle_grouped(|_| true, |_, obj, tri, l| draw!(obj, tri, Some(l)));
         } else {
-            scene.for_each_triangle(|obj, tri| draw(obj, tri, None));
+            scene.for_each_triangle(|obj, tri| draw!(obj, tri, None));
         }
         #[cfg(not(feature = "lighting"))]
-        scene.for_each_triangle(|obj, tri| draw(obj, tri, None));
+        scene.for_each_triangle(|obj, tri| draw!(obj, tri, None));
         stats.lit_pixels = lit;
         stats.raster = raster.counters();
         stats.shade = slots_stats(&slots);
@@ -726,8 +749,13 @@ impl<'t, const T: usize, const N: usize> Renderer<'t, T, N> {
                 skipped += u64::from(!take);
                 take
             };
-            let mut draw =
-                |g: usize, obj: usize, tri: &[ScreenVertex; 3], light: Option<&TriLight>| {
+            // The triangle's drawing, stamped out once per walk: the unlit walk's copy has no
+            // lighting code at all (`$light` is `None`), the lit one computes the triangle's
+            // light plane at its first segment (a triangle with none in this band costs nothing).
+            macro_rules! draw {
+                ($g:expr, $obj:expr, $tri:expr, $light:expr) => {{
+                    let (g, tri, light): (usize, &[ScreenVertex; 3], Option<&VertexLights>) =
+                        ($g, $tri, $light);
                     if binning {
                         if let Some(b) = bins.get(g) {
                             if let Some((r0, r1)) = triangle_rows(tri, &image, w) {
@@ -737,8 +765,10 @@ impl<'t, const T: usize, const N: usize> Renderer<'t, T, N> {
                             }
                         }
                     }
-                    let Some(o) = scene.object(obj) else { return };
+                    let Some(o) = scene.object($obj) else { return };
+                    let mut plane: Option<TriLight> = None;
                     let mut seg_sink = |seg: &Segment| {
+                        let light = light.map(|v| &*plane.get_or_insert_with(|| tri_light(tri, v)));
                         shade_segment(
                             &mut slots,
                             o.texture,
@@ -762,17 +792,18 @@ impl<'t, const T: usize, const N: usize> Renderer<'t, T, N> {
                         (true, Some(d)) => raster.draw_depth(tri, &o.raster, d, &mut seg_sink),
                         _ => raster.draw(tri, &o.raster, &mut seg_sink),
                     }
-                };
+                }};
+            }
             #[cfg(feature = "lighting")]
             if scene.is_lit() {
                 scene.for_each_lit_triangle_grouped(keep, |g, obj, tri, l| {
-                    draw(g, obj, tri, Some(&TriLight::new(tri, l)))
+                    draw!(g, obj, tri, Some(l))
                 });
             } else {
-                scene.for_each_triangle_grouped(keep, |g, obj, tri| draw(g, obj, tri, None));
+                scene.for_each_triangle_grouped(keep, |g, obj, tri| draw!(g, obj, tri, None));
             }
             #[cfg(not(feature = "lighting"))]
-            scene.for_each_triangle_grouped(keep, |g, obj, tri| draw(g, obj, tri, None));
+            scene.for_each_triangle_grouped(keep, |g, obj, tri| draw!(g, obj, tri, None));
             stats.blended_pixels += blended;
             stats.lit_pixels += lit;
             stats.skipped_groups += skipped;
