@@ -5,8 +5,8 @@
 //! - A scene without lights is walked exactly as before ([`Scene::is_lit`] is false and the
 //!   renderer takes the unlit walk, which computes no normal and no light).
 //! - Normals: [`crate::light::analytic_normal`] of the object's mesh at each quad corner
-//!   (object space); the teapot, which has no closed form, takes its quad's face normal
-//!   (faceted). Normals go to world space through the object's linear part and are
+//!   (object space); the teapot and loaded (packed) meshes, which have no closed form, take
+//!   their quad's face normal (faceted). Normals go to world space through the object's linear part and are
 //!   renormalised (exact directions for rotations and uniform scales). Lighting is two-sided:
 //!   a normal facing away from the eye is flipped, so a mesh's winding does not matter.
 //! - Integer only: the same lights on every target. A triangle cut by the near, far or
