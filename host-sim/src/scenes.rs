@@ -357,7 +357,7 @@ fn reference_n<const N: usize>(
         };
     if scene.is_lit() {
         scene.for_each_lit_triangle_by_quad(&mut |_| true, &mut |_, o, t, l| {
-            draw(o, t, Some(&TriangleLight::new(t, &l)))
+            draw(o, t, Some(&TriangleLight::new(t, &l())))
         });
     } else {
         scene.for_each_triangle_static(&mut |o, t| draw(o, t, None));

@@ -356,7 +356,7 @@ mod tests {
             fn for_each_lit_triangle_grouped<K, F>(&self, keep: K, f: F)
             where
                 K: FnMut(usize) -> bool,
-                F: FnMut(usize, usize, &[ScreenVertex; 3], &[LightRgb; 3]),
+                F: FnMut(usize, usize, &[ScreenVertex; 3], &dyn Fn() -> [LightRgb; 3]),
             {
                 self.1.set(self.1.get() + 1);
                 TriangleSource::for_each_lit_triangle_grouped(self.0, keep, f)

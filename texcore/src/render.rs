@@ -115,16 +115,17 @@ pub trait TriangleSource {
         false
     }
 
-    /// [`TriangleSource::for_each_triangle_grouped`] with the light at each vertex (`Q16.16`
-    /// per channel, `ONE` = the texture's colour). The provided implementation gives full
-    /// light everywhere.
+    /// [`TriangleSource::for_each_triangle_grouped`] with a function giving the light at each
+    /// vertex of the triangle (`Q16.16` per channel, `ONE` = the texture's colour), which the
+    /// renderer calls only for a triangle that covers a pixel of the band. The provided
+    /// implementation gives full light everywhere.
     #[cfg(feature = "lighting")]
     fn for_each_lit_triangle_grouped<K, F>(&self, keep: K, mut f: F)
     where
         K: FnMut(usize) -> bool,
-        F: FnMut(usize, usize, &[ScreenVertex; 3], &[crate::light::LightRgb; 3]),
+        F: FnMut(usize, usize, &[ScreenVertex; 3], &dyn Fn() -> [crate::light::LightRgb; 3]),
     {
-        let full = [[crate::scene::math::ONE; 3]; 3];
+        let full = || [[crate::scene::math::ONE; 3]; 3];
         self.for_each_triangle_grouped(keep, |g, o, t| f(g, o, t, &full));
     }
 }
@@ -408,9 +409,9 @@ impl TriangleSource for crate::scene::Scene {
     fn for_each_lit_triangle_grouped<K, F>(&self, mut keep: K, mut f: F)
     where
         K: FnMut(usize) -> bool,
-        F: FnMut(usize, usize, &[ScreenVertex; 3], &[crate::light::LightRgb; 3]),
+        F: FnMut(usize, usize, &[ScreenVertex; 3], &dyn Fn() -> [crate::light::LightRgb; 3]),
     {
-        self.for_each_lit_triangle_by_quad(&mut keep, &mut |g, o, t, l| f(g, o, t, &l));
+        self.for_each_lit_triangle_by_quad(&mut keep, &mut f);
     }
 }
 
@@ -550,11 +551,12 @@ impl<'t, const T: usize, const N: usize> Renderer<'t, T, N> {
         // As in the banded renderer: one copy per walk, the unlit one without lighting code.
         macro_rules! draw {
             ($obj:expr, $tri:expr, $light:expr) => {{
-                let (tri, light): (&[ScreenVertex; 3], Option<&VertexLights>) = ($tri, $light);
+                let (tri, light): (&[ScreenVertex; 3], Option<&dyn Fn() -> VertexLights>) =
+                    ($tri, $light);
                 let Some(o) = scene.object($obj) else { return };
                 let mut plane: Option<TriLight> = None;
                 let mut seg_sink = |seg: &Segment| {
-                    let light = light.map(|v| &*plane.get_or_insert_with(|| tri_light(tri, v)));
+                    let light = light.map(|v| &*plane.get_or_insert_with(|| tri_light(tri, &v())));
                     shade_segment(
                         &mut slots,
                         o.texture,
@@ -754,8 +756,11 @@ impl<'t, const T: usize, const N: usize> Renderer<'t, T, N> {
             // light plane at its first segment (a triangle with none in this band costs nothing).
             macro_rules! draw {
                 ($g:expr, $obj:expr, $tri:expr, $light:expr) => {{
-                    let (g, tri, light): (usize, &[ScreenVertex; 3], Option<&VertexLights>) =
-                        ($g, $tri, $light);
+                    let (g, tri, light): (
+                        usize,
+                        &[ScreenVertex; 3],
+                        Option<&dyn Fn() -> VertexLights>,
+                    ) = ($g, $tri, $light);
                     if binning {
                         if let Some(b) = bins.get(g) {
                             if let Some((r0, r1)) = triangle_rows(tri, &image, w) {
@@ -768,7 +773,8 @@ impl<'t, const T: usize, const N: usize> Renderer<'t, T, N> {
                     let Some(o) = scene.object($obj) else { return };
                     let mut plane: Option<TriLight> = None;
                     let mut seg_sink = |seg: &Segment| {
-                        let light = light.map(|v| &*plane.get_or_insert_with(|| tri_light(tri, v)));
+                        let light =
+                            light.map(|v| &*plane.get_or_insert_with(|| tri_light(tri, &v())));
                         shade_segment(
                             &mut slots,
                             o.texture,

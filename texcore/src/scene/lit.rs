@@ -39,8 +39,9 @@ impl Scene {
         self.lighting.is_lit()
     }
 
-    /// [`Scene::for_each_triangle_by_quad`] with each emitted vertex's light (`Q16.16` per
-    /// channel in `[0, ONE]`, see [`Lighting::shade`]).
+    /// [`Scene::for_each_triangle_by_quad`] with a function giving each emitted vertex's light
+    /// (`Q16.16` per channel in `[0, ONE]`, see [`Lighting::shade`]), computed when asked for
+    /// (each quad corner at most once per walk).
     pub fn for_each_lit_triangle_by_quad<K, F>(
         &self,
         keep: &mut K,
@@ -48,7 +49,7 @@ impl Scene {
     ) -> super::SceneCounters
     where
         K: FnMut(usize) -> bool,
-        F: FnMut(usize, usize, &[crate::raster::ScreenVertex; 3], [LightRgb; 3]),
+        F: FnMut(usize, usize, &[crate::raster::ScreenVertex; 3], &dyn Fn() -> [LightRgb; 3]),
     {
         let corner = SceneLight {
             lighting: &self.lighting,
@@ -136,7 +137,7 @@ mod tests {
         let mut lights = Vec::new();
         let c1 = s.for_each_lit_triangle_by_quad(&mut |_| true, &mut |_, o, t, l| {
             lit.push((o, *t));
-            lights.push(l);
+            lights.push(l());
         });
         assert_eq!(c0, c1);
         assert_eq!(plain, lit);
@@ -170,7 +171,7 @@ mod tests {
         let mut bright = 0;
         s.for_each_lit_triangle_by_quad(&mut |_| true, &mut |_, _, _, l| {
             n += 1;
-            bright += usize::from(l[0][0] > ONE / 2);
+            bright += usize::from(l()[0][0] > ONE / 2);
         });
         assert!(n > 100 && bright > n / 4, "{bright} of {n}");
     }

@@ -428,16 +428,22 @@ impl Scene {
         K: FnMut(usize) -> bool,
         F: FnMut(usize, usize, &[ScreenVertex; 3]),
     {
-        self.walk_quads(keep, &mut |g, o, t, _: [(); 3]| f(g, o, t), &())
+        self.walk_quads(
+            keep,
+            &mut |g, o, t, _: &dyn Fn() -> [(); 3]| f(g, o, t),
+            &(),
+        )
     }
 
     /// The walk of [`Scene::for_each_triangle_by_quad`], with `corner` computing what each
-    /// emitted vertex carries besides its screen position (nothing for `()`: then no work at
-    /// all is done for it). A triangle cut by clipping gets the mean of its input corners'.
+    /// emitted vertex carries besides its screen position, on demand: `f` gets a function that
+    /// computes the triangle's three values (each quad corner at most once per walk), so a
+    /// triangle whose values are not asked for costs nothing (nor does anything for `()`). A
+    /// triangle cut by clipping gets the mean of its input corners' values.
     fn walk_quads<K, F, L>(&self, keep: &mut K, f: &mut F, corner: &L) -> SceneCounters
     where
         K: FnMut(usize) -> bool,
-        F: FnMut(usize, usize, &[ScreenVertex; 3], [L::Value; 3]),
+        F: FnMut(usize, usize, &[ScreenVertex; 3], &dyn Fn() -> [L::Value; 3]),
         L: CornerValue,
     {
         let mut c = SceneCounters::default();
@@ -479,7 +485,18 @@ impl Scene {
                 });
                 let oc = cam.map(|v| view.outcodes(&v.p));
                 let mut projected: [Option<(ScreenVertex, u64)>; 4] = [None; 4];
-                let mut values: [Option<L::Value>; 4] = [None; 4];
+                let values: [core::cell::Cell<Option<L::Value>>; 4] = Default::default();
+                let v = |i: usize| -> L::Value {
+                    let cell = &values[i & 3];
+                    match cell.get() {
+                        Some(x) => x,
+                        None => {
+                            let x = corner.at(o, &corners, i);
+                            cell.set(Some(x));
+                            x
+                        }
+                    }
+                };
                 for (tri, live) in halves.iter().zip(live) {
                     if !live {
                         continue;
@@ -495,20 +512,13 @@ impl Scene {
                             *projected[i].get_or_insert_with(|| view.project(&cam[i]))
                         };
                         let t = camera::assemble([p(a), p(b), p(d)]);
-                        let mut v = |i: usize| -> L::Value {
-                            *values[i].get_or_insert_with(|| corner.at(o, &corners, i))
-                        };
-                        let lit = [v(a), v(b), v(d)];
                         c.generated = c.generated.wrapping_add(1);
-                        f(group, index, &t, lit);
+                        f(group, index, &t, &|| [v(a), v(b), v(d)]);
                     } else {
-                        let mut v = |i: usize| -> L::Value {
-                            *values[i].get_or_insert_with(|| corner.at(o, &corners, i))
-                        };
-                        let lit = [L::mean([v(a), v(b), v(d)]); 3];
+                        let lit = || [L::mean([v(a), v(b), v(d)]); 3];
                         let mut emit = |t: &[ScreenVertex; 3]| {
                             c.generated = c.generated.wrapping_add(1);
-                            f(group, index, t, lit);
+                            f(group, index, t, &lit);
                         };
                         let outcome = view.clip_project(&[cam[a], cam[b], cam[d]], &mut emit);
                         match outcome {
