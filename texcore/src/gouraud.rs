@@ -64,6 +64,7 @@ impl TriangleLight {
             return TriangleLight::flat(mean);
         }
         let mut out = TriangleLight::flat(light[0]);
+        #[allow(clippy::needless_range_loop)] // `c` indexes four arrays in step
         for c in 0..3 {
             let l0 = i128::from(light[0][c]);
             let (dl1, dl2) = (i128::from(light[1][c]) - l0, i128::from(light[2][c]) - l0);
@@ -98,8 +99,8 @@ impl TriangleLight {
             p.g = modulate_channel(p.g, to_q16(l[1]));
             p.b = modulate_channel(p.b, to_q16(l[2]));
             // Exact: x stays below 2^16 within a row, so no step overflows.
-            for c in 0..3 {
-                l[c] += self.bx[c];
+            for (lc, bx) in l.iter_mut().zip(self.bx) {
+                *lc += bx;
             }
         }
     }
@@ -198,6 +199,9 @@ mod tests {
     use std::vec;
     use std::vec::Vec;
 
+    /// The whole 48-row image as one strip.
+    const WHOLE: &[core::ops::Range<u16>] = &[0..48, 48..48];
+
     type Tex = Texture<{ crate::presets::PRESET_TERMS }, 256>;
 
     fn marble() -> Vec<Tex> {
@@ -279,14 +283,14 @@ mod tests {
     #[test]
     fn ambient_scales_every_drawn_pixel() {
         let s = sphere();
-        let (plain, st0) = banded(&s, &[0..48]);
+        let (plain, st0) = banded(&s, WHOLE);
         assert_eq!(st0.lit_pixels, 0);
         let mut lit = s.clone();
         let mut l = Lighting::new().with_ambient([ONE / 2; 3]).unwrap();
         l.try_add(Light::directional(Vec3::Z, [0; 3], ONE).unwrap())
             .unwrap();
         lit.set_lighting(l);
-        let (img, st) = banded(&lit, &[0..48]);
+        let (img, st) = banded(&lit, WHOLE);
         assert!(st.lit_pixels > 48 * 48 / 3, "{}", st.lit_pixels);
         assert_eq!(st.lit_pixels, st.shade.span.pixels);
         let bg = Rgba8888::from_array(s.background);
@@ -310,7 +314,7 @@ mod tests {
         let mut s = sphere();
         s.add_light(Light::directional(Vec3::new(-ONE, 0, ONE / 2), [ONE; 3], ONE).unwrap())
             .unwrap();
-        let (img, st) = banded(&s, &[0..48]);
+        let (img, st) = banded(&s, WHOLE);
         let (strips, _) = banded(&s, &[0..13, 13..30, 30..48]);
         let (stream, sst) = streamed(&s);
         assert_eq!(img, strips);
@@ -364,14 +368,14 @@ mod tests {
         }
         let s = sphere();
         let spy = Spy(&s, core::cell::Cell::new(0));
-        let (img, st) = banded(&spy, &[0..48]);
+        let (img, st) = banded(&spy, WHOLE);
         assert_eq!((spy.1.get(), st.lit_pixels), (0, 0));
-        assert_eq!(img, banded(&s, &[0..48]).0);
+        assert_eq!(img, banded(&s, WHOLE).0);
         let mut lit = s.clone();
         lit.add_light(Light::directional(Vec3::Z, [ONE; 3], ONE).unwrap())
             .unwrap();
         let spy = Spy(&lit, core::cell::Cell::new(0));
-        let (_, st) = banded(&spy, &[0..48]);
+        let (_, st) = banded(&spy, WHOLE);
         assert!(spy.1.get() > 0 && st.lit_pixels > 0);
     }
 }
