@@ -22,6 +22,9 @@ for target in x86_64-unknown-linux-gnu thumbv7em-none-eabihf riscv32imc-unknown-
   done
   echo "-- $target: full,atlas,defmt,embedded-graphics"
   RUSTFLAGS="-D warnings" cargo check -q -p texcore --features "full,atlas,defmt,embedded-graphics" --target "$target"
+  # Lighting with the loaded meshes (their face normals) and defmt.
+  echo "-- $target: lighting,atlas,defmt"
+  RUSTFLAGS="-D warnings" cargo check -q -p texcore --no-default-features --features "lighting,atlas,defmt" --target "$target"
   echo "-- $target: full,multipass,defmt"
   RUSTFLAGS="-D warnings" cargo check -q -p texcore --features "full,multipass,defmt" --target "$target"
 done

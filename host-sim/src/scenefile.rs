@@ -14,6 +14,7 @@
 
 mod build;
 pub(crate) mod convert;
+mod lights;
 mod limits;
 pub(crate) mod schema;
 

@@ -36,6 +36,9 @@ pub struct FileDef {
     pub objects: Vec<S<ObjectDef>>,
     #[serde(default)]
     pub animate: Vec<S<TrackDef>>,
+    pub lighting: Option<S<super::lights::LightingDef>>,
+    #[serde(default)]
+    pub lights: Vec<S<super::lights::LightDef>>,
 }
 
 #[derive(Clone, Copy, Debug, Deserialize, PartialEq, Eq)]
