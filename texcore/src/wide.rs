@@ -178,6 +178,89 @@ impl Reciprocal64 {
     }
 }
 
+/// A divisor below 2^32 prepared once for many exact divisions by it: [`Reciprocal64`] in 32-bit
+/// words (the doubled area of every triangle smaller than about 4000 pixels on a side fits), so
+/// each quotient digit is one 32 x 32 -> 64-bit multiplication and at most two corrections, and
+/// the leading zero words of a numerator cost nothing (a plane numerator of a small triangle has
+/// two or three significant words, not four).
+/// (Not used by the size-lean shape, whose set-up divides with [`div_rem_euclid_i128`].)
+#[derive(Clone, Copy, Debug)]
+#[cfg_attr(texcore_lean, allow(dead_code))]
+pub(crate) struct Reciprocal32 {
+    /// The divisor shifted left until its top bit is set.
+    d: u32,
+    /// `floor((2^64 - 1) / d) - 2^32`.
+    v: u32,
+    /// The shift.
+    s: u32,
+}
+
+#[cfg_attr(texcore_lean, allow(dead_code))]
+impl Reciprocal32 {
+    /// The reciprocal of `d` (`None` for 0).
+    pub(crate) fn new(d: u32) -> Option<Reciprocal32> {
+        if d == 0 {
+            return None;
+        }
+        let s = d.leading_zeros();
+        let d = d << s;
+        // floor(((2^32 - 1 - d) 2^32 + 2^32 - 1) / d); !d < 2^31 <= d, as the long division needs.
+        let (v, _) = div_rem_below_u32(!d, u32::MAX, d);
+        Some(Reciprocal32 { d, v, s })
+    }
+
+    /// `(u1:u0 / d, u1:u0 % d)` of the normalised divisor, for `u1 < d`.
+    #[inline(always)]
+    fn div_2by1(&self, u1: u32, u0: u32) -> (u32, u32) {
+        let d = self.d;
+        let q =
+            (u64::from(self.v) * u64::from(u1)).wrapping_add((u64::from(u1) << 32) | u64::from(u0));
+        let (mut q1, q0) = (((q >> 32) as u32).wrapping_add(1), q as u32);
+        let mut r = u0.wrapping_sub(q1.wrapping_mul(d));
+        if r > q0 {
+            q1 = q1.wrapping_sub(1);
+            r = r.wrapping_add(d);
+        }
+        if r >= d {
+            q1 = q1.wrapping_add(1);
+            r -= d;
+        }
+        (q1, r)
+    }
+
+    /// `(n / d, n % d)` of the original divisor.
+    pub(crate) fn div_rem(&self, n: u128) -> (u128, u32) {
+        let s = self.s;
+        // n << s as five words; the top one is below 2^s <= 2^31 <= d.
+        let (top, m) = if s == 0 {
+            (0, n)
+        } else {
+            ((n >> (128 - s)) as u32, n << s)
+        };
+        let words = [
+            (m >> 96) as u32,
+            (m >> 64) as u32,
+            (m >> 32) as u32,
+            m as u32,
+        ];
+        // Leading zero words (with a zero top word) give zero quotient digits and leave the
+        // remainder 0: skipped.
+        let skip = if top == 0 {
+            (m.leading_zeros() / 32) as usize
+        } else {
+            0
+        };
+        let mut r = top;
+        let mut q = 0u128;
+        for &w in words.iter().skip(skip) {
+            let (qd, rd) = self.div_2by1(r, w);
+            q = (q << 32) | u128::from(qd);
+            r = rd;
+        }
+        (q, r >> s)
+    }
+}
+
 /// `(n / d, n % d)` for a 64-bit `n` and a divisor below 2^32 (`None` for `d == 0`): two steps of
 /// [`div_rem_below_u32`] on the 32-bit hardware divide instead of the 64-bit library division
 /// ([`short_div`] unrolled for two words: the per-projected-vertex and per-perspective-point
@@ -533,6 +616,42 @@ mod tests {
         assert!(Reciprocal64::new(0).is_none());
     }
 
+    #[test]
+    fn reciprocal32_edges() {
+        for d in [
+            1u32,
+            2,
+            3,
+            7,
+            1 << 16,
+            (1 << 31) - 1,
+            1 << 31,
+            u32::MAX - 1,
+            u32::MAX,
+        ] {
+            let r = Reciprocal32::new(d).expect("non-zero");
+            for n in [
+                0u128,
+                1,
+                u128::from(d) - 1,
+                u128::from(d),
+                u128::from(d) << 32,
+                (u128::from(d) << 96) - 1,
+                u128::from(u64::MAX),
+                u128::MAX,
+                u128::MAX - 1,
+                1 << 127,
+            ] {
+                assert_eq!(
+                    r.div_rem(n),
+                    (n / u128::from(d), (n % u128::from(d)) as u32),
+                    "{n} / {d}"
+                );
+            }
+        }
+        assert!(Reciprocal32::new(0).is_none());
+    }
+
     proptest::proptest! {
         #[test]
         fn reciprocal_matches_native(n in proptest::prelude::any::<u128>(), d in 1u64.., shift in 0u32..64, nshift in 0u32..128) {
@@ -540,6 +659,16 @@ mod tests {
                 let r = Reciprocal64::new(d).expect("non-zero");
                 for n in [n, n >> nshift] {
                     proptest::prop_assert_eq!(r.div_rem(n), (n / u128::from(d), (n % u128::from(d)) as u64));
+                }
+            }
+        }
+
+        #[test]
+        fn reciprocal32_matches_native(n in proptest::prelude::any::<u128>(), d in 1u32.., shift in 0u32..32, nshift in 0u32..128) {
+            for d in [d, (d >> shift).max(1)] {
+                let r = Reciprocal32::new(d).expect("non-zero");
+                for n in [n, n >> nshift] {
+                    proptest::prop_assert_eq!(r.div_rem(n), (n / u128::from(d), (n % u128::from(d)) as u32));
                 }
             }
         }

@@ -30,7 +30,7 @@ use super::{
 };
 use crate::wide::mul_wide;
 #[cfg(not(texcore_lean))]
-use crate::wide::Reciprocal64;
+use crate::wide::{Reciprocal32, Reciprocal64};
 
 /// Why a triangle was not set up.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
@@ -62,7 +62,9 @@ pub(crate) struct Plane {
 /// `round(n / area2)` (half up, as [`div_round_i128`]) for the many plane numerators of one
 /// triangle: the doubled area's reciprocal is prepared once (`area2` is below 2^63 in magnitude
 /// inside the guard band), so each rounding division is a few multiplications instead of a long
-/// division. Gives exactly [`div_round_i128`]'s result.
+/// division: a reciprocal in 32-bit words when `|area2| < 2^32` (every triangle below about 4000
+/// pixels on a side: one 32 x 32-bit product a significant numerator word), in 64-bit words
+/// otherwise. Gives exactly [`div_round_i128`]'s result.
 ///
 /// The size-lean shape (`cfg(texcore_lean)`) prepares no reciprocal and divides each numerator
 /// with [`div_round_i128`] itself (the reference the tests compare the reciprocal path with):
@@ -70,9 +72,24 @@ pub(crate) struct Plane {
 #[derive(Clone, Copy, Debug)]
 struct AreaDivisor {
     area2: i128,
-    /// `|area2|` and its reciprocal (`None` only past 64 bits: then [`div_round_i128`]).
+    /// `|area2|` (when it fits 64 bits).
     #[cfg(not(texcore_lean))]
-    recip: Option<(i128, Reciprocal64)>,
+    mag: u64,
+    /// The reciprocal of `|area2|`.
+    #[cfg(not(texcore_lean))]
+    recip: AreaRecip,
+}
+
+/// The reciprocal of a doubled area, by its width.
+#[cfg(not(texcore_lean))]
+#[derive(Clone, Copy, Debug)]
+enum AreaRecip {
+    /// `|area2| < 2^32`.
+    Narrow(Reciprocal32),
+    /// `2^32 <= |area2| < 2^64`.
+    Wide(Reciprocal64),
+    /// Zero or past 64 bits: [`div_round_i128`].
+    None,
 }
 
 impl AreaDivisor {
@@ -90,37 +107,47 @@ impl AreaDivisor {
 
     #[cfg(not(texcore_lean))]
     fn new(area2: i128) -> AreaDivisor {
-        let recip = u64::try_from(area2.unsigned_abs())
-            .ok()
-            .and_then(Reciprocal64::new)
-            .map(|r| (area2.saturating_abs(), r));
-        AreaDivisor { area2, recip }
+        let mag = u64::try_from(area2.unsigned_abs()).ok();
+        let recip = match mag {
+            Some(m) => match u32::try_from(m) {
+                Ok(m32) => Reciprocal32::new(m32).map(AreaRecip::Narrow),
+                Err(_) => Reciprocal64::new(m).map(AreaRecip::Wide),
+            },
+            None => None,
+        };
+        AreaDivisor {
+            area2,
+            mag: mag.unwrap_or(0),
+            recip: recip.unwrap_or(AreaRecip::None),
+        }
     }
 
     /// `round(n / area2)`, ties up, exactly as `div_round_i128(n, area2)`.
     #[cfg(not(texcore_lean))]
     #[inline]
     fn div_round(&self, n: i128) -> i128 {
-        let Some((d, r)) = self.recip else {
-            return div_round_i128(n, self.area2);
-        };
         // As div_round_i128: a negative divisor negates both (saturating).
-        let n = if self.area2 < 0 {
+        let nn = if self.area2 < 0 {
             n.saturating_neg()
         } else {
             n
         };
-        let (qm, rm) = r.div_rem(n.unsigned_abs());
-        // The Euclidean quotient and remainder by d > 0 from the magnitudes; |q| <= 2^127 wraps
-        // like the shared division (only n = i128::MIN, d = 1).
-        let (q, rem) = if n >= 0 || rm == 0 {
+        let (qm, rm) = match self.recip {
+            AreaRecip::Narrow(r) => {
+                let (q, r) = r.div_rem(nn.unsigned_abs());
+                (q, u64::from(r))
+            }
+            AreaRecip::Wide(r) => r.div_rem(nn.unsigned_abs()),
+            AreaRecip::None => return div_round_i128(n, self.area2),
+        };
+        let d = self.mag;
+        // The Euclidean quotient and remainder by d > 0 from the magnitudes (rm < d); |q| <= 2^127
+        // wraps like the shared division (only n = i128::MIN, d = 1).
+        let (q, rem) = if nn >= 0 || rm == 0 {
             let q = qm as i128;
-            (if n >= 0 { q } else { q.wrapping_neg() }, i128::from(rm))
+            (if nn >= 0 { q } else { q.wrapping_neg() }, rm)
         } else {
-            (
-                (qm as i128).wrapping_neg().wrapping_sub(1),
-                d - i128::from(rm),
-            )
+            ((qm as i128).wrapping_neg().wrapping_sub(1), d - rm)
         };
         if rem >= d - rem {
             q.saturating_add(1)
