@@ -230,30 +230,36 @@ impl Reciprocal32 {
 
     /// `(n / d, n % d)` of the original divisor.
     pub(crate) fn div_rem(&self, n: u128) -> (u128, u32) {
-        let s = self.s;
-        // n << s as five words; the top one is below 2^s <= 2^31 <= d.
-        let (top, m) = if s == 0 {
-            (0, n)
-        } else {
-            ((n >> (128 - s)) as u32, n << s)
-        };
-        let words = [
-            (m >> 96) as u32,
-            (m >> 64) as u32,
-            (m >> 32) as u32,
-            m as u32,
+        let (d, s) = (self.d, self.s);
+        let w = [
+            (n >> 96) as u32,
+            (n >> 64) as u32,
+            (n >> 32) as u32,
+            n as u32,
         ];
-        // Leading zero words (with a zero top word) give zero quotient digits and leave the
-        // remainder 0: skipped.
-        let skip = if top == 0 {
-            (m.leading_zeros() / 32) as usize
-        } else {
-            0
-        };
-        let mut r = top;
+        // n << s as five 32-bit words, top first (word shifts only: 128-bit shifts by a variable
+        // amount are slow on 32-bit cores); `(y >> 1) >> (31 - s)` is `y >> (32 - s)`, 0 for s = 0.
+        let join = |x: u32, y: u32| (x << s) | ((y >> 1) >> (31 - s));
+        let sh = [
+            join(0, w[0]),
+            join(w[0], w[1]),
+            join(w[1], w[2]),
+            join(w[2], w[3]),
+            w[3] << s,
+        ];
+        // Leading zero words give zero quotient digits, and so does the first non-zero word when
+        // it is below d (it becomes the remainder): skipped.
+        let mut i = sh.iter().take_while(|&&x| x == 0).count();
+        let mut r = 0;
+        if let Some(&x) = sh.get(i) {
+            if x < d {
+                r = x;
+                i += 1;
+            }
+        }
         let mut q = 0u128;
-        for &w in words.iter().skip(skip) {
-            let (qd, rd) = self.div_2by1(r, w);
+        for &x in sh.get(i..).unwrap_or(&[]) {
+            let (qd, rd) = self.div_2by1(r, x);
             q = (q << 32) | u128::from(qd);
             r = rd;
         }
