@@ -248,20 +248,24 @@ impl Reciprocal32 {
             w[3] << s,
         ];
         // Leading zero words give zero quotient digits, and so does the first non-zero word when
-        // it is below d (it becomes the remainder): skipped.
-        let mut i = sh.iter().take_while(|&&x| x == 0).count();
+        // it is below d (it becomes the remainder): skipped. (An unrolled loop over registers;
+        // the words are not indexed through memory.)
+        let zeros = sh.iter().take_while(|&&x| x == 0).count();
+        let mut start = zeros;
         let mut r = 0;
-        if let Some(&x) = sh.get(i) {
-            if x < d {
+        for (i, &x) in sh.iter().enumerate() {
+            if i == zeros && x < d {
                 r = x;
-                i += 1;
+                start = zeros + 1;
             }
         }
         let mut q = 0u128;
-        for &x in sh.get(i..).unwrap_or(&[]) {
-            let (qd, rd) = self.div_2by1(r, x);
-            q = (q << 32) | u128::from(qd);
-            r = rd;
+        for (i, &x) in sh.iter().enumerate() {
+            if i >= start {
+                let (qd, rd) = self.div_2by1(r, x);
+                q = (q << 32) | u128::from(qd);
+                r = rd;
+            }
         }
         (q, r >> s)
     }
