@@ -67,7 +67,7 @@ pub struct Rendered {
     pub stats: RenderStats,
 }
 
-fn render_n<const N: usize>(
+pub(crate) fn render_n<const N: usize>(
     scene: &Scene,
     materials: &[MaterialSpec],
     cfg: &UnitConfig,
