@@ -24,6 +24,7 @@ probe_sets=(
   "perturb|perturb|release-size"
   "render|render|release-size"
   "multipass|fd,multipass|release-size"
+  "atlas|atlas|release-size"
   "full|full,perm-hash|release-size"
   "full-fast|full,perm-hash|release"
 )

@@ -6,7 +6,8 @@
 //! loaded at run time, so every code path the compiled-in features allow stays reachable: every
 //! noise basis, every evaluation mode, every colour filter), shades a 64 x 64 check plane into a
 //! `ChecksumSink`, and with feature `render` also renders a scene through the banded renderer
-//! (perspective, depth test, alpha blending). It exits through semihosting with status 0, so it
+//! (perspective, depth test, alpha blending), and with feature `atlas` bakes and samples a small
+//! texture atlas (`texcore::atlas`, `texcore::packed_mesh`). It exits through semihosting with status 0, so it
 //! also runs under QEMU (`firmware/qemu-run.sh`).
 //!
 //! Which texcore features are compiled in is the size report's feature set (`--no-default-features
@@ -186,12 +187,81 @@ mod probe {
         0
     }
 
+    /// With feature `atlas`: a packed mesh validated and walked, a two-triangle atlas baked with
+    /// the texture (`texcore::atlas::bake`), its MIP pyramid built and the 64 x 64 plane read
+    /// back with nearest, bilinear and MIP look-ups (every atlas kernel a product would link).
+    #[cfg(feature = "atlas")]
+    fn atlas(tex: &Texture<T, N>) -> u32 {
+        use texcore::atlas::sample::{build_mip, AtlasImage, MipAtlas};
+        use texcore::atlas::{bake, AtlasTriangle, Half};
+        use texcore::packed_mesh::PackedMesh;
+
+        const SIDE: u16 = 32;
+        const LEVELS: usize = 32 * 32 + 16 * 16 + 8 * 8 + 4 * 4 + 2 * 2 + 1;
+        let mut acc = 0u32;
+        let bytes = black_box([0u8; 64]);
+        if let Ok(m) = PackedMesh::new(&bytes) {
+            for t in m.triangles() {
+                acc ^= t[0].x as u32 ^ t[1].y as u32 ^ t[2].z as u32;
+            }
+        }
+        let solid = black_box([
+            TexPoint::from_bits(0, 0, 0),
+            TexPoint::from_bits(1 << 16, 0, 0),
+            TexPoint::from_bits(0, 1 << 16, 0),
+        ]);
+        let mut buf = [Rgba8888::TRANSPARENT; LEVELS];
+        for half in [Half::Upper, Half::Lower] {
+            let leg = black_box(SIDE - 4);
+            if let Ok(t) = AtlasTriangle::new(0, 0, SIDE, SIDE - 1, leg, 1, half, solid) {
+                let mut ev = tex.evaluator();
+                bake(core::slice::from_ref(&t), &mut ev, |x, y, c| {
+                    if let Some(p) =
+                        buf.get_mut(usize::from(y) * usize::from(SIDE) + usize::from(x))
+                    {
+                        *p = c;
+                    }
+                });
+            }
+        }
+        if build_mip(&mut buf, SIDE).is_err() {
+            return acc;
+        }
+        let mut sink = ChecksumSink::new();
+        if let (Ok(img), Ok(mip)) = (
+            AtlasImage::new(&buf[..usize::from(SIDE) * usize::from(SIDE)], SIDE, SIDE),
+            MipAtlas::new(&buf, SIDE),
+        ) {
+            for y in 0..64i32 {
+                for x in 0..64i32 {
+                    let (u, v) = (black_box(x << 15), black_box(y << 15));
+                    for c in [
+                        img.nearest(u, v),
+                        img.bilinear(u, v),
+                        mip.trilinear(u, v, black_box(3 << 15), u8::MAX),
+                    ] {
+                        sink.add_rgb565(c.to_rgb565().to_bits());
+                    }
+                }
+            }
+        }
+        acc ^ sink.checksum()
+    }
+
+    #[cfg(not(feature = "atlas"))]
+    fn atlas(_: &Texture<T, N>) -> u32 {
+        0
+    }
+
     pub fn run() -> u32 {
         let Some(tex) = texture() else {
             return 0;
         };
         let tex = black_box(&tex);
-        black_box(shade(tex)) ^ black_box(render(tex)) ^ black_box(TEXCORE_PROBE_SIZES[0])
+        black_box(shade(tex))
+            ^ black_box(render(tex))
+            ^ black_box(atlas(tex))
+            ^ black_box(TEXCORE_PROBE_SIZES[0])
     }
 }
 

@@ -378,6 +378,9 @@ fn render(a: &RenderArgs) -> ExitCode {
     if let Some(n) = a.via_atlas {
         return crate::atlas::cli::render_via_atlas(a, &host, n);
     }
+    if let Some(plan) = crate::atlas::scene::atlas_plan(&host) {
+        return crate::atlas::cli::render_planned(a, &host, &plan);
+    }
     let scene = &host.scene;
     let cfg = a.knobs.config();
     let hash = a.knobs.hash();
@@ -617,7 +620,8 @@ fn check_supersampled(
         let _ = writeln!(
             out,
             "{}: {}x{} pixels, frame {}, against {n}x{n} supersampled truth: filtered PSNR {:.2} dB, \
-             unfiltered {:.2} dB ({:+.2} dB), longest flat band {} rows ({} flat rows; unfiltered {})",
+             unfiltered {:.2} dB ({:+.2} dB), longest flat band {} rows ({} flat rows; unfiltered {}); \
+             on the scale: unfiltered without culling {:.2} dB, 2x2 supersampled {:.2} dB, 4x4 {:.2} dB",
             r.name,
             r.width,
             r.height,
@@ -627,7 +631,10 @@ fn check_supersampled(
             r.gain_db,
             r.longest_flat_band,
             r.flat_rows,
-            r.longest_flat_band_unfiltered
+            r.longest_flat_band_unfiltered,
+            r.psnr_unfiltered_no_cull,
+            r.psnr_supersampled_2x2,
+            r.psnr_supersampled_4x4
         );
     }
     ExitCode::SUCCESS

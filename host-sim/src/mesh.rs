@@ -314,8 +314,12 @@ pub fn load_obj(name: &str, bytes: &[u8]) -> Result<TriMesh, MeshError> {
         err(Location::Line(line), "not UTF-8 text".into())
     })?;
     // A first pass finds the line of every vertex and face and checks their syntax, so that
-    // every later problem can name its line.
+    // every later problem can name its line, and writes the text tobj parses: vertex positions
+    // and faces of absolute position indices only. tobj never sees an index this pass has not
+    // checked (its own resolution of relative texture-coordinate indices overflows on some).
     let mut vertex_lines = Vec::new();
+    let (mut texcoords, mut normals) = (0i64, 0i64);
+    let mut clean = String::with_capacity(text.len());
     let mut face_lines: Vec<usize> = Vec::new(); // one entry per triangle
     for (n, raw) in text.lines().enumerate() {
         let line = n + 1;
@@ -343,6 +347,9 @@ pub fn load_obj(name: &str, bytes: &[u8]) -> Result<TriMesh, MeshError> {
                         ));
                     }
                 }
+                clean.push_str("v ");
+                clean.push_str(&coords[..3].join(" "));
+                clean.push('\n');
                 vertex_lines.push(line);
                 if vertex_lines.len() > MAX_VERTICES {
                     return Err(err(
@@ -359,20 +366,32 @@ pub fn load_obj(name: &str, bytes: &[u8]) -> Result<TriMesh, MeshError> {
                         "a face needs three corners".into(),
                     ));
                 }
+                clean.push('f');
                 for c in &corners {
-                    let first = c.split('/').next().unwrap_or("");
-                    let i: i64 = first
-                        .parse()
-                        .map_err(|_| err(Location::Line(line), format!("bad face index {c:?}")))?;
-                    let n = vertex_lines.len() as i64;
-                    let resolved = if i < 0 { n + i + 1 } else { i };
-                    if i == 0 || resolved < 1 || resolved > n {
+                    let mut parts = c.split('/');
+                    let first = parts.next().unwrap_or("");
+                    let resolved = obj_index(first, vertex_lines.len() as i64, "vertex")
+                        .map_err(|m| err(Location::Line(line), format!("{m} in {c:?}")))?;
+                    // Texture coordinate and normal (ignored, but checked): empty or in range.
+                    for (part, count, what) in [
+                        (parts.next(), texcoords, "texture coordinate"),
+                        (parts.next(), normals, "normal"),
+                    ] {
+                        if let Some(p) = part.filter(|p| !p.is_empty()) {
+                            obj_index(p, count, what)
+                                .map_err(|m| err(Location::Line(line), format!("{m} in {c:?}")))?;
+                        }
+                    }
+                    if parts.next().is_some() {
                         return Err(err(
                             Location::Line(line),
-                            format!("vertex index {i} out of range ({n} vertices so far)"),
+                            format!("bad face corner {c:?} (more than v/vt/vn)"),
                         ));
                     }
+                    clean.push(' ');
+                    clean.push_str(&resolved.to_string());
                 }
+                clean.push('\n');
                 for _ in 2..corners.len() {
                     face_lines.push(line);
                 }
@@ -383,6 +402,8 @@ pub fn load_obj(name: &str, bytes: &[u8]) -> Result<TriMesh, MeshError> {
                     ));
                 }
             }
+            Some("vt") => texcoords += 1,
+            Some("vn") => normals += 1,
             _ => {}
         }
     }
@@ -391,7 +412,7 @@ pub fn load_obj(name: &str, bytes: &[u8]) -> Result<TriMesh, MeshError> {
         single_index: false,
         ..Default::default()
     };
-    let (models, _) = tobj::load_obj_buf(&mut std::io::Cursor::new(bytes), &opts, |_| {
+    let (models, _) = tobj::load_obj_buf(&mut std::io::Cursor::new(clean), &opts, |_| {
         Err(tobj::LoadError::OpenFileFailed)
     })
     .map_err(|e| err(Location::File, format!("malformed OBJ: {e}")))?;
@@ -423,6 +444,25 @@ pub fn load_obj(name: &str, bytes: &[u8]) -> Result<TriMesh, MeshError> {
             .get(t)
             .map_or(Location::File, |&l| Location::Line(l))
     })
+}
+
+/// Resolves an OBJ index (`1..=count`, or `-1` for the last so far) against `count` items of
+/// its kind read so far; `Err` says why not.
+fn obj_index(word: &str, count: i64, what: &str) -> Result<i64, String> {
+    let i: i64 = word
+        .parse()
+        .map_err(|_| format!("bad {what} index {word:?}"))?;
+    let resolved = if i < 0 {
+        count.saturating_add(i).saturating_add(1)
+    } else {
+        i
+    };
+    if i == 0 || resolved < 1 || resolved > count {
+        return Err(format!(
+            "{what} index {i} out of range ({count} {what}s so far)"
+        ));
+    }
+    Ok(resolved)
 }
 
 /// Parses a PLY file's bytes (ASCII or binary; `vertex` with `x`, `y`, `z` and `face` with
@@ -584,6 +624,10 @@ mod tests {
         let m = obj("# c\nv 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\nvn 0 0 1\nf 1//1 2//1 3//1 4//1\n")
             .unwrap();
         assert_eq!(m.triangles().len(), 2);
+        // Texture coordinates and relative indices in range.
+        let m =
+            obj("v 0 0 0\nv 1 0 0\nv 0 1 0\nvt 0 0\nvn 0 0 1\nf -3/1/1 -2/-1/1 -1/1/-1\n").unwrap();
+        assert_eq!(m.triangles().len(), 1);
     }
 
     #[test]
@@ -601,6 +645,38 @@ mod tests {
                 "duplicate",
             ),
             ("v 0 0 0\nv 1 0 0\nf 1 2\n", 3, "three corners"),
+            // Found by the `mesh` fuzz target: a relative texture-coordinate index past the
+            // start overflowed tobj's own resolution (a panic); every index is checked first.
+            (
+                "v 0 0 4\nvt  1 0\nv 0 1 0\nf 1/-211 2/0 1\n",
+                4,
+                "texture coordinate index -211 out of range",
+            ),
+            (
+                "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1/1 2/1 3/1\n",
+                4,
+                "texture coordinate index 1",
+            ),
+            (
+                "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1//2 2//1 3//1\n",
+                4,
+                "normal index 2",
+            ),
+            (
+                "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1/x 2 3\n",
+                4,
+                "bad texture coordinate",
+            ),
+            (
+                "v 0 0 0\nv 1 0 0\nv 0 1 0\nvt 0 0\nvn 0 0 1\nf 1/1/1/1 2 3\n",
+                6,
+                "more than v/vt/vn",
+            ),
+            (
+                "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 -4\n",
+                4,
+                "vertex index -4",
+            ),
         ];
         for (text, line, what) in cases {
             let e = obj(text).unwrap_err();

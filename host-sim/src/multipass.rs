@@ -72,7 +72,7 @@ pub fn mode_name(mode: texcore::span::EvalMode) -> String {
             PassHash::Texcore => format!("multipass-{}", c.precision.name()),
             h => format!("multipass-{}-{}", c.precision.name(), h.name()),
         },
-        m => format!("{m:?}").to_lowercase(),
+        m => m.to_string(),
     }
 }
 

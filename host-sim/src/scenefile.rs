@@ -13,9 +13,10 @@
 //! ```
 
 mod build;
-mod convert;
+pub(crate) mod convert;
+mod lights;
 mod limits;
-mod schema;
+pub(crate) mod schema;
 
 use std::ops::Range;
 use std::path::Path;
@@ -131,6 +132,9 @@ impl FrameHook for FileScene {
         let d = self.def.at(frame);
         let materials = d.materials(hash).map_err(|(_, e)| e)?;
         Ok((d.scene(), materials))
+    }
+    fn atlas_shading(&self) -> Vec<Option<crate::atlas::shading::AtlasShading>> {
+        self.def.objects.iter().map(|o| o.shading).collect()
     }
 }
 

@@ -4,6 +4,7 @@
 use serde::Serialize;
 use texcore::color::Rgba8888;
 use texcore::format::Amplitude;
+use texcore::gouraud::TriangleLight;
 use texcore::hash::HashKind;
 use texcore::raster::{DepthBuffer, Rasterizer, Rect, Segment};
 use texcore::render::{Blend, Output, RenderStats, Renderer, TriangleSource};
@@ -67,7 +68,7 @@ pub struct Rendered {
     pub stats: RenderStats,
 }
 
-fn render_n<const N: usize>(
+pub(crate) fn render_n<const N: usize>(
     scene: &Scene,
     materials: &[MaterialSpec],
     cfg: &UnitConfig,
@@ -120,6 +121,11 @@ pub fn render_frame(
 pub trait FrameHook: Send + Sync {
     /// The scene and one material per slot at `frame` (already taken modulo the frame count).
     fn frame(&self, frame: u32, hash: HashKind) -> Result<(Scene, Vec<MaterialSpec>), UnitError>;
+    /// Per object, whether it is drawn from a baked atlas (`shading = "atlas"` in scene files,
+    /// [`crate::atlas::shading`]); empty: every object procedural.
+    fn atlas_shading(&self) -> Vec<Option<crate::atlas::shading::AtlasShading>> {
+        Vec::new()
+    }
 }
 
 /// A scene as the host renders it: texcore's [`Scene`] and, for scene files, a [`FrameHook`]
@@ -232,6 +238,8 @@ pub struct StatsReport {
     pub depth_failed: u64,
     /// Bands rendered (0: streamed without a frame buffer).
     pub bands: u32,
+    /// Pixels multiplied by their light (0 for a scene without lights).
+    pub lit_pixels: u64,
 }
 
 impl From<&RenderStats> for StatsReport {
@@ -254,6 +262,7 @@ impl From<&RenderStats> for StatsReport {
             perspective_divides: s.raster.divides,
             depth_failed: s.raster.depth_failed,
             bands: s.bands,
+            lit_pixels: s.lit_pixels,
         }
     }
 }
@@ -308,8 +317,10 @@ fn reference_n<const N: usize>(
     let mut zbuf = vec![u16::MAX; usize::from(w) * usize::from(h)];
     let mut depth = DepthBuffer::new(&mut zbuf, Rect::from_size(w, h));
     let mut raster = Rasterizer::new(Rect::from_size(w, h));
-    scene.for_each_triangle_static(
-        &mut |obj: usize, tri: &[texcore::raster::ScreenVertex; 3]| {
+    // Lit scenes: the texture's reference colour times the renderer's exact light (the light
+    // is integer maths shared with the device; the reference is about the texture).
+    let mut draw =
+        |obj: usize, tri: &[texcore::raster::ScreenVertex; 3], light: Option<&TriangleLight>| {
             let Some(o) = TriangleSource::object(scene, obj) else {
                 return;
             };
@@ -328,6 +339,13 @@ fn reference_n<const N: usize>(
                         Shading::Model(r) => r.pixel_color(&fp, table, filter, norm, nyq),
                         Shading::Perturbed(r) => r.pixel_color(&fp, table, filter, norm),
                     };
+                    let c = match light {
+                        Some(l) => {
+                            let lv = l.at(seg.x0 + i, seg.y).map(|v| f64::from(v) / 65536.0);
+                            [c[0] * lv[0], c[1] * lv[1], c[2] * lv[2], c[3]]
+                        }
+                        None => c,
+                    };
                     let idx = usize::from(seg.y) * usize::from(w) + usize::from(seg.x0 + i);
                     if let Some(px) = img.get_mut(idx) {
                         *px = match o.blend {
@@ -341,8 +359,14 @@ fn reference_n<const N: usize>(
                 (true, Some(d)) => raster.draw_depth(tri, &o.raster, d, &mut seg_sink),
                 _ => raster.draw(tri, &o.raster, &mut seg_sink),
             }
-        },
-    );
+        };
+    if scene.is_lit() {
+        scene.for_each_lit_triangle_by_quad(&mut |_| true, &mut |_, o, t, l| {
+            draw(o, t, Some(&TriangleLight::new(t, &l())))
+        });
+    } else {
+        scene.for_each_triangle_static(&mut |o, t| draw(o, t, None));
+    }
     Ok(img)
 }
 

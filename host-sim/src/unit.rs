@@ -53,13 +53,13 @@ pub struct UnitConfig {
     /// Colour-table entries (power of two, 2..=1024).
     pub table_size: usize,
     /// Nearest or linear look-up.
-    #[serde(serialize_with = "ser_debug")]
+    #[serde(serialize_with = "ser_display")]
     pub lookup: TableLookup,
     /// Antialiasing filter.
-    #[serde(serialize_with = "ser_debug")]
+    #[serde(serialize_with = "ser_display")]
     pub aa: Antialias,
     /// Gradient norm of the filter width.
-    #[serde(serialize_with = "ser_debug")]
+    #[serde(serialize_with = "ser_display")]
     pub norm: GradientNorm,
     /// Span evaluation mode.
     #[serde(serialize_with = "ser_mode")]
@@ -83,8 +83,11 @@ fn ser_mode<S: serde::Serializer>(m: &EvalMode, s: S) -> Result<S::Ok, S::Error>
     s.serialize_str(&crate::multipass::mode_name(*m))
 }
 
-fn ser_debug<T: core::fmt::Debug, S: serde::Serializer>(v: &T, s: S) -> Result<S::Ok, S::Error> {
-    s.serialize_str(&format!("{v:?}").to_lowercase())
+fn ser_display<T: core::fmt::Display, S: serde::Serializer>(
+    v: &T,
+    s: S,
+) -> Result<S::Ok, S::Error> {
+    s.serialize_str(&v.to_string())
 }
 
 impl Default for UnitConfig {

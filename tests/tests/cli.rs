@@ -558,3 +558,54 @@ fn check_against_the_supersampled_truth() {
         assert_eq!(r.status, 2, "{bad:?}: {}", r.stderr);
     }
 }
+
+/// Lighting from a scene file: the lit example is lit (every shaded pixel counted), its image
+/// is pinned by its device checksum, the same scene without `[[lights]]` draws no lit pixel, and
+/// a bad light exits 2 naming the field and writing nothing.
+#[test]
+fn lit_scene_file_renders_and_bad_lights_exit_2() {
+    let dir = tmp("lit");
+    let out = dir.join("lit.png");
+    let out = s(&out);
+    let v = stats(&[
+        "render",
+        &example("lit-marble.toml"),
+        "--stats",
+        "--json",
+        "-o",
+        out,
+    ]);
+    let pixels = count(&v, "pixels");
+    assert!(pixels > 10_000);
+    assert_eq!(count(&v, "lit_pixels"), pixels);
+    // Pinned: the lighting stage is integer arithmetic, the same bits on every target.
+    assert_eq!(v["checksum"], "414df048", "lit-marble.toml's image changed");
+    let src = std::fs::read_to_string(example("lit-marble.toml")).unwrap();
+    let unlit_src = src.split("[lighting]").next().unwrap().to_string()
+        + &src[src.find("[[objects]]").unwrap()..];
+    let unlit = dir.join("unlit.toml");
+    std::fs::write(&unlit, unlit_src).unwrap();
+    let u = stats(&["render", s(&unlit), "--stats", "--json", "-o", out]);
+    assert_eq!(count(&u, "lit_pixels"), 0);
+    assert_eq!(count(&u, "pixels"), pixels);
+    assert_ne!(u["checksum"], v["checksum"]);
+    // The f64 reference applies the same light: check agrees as for unlit scenes.
+    let r = texsim(&["check", &example("lit-marble.toml"), "--json"]);
+    ok(&r, "check lit-marble");
+    let c: serde_json::Value = serde_json::from_str(r.stdout.trim()).unwrap();
+    let within = c["within_one_step"].as_f64().unwrap();
+    assert!(within > 0.99, "{c}");
+    let bad = dir.join("bad.toml");
+    std::fs::write(&bad, src.replace("intensity = 1\n", "intensity = 40\n")).unwrap();
+    let fresh = dir.join("fresh.png");
+    let r = texsim(&["render", s(&bad), "-o", s(&fresh)]);
+    assert_eq!(r.status, 2, "{}", r.stderr);
+    assert!(
+        r.stderr
+            .contains("lights[0].intensity: 40 is out of range (0 <= v <= 16)"),
+        "{}",
+        r.stderr
+    );
+    assert!(!fresh.exists());
+    let _ = std::fs::remove_dir_all(&dir);
+}

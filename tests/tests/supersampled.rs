@@ -38,10 +38,26 @@ fn filtered_images_are_closer_to_the_truth() {
         };
         let r = report(name, w, h);
         eprintln!(
-            "{name}: filtered {:.2} dB, unfiltered {:.2} dB, flat band {}",
-            r.psnr_filtered, r.psnr_unfiltered, r.longest_flat_band
+            "{name}: filtered {:.2} dB, unfiltered {:.2} dB (no culling {:.2}), 2x2 {:.2} dB, \
+             4x4 {:.2} dB, flat band {}",
+            r.psnr_filtered,
+            r.psnr_unfiltered,
+            r.psnr_unfiltered_no_cull,
+            r.psnr_supersampled_2x2,
+            r.psnr_supersampled_4x4,
+            r.longest_flat_band
         );
         assert!(r.psnr_filtered.is_finite() && r.psnr_unfiltered.is_finite());
+        // The scale: more samples a pixel come closer to the truth (the 4 x 4 truth here is
+        // texcore's 4 x 4 but for fixed point and culling, so 4x4 is within a step of it).
+        assert!(
+            r.psnr_supersampled_4x4 >= r.psnr_supersampled_2x2
+                && r.psnr_supersampled_2x2 >= r.psnr_unfiltered_no_cull - 0.5,
+            "{name}: 2x2 {} 4x4 {} unfiltered (no culling) {}",
+            r.psnr_supersampled_2x2,
+            r.psnr_supersampled_4x4,
+            r.psnr_unfiltered_no_cull
+        );
         if name != "fire" {
             assert!(
                 r.psnr_filtered >= r.psnr_unfiltered,

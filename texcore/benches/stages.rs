@@ -10,7 +10,10 @@
 //! ```
 //!
 //! With `count CASE` as arguments it runs one case once, for an instruction counter
-//! (`valgrind --tool=callgrind target/release/deps/stages-* count zoneplate`).
+//! (`valgrind --tool=callgrind target/release/deps/stages-* count zoneplate`). With the
+//! `lighting` feature, `count marble+lit` renders the marble scene with a light (the lighting
+//! stage's cost is its difference from `count marble`; `count marble` itself must cost what it
+//! costs without the feature: a scene without lights pays nothing for the stage).
 
 use std::hint::black_box;
 
@@ -32,9 +35,36 @@ fn texture(name: &str) -> Texture<8, 256> {
 
 /// Renders a built-in scene (still frame) with every slot's preset unfiltered; returns the
 /// checksum and the pixel count.
+///
+/// `NAME+lit` (feature `lighting`): the scene with a directional light and ambient added (the
+/// lighting stage's cost is the difference from `NAME`).
 fn render_scene(name: &str) -> (u32, u64) {
-    let scene = texcore::scene::by_name(name).expect("scene");
-    let s = scene.at_frame(scene.still());
+    let (base, lit) = match name.strip_suffix("+lit") {
+        Some(b) => (b, true),
+        None => (name, false),
+    };
+    let scene = texcore::scene::by_name(base).expect("scene");
+    #[allow(unused_mut)]
+    let mut s = scene.at_frame(scene.still());
+    if lit {
+        #[cfg(feature = "lighting")]
+        {
+            use texcore::scene::math::ONE;
+            let mut l = texcore::light::Lighting::new()
+                .with_ambient([ONE / 8; 3])
+                .expect("ambient");
+            let sun = texcore::light::Light::directional(
+                texcore::scene::Vec3::new(-ONE, ONE, ONE),
+                [ONE; 3],
+                ONE,
+            )
+            .expect("light");
+            l.try_add(sun).expect("light");
+            s.set_lighting(l);
+        }
+        #[cfg(not(feature = "lighting"))]
+        panic!("{name}: build with --features lighting");
+    }
     let textures: Vec<Texture<8, 256>> = s.slots.iter().map(|t| texture(t.material)).collect();
     let r = Renderer::new(&textures);
     let mut sink = ChecksumSink::new();

@@ -47,6 +47,8 @@ pub mod color;
 pub mod draw;
 pub mod filter;
 pub mod format;
+#[cfg(feature = "lighting")]
+pub mod gouraud;
 pub mod hash;
 #[cfg(feature = "lighting")]
 pub mod light;
@@ -56,6 +58,7 @@ pub mod material;
 pub mod model;
 #[cfg(feature = "multipass")]
 pub mod multipass;
+pub mod names;
 pub mod noise;
 #[cfg(feature = "atlas")]
 pub mod packed_mesh;

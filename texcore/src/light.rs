@@ -258,8 +258,8 @@ pub const fn modulate(rgb: [u8; 3], light: LightRgb) -> [u8; 3] {
 }
 
 /// The outward unit normal of a procedural mesh at an object-space surface point `p`, for the
-/// meshes with a closed-form surface; `None` for the teapot (use [`smooth_normals`] on its
-/// vertices) and for degenerate points (a sphere's centre, a torus's axis).
+/// meshes with a closed-form surface; `None` for the teapot and loaded (packed) meshes (use
+/// [`smooth_normals`] on their vertices, or the face normals the scene walk falls back to) and for degenerate points (a sphere's centre, a torus's axis).
 pub fn analytic_normal(mesh: &Mesh, p: Vec3) -> Option<Vec3> {
     match *mesh {
         Mesh::Sphere { .. } => p.normalized(),
@@ -283,6 +283,8 @@ pub fn analytic_normal(mesh: &Mesh, p: Vec3) -> Option<Vec3> {
             .cross(corners[3].sub(corners[0]))
             .normalized(),
         Mesh::Teapot { .. } => None,
+        #[cfg(feature = "atlas")]
+        Mesh::Packed(_) => None,
     }
 }
 
@@ -319,7 +321,7 @@ pub fn smooth_normals(
 
 /// The unit normal of a counter-clockwise triangle, computed exactly in wide arithmetic (so
 /// small triangles do not round to zero), or `None` when it is degenerate.
-fn face_normal(a: Vec3, b: Vec3, c: Vec3) -> Option<Vec3> {
+pub(crate) fn face_normal(a: Vec3, b: Vec3, c: Vec3) -> Option<Vec3> {
     let u = [(b.x - a.x) as i64, (b.y - a.y) as i64, (b.z - a.z) as i64];
     let v = [(c.x - a.x) as i64, (c.y - a.y) as i64, (c.z - a.z) as i64];
     let w = [

@@ -123,7 +123,15 @@ impl<'a> PackedMesh<'a> {
                 return Err(PackedMeshError::Degenerate(k as u16));
             }
             let [a, b, c] = idx.map(|i| m.vertex(i));
-            let d = |p: Vec3, q: Vec3| [(p.x - q.x) as i64, (p.y - q.y) as i64, (p.z - q.z) as i64];
+            // Widened before subtracting: corners at opposite ends of the `i32` range differ by
+            // up to 2^32.
+            let d = |p: Vec3, q: Vec3| {
+                [
+                    p.x as i64 - q.x as i64,
+                    p.y as i64 - q.y as i64,
+                    p.z as i64 - q.z as i64,
+                ]
+            };
             let (e, f) = (d(b, a), d(c, a));
             let cx = e[1] as i128 * f[2] as i128 - e[2] as i128 * f[1] as i128;
             let cy = e[2] as i128 * f[0] as i128 - e[0] as i128 * f[2] as i128;
@@ -244,5 +252,20 @@ mod tests {
             Err(PackedMeshError::Degenerate(0))
         );
         assert_eq!(PackedMesh::new(&pack(&P, &[])), Err(PackedMeshError::Empty));
+    }
+
+    /// Found by the `mesh` fuzz target: corners at opposite ends of the `i32` range overflowed
+    /// the area check's differences (a panic with debug assertions, a wrong verdict without).
+    #[test]
+    fn corners_at_the_ends_of_the_range() {
+        let (lo, hi) = (i32::MIN, i32::MAX);
+        let wide = [[lo, lo, lo], [hi, lo, lo], [lo, hi, hi]];
+        assert!(PackedMesh::new(&pack(&wide, &[[0, 1, 2]])).is_ok());
+        // Collinear across the whole range: (lo,lo,lo), (0,0,0) and (hi-1 .. ) on one line.
+        let line = [[lo, lo, lo], [0, 0, 0], [-(lo / 2), -(lo / 2), -(lo / 2)]];
+        assert_eq!(
+            PackedMesh::new(&pack(&line, &[[0, 1, 2]])),
+            Err(PackedMeshError::Degenerate(0))
+        );
     }
 }

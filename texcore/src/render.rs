@@ -106,6 +106,67 @@ pub trait TriangleSource {
             group = group.wrapping_add(1);
         });
     }
+
+    /// Whether the triangles carry light: the renderer then walks
+    /// [`TriangleSource::for_each_lit_triangle_grouped`] and runs its lighting stage
+    /// ([`crate::gouraud`]); otherwise it takes the unlit walk and the stage does no work.
+    #[cfg(feature = "lighting")]
+    fn is_lit(&self) -> bool {
+        false
+    }
+
+    /// [`TriangleSource::for_each_triangle_grouped`] with a function giving the light at each
+    /// vertex of the triangle (`Q16.16` per channel, `ONE` = the texture's colour), which the
+    /// renderer calls only for a triangle that covers a pixel of the band. The provided
+    /// implementation gives full light everywhere.
+    #[cfg(feature = "lighting")]
+    fn for_each_lit_triangle_grouped<K, F>(&self, keep: K, mut f: F)
+    where
+        K: FnMut(usize) -> bool,
+        F: FnMut(usize, usize, &[ScreenVertex; 3], &dyn Fn() -> [crate::light::LightRgb; 3]),
+    {
+        let full = || [[crate::scene::math::ONE; 3]; 3];
+        self.for_each_triangle_grouped(keep, |g, o, t| f(g, o, t, &full));
+    }
+}
+
+/// The light of a triangle as the renderer applies it ([`crate::gouraud::TriangleLight`]);
+/// without the `lighting` feature a type with no values, so that the lighting stage is not
+/// compiled at all.
+#[cfg(feature = "lighting")]
+type TriLight = crate::gouraud::TriangleLight;
+#[cfg(not(feature = "lighting"))]
+type TriLight = core::convert::Infallible;
+
+/// The lights of a triangle's three vertices (`Q16.16` per channel); without the `lighting`
+/// feature a type with no values, like [`TriLight`].
+#[cfg(feature = "lighting")]
+type VertexLights = [crate::light::LightRgb; 3];
+#[cfg(not(feature = "lighting"))]
+type VertexLights = core::convert::Infallible;
+
+/// The light plane of a triangle from its vertices' lights.
+#[inline(always)]
+fn tri_light(tri: &[ScreenVertex; 3], v: &VertexLights) -> TriLight {
+    #[cfg(feature = "lighting")]
+    return crate::gouraud::TriangleLight::new(tri, v);
+    #[cfg(not(feature = "lighting"))]
+    {
+        let _ = tri;
+        match *v {}
+    }
+}
+
+/// The lighting stage: multiplies the pixels `x..` of row `y` by the triangle's light.
+#[inline(always)]
+fn light_span(light: &TriLight, x: u16, y: u16, px: &mut [Rgba8888]) {
+    #[cfg(feature = "lighting")]
+    light.modulate_span(x, y, px);
+    #[cfg(not(feature = "lighting"))]
+    {
+        let _ = (x, y, px);
+        match *light {}
+    }
 }
 
 /// The image rows a group of triangles (see [`TriangleSource::for_each_triangle_grouped`]) can
@@ -318,10 +379,7 @@ impl TriangleSource for crate::scene::Scene {
         let o = self.objects.get(i)?;
         Some(DrawObject {
             texture: usize::from(o.slot),
-            blend: match o.blend {
-                crate::scene::Blend::Opaque => Blend::Opaque,
-                crate::scene::Blend::Over => Blend::Over,
-            },
+            blend: o.blend,
             depth: o.depth_test || o.depth_write,
             raster: o.options(),
         })
@@ -339,6 +397,21 @@ impl TriangleSource for crate::scene::Scene {
         F: FnMut(usize, usize, &[ScreenVertex; 3]),
     {
         self.for_each_triangle_by_quad(&mut keep, &mut f);
+    }
+
+    #[cfg(feature = "lighting")]
+    fn is_lit(&self) -> bool {
+        crate::scene::Scene::is_lit(self)
+    }
+
+    /// Per-vertex light from the scene's lights ([`crate::scene::Scene::for_each_lit_triangle_by_quad`]).
+    #[cfg(feature = "lighting")]
+    fn for_each_lit_triangle_grouped<K, F>(&self, mut keep: K, mut f: F)
+    where
+        K: FnMut(usize) -> bool,
+        F: FnMut(usize, usize, &[ScreenVertex; 3], &dyn Fn() -> [crate::light::LightRgb; 3]),
+    {
+        self.for_each_lit_triangle_by_quad(&mut keep, &mut f);
     }
 }
 
@@ -359,6 +432,9 @@ pub struct RenderStats {
     /// are missing from `raster.triangles` and `raster.offscreen` (unbinned, each of them
     /// would have been counted as submitted and offscreen there).
     pub skipped_groups: u64,
+    /// Pixels multiplied by their light (the lighting stage, feature `lighting`): 0 for a
+    /// scene without lights.
+    pub lit_pixels: u64,
 }
 
 /// Pixels shaded per chunk before they are handed on: segments up to this length reach the sink
@@ -471,15 +547,43 @@ impl<'t, const T: usize, const N: usize> Renderer<'t, T, N> {
         let mut slots = self.slots();
         let mut raster = Rasterizer::new(Rect::from_size(w, h));
         let mut stats = RenderStats::default();
-        scene.for_each_triangle(|obj, tri| {
-            let Some(o) = scene.object(obj) else { return };
-            let mut seg_sink = |seg: &Segment| {
-                shade_segment(&mut slots, o.texture, self.output, seg, |x, chunk| {
-                    sink.write_span(x, seg.y, chunk)
-                });
-            };
-            raster.draw(tri, &o.raster, &mut seg_sink);
-        });
+        let mut lit = 0u64;
+        // As in the banded renderer: one copy per walk, the unlit one without lighting code.
+        macro_rules! draw {
+            ($obj:expr, $tri:expr, $light:expr) => {{
+                let (tri, light): (&[ScreenVertex; 3], Option<&dyn Fn() -> VertexLights>) =
+                    ($tri, $light);
+                let Some(o) = scene.object($obj) else { return };
+                let mut plane: Option<TriLight> = None;
+                let mut seg_sink = |seg: &Segment| {
+                    let light = light.map(|v| &*plane.get_or_insert_with(|| tri_light(tri, &v())));
+                    shade_segment(
+                        &mut slots,
+                        o.texture,
+                        self.output,
+                        seg,
+                        light,
+                        |x, chunk| {
+                            if light.is_some() {
+                                lit += chunk.len() as u64;
+                            }
+                            sink.write_span(x, seg.y, chunk)
+                        },
+                    );
+                };
+                raster.draw(tri, &o.raster, &mut seg_sink);
+            }};
+        }
+        #[cfg(feature = "lighting")]
+        if scene.is_lit() {
+            scene
+                .for_each_lit_triangle_grouped(|_| true, |_, obj, tri, l| draw!(obj, tri, Some(l)));
+        } else {
+            scene.for_each_triangle(|obj, tri| draw!(obj, tri, None));
+        }
+        #[cfg(not(feature = "lighting"))]
+        scene.for_each_triangle(|obj, tri| draw!(obj, tri, None));
+        stats.lit_pixels = lit;
         stats.raster = raster.counters();
         stats.shade = slots_stats(&slots);
         Ok(stats)
@@ -640,39 +744,74 @@ impl<'t, const T: usize, const N: usize> Renderer<'t, T, N> {
                 *filled = Some((w, h));
             }
             let mut blended = 0u64;
+            let mut lit = 0u64;
             let mut skipped = 0u64;
             let keep = |g: usize| {
                 let take = binning || bins.get(g).is_none_or(|b| b.get().touches(y0, y1));
                 skipped += u64::from(!take);
                 take
             };
-            scene.for_each_triangle_grouped(keep, |g, obj, tri| {
-                if binning {
-                    if let Some(b) = bins.get(g) {
-                        if let Some((r0, r1)) = triangle_rows(tri, &image, w) {
-                            let mut r = b.get();
-                            r.include(r0, r1);
-                            b.set(r);
+            // The triangle's drawing, stamped out once per walk: the unlit walk's copy has no
+            // lighting code at all (`$light` is `None`), the lit one computes the triangle's
+            // light plane at its first segment (a triangle with none in this band costs nothing).
+            macro_rules! draw {
+                ($g:expr, $obj:expr, $tri:expr, $light:expr) => {{
+                    let (g, tri, light): (
+                        usize,
+                        &[ScreenVertex; 3],
+                        Option<&dyn Fn() -> VertexLights>,
+                    ) = ($g, $tri, $light);
+                    if binning {
+                        if let Some(b) = bins.get(g) {
+                            if let Some((r0, r1)) = triangle_rows(tri, &image, w) {
+                                let mut r = b.get();
+                                r.include(r0, r1);
+                                b.set(r);
+                            }
                         }
                     }
-                }
-                let Some(o) = scene.object(obj) else { return };
-                let mut seg_sink = |seg: &Segment| {
-                    shade_segment(&mut slots, o.texture, self.output, seg, |x, chunk| {
-                        if o.blend == Blend::Over {
-                            blended += chunk.len() as u64;
-                            buf.blend_span(x, seg.y, chunk);
-                        } else {
-                            buf.write_span(x, seg.y, chunk);
-                        }
-                    });
-                };
-                match (o.depth, depth.as_mut()) {
-                    (true, Some(d)) => raster.draw_depth(tri, &o.raster, d, &mut seg_sink),
-                    _ => raster.draw(tri, &o.raster, &mut seg_sink),
-                }
-            });
+                    let Some(o) = scene.object($obj) else { return };
+                    let mut plane: Option<TriLight> = None;
+                    let mut seg_sink = |seg: &Segment| {
+                        let light =
+                            light.map(|v| &*plane.get_or_insert_with(|| tri_light(tri, &v())));
+                        shade_segment(
+                            &mut slots,
+                            o.texture,
+                            self.output,
+                            seg,
+                            light,
+                            |x, chunk| {
+                                if light.is_some() {
+                                    lit += chunk.len() as u64;
+                                }
+                                if o.blend == Blend::Over {
+                                    blended += chunk.len() as u64;
+                                    buf.blend_span(x, seg.y, chunk);
+                                } else {
+                                    buf.write_span(x, seg.y, chunk);
+                                }
+                            },
+                        );
+                    };
+                    match (o.depth, depth.as_mut()) {
+                        (true, Some(d)) => raster.draw_depth(tri, &o.raster, d, &mut seg_sink),
+                        _ => raster.draw(tri, &o.raster, &mut seg_sink),
+                    }
+                }};
+            }
+            #[cfg(feature = "lighting")]
+            if scene.is_lit() {
+                scene.for_each_lit_triangle_grouped(keep, |g, obj, tri, l| {
+                    draw!(g, obj, tri, Some(l))
+                });
+            } else {
+                scene.for_each_triangle_grouped(keep, |g, obj, tri| draw!(g, obj, tri, None));
+            }
+            #[cfg(not(feature = "lighting"))]
+            scene.for_each_triangle_grouped(keep, |g, obj, tri| draw!(g, obj, tri, None));
             stats.blended_pixels += blended;
+            stats.lit_pixels += lit;
             stats.skipped_groups += skipped;
             flush_rows(&buf, y0..y1, sink);
             stats.bands += 1;
@@ -719,6 +858,7 @@ fn shade_segment<const T: usize, const N: usize, O: FnMut(u16, &[Rgba8888])>(
     slot: usize,
     output: Output,
     seg: &Segment,
+    light: Option<&TriLight>,
     mut out: O,
 ) {
     let span = Span {
@@ -736,6 +876,9 @@ fn shade_segment<const T: usize, const N: usize, O: FnMut(u16, &[Rgba8888])>(
         }
         n += 1;
         if n == CHUNK {
+            if let Some(l) = light {
+                light_span(l, x, seg.y, &mut chunk);
+            }
             out(x, &chunk);
             x = x.saturating_add(CHUNK as u16);
             n = 0;
@@ -753,7 +896,10 @@ fn shade_segment<const T: usize, const N: usize, O: FnMut(u16, &[Rgba8888])>(
             }
         }
     }
-    if let Some(rest) = chunk.get(..n).filter(|r| !r.is_empty()) {
+    if let Some(rest) = chunk.get_mut(..n).filter(|r| !r.is_empty()) {
+        if let Some(l) = light {
+            light_span(l, x, seg.y, rest);
+        }
         out(x, rest);
     }
 }

@@ -178,6 +178,99 @@ impl Reciprocal64 {
     }
 }
 
+/// A divisor below 2^32 prepared once for many exact divisions by it: [`Reciprocal64`] in 32-bit
+/// words (the doubled area of every triangle smaller than about 4000 pixels on a side fits), so
+/// each quotient digit is one 32 x 32 -> 64-bit multiplication and at most two corrections, and
+/// the leading zero words of a numerator cost nothing (a plane numerator of a small triangle has
+/// two or three significant words, not four).
+/// (Not used by the size-lean shape, whose set-up divides with [`div_rem_euclid_i128`].)
+#[derive(Clone, Copy, Debug)]
+#[cfg_attr(texcore_lean, allow(dead_code))]
+pub(crate) struct Reciprocal32 {
+    /// The divisor shifted left until its top bit is set.
+    d: u32,
+    /// `floor((2^64 - 1) / d) - 2^32`.
+    v: u32,
+    /// The shift.
+    s: u32,
+}
+
+#[cfg_attr(texcore_lean, allow(dead_code))]
+impl Reciprocal32 {
+    /// The reciprocal of `d` (`None` for 0).
+    pub(crate) fn new(d: u32) -> Option<Reciprocal32> {
+        if d == 0 {
+            return None;
+        }
+        let s = d.leading_zeros();
+        let d = d << s;
+        // floor(((2^32 - 1 - d) 2^32 + 2^32 - 1) / d); !d < 2^31 <= d, as the long division needs.
+        let (v, _) = div_rem_below_u32(!d, u32::MAX, d);
+        Some(Reciprocal32 { d, v, s })
+    }
+
+    /// `(u1:u0 / d, u1:u0 % d)` of the normalised divisor, for `u1 < d`.
+    #[inline(always)]
+    fn div_2by1(&self, u1: u32, u0: u32) -> (u32, u32) {
+        let d = self.d;
+        let q =
+            (u64::from(self.v) * u64::from(u1)).wrapping_add((u64::from(u1) << 32) | u64::from(u0));
+        let (mut q1, q0) = (((q >> 32) as u32).wrapping_add(1), q as u32);
+        let mut r = u0.wrapping_sub(q1.wrapping_mul(d));
+        if r > q0 {
+            q1 = q1.wrapping_sub(1);
+            r = r.wrapping_add(d);
+        }
+        if r >= d {
+            q1 = q1.wrapping_add(1);
+            r -= d;
+        }
+        (q1, r)
+    }
+
+    /// `(n / d, n % d)` of the original divisor.
+    pub(crate) fn div_rem(&self, n: u128) -> (u128, u32) {
+        let (d, s) = (self.d, self.s);
+        let w = [
+            (n >> 96) as u32,
+            (n >> 64) as u32,
+            (n >> 32) as u32,
+            n as u32,
+        ];
+        // n << s as five 32-bit words, top first (word shifts only: 128-bit shifts by a variable
+        // amount are slow on 32-bit cores); `(y >> 1) >> (31 - s)` is `y >> (32 - s)`, 0 for s = 0.
+        let join = |x: u32, y: u32| (x << s) | ((y >> 1) >> (31 - s));
+        let sh = [
+            join(0, w[0]),
+            join(w[0], w[1]),
+            join(w[1], w[2]),
+            join(w[2], w[3]),
+            w[3] << s,
+        ];
+        // Leading zero words give zero quotient digits, and so does the first non-zero word when
+        // it is below d (it becomes the remainder): skipped. (An unrolled loop over registers;
+        // the words are not indexed through memory.)
+        let zeros = sh.iter().take_while(|&&x| x == 0).count();
+        let mut start = zeros;
+        let mut r = 0;
+        for (i, &x) in sh.iter().enumerate() {
+            if i == zeros && x < d {
+                r = x;
+                start = zeros + 1;
+            }
+        }
+        let mut q = 0u128;
+        for (i, &x) in sh.iter().enumerate() {
+            if i >= start {
+                let (qd, rd) = self.div_2by1(r, x);
+                q = (q << 32) | u128::from(qd);
+                r = rd;
+            }
+        }
+        (q, r >> s)
+    }
+}
+
 /// `(n / d, n % d)` for a 64-bit `n` and a divisor below 2^32 (`None` for `d == 0`): two steps of
 /// [`div_rem_below_u32`] on the 32-bit hardware divide instead of the 64-bit library division
 /// ([`short_div`] unrolled for two words: the per-projected-vertex and per-perspective-point
@@ -533,6 +626,42 @@ mod tests {
         assert!(Reciprocal64::new(0).is_none());
     }
 
+    #[test]
+    fn reciprocal32_edges() {
+        for d in [
+            1u32,
+            2,
+            3,
+            7,
+            1 << 16,
+            (1 << 31) - 1,
+            1 << 31,
+            u32::MAX - 1,
+            u32::MAX,
+        ] {
+            let r = Reciprocal32::new(d).expect("non-zero");
+            for n in [
+                0u128,
+                1,
+                u128::from(d) - 1,
+                u128::from(d),
+                u128::from(d) << 32,
+                (u128::from(d) << 96) - 1,
+                u128::from(u64::MAX),
+                u128::MAX,
+                u128::MAX - 1,
+                1 << 127,
+            ] {
+                assert_eq!(
+                    r.div_rem(n),
+                    (n / u128::from(d), (n % u128::from(d)) as u32),
+                    "{n} / {d}"
+                );
+            }
+        }
+        assert!(Reciprocal32::new(0).is_none());
+    }
+
     proptest::proptest! {
         #[test]
         fn reciprocal_matches_native(n in proptest::prelude::any::<u128>(), d in 1u64.., shift in 0u32..64, nshift in 0u32..128) {
@@ -540,6 +669,16 @@ mod tests {
                 let r = Reciprocal64::new(d).expect("non-zero");
                 for n in [n, n >> nshift] {
                     proptest::prop_assert_eq!(r.div_rem(n), (n / u128::from(d), (n % u128::from(d)) as u64));
+                }
+            }
+        }
+
+        #[test]
+        fn reciprocal32_matches_native(n in proptest::prelude::any::<u128>(), d in 1u32.., shift in 0u32..32, nshift in 0u32..128) {
+            for d in [d, (d >> shift).max(1)] {
+                let r = Reciprocal32::new(d).expect("non-zero");
+                for n in [n, n >> nshift] {
+                    proptest::prop_assert_eq!(r.div_rem(n), (n / u128::from(d), (n % u128::from(d)) as u32));
                 }
             }
         }

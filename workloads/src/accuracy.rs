@@ -151,6 +151,28 @@ pub enum BasisSel {
     MNoise,
 }
 
+/// `linear`, `smooth`, `quintic` (report labels).
+impl core::fmt::Display for FadeSel {
+    fn fmt(&self, f: &mut core::fmt::Formatter<'_>) -> core::fmt::Result {
+        f.write_str(match self {
+            FadeSel::Linear => "linear",
+            FadeSel::Smooth => "smooth",
+            FadeSel::Quintic => "quintic",
+        })
+    }
+}
+
+/// `value`, `gradient`, `mnoise` (report labels).
+impl core::fmt::Display for BasisSel {
+    fn fmt(&self, f: &mut core::fmt::Formatter<'_>) -> core::fmt::Result {
+        f.write_str(match self {
+            BasisSel::Value => "value",
+            BasisSel::Gradient => "gradient",
+            BasisSel::MNoise => "mnoise",
+        })
+    }
+}
+
 impl FadeSel {
     /// texcore's fade (`None` where this build of texcore lacks it).
     pub fn fade(self) -> Option<Fade> {

@@ -180,6 +180,14 @@ pub static JOBS: &[Job] = &[
     job!("scene:floor/setup", scene_floor_setup),
     job!("scene:overlay", scene_overlay),
     job!("scene:overlay/setup", scene_overlay_setup),
+    #[cfg(feature = "atlas")]
+    job!("atlas:marble-bake", atlas_bake),
+    #[cfg(feature = "atlas")]
+    job!("atlas:marble-bake/setup", atlas_bake_setup),
+    #[cfg(feature = "atlas")]
+    job!("atlas:marble", atlas_draw),
+    #[cfg(feature = "atlas")]
+    job!("atlas:marble/setup", atlas_draw_setup),
     #[cfg(feature = "panic-never-canary")]
     Job {
         name: "panic_never_canary",

@@ -9,6 +9,7 @@
 //! - [`bench`]: lattice hash, span evaluator and marble benchmarks;
 //! - [`suite`]: the texture-unit suite's job wrappers around [`planes`], [`stages`], [`scenes`],
 //!   [`band`];
+//! - `atlas` (feature `atlas`): a built-in scene baked into a texture atlas and drawn from it;
 //! - [`accuracy`]: the accuracy report's configurations and device jobs.
 //!
 //! Uses nothing but `texcore` and `core`: no allocation, no panics on the job paths (the
@@ -21,6 +22,8 @@
 #[cfg(any(feature = "accuracy", feature = "full"))]
 #[allow(missing_docs)]
 pub mod accuracy;
+#[cfg(feature = "atlas")]
+pub mod atlas;
 pub mod band;
 pub mod bench;
 pub mod job;

@@ -236,6 +236,42 @@ scene_jobs! {
     overlay => scene_overlay, scene_overlay_setup;
 }
 
+/// `atlas:marble-bake`: the marble scene baked into a device atlas (`crate::atlas`).
+#[cfg(feature = "atlas")]
+pub fn atlas_bake(_: &mut Ctx) -> u32 {
+    if STUBBED {
+        return 0;
+    }
+    crate::atlas::bake_job(hash(), true)
+}
+
+/// `atlas:marble-bake/setup`.
+#[cfg(feature = "atlas")]
+pub fn atlas_bake_setup(_: &mut Ctx) -> u32 {
+    if STUBBED {
+        return 0;
+    }
+    crate::atlas::bake_job(hash(), false)
+}
+
+/// `atlas:marble`: the marble scene's frame drawn from its device atlas (`crate::atlas`).
+#[cfg(feature = "atlas")]
+pub fn atlas_draw(_: &mut Ctx) -> u32 {
+    if STUBBED {
+        return 0;
+    }
+    with_bands(|_, _, g| crate::atlas::draw_job(hash(), true, g))
+}
+
+/// `atlas:marble/setup`.
+#[cfg(feature = "atlas")]
+pub fn atlas_draw_setup(_: &mut Ctx) -> u32 {
+    if STUBBED {
+        return 0;
+    }
+    with_bands(|_, _, g| crate::atlas::draw_job(hash(), false, g))
+}
+
 /// `scene:<BUILTIN_SCENES[S]>@<K>`: strip `K` of a built-in scene's frame.
 pub fn scene_strip<const S: usize, const K: usize>(ctx: &mut Ctx) -> u32 {
     builtin_strip(ctx, S, K, true)

@@ -244,7 +244,7 @@ auto evaluation, culling on, 16/16 precision";
 /// A configuration in words.
 pub fn describe(c: &Config) -> String {
     let mut s = format!(
-        "F={} V={} {:?} {:?} {} {} oct, N={} {:?} {:?} {:?} {}{}",
+        "F={} V={} {} {} {} {} oct, N={} {} {} {} {}{}",
         c.coord_bits,
         c.value_bits,
         c.fade,
@@ -259,7 +259,7 @@ pub fn describe(c: &Config) -> String {
         if c.cull { "" } else { " no-cull" }
     );
     if let Some(p) = c.perspective {
-        s.push_str(&format!(" seascape {p:?}"));
+        s.push_str(&format!(" seascape {p}"));
     }
     s.to_lowercase()
 }

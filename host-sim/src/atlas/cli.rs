@@ -290,8 +290,41 @@ pub fn render_via_atlas(
     host: &crate::scenes::HostScene,
     n: u32,
 ) -> ExitCode {
+    render_atlas_frame(a, host, Some(n), &|frame, cfg, hash| {
+        super::scene::render_via_atlas(host, frame, n, a.atlas_sampling, cfg, hash)
+    })
+}
+
+/// `texsim render SCENE.toml` for a scene file with `shading = "atlas"` objects: one frame, those
+/// objects from their atlases, the others procedural, compared with the all-procedural frame.
+pub fn render_planned(
+    a: &crate::cli::RenderArgs,
+    host: &crate::scenes::HostScene,
+    plan: &[Option<super::shading::AtlasShading>],
+) -> ExitCode {
+    render_atlas_frame(a, host, None, &|frame, cfg, hash| {
+        super::scene::render_planned(host, frame, plan, cfg, hash)
+    })
+}
+
+type AtlasFrameFn<'a> = dyn Fn(
+        u32,
+        &crate::unit::UnitConfig,
+        texcore::hash::HashKind,
+    ) -> Result<super::scene::AtlasRendered, String>
+    + 'a;
+
+fn render_atlas_frame(
+    a: &crate::cli::RenderArgs,
+    host: &crate::scenes::HostScene,
+    n: Option<u32>,
+    draw: &AtlasFrameFn<'_>,
+) -> ExitCode {
     if a.frames.is_some() {
-        return bad_input("--via-atlas draws one frame (no --frames)");
+        return bad_input(match n {
+            Some(_) => "--via-atlas draws one frame (no --frames)",
+            None => "a scene with `shading = \"atlas\"` objects draws one frame (no --frames)",
+        });
     }
     if let Some(parent) = a
         .output
@@ -307,7 +340,7 @@ pub fn render_via_atlas(
     let cfg = a.knobs.config();
     let hash = a.knobs.hash();
     let t0 = std::time::Instant::now();
-    let r = match super::scene::render_via_atlas(host, frame, n, a.atlas_sampling, &cfg, hash) {
+    let r = match draw(frame, &cfg, hash) {
         Ok(r) => r,
         Err(e) => return bad_input(format!("{}: {e}", a.scene)),
     };
@@ -331,6 +364,14 @@ pub fn render_via_atlas(
             return bad_input(e);
         }
     }
+    if a.checksum && !a.json {
+        out!("{:08x}", crate::scenes::checksum(&r.frame));
+        return ExitCode::SUCCESS;
+    }
+    let via = match n {
+        Some(n) => format!("via {n}x{n} atlases ({:?})", a.atlas_sampling),
+        None => "with its shading = \"atlas\" objects from their atlases".to_string(),
+    };
     if a.json {
         let j = serde_json::json!({
             "scene": host.scene.name,
@@ -347,9 +388,8 @@ pub fn render_via_atlas(
         out!("{j}");
     } else {
         out!(
-            "{} frame {frame} via {n}x{n} atlases ({:?}): {} texels baked, {} pixels shaded; against the procedural frame PSNR {:.2} dB, {:.1}% within one step",
+            "{} frame {frame} {via}: {} texels baked, {} pixels shaded; against the procedural frame PSNR {:.2} dB, {:.1}% within one step",
             host.scene.name,
-            a.atlas_sampling,
             r.baked_texels,
             r.shaded,
             m.psnr,

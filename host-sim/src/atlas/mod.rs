@@ -11,6 +11,7 @@ pub mod cli;
 pub mod layout;
 pub mod partition;
 pub mod scene;
+pub mod shading;
 pub mod view;
 
 use texcore::color::Rgba8888;

@@ -1,5 +1,6 @@
-//! A scene drawn from atlases (`texsim render --via-atlas N`): every object's mesh is laid out
-//! in an `N x N` uniform atlas (gutter 1), its texture slot baked into it once with texcore's
+//! A scene drawn from atlases (`texsim render --via-atlas N`, or the objects of a scene file
+//! with `shading = "atlas"`, [`super::shading`]; the others are shaded procedurally): every
+//! atlas-shaded object's mesh is laid out in an `N x N` uniform atlas (gutter 1), its texture slot baked into it once with texcore's
 //! bake kernel (solid coordinates exactly the object's texture mapping), and the frame drawn
 //! by walking the scene as the procedural renderer does (same cameras, clipping and screen
 //! triangles), texcore's rasterizer interpolating atlas coordinates perspective-correctly and
@@ -17,8 +18,10 @@ use texcore::format::TexPoint;
 use texcore::hash::HashKind;
 use texcore::raster::{DepthBuffer, Rasterizer, Rect, ScreenVertex, Segment};
 use texcore::scene::Mesh;
+use texcore::span::Span;
 
 use super::layout::{AtlasKind, Layout};
+use super::shading::AtlasShading;
 use super::view::Sampling;
 use crate::mesh::TriMesh;
 use crate::output::Frame;
@@ -35,6 +38,9 @@ struct ObjectAtlas {
     /// Level 0, then the coarser levels (power-of-two sizes).
     texels: Vec<Rgba8888>,
     first_group: usize,
+    /// Side and look-up.
+    size: u32,
+    sampling: Sampling,
 }
 
 /// A frame drawn from atlases, and what it cost.
@@ -78,7 +84,8 @@ fn object_mesh(mesh: &Mesh) -> IndexedMesh {
     (positions, tris, map)
 }
 
-/// Renders frame `frame` of `host` from `size x size` atlases sampled with `sampling`.
+/// Renders frame `frame` of `host` with every object from a `size x size` atlas sampled with
+/// `sampling` (`--via-atlas`).
 pub fn render_via_atlas(
     host: &HostScene,
     frame: u32,
@@ -87,13 +94,33 @@ pub fn render_via_atlas(
     cfg: &UnitConfig,
     hash: HashKind,
 ) -> Result<AtlasRendered, String> {
-    if cfg.table_size != 256 {
-        return Err("atlas bakes use 256-entry colour tables (--table-size 256)".into());
-    }
     if sampling == Sampling::Mip && !size.is_power_of_two() {
         return Err(format!(
             "--via-atlas {size}: MIP look-ups need a power-of-two size"
         ));
+    }
+    let plan = vec![Some(AtlasShading { size, sampling }); host.scene.objects.len()];
+    render_planned(host, frame, &plan, cfg, hash)
+}
+
+/// The objects of a scene file drawn from atlases (`shading = "atlas"`), `None` when there
+/// are none (every object procedural).
+pub fn atlas_plan(host: &HostScene) -> Option<Vec<Option<AtlasShading>>> {
+    let plan = host.hook.as_ref()?.atlas_shading();
+    plan.iter().any(Option::is_some).then_some(plan)
+}
+
+/// Renders frame `frame` of `host`, object `i` from its atlas when `plan[i]` says so and
+/// procedurally otherwise (the span evaluator over each segment, as the renderer shades).
+pub fn render_planned(
+    host: &HostScene,
+    frame: u32,
+    plan: &[Option<AtlasShading>],
+    cfg: &UnitConfig,
+    hash: HashKind,
+) -> Result<AtlasRendered, String> {
+    if cfg.table_size != 256 {
+        return Err("atlas bakes use 256-entry colour tables (--table-size 256)".into());
     }
     let (s, materials) = host.frame(frame, hash).map_err(|e| e.to_string())?;
     let textures = materials
@@ -105,6 +132,11 @@ pub fn render_via_atlas(
     let mut baked_texels = 0u64;
     let mut first_group = 0usize;
     for (i, o) in s.objects.iter().enumerate() {
+        let Some(AtlasShading { size, sampling }) = plan.get(i).copied().flatten() else {
+            atlases.push(None);
+            first_group += o.mesh.quad_count() as usize;
+            continue;
+        };
         let (raw, tris, tri) = object_mesh(&o.mesh);
         let f = |v: [i32; 3]| v.map(|c| c as f64 / 65536.0);
         let mesh = TriMesh::from_parts(
@@ -136,13 +168,15 @@ pub fn render_via_atlas(
                     .map(|p| solid_of(p).to_bits().map(|c| c as f64))
             })
             .collect();
-        atlases.push(ObjectAtlas {
+        atlases.push(Some(ObjectAtlas {
             layout,
             tri,
             solid,
             texels,
             first_group,
-        });
+            size,
+            sampling,
+        }));
         first_group += o.mesh.quad_count() as usize;
     }
     let (w, h) = s.size();
@@ -154,13 +188,38 @@ pub fn render_via_atlas(
     let mut db = DepthBuffer::new(&mut depth, rect).ok_or("depth buffer")?;
     let mut rast = Rasterizer::new(rect);
     let mut shaded = 0u64;
-    let size16 = size as u16;
     s.for_each_triangle_by_quad(
         &mut |_| true,
         &mut |group, object, tri: &[ScreenVertex; 3]| {
             let (Some(a), Some(o)) = (atlases.get(object), s.objects.get(object)) else {
                 return;
             };
+            let Some(a) = a else {
+                // Procedural: the object's texture over each segment.
+                let Some(tex) = textures.get(o.slot as usize) else {
+                    return;
+                };
+                let mut ev = tex.evaluator();
+                rast.draw_depth(tri, &o.options(), &mut db, &mut |seg: &Segment| {
+                    let span = Span {
+                        s0: seg.s0,
+                        ds: seg.ds,
+                        dsdy: seg.dsdy,
+                        len: seg.len,
+                    };
+                    let mut x = seg.x0 as usize;
+                    ev.shade(&span, |c| {
+                        if let Some(px) = pixels.get_mut(seg.y as usize * w as usize + x) {
+                            *px = c.with_alpha(255);
+                        }
+                        x += 1;
+                    });
+                    shaded += seg.len as u64;
+                });
+                return;
+            };
+            let (size, sampling) = (a.size, a.sampling);
+            let size16 = size as u16;
             let q = group.saturating_sub(a.first_group);
             // The mesh triangle: the live half whose solid plane holds the screen triangle best.
             let sv = tri.map(|v| v.tex.to_bits().map(|c| c as f64));

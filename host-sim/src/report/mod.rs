@@ -14,7 +14,7 @@ pub mod cycles;
 pub mod peers;
 pub mod size;
 
-pub use workloads::{band, peers_workload, planes, scenes, stages};
+pub use workloads::{atlas, band, peers_workload, planes, scenes, stages};
 
 use std::path::Path;
 
@@ -37,6 +37,8 @@ pub enum JobKind {
     Scene,
     /// A workload of the peers' plane (noise alone, [`peers_workload`]).
     Peers,
+    /// A built-in scene baked into a texture atlas or drawn from it (`workloads::atlas`).
+    Atlas,
     /// An evaluation mode over a 320 x 8 band of value noise ([`band`]).
     Band,
 }
@@ -123,6 +125,21 @@ pub fn suite() -> Vec<SuiteJob> {
             format!("scene:{}", s.name),
             JobKind::Scene,
             u64::from(s.size.0) * u64::from(s.size.1),
+            "pixel",
+        ));
+    }
+    if let Some(s) = scenes::builtin_frame(atlas::SCENE) {
+        let (w, h) = s.size();
+        jobs.push(one(
+            format!("atlas:{}-bake", atlas::SCENE),
+            JobKind::Atlas,
+            u64::from(atlas::owned_texels(&s)),
+            "texel",
+        ));
+        jobs.push(one(
+            format!("atlas:{}", atlas::SCENE),
+            JobKind::Atlas,
+            u64::from(w) * u64::from(h),
             "pixel",
         ));
     }
@@ -261,6 +278,19 @@ fn host_scene(
     f(hash, work, &mut band, &mut depth)
 }
 
+/// The atlas jobs (`atlas:<scene>-bake`, `atlas:<scene>`) on the host, through the device's own
+/// code (`workloads::atlas`) with heap buffers.
+fn host_atlas(what: &str, hash: HashKind, work: bool) -> Option<u32> {
+    if what == format!("{}-bake", atlas::SCENE) {
+        return Some(atlas::bake_job(hash, work));
+    }
+    if what != atlas::SCENE {
+        return None;
+    }
+    let mut bins = vec![texcore::render::GroupRows::EMPTY; scenes::SCENE_GROUPS];
+    Some(atlas::draw_job(hash, work, &mut bins))
+}
+
 /// The host's checksum of device job `name` (with or without the `/setup` suffix) for a device
 /// shading with `hash`, or of a built-in scene's whole frame (`scene:<name>`, what the checksum
 /// of its last strip must be); `None` for a name outside the suite.
@@ -294,6 +324,7 @@ pub fn host_checksum(name: &str, hash: HashKind) -> Option<u32> {
             work.then(|| host_builtin_scene_checksum(what, hash))?
         }
         "scene" => Some(host_scene(scenes::scene(what)?.run, hash, work)),
+        "atlas" => host_atlas(what, hash, work),
         _ => None,
     }
 }

@@ -61,7 +61,7 @@ pub struct FeatureSet {
 
 /// The probe's feature sets, from `minimal` to `full`, and `full` in the fast code shape.
 /// `perm-hash` only takes effect on the Cortex-M4F (the rv32imc build is table-free in every set).
-pub const FEATURE_SETS: [FeatureSet; 11] = [
+pub const FEATURE_SETS: [FeatureSet; 12] = [
     FeatureSet {
         name: "minimal",
         features: &[],
@@ -119,6 +119,13 @@ pub const FEATURE_SETS: [FeatureSet; 11] = [
         profile: "release-size",
         what: "minimal + forward differencing + multipass corner-by-corner noise \
                (`EvalMode::Multipass`; a system of its own, not part of `full`)",
+    },
+    FeatureSet {
+        name: "atlas",
+        features: &["atlas"],
+        profile: "release-size",
+        what: "minimal + meshed texture atlases: packed-mesh validation, the atlas bake, nearest, \
+               bilinear and MIP atlas look-ups (a system of its own, not part of `full`)",
     },
     FeatureSet {
         name: "full",

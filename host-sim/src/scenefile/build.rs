@@ -113,6 +113,7 @@ impl SceneDef {
         for o in &self.objects {
             let _ = s.objects.push(o.object());
         }
+        s.set_lighting(self.lighting.clone());
         s
     }
 

@@ -83,7 +83,7 @@ fn number(v: f64) -> String {
 }
 
 /// A real in a range (`ok`), described by `range` in the message.
-fn real(v: &S<f64>, field: &str, ok: impl Fn(f64) -> bool, range: &str) -> R<f64> {
+pub(super) fn real(v: &S<f64>, field: &str, ok: impl Fn(f64) -> bool, range: &str) -> R<f64> {
     let x = *v.get_ref();
     if !x.is_finite() || !ok(x) {
         return fail(
@@ -115,7 +115,7 @@ fn coord_ok(x: f64) -> bool {
 const COORD_RANGE: &str = "|v| <= 32767";
 
 /// Three coordinates within `±32767`, as raw `Q16.16`.
-fn coord3(v: &S<[f64; 3]>, field: &str) -> R<[i64; 3]> {
+pub(super) fn coord3(v: &S<[f64; 3]>, field: &str) -> R<[i64; 3]> {
     let mut out = [0i64; 3];
     for (k, x) in v.get_ref().iter().enumerate() {
         if !x.is_finite() || !coord_ok(*x) {
@@ -176,7 +176,12 @@ fn describe(v: &Value) -> String {
 }
 
 /// Three reals each satisfying `ok`.
-fn reals3(v: &S<Value>, field: &str, ok: impl Fn(f64) -> bool, range: &str) -> R<[f64; 3]> {
+pub(super) fn reals3(
+    v: &S<Value>,
+    field: &str,
+    ok: impl Fn(f64) -> bool,
+    range: &str,
+) -> R<[f64; 3]> {
     let a = num_or_vec3(v, field)?;
     for (k, x) in a.iter().enumerate() {
         if !x.is_finite() || !ok(*x) {
@@ -416,6 +421,8 @@ pub(crate) struct ObjectFx {
     pub cull: CullMode,
     pub depth_test: bool,
     pub depth_write: bool,
+    /// `Some`: drawn from a baked atlas.
+    pub shading: Option<crate::atlas::shading::AtlasShading>,
 }
 
 /// What an animation track drives.
@@ -460,6 +467,8 @@ pub(crate) struct SceneDef {
     pub materials: Vec<MaterialFx>,
     pub objects: Vec<ObjectFx>,
     pub tracks: Vec<Track>,
+    /// The lights (`[lighting]`, `[[lights]]`; none: unlit).
+    pub lighting: texcore::light::Lighting<{ texcore::scene::MAX_LIGHTS }>,
 }
 
 fn leak(s: &str) -> &'static str {
@@ -642,6 +651,7 @@ pub(crate) fn convert(file: &FileDef, default_name: &str, base: &std::path::Path
         materials,
         objects,
         tracks: Vec::new(),
+        lighting: super::lights::lighting(file.lighting.as_ref(), &file.lights)?,
     };
     for (i, t) in file.animate.iter().enumerate() {
         let tr = track(t, &format!("animate[{i}]"), &def, &names, &used, &defined)?;
@@ -1287,6 +1297,7 @@ fn object(o: &S<ObjectDef>, field: &str, slot: u8, base: &std::path::Path) -> R<
         },
         depth_test: d.depth_test.as_ref().is_none_or(|b| *b.get_ref()),
         depth_write: d.depth_write.as_ref().is_none_or(|b| *b.get_ref()),
+        shading: crate::atlas::shading::convert(d.shading.as_ref(), d.atlas.as_ref(), field)?,
     })
 }
 

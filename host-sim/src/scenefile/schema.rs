@@ -36,6 +36,9 @@ pub struct FileDef {
     pub objects: Vec<S<ObjectDef>>,
     #[serde(default)]
     pub animate: Vec<S<TrackDef>>,
+    pub lighting: Option<S<super::lights::LightingDef>>,
+    #[serde(default)]
+    pub lights: Vec<S<super::lights::LightDef>>,
 }
 
 #[derive(Clone, Copy, Debug, Deserialize, PartialEq, Eq)]
@@ -190,6 +193,8 @@ pub struct ObjectDef {
     pub cull: Option<S<CullDef>>,
     pub depth_test: Option<S<bool>>,
     pub depth_write: Option<S<bool>>,
+    pub shading: Option<S<crate::atlas::shading::ShadingDef>>,
+    pub atlas: Option<S<crate::atlas::shading::AtlasDef>>,
 }
 
 /// The texture mapping of an object.

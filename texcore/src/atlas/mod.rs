@@ -199,10 +199,11 @@ impl AtlasTriangle {
         let dv = sx * (2 * j as i64 + 1 - (ry as i64 >> 3));
         let div = |n: i64| -> i64 {
             // Round to nearest, ties away from zero (same on every target).
+            // (`checked_div`: no panic path; `l2 > 0` by construction.)
             if n >= 0 {
-                (n + l2 / 2) / l2
+                (n + l2 / 2).checked_div(l2).unwrap_or(0)
             } else {
-                -((-n + l2 / 2) / l2)
+                -(-n + l2 / 2).checked_div(l2).unwrap_or(0)
             }
         };
         let mut s = [0i64; 3];

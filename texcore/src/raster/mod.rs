@@ -317,7 +317,10 @@ pub enum Perspective {
 }
 
 impl Perspective {
-    /// The longest segment this mode emits (`None`: a whole run).
+    /// The longest segment this mode emits (`None`: a whole run) for a triangle with perspective.
+    ///
+    /// A triangle whose three `1/w` are all zero carries no depth to divide by: every mode
+    /// interpolates it affinely and emits whole runs, as [`Perspective::Affine`] does.
     pub const fn max_len(self) -> Option<u16> {
         match self {
             Perspective::Exact => Some(1),

@@ -30,7 +30,7 @@ use super::{
 };
 use crate::wide::mul_wide;
 #[cfg(not(texcore_lean))]
-use crate::wide::Reciprocal64;
+use crate::wide::{Reciprocal32, Reciprocal64};
 
 /// Why a triangle was not set up.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
@@ -62,7 +62,9 @@ pub(crate) struct Plane {
 /// `round(n / area2)` (half up, as [`div_round_i128`]) for the many plane numerators of one
 /// triangle: the doubled area's reciprocal is prepared once (`area2` is below 2^63 in magnitude
 /// inside the guard band), so each rounding division is a few multiplications instead of a long
-/// division. Gives exactly [`div_round_i128`]'s result.
+/// division: a reciprocal in 32-bit words when `|area2| < 2^32` (every triangle below about 4000
+/// pixels on a side: one 32 x 32-bit product a significant numerator word), in 64-bit words
+/// otherwise. Gives exactly [`div_round_i128`]'s result.
 ///
 /// The size-lean shape (`cfg(texcore_lean)`) prepares no reciprocal and divides each numerator
 /// with [`div_round_i128`] itself (the reference the tests compare the reciprocal path with):
@@ -70,9 +72,24 @@ pub(crate) struct Plane {
 #[derive(Clone, Copy, Debug)]
 struct AreaDivisor {
     area2: i128,
-    /// `|area2|` and its reciprocal (`None` only past 64 bits: then [`div_round_i128`]).
+    /// `|area2|` (when it fits 64 bits).
     #[cfg(not(texcore_lean))]
-    recip: Option<(i128, Reciprocal64)>,
+    mag: u64,
+    /// The reciprocal of `|area2|`.
+    #[cfg(not(texcore_lean))]
+    recip: AreaRecip,
+}
+
+/// The reciprocal of a doubled area, by its width.
+#[cfg(not(texcore_lean))]
+#[derive(Clone, Copy, Debug)]
+enum AreaRecip {
+    /// `|area2| < 2^32`.
+    Narrow(Reciprocal32),
+    /// `2^32 <= |area2| < 2^64`.
+    Wide(Reciprocal64),
+    /// Zero or past 64 bits: [`div_round_i128`].
+    None,
 }
 
 impl AreaDivisor {
@@ -90,37 +107,71 @@ impl AreaDivisor {
 
     #[cfg(not(texcore_lean))]
     fn new(area2: i128) -> AreaDivisor {
-        let recip = u64::try_from(area2.unsigned_abs())
-            .ok()
-            .and_then(Reciprocal64::new)
-            .map(|r| (area2.saturating_abs(), r));
-        AreaDivisor { area2, recip }
+        let mag = u64::try_from(area2.unsigned_abs()).ok();
+        let recip = match mag {
+            Some(m) => match u32::try_from(m) {
+                Ok(m32) => Reciprocal32::new(m32).map(AreaRecip::Narrow),
+                Err(_) => Reciprocal64::new(m).map(AreaRecip::Wide),
+            },
+            None => None,
+        };
+        AreaDivisor {
+            area2,
+            mag: mag.unwrap_or(0),
+            recip: recip.unwrap_or(AreaRecip::None),
+        }
     }
 
     /// `round(n / area2)`, ties up, exactly as `div_round_i128(n, area2)`.
     #[cfg(not(texcore_lean))]
     #[inline]
     fn div_round(&self, n: i128) -> i128 {
-        let Some((d, r)) = self.recip else {
-            return div_round_i128(n, self.area2);
-        };
+        // |n| < 2^126 (every plane numerator: below 2^125): with a = |area2| and n' = n sign(area2),
+        // round_half_up(n' / a) = floor((n' + floor(a / 2)) / a) (for odd a, the 1/2 that
+        // n' / a + 1/2 adds beyond floor(a / 2) / a never reaches the next multiple of a), and
+        // m = n' + floor(a / 2) cannot overflow. The floor of m / a from its magnitude's quotient
+        // and remainder.
+        if let (AreaRecip::Narrow(r), true) = (self.recip, n.unsigned_abs() < 1 << 126) {
+            let n = if self.area2 < 0 { n.wrapping_neg() } else { n };
+            let m = n.wrapping_add(i128::from(self.mag >> 1));
+            let (q, rem) = r.div_rem(m.unsigned_abs());
+            let q = q as i128;
+            return if m >= 0 {
+                q
+            } else if rem == 0 {
+                q.wrapping_neg()
+            } else {
+                q.wrapping_neg().wrapping_sub(1)
+            };
+        }
+        self.div_round_general(n)
+    }
+
+    /// [`AreaDivisor::div_round`] for every numerator.
+    #[cfg(not(texcore_lean))]
+    fn div_round_general(&self, n: i128) -> i128 {
         // As div_round_i128: a negative divisor negates both (saturating).
-        let n = if self.area2 < 0 {
+        let nn = if self.area2 < 0 {
             n.saturating_neg()
         } else {
             n
         };
-        let (qm, rm) = r.div_rem(n.unsigned_abs());
-        // The Euclidean quotient and remainder by d > 0 from the magnitudes; |q| <= 2^127 wraps
-        // like the shared division (only n = i128::MIN, d = 1).
-        let (q, rem) = if n >= 0 || rm == 0 {
+        let (qm, rm) = match self.recip {
+            AreaRecip::Narrow(r) => {
+                let (q, r) = r.div_rem(nn.unsigned_abs());
+                (q, u64::from(r))
+            }
+            AreaRecip::Wide(r) => r.div_rem(nn.unsigned_abs()),
+            AreaRecip::None => return div_round_i128(n, self.area2),
+        };
+        let d = self.mag;
+        // The Euclidean quotient and remainder by d > 0 from the magnitudes (rm < d); |q| <= 2^127
+        // wraps like the shared division (only n = i128::MIN, d = 1).
+        let (q, rem) = if nn >= 0 || rm == 0 {
             let q = qm as i128;
-            (if n >= 0 { q } else { q.wrapping_neg() }, i128::from(rm))
+            (if nn >= 0 { q } else { q.wrapping_neg() }, rm)
         } else {
-            (
-                (qm as i128).wrapping_neg().wrapping_sub(1),
-                d - i128::from(rm),
-            )
+            ((qm as i128).wrapping_neg().wrapping_sub(1), d - rm)
         };
         if rem >= d - rem {
             q.saturating_add(1)
@@ -130,24 +181,69 @@ impl AreaDivisor {
     }
 }
 
-impl Plane {
-    /// The plane through the vertex values `l` (each `|l_i| <= 2^62`) at the raw vertex
-    /// positions `p` (guard band), `area` dividing by the doubled signed area `!= 0`.
-    fn new(l: [i64; 3], p: &[[i64; 2]; 3], area: &AreaDivisor) -> Plane {
+/// The barycentric edge functions of a triangle, shared by all its planes: `E_i` at the centre
+/// of pixel `(0, 0)` and its steps per pixel in x and y (`sum_i E_i = area2`).
+#[derive(Clone, Copy, Debug)]
+pub(crate) struct PlaneBasis {
+    /// `[E_i(HALF, HALF), dE_i/dx SUB, dE_i/dy SUB]` for `i = 0, 1, 2`: below `2^62`, `2^35` and
+    /// `2^35` in magnitude inside the guard band.
+    e: [[i64; 3]; 3],
+    /// Every entry of `e` fits `i32` (every triangle below about 2000 pixels from the origin), so
+    /// the plane numerators take 64 x 32-bit products (never in the size-lean shape).
+    narrow: bool,
+}
+
+impl PlaneBasis {
+    /// The edge functions of the raw vertex positions `p` (guard band).
+    pub(crate) fn new(p: &[[i64; 2]; 3]) -> PlaneBasis {
         let [p0, p1, p2] = *p;
-        let mut num_c: i128 = 0;
-        let mut num_x: i128 = 0;
-        let mut num_y: i128 = 0;
-        for (li, [xj, yj], [xk, yk]) in [(l[0], p1, p2), (l[1], p2, p0), (l[2], p0, p1)] {
-            // Barycentric edge function E_i(r) at r = (HALF, HALF): the coordinates less HALF
-            // are below 2^30 + 8 in magnitude, so |E_i| < 2^62; sum over i of E_i = area2.
-            let e = (xj - HALF) * (yk - HALF) - (xk - HALF) * (yj - HALF);
-            // |l_i E_i| < 2^124: the sum of three fits i128.
-            num_c += mul_wide(li, e);
-            // dE_i/dx = yj - yk, dE_i/dy = xk - xj (per raw unit; SUB raw units per pixel).
-            num_x += mul_wide(li, (yj - yk) * SUB);
-            num_y += mul_wide(li, (xk - xj) * SUB);
+        let mut e = [[0i64; 3]; 3];
+        for (ei, [xj, yj], [xk, yk]) in [(0, p1, p2), (1, p2, p0), (2, p0, p1)] {
+            // Coordinates less HALF are below 2^30 + 8 in magnitude, so |E_i| < 2^62;
+            // dE_i/dx = yj - yk, dE_i/dy = xk - xj per raw unit (SUB raw units per pixel).
+            if let Some(row) = e.get_mut(ei) {
+                *row = [
+                    (xj - HALF) * (yk - HALF) - (xk - HALF) * (yj - HALF),
+                    (yj - yk) * SUB,
+                    (xk - xj) * SUB,
+                ];
+            }
         }
+        let narrow = !cfg!(texcore_lean) && e.iter().flatten().all(|v| i32::try_from(*v).is_ok());
+        PlaneBasis { e, narrow }
+    }
+}
+
+/// `sum_i l_i e_i` exactly, for `|l_i| <= 2^62` and `e_i` that fit `i32`: each `l_i` split into
+/// `(l_i >> 32) 2^32 + (l_i mod 2^32)`, the high products (below `2^61` in magnitude, their sum
+/// below `2^63`) summed in `i64`, the low ones (below `2^63`) in `i128`.
+#[inline(always)]
+fn dot_narrow(l: [i64; 3], e: [i64; 3]) -> i128 {
+    let mut hi: i64 = 0;
+    let mut lo: i128 = 0;
+    for (li, ei) in l.into_iter().zip(e) {
+        let b = i64::from(ei as i32);
+        hi += i64::from((li >> 32) as i32) * b;
+        lo += i128::from(i64::from(li as u32) * b);
+    }
+    (i128::from(hi) << 32) + lo
+}
+
+impl Plane {
+    /// The plane through the vertex values `l` (each `|l_i| <= 2^62`) at the vertex positions
+    /// of `basis`, `area` dividing by the doubled signed area `!= 0`.
+    fn new(l: [i64; 3], basis: &PlaneBasis, area: &AreaDivisor) -> Plane {
+        let mut num = [0i128; 3];
+        for (k, n) in num.iter_mut().enumerate() {
+            let e = basis.e.map(|row| row.get(k).copied().unwrap_or(0));
+            *n = if basis.narrow {
+                dot_narrow(l, e)
+            } else {
+                // |l_i E_i| < 2^124, |l_i dE_i| < 2^97: the sum of three fits i128.
+                mul_wide(l[0], e[0]) + mul_wide(l[1], e[1]) + mul_wide(l[2], e[2])
+            };
+        }
+        let [num_c, num_x, num_y] = num;
         let gx = area.div_round(num_x);
         let gy = area.div_round(num_y);
         Plane {
@@ -239,7 +335,7 @@ pub(crate) struct Prepared {
     setup: TriangleSetup,
     done: bool,
     area: AreaDivisor,
-    p: [[i64; 2]; 3],
+    basis: PlaneBasis,
     tex: [[i64; 3]; 3],
     range: [u64; 3],
     inv_w: [u32; 3],
@@ -288,7 +384,8 @@ impl Prepared {
 
         let area = AreaDivisor::new(area2);
         let zs = v.map(|p| p.z as i64);
-        let z = Plane::new(zs.map(|z| z << 32), &p, &area);
+        let basis = PlaneBasis::new(&p);
+        let z = Plane::new(zs.map(|z| z << 32), &basis, &area);
         let zlo = zs.iter().copied().min().unwrap_or(0);
         let zhi = zs.iter().copied().max().unwrap_or(0);
         Ok(Prepared {
@@ -307,7 +404,7 @@ impl Prepared {
             },
             done: false,
             area,
-            p,
+            basis,
             tex,
             range,
             inv_w: v.map(|p| p.inv_w.to_bits()),
@@ -338,7 +435,7 @@ impl Prepared {
     /// Computes the texture interpolation (affine or perspective planes) into the set-up, plane
     /// by plane in place (the planes are a few hundred bytes: no copies of the whole).
     fn fill_interp(&mut self) {
-        let (p, tex, range, area) = (&self.p, self.tex, self.range, &self.area);
+        let (p, tex, range, area) = (&self.basis, self.tex, self.range, &self.area);
         let base = self.setup.base;
         let qmax = self.inv_w.iter().copied().max().unwrap_or(0);
         if self.setup.opts.perspective == Perspective::Affine || qmax == 0 {
@@ -514,7 +611,7 @@ mod tests {
         let area2 = (p[1][0] - p[0][0]) as i128 * (p[2][1] - p[0][1]) as i128
             - (p[2][0] - p[0][0]) as i128 * (p[1][1] - p[0][1]) as i128;
         let l = [123_456_789i64 << 30, -(987_654_321i64 << 31), 5i64 << 40];
-        let pl = Plane::new(l, &p, &AreaDivisor::new(area2));
+        let pl = Plane::new(l, &PlaneBasis::new(&p), &AreaDivisor::new(area2));
         for (i, px) in [(0usize, (0, 0)), (1, (40, 0)), (2, (3, 29))] {
             let err = (pl.at(px.0, px.1) as i128 - l[i] as i128).abs();
             assert!(err <= 1 + (px.0 + px.1) as i128 / 2 + 1, "{i} {err}");
@@ -584,6 +681,28 @@ mod tests {
     }
 
     proptest::proptest! {
+        #[test]
+        fn narrow_plane_numerators_match_wide(
+            l in proptest::array::uniform3(-(1i64 << 62)..=(1i64 << 62)),
+            xy in proptest::array::uniform6(-(1i64 << 15)..(1i64 << 15)),
+            lshift in 0u32..62,
+        ) {
+            let p = [[xy[0], xy[1]], [xy[2], xy[3]], [xy[4], xy[5]]];
+            let area2 = (p[1][0] - p[0][0]) as i128 * (p[2][1] - p[0][1]) as i128
+                - (p[2][0] - p[0][0]) as i128 * (p[1][1] - p[0][1]) as i128;
+            proptest::prop_assume!(area2 != 0);
+            let basis = PlaneBasis::new(&p);
+            proptest::prop_assert_eq!(basis.narrow, !cfg!(texcore_lean));
+            let wide = PlaneBasis { narrow: false, ..basis };
+            let area = AreaDivisor::new(area2);
+            for l in [l, l.map(|v| v >> lshift), [i64::MIN >> 1, (1 << 62), -(1 << 62) + 1]] {
+                proptest::prop_assert_eq!(
+                    Plane::new(l, &basis, &area),
+                    Plane::new(l, &wide, &area)
+                );
+            }
+        }
+
         #[test]
         fn area_divisor_matches_div_round_i128(
             n in proptest::prelude::any::<i128>(),

@@ -66,6 +66,8 @@
 
 pub mod builtin;
 pub mod camera;
+#[cfg(feature = "lighting")]
+mod lit;
 pub mod math;
 pub mod mesh;
 pub mod teapot;
@@ -86,17 +88,12 @@ use camera::{CamVertex, ClipOutcome};
 pub const MAX_OBJECTS: usize = 8;
 /// Most texture slots in a scene.
 pub const MAX_SLOTS: usize = 6;
+/// Most lights in a scene (feature `lighting`).
+pub const MAX_LIGHTS: usize = 4;
 
-/// How an object's pixels combine with the frame.
-#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]
-#[cfg_attr(feature = "defmt", derive(defmt::Format))]
-pub enum Blend {
-    /// Replace.
-    #[default]
-    Opaque,
-    /// Porter-Duff "over" with the colour table's alpha.
-    Over,
-}
+/// How an object's pixels combine with the frame: the renderer's [`crate::render::Blend`] (one
+/// type for both).
+pub use crate::render::Blend;
 
 /// A material for the renderer: a preset by name and the per-scene parameters that vary.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
@@ -218,6 +215,8 @@ pub enum SceneError {
     TooManyObjects,
     /// The scene already has [`MAX_SLOTS`] texture slots.
     TooManySlots,
+    /// The scene already has its most lights (`MAX_LIGHTS`, feature `lighting`).
+    TooManyLights,
     /// An animation of no frames.
     NoFrames,
     /// The still frame is not one of the animation's frames.
@@ -236,6 +235,7 @@ impl core::fmt::Display for SceneError {
             SceneError::TooManySlots => {
                 write!(f, "a scene has at most {MAX_SLOTS} texture slots")
             }
+            SceneError::TooManyLights => write!(f, "a scene has at most {MAX_LIGHTS} lights"),
             SceneError::NoFrames => f.write_str("an animation has at least 1 frame"),
             SceneError::StillOutOfRange { still, frames } => write!(
                 f,
@@ -268,6 +268,9 @@ pub struct Scene {
     pub slots: heapless::Vec<TextureSlot, MAX_SLOTS>,
     /// The animation (`None`: static).
     pub animate: Option<AnimateFn>,
+    /// The lights (none: the scene is unlit and pays nothing for lighting).
+    #[cfg(feature = "lighting")]
+    lighting: crate::light::Lighting<MAX_LIGHTS>,
 }
 
 impl Scene {
@@ -282,6 +285,8 @@ impl Scene {
             objects: heapless::Vec::new(),
             slots: heapless::Vec::new(),
             animate: None,
+            #[cfg(feature = "lighting")]
+            lighting: crate::light::Lighting::new(),
         }
     }
 
@@ -423,6 +428,24 @@ impl Scene {
         K: FnMut(usize) -> bool,
         F: FnMut(usize, usize, &[ScreenVertex; 3]),
     {
+        self.walk_quads(
+            keep,
+            &mut |g, o, t, _: &dyn Fn() -> [(); 3]| f(g, o, t),
+            &(),
+        )
+    }
+
+    /// The walk of [`Scene::for_each_triangle_by_quad`], with `corner` computing what each
+    /// emitted vertex carries besides its screen position, on demand: `f` gets a function that
+    /// computes the triangle's three values (each quad corner at most once per walk), so a
+    /// triangle whose values are not asked for costs nothing (nor does anything for `()`). A
+    /// triangle cut by clipping gets the mean of its input corners' values.
+    fn walk_quads<K, F, L>(&self, keep: &mut K, f: &mut F, corner: &L) -> SceneCounters
+    where
+        K: FnMut(usize) -> bool,
+        F: FnMut(usize, usize, &[ScreenVertex; 3], &dyn Fn() -> [L::Value; 3]),
+        L: CornerValue,
+    {
         let mut c = SceneCounters::default();
         let view = self.camera.view();
         let mut first_group = 0usize;
@@ -462,6 +485,18 @@ impl Scene {
                 });
                 let oc = cam.map(|v| view.outcodes(&v.p));
                 let mut projected: [Option<(ScreenVertex, u64)>; 4] = [None; 4];
+                let values: [core::cell::Cell<Option<L::Value>>; 4] = Default::default();
+                let v = |i: usize| -> L::Value {
+                    let cell = &values[i & 3];
+                    match cell.get() {
+                        Some(x) => x,
+                        None => {
+                            let x = corner.at(o, &corners, i);
+                            cell.set(Some(x));
+                            x
+                        }
+                    }
+                };
                 for (tri, live) in halves.iter().zip(live) {
                     if !live {
                         continue;
@@ -478,11 +513,12 @@ impl Scene {
                         };
                         let t = camera::assemble([p(a), p(b), p(d)]);
                         c.generated = c.generated.wrapping_add(1);
-                        f(group, index, &t);
+                        f(group, index, &t, &|| [v(a), v(b), v(d)]);
                     } else {
+                        let lit = || [L::mean([v(a), v(b), v(d)]); 3];
                         let mut emit = |t: &[ScreenVertex; 3]| {
                             c.generated = c.generated.wrapping_add(1);
-                            f(group, index, t);
+                            f(group, index, t, &lit);
                         };
                         let outcome = view.clip_project(&[cam[a], cam[b], cam[d]], &mut emit);
                         match outcome {
@@ -500,6 +536,25 @@ impl Scene {
         }
         c
     }
+}
+
+/// What a scene walk computes for each corner of a mesh quad besides its screen position.
+trait CornerValue {
+    /// The value (`()` for none).
+    type Value: Copy;
+    /// The value of corner `i` of the quad `corners` (object space) of object `o`.
+    fn at(&self, o: &Object, corners: &[Vec3; 4], i: usize) -> Self::Value;
+    /// The value of a vertex made by clipping: the mean of the input triangle's.
+    fn mean(v: [Self::Value; 3]) -> Self::Value;
+}
+
+/// Nothing: the unlit walk.
+impl CornerValue for () {
+    type Value = ();
+    #[inline(always)]
+    fn at(&self, _: &Object, _: &[Vec3; 4], _: usize) {}
+    #[inline(always)]
+    fn mean(_: [(); 3]) {}
 }
 
 #[cfg(test)]

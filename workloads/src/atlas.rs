@@ -1,0 +1,510 @@
+//! Drawing a built-in scene from meshed texture atlases on the device (Carr & Hart 2002): every
+//! mesh quad of the scene gets a block of a [`SIDE`] x [`SIDE`] RGB565 atlas in RAM (a uniform
+//! layout, [`UniformLayout`]), the object's texture is baked into it once with texcore's bake
+//! kernel (`texcore::atlas::bake`: row spans of the span evaluator, the filter width from the
+//! texel's footprint on the surface), then the frame is drawn in bands of
+//! [`DRAW_ROWS`] rows with texcore's rasterizer interpolating atlas coordinates
+//! perspective-correctly and every pixel reading its nearest atlas texel.
+//!
+//! Memory: the atlas is caller-owned frame memory like the band buffers (32 KB for 128 x 128
+//! RGB565, on the job's stack), not texture-unit state; the RGB565 band and its depth band
+//! ([`DRAW_PIXELS`] x 2 bytes each) are on the stack too (taller bands than the procedural
+//! renderer's: a triangle is set up once per band it touches), the quad bins are the suite's.
+//!
+//! Atlas coordinates of a screen vertex: the scene's walk hands over screen triangles whose
+//! vertices carry solid coordinates. A vertex of an unclipped triangle carries exactly the solid
+//! coordinates of one of its quad's corners, whose atlas position is known; a vertex made by
+//! clipping gets its atlas position from its barycentric coordinates in the quad half's solid
+//! triangle (integer, `Q16` fractions). The half of a screen triangle is the one whose corners
+//! its vertices are, or (clipped) the one whose solid triangle holds its centroid.
+//!
+//! Exactness: integer arithmetic only, the same code on the host and both devices, so the
+//! device's checksums equal the host's (`tests/tests/firmware_qemu.rs`). Atlas drawing is an
+//! approximation of procedural shading (a *named* mode); its error against the procedural frame
+//! is measured on the host (`texsim render --via-atlas`, `docs/atlas.md`). Every object is drawn
+//! opaque. Nothing allocates; nothing panics.
+
+use texcore::atlas::{bake, AtlasTriangle, Half};
+use texcore::color::Rgba8888;
+use texcore::format::TexPoint;
+use texcore::hash::HashKind;
+use texcore::raster::{DepthBuffer, Rasterizer, Rect, ScreenVertex, Segment};
+use texcore::render::{GroupRows, TriangleSource};
+use texcore::scene::{Object, Scene};
+use texcore::sink::ChecksumSink;
+
+use crate::scenes::{builtin_frame, slot_texture, FRAME_START, WIDTH};
+
+/// Side of the device atlas in texels.
+pub const SIDE: u16 = 128;
+/// Texels of the device atlas (`SIDE * SIDE`, 32 KB of RGB565).
+pub const TEXELS: usize = SIDE as usize * SIDE as usize;
+/// Gutter of the device layout: 0, the paper's atlas for nearest look-ups.
+pub const GUTTER: u8 = 0;
+/// Rows of a band of the atlas draw.
+pub const DRAW_ROWS: u16 = 24;
+/// Pixels of a band of the atlas draw (and entries of its depth band): the widest scene's.
+pub const DRAW_PIXELS: usize = WIDTH as usize * DRAW_ROWS as usize;
+/// The built-in scene the atlas jobs draw.
+pub const SCENE: &str = "marble";
+
+/// The RGB565 texels of a device atlas, row-major.
+pub type AtlasTexels = [u16; TEXELS];
+
+/// Inset of atlas corners towards the triangle's inside, raw `Q16.16` texels (1/64 texel): a
+/// look-up at a point of the triangle never rounds across an edge lying on a texel boundary.
+const INSET: i32 = 1 << 10;
+
+/// A uniform atlas layout of `quads` mesh quads: quad `q`'s two triangles share the block
+/// `q % cols, q / cols` of `(leg + 2g + 2) x (leg + 2g + 1)` texels (`texcore::atlas`), the
+/// largest leg that fits. Built by [`UniformLayout::new`].
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct UniformLayout {
+    leg: u16,
+    cols: u16,
+    quads: u32,
+}
+
+impl UniformLayout {
+    /// The layout of `quads` quads in a [`SIDE`] x [`SIDE`] atlas with [`GUTTER`]; `None` when
+    /// not even a leg of 1 fits.
+    pub fn new(quads: u32) -> Option<UniformLayout> {
+        let g = u32::from(GUTTER);
+        let mut best = None;
+        for leg in 1..u32::from(SIDE) {
+            let (w, h) = (leg + 2 * g + 2, leg + 2 * g + 1);
+            let (cols, rows) = (u32::from(SIDE) / w, u32::from(SIDE) / h);
+            if cols * rows < quads {
+                break;
+            }
+            best = Some(UniformLayout {
+                leg: leg as u16,
+                cols: cols as u16,
+                quads,
+            });
+        }
+        best
+    }
+
+    /// The leg of every triangle, in texels.
+    pub fn leg(&self) -> u16 {
+        self.leg
+    }
+
+    /// Block width and height.
+    fn block(&self) -> (u16, u16) {
+        let g = u16::from(GUTTER);
+        (self.leg + 2 * g + 2, self.leg + 2 * g + 1)
+    }
+
+    /// The atlas triangle of half `half` of quad `q` with solid corners `solid` (right angle,
+    /// along `u`, along `v`).
+    pub fn triangle(&self, q: u32, half: Half, solid: [TexPoint; 3]) -> Option<AtlasTriangle> {
+        if q >= self.quads {
+            return None;
+        }
+        let (w, h) = self.block();
+        let cols = u32::from(self.cols);
+        let x = q.checked_rem(cols)? as u16 * w;
+        let y = q.checked_div(cols)? as u16 * h;
+        AtlasTriangle::new(x, y, w, h, self.leg, GUTTER, half, solid).ok()
+    }
+}
+
+/// The corners of a quad's halves in atlas order (right angle, along `u`, along `v`): the upper
+/// half is the quad's first triangle `(c0, c1, c2)` with its right angle at `c1`, the lower half
+/// the second `(c0, c2, c3)` with its right angle at `c3`; both hypotenuses are `c0 c2`.
+const HALF_CORNERS: [(Half, [usize; 3]); 2] = [(Half::Upper, [1, 2, 0]), (Half::Lower, [3, 0, 2])];
+
+/// One quad as the draw needs it: its corners' solid coordinates and, per half, whether it is a
+/// triangle and its corners' atlas positions (raw `Q16.16` texels, inset).
+#[derive(Clone, Copy, Default)]
+struct QuadAtlas {
+    solid: [[i32; 3]; 4],
+    live: [bool; 2],
+    uv: [[[i32; 2]; 3]; 2],
+}
+
+/// The solid coordinates of quad `q` of object `o` and whether each half is a triangle.
+fn quad_solid(o: &Object, q: u32) -> Option<([[i32; 3]; 4], [bool; 2])> {
+    let c = o.mesh.quad(q)?;
+    let distinct = |a: usize, b: usize, d: usize| c[a] != c[b] && c[b] != c[d] && c[d] != c[a];
+    let solid = c.map(|p| o.tex_map.apply_point(TexPoint::from_bits(p.x, p.y, p.z)));
+    Some((solid, [distinct(0, 1, 2), distinct(0, 2, 3)]))
+}
+
+fn tex(s: [i32; 3]) -> TexPoint {
+    TexPoint::from_bits(s[0], s[1], s[2])
+}
+
+impl QuadAtlas {
+    fn new(layout: &UniformLayout, o: &Object, group: u32, q: u32) -> Option<QuadAtlas> {
+        let (solid, live) = quad_solid(o, q)?;
+        let mut uv = [[[0i32; 2]; 3]; 2];
+        for (k, (half, idx)) in HALF_CORNERS.iter().enumerate() {
+            let t = layout.triangle(group, *half, idx.map(|i| tex(solid[i & 3])))?;
+            let c = t.corners_x16().map(|p| p.map(|v| v << 12));
+            let s = if *half == Half::Upper { 1 } else { -1 };
+            let inset = [[s, s], [-2 * s, s], [s, -2 * s]];
+            for ((out, c), d) in uv[k].iter_mut().zip(c).zip(inset) {
+                *out = [c[0] + d[0] * INSET, c[1] + d[1] * INSET];
+            }
+        }
+        Some(QuadAtlas { solid, live, uv })
+    }
+
+    /// The solid triangle of half `k`.
+    fn half_solid(&self, k: usize) -> [[i32; 3]; 3] {
+        HALF_CORNERS[k & 1].1.map(|i| self.solid[i & 3])
+    }
+
+    /// Atlas position of solid point `p` in half `k`.
+    fn atlas_of(&self, k: usize, p: [i32; 3]) -> [i32; 2] {
+        let s = self.half_solid(k);
+        let uv = self.uv[k & 1];
+        for (c, a) in s.iter().zip(uv) {
+            if *c == p {
+                return a;
+            }
+        }
+        let (b, g) = bary(&s, p).unwrap_or((0, 0));
+        let lerp = |j: usize| {
+            let a0 = i64::from(uv[0][j]);
+            let d1 = i64::from(uv[1][j]) - a0;
+            let d2 = i64::from(uv[2][j]) - a0;
+            (a0 + ((b * d1 + g * d2) >> 16)) as i32
+        };
+        [lerp(0), lerp(1)]
+    }
+
+    /// The half a screen triangle (its vertices' solid coordinates) belongs to.
+    fn half_of(&self, v: &[[i32; 3]; 3]) -> usize {
+        match self.live {
+            [true, false] => return 0,
+            [false, true] => return 1,
+            _ => {}
+        }
+        let all_in = |k: usize| {
+            let s = self.half_solid(k);
+            v.iter().all(|p| s.contains(p))
+        };
+        if all_in(0) {
+            return 0;
+        }
+        if all_in(1) {
+            return 1;
+        }
+        let centroid = [0, 1, 2]
+            .map(|j| ((i64::from(v[0][j]) + i64::from(v[1][j]) + i64::from(v[2][j])) / 3) as i32);
+        match bary(&self.half_solid(0), centroid) {
+            // A small tolerance (1/256): a centroid on the shared diagonal belongs to either.
+            Some((b, g)) if b >= -256 && g >= -256 && b + g <= (1 << 16) + 256 => 0,
+            _ => 1,
+        }
+    }
+}
+
+/// Barycentric coordinates `(beta, gamma)` (`Q16`) of `p` in solid triangle `s`, in the plane
+/// of the two axes the triangle's normal is least along; `None` for a degenerate triangle.
+fn bary(s: &[[i32; 3]; 3], p: [i32; 3]) -> Option<(i64, i64)> {
+    let sub = |a: [i32; 3], b: [i32; 3]| [0, 1, 2].map(|j| i64::from(a[j]) - i64::from(b[j]));
+    let (mut e1, mut e2, mut d) = (sub(s[1], s[0]), sub(s[2], s[0]), sub(p, s[0]));
+    // A common shift so that every component is below 2^20 (products below 2^41, shifted
+    // numerators below 2^57).
+    let max = e1
+        .iter()
+        .chain(&e2)
+        .chain(&d)
+        .fold(0u64, |m, v| m | v.unsigned_abs());
+    let shift = (64 - max.leading_zeros()).saturating_sub(20);
+    for v in e1.iter_mut().chain(e2.iter_mut()).chain(d.iter_mut()) {
+        *v >>= shift;
+    }
+    let n = [
+        e1[1] * e2[2] - e1[2] * e2[1],
+        e1[2] * e2[0] - e1[0] * e2[2],
+        e1[0] * e2[1] - e1[1] * e2[0],
+    ];
+    let k = if n[0].abs() >= n[1].abs() && n[0].abs() >= n[2].abs() {
+        0
+    } else if n[1].abs() >= n[2].abs() {
+        1
+    } else {
+        2
+    };
+    let (i, j) = ((k + 1) % 3, (k + 2) % 3);
+    let den = e1[i] * e2[j] - e1[j] * e2[i];
+    if den == 0 {
+        return None;
+    }
+    let bn = d[i] * e2[j] - d[j] * e2[i];
+    let gn = e1[i] * d[j] - e1[j] * d[i];
+    // (`checked_div`: no panic path; `den` is not 0 here and the quotients fit.)
+    Some(((bn << 16).checked_div(den)?, (gn << 16).checked_div(den)?))
+}
+
+/// The layout of `scene`'s quads (every object's, in the scene's group order).
+pub fn scene_layout(scene: &Scene) -> Option<UniformLayout> {
+    UniformLayout::new(u32::try_from(scene.quad_count()).ok()?)
+}
+
+/// Texels the bake writes for `scene` (every live half's owned texels).
+pub fn owned_texels(scene: &Scene) -> u32 {
+    let Some(layout) = scene_layout(scene) else {
+        return 0;
+    };
+    let mut n = 0u32;
+    let mut group = 0u32;
+    for o in &scene.objects {
+        for q in 0..o.mesh.quad_count() {
+            if let Some((solid, live)) = quad_solid(o, q) {
+                for ((half, idx), live) in HALF_CORNERS.iter().zip(live) {
+                    let t = layout.triangle(group, *half, idx.map(|i| tex(solid[i & 3])));
+                    if let (true, Some(t)) = (live, t) {
+                        let (_, y, _, h) = t.block();
+                        n += (y..y + h)
+                            .filter_map(|j| t.row(j))
+                            .map(|r| u32::from(r.1))
+                            .sum::<u32>();
+                    }
+                }
+            }
+            group += 1;
+        }
+    }
+    n
+}
+
+/// Bakes every object of `scene` into `atlas` (texels no triangle owns stay 0): per object its
+/// slot's texture is built, then (with `work`) each live quad half baked. Returns the texels
+/// written (`work`) or the objects whose texture was built (not `work`); 0 if the layout or a
+/// texture cannot be built.
+#[inline(never)]
+pub fn bake_scene(scene: &Scene, hash: HashKind, atlas: &mut AtlasTexels, work: bool) -> u32 {
+    let Some(layout) = scene_layout(scene) else {
+        return 0;
+    };
+    let mut written = 0u32;
+    let mut group = 0u32;
+    for o in &scene.objects {
+        let Some(t) = scene
+            .slots
+            .get(usize::from(o.slot))
+            .and_then(|s| slot_texture(s, hash))
+        else {
+            return 0;
+        };
+        let t = core::hint::black_box(t);
+        if !work {
+            written += 1;
+            group += o.mesh.quad_count();
+            continue;
+        }
+        let mut ev = t.evaluator();
+        for q in 0..o.mesh.quad_count() {
+            if let Some((solid, live)) = quad_solid(o, q) {
+                for ((half, idx), live) in HALF_CORNERS.iter().zip(live) {
+                    let tri = layout.triangle(group, *half, idx.map(|i| tex(solid[i & 3])));
+                    if let (true, Some(tri)) = (live, tri) {
+                        written += bake(core::slice::from_ref(&tri), &mut ev, |x, y, c| {
+                            let i = usize::from(y) * usize::from(SIDE) + usize::from(x);
+                            if let Some(texel) = atlas.get_mut(i) {
+                                *texel = c.to_rgb565().to_bits();
+                            }
+                        });
+                    }
+                }
+            }
+            group += 1;
+        }
+    }
+    written
+}
+
+/// The checksum of an atlas: FNV-1a over its RGB565 texels, row-major.
+pub fn atlas_checksum(atlas: &AtlasTexels) -> u32 {
+    let mut sink = ChecksumSink::new();
+    for t in atlas {
+        sink.add_rgb565(*t);
+    }
+    sink.checksum()
+}
+
+/// The rows a screen triangle can cover in an image `h` rows high (a superset).
+fn triangle_rows(tri: &[ScreenVertex; 3], h: u16) -> Option<(u16, u16)> {
+    let ys = tri.map(|v| v.y.to_bits());
+    let (lo, hi) = (
+        ys.iter().min()?.div_euclid(16),
+        ys.iter().max()?.div_euclid(16),
+    );
+    if hi < 0 || lo >= i32::from(h) {
+        return None;
+    }
+    Some((lo.max(0) as u16, hi.min(i32::from(h) - 1) as u16))
+}
+
+/// Draws `scene` from `atlas` (laid out by [`scene_layout`]) in bands of [`DRAW_ROWS`] rows and
+/// returns the frame's checksum (FNV-1a over its RGB565 pixels, row-major, as `ChecksumSink`);
+/// 0 if the scene has no layout or the buffers are too small. See [`draw_scene_rows`].
+#[inline(never)]
+pub fn draw_scene(scene: &Scene, atlas: &AtlasTexels, bins: &mut [GroupRows]) -> u32 {
+    let mut sink = ChecksumSink::resume(FRAME_START);
+    let drawn = draw_scene_rows(scene, atlas, bins, |row| {
+        for p in row {
+            sink.add_rgb565(*p);
+        }
+    });
+    if drawn {
+        sink.checksum()
+    } else {
+        0
+    }
+}
+
+/// Draws `scene` from `atlas` (laid out by [`scene_layout`]) in bands of [`DRAW_ROWS`] rows,
+/// handing every RGB565 row to `out`, top to bottom: one walk over the scene bins its quads into
+/// `bins` (one per quad; quads past the bins are walked in every band), then every band walks
+/// the quads that touch it. `false` (and no row) if the scene has no layout or is wider than
+/// [`WIDTH`].
+pub fn draw_scene_rows<O: FnMut(&[u16])>(
+    scene: &Scene,
+    atlas: &AtlasTexels,
+    bins: &mut [GroupRows],
+    mut out: O,
+) -> bool {
+    let Some(layout) = scene_layout(scene) else {
+        return false;
+    };
+    let (w, h) = scene.size();
+    let wu = usize::from(w);
+    if wu * usize::from(DRAW_ROWS) > DRAW_PIXELS {
+        return false;
+    }
+    let mut depth = [0u16; DRAW_PIXELS];
+    let Some(depth) = depth.get_mut(..wu * usize::from(DRAW_ROWS)) else {
+        return false;
+    };
+    let Some(mut db) = DepthBuffer::new(depth, Rect::new(0, 0, w, DRAW_ROWS)) else {
+        return false;
+    };
+    for b in bins.iter_mut() {
+        *b = GroupRows::EMPTY;
+    }
+    scene.for_each_triangle_by_quad(&mut |_| true, &mut |g, _, tri| {
+        if let (Some(b), Some((r0, r1))) = (bins.get_mut(g), triangle_rows(tri, h)) {
+            *b = match b.rows() {
+                Some((a0, a1)) => GroupRows::new(a0.min(r0), a1.max(r1)),
+                None => GroupRows::new(r0, r1),
+            };
+        }
+    });
+    let bg = {
+        let c = scene.background;
+        Rgba8888::new(c[0], c[1], c[2], c[3]).to_rgb565().to_bits()
+    };
+    // Start group of each object (the scene's group numbering).
+    let mut starts = [0u32; texcore::scene::MAX_OBJECTS];
+    let mut at = 0u32;
+    for (s, o) in starts.iter_mut().zip(&scene.objects) {
+        *s = at;
+        at += o.mesh.quad_count();
+    }
+    let mut band = [0u16; DRAW_PIXELS];
+    let mut raster = Rasterizer::new(Rect::from_size(w, h));
+    let mut cache: Option<(usize, QuadAtlas)> = None;
+    let mut y0 = 0u16;
+    while y0 < h {
+        let y1 = y0.saturating_add(DRAW_ROWS).min(h);
+        let rect = Rect::new(0, y0, w, y1);
+        raster.set_clip(rect);
+        db.set_rect(rect);
+        db.clear(u16::MAX);
+        band.fill(bg);
+        let mut keep = |g: usize| bins.get(g).is_none_or(|b| b.touches(y0, y1));
+        scene.for_each_triangle_by_quad(&mut keep, &mut |g, obj, tri| {
+            let (Some(o), Some(d)) = (scene.objects.get(obj), scene.object(obj)) else {
+                return;
+            };
+            let start = starts.get(obj).copied().unwrap_or(0);
+            if cache.as_ref().is_none_or(|c| c.0 != g) {
+                let q = (g as u32).wrapping_sub(start);
+                cache = QuadAtlas::new(&layout, o, g as u32, q).map(|a| (g, a));
+            }
+            let Some((_, qa)) = cache.as_ref() else {
+                return;
+            };
+            let solid = tri.map(|v| v.tex.to_bits());
+            let k = qa.half_of(&solid);
+            let mut v = *tri;
+            for (vert, s) in v.iter_mut().zip(solid) {
+                let [u, t] = qa.atlas_of(k, s);
+                vert.tex = TexPoint::from_bits(u, t, 0);
+            }
+            let mut shade = |seg: &Segment| shade_segment(seg, y0, wu, atlas, &mut band);
+            if d.depth {
+                raster.draw_depth(&v, &d.raster, &mut db, &mut shade);
+            } else {
+                raster.draw(&v, &d.raster, &mut shade);
+            }
+        });
+        for row in band.chunks(wu.max(1)).take(usize::from(y1 - y0)) {
+            out(row);
+        }
+        y0 = y1;
+    }
+    true
+}
+
+/// Writes a segment's nearest atlas texels into the band (rows from `y0`, `w` wide).
+#[inline(always)]
+fn shade_segment(seg: &Segment, y0: u16, w: usize, atlas: &AtlasTexels, band: &mut [u16]) {
+    let s0 = seg.s0.to_bits();
+    let ds = seg.ds.to_bits();
+    let (mut u, mut v) = (s0[0], s0[1]);
+    let start = usize::from(seg.y.wrapping_sub(y0)) * w + usize::from(seg.x0);
+    let Some(out) = band.get_mut(start..start + usize::from(seg.len)) else {
+        return;
+    };
+    let max = i32::from(SIDE) - 1;
+    for px in out {
+        let tu = (u >> 16).clamp(0, max) as usize;
+        let tv = (v >> 16).clamp(0, max) as usize;
+        *px = atlas[(tv * usize::from(SIDE) + tu) & (TEXELS - 1)];
+        u = u.wrapping_add(ds[0]);
+        v = v.wrapping_add(ds[1]);
+    }
+}
+
+/// `atlas:<SCENE>-bake` (with `work`) and its set-up: the scene's frame and its textures built,
+/// the atlas zeroed; with `work` the bake, and the checksum of the whole atlas.
+#[inline(never)]
+pub fn bake_job(hash: HashKind, work: bool) -> u32 {
+    let Some(scene) = builtin_frame(SCENE) else {
+        return 0;
+    };
+    let scene = core::hint::black_box(scene);
+    let mut atlas = [0u16; TEXELS];
+    let n = bake_scene(&scene, hash, &mut atlas, work);
+    if !work {
+        return n;
+    }
+    n ^ atlas_checksum(core::hint::black_box(&atlas))
+}
+
+/// `atlas:<SCENE>` (with `work`) and its set-up: the scene's frame, textures and atlas baked;
+/// with `work` the frame drawn from the atlas, returning the frame's checksum (the set-up
+/// returns the texels baked).
+#[inline(never)]
+pub fn draw_job(hash: HashKind, work: bool, bins: &mut [GroupRows]) -> u32 {
+    let Some(scene) = builtin_frame(SCENE) else {
+        return 0;
+    };
+    let scene = core::hint::black_box(scene);
+    let mut atlas = [0u16; TEXELS];
+    let n = bake_scene(&scene, hash, &mut atlas, true);
+    let atlas = core::hint::black_box(&atlas);
+    if !work {
+        return n;
+    }
+    draw_scene(&scene, atlas, bins)
+}
