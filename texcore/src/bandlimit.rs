@@ -139,47 +139,53 @@ pub const fn term_band(term: &NoiseTerm, du: [i32; 3], dy: [i32; 3], band_limit:
         };
     }
     let sigma = basis_sigma(term.basis.kind, term.turbulence);
-    if l <= FADE_START && band_limit {
-        return TermBand {
-            amplitude: a,
-            active: true,
-            gradient: false,
-            variance: variance(a, sigma, (1 << 16) - NEAR_PART),
-        };
-    }
-    if !band_limit {
-        return TermBand {
-            amplitude: a,
-            active: true,
-            gradient: false,
-            variance: variance(a, sigma, 1 << 16),
-        };
-    }
-    let w = fade_weight(l);
-    // |a w| < 2^31 * 2^16: the product fits i64; the shift floors (towards minus infinity) and
-    // the result has at most the magnitude of `a` (w <= 1), so it fits i32.
-    let faded = ((a as i64 * w as i64) >> 16) as i32;
-    if faded.unsigned_abs() < CULL_AMPLITUDE {
-        return TermBand {
-            amplitude: 0,
-            active: false,
-            gradient: false,
-            variance: variance(a, sigma, 1 << 16),
-        };
-    }
-    // The spread it adds: `1 - w/2` of its variance (half at one cell a pixel, continuous with
-    // the unfaded terms below; the whole variance only when culled).
+    // (amplitude, active, the part of the term's variance it adds to the spread): one
+    // `variance` below for every case (code size).
+    let (amplitude, active, part) = if !band_limit {
+        (a, true, 1 << 16)
+    } else if l <= FADE_START {
+        (a, true, (1 << 16) - NEAR_PART)
+    } else {
+        let w = fade_weight(l);
+        // |a w| < 2^31 * 2^16: the product fits i64; the shift floors (towards minus infinity)
+        // and the result has at most the magnitude of `a` (w <= 1), so it fits i32.
+        let faded = ((a as i64 * w as i64) >> 16) as i32;
+        if faded.unsigned_abs() < CULL_AMPLITUDE {
+            // Culled: its whole variance.
+            (0, false, 1 << 16)
+        } else {
+            // The spread it adds: `1 - w/2` of its variance (half at one cell a pixel,
+            // continuous with the unfaded terms below; the whole variance only when culled).
+            (faded, true, (1 << 16) - w / 2)
+        }
+    };
     TermBand {
-        amplitude: faded,
-        active: true,
+        amplitude,
+        active,
         gradient: false,
-        variance: variance(a, sigma, (1 << 16) - w / 2),
+        variance: variance(a, sigma, part),
     }
 }
 
 /// The filter width (in `f` units, 48 fraction bits, saturating) of a summed variance (raw
 /// 16.16): the width of the box with that variance, `sqrt(12 var)`.
 pub const fn spread_width48(variance: u64) -> i64 {
+    spread_width48_always(variance)
+}
+
+/// [`spread_width48`] where the build has filter widths (feature `gradients`, which every
+/// colour-table filter needs); 0 where it has none, so that a build without filters carries
+/// neither the square root nor the variance behind it. What the span evaluators report as
+/// [`crate::span::SpanInfo::extra_width48`].
+pub(crate) const fn build_spread_width48(variance: u64) -> i64 {
+    if cfg!(feature = "gradients") {
+        spread_width48_always(variance)
+    } else {
+        0
+    }
+}
+
+const fn spread_width48_always(variance: u64) -> i64 {
     if variance == 0 {
         return 0;
     }

@@ -138,23 +138,43 @@ type TriLight = crate::gouraud::TriangleLight;
 #[cfg(not(feature = "lighting"))]
 type TriLight = core::convert::Infallible;
 
-/// The lights of a triangle's three vertices (`Q16.16` per channel); without the `lighting`
-/// feature a type with no values, like [`TriLight`].
+/// The lights of a triangle's three vertices (`Q16.16` per channel).
 #[cfg(feature = "lighting")]
 type VertexLights = [crate::light::LightRgb; 3];
-#[cfg(not(feature = "lighting"))]
-type VertexLights = core::convert::Infallible;
 
-/// The light plane of a triangle from its vertices' lights.
+/// What a walk hands the drawing of a triangle: the function giving its vertices' lights (`None`
+/// on the unlit walk); without the `lighting` feature an option that can only be `None`, so the
+/// compiler drops every lighting branch.
+#[cfg(feature = "lighting")]
+type LightFn<'a> = Option<&'a dyn Fn() -> VertexLights>;
+#[cfg(not(feature = "lighting"))]
+type LightFn<'a> = Option<(core::convert::Infallible, core::marker::PhantomData<&'a ()>)>;
+
+/// The triangle's light plane, computed at its first segment and kept in `plane` (`None` on the
+/// unlit walk).
 #[inline(always)]
-fn tri_light(tri: &[ScreenVertex; 3], v: &VertexLights) -> TriLight {
+fn light_plane<'p>(
+    light: LightFn<'_>,
+    plane: &'p mut Option<TriLight>,
+    tri: &[ScreenVertex; 3],
+) -> Option<&'p TriLight> {
     #[cfg(feature = "lighting")]
-    return crate::gouraud::TriangleLight::new(tri, v);
+    return light.map(|v| &*plane.get_or_insert_with(|| tri_light(tri, &v())));
     #[cfg(not(feature = "lighting"))]
     {
-        let _ = tri;
-        match *v {}
+        let _ = (plane, tri);
+        match light {
+            None => None,
+            Some((never, _)) => match never {},
+        }
     }
+}
+
+/// The light plane of a triangle from its vertices' lights.
+#[cfg(feature = "lighting")]
+#[inline(always)]
+fn tri_light(tri: &[ScreenVertex; 3], v: &VertexLights) -> TriLight {
+    crate::gouraud::TriangleLight::new(tri, v)
 }
 
 /// The lighting stage: multiplies the pixels `x..` of row `y` by the triangle's light.
@@ -433,7 +453,7 @@ pub struct RenderStats {
     /// would have been counted as submitted and offscreen there).
     pub skipped_groups: u64,
     /// Pixels multiplied by their light (the lighting stage, feature `lighting`): 0 for a
-    /// scene without lights.
+    /// scene without lights, and in builds without the feature.
     pub lit_pixels: u64,
 }
 
@@ -547,16 +567,16 @@ impl<'t, const T: usize, const N: usize> Renderer<'t, T, N> {
         let mut slots = self.slots();
         let mut raster = Rasterizer::new(Rect::from_size(w, h));
         let mut stats = RenderStats::default();
+        #[cfg(feature = "lighting")]
         let mut lit = 0u64;
         // As in the banded renderer: one copy per walk, the unlit one without lighting code.
         macro_rules! draw {
             ($obj:expr, $tri:expr, $light:expr) => {{
-                let (tri, light): (&[ScreenVertex; 3], Option<&dyn Fn() -> VertexLights>) =
-                    ($tri, $light);
+                let (tri, light): (&[ScreenVertex; 3], LightFn<'_>) = ($tri, $light);
                 let Some(o) = scene.object($obj) else { return };
                 let mut plane: Option<TriLight> = None;
                 let mut seg_sink = |seg: &Segment| {
-                    let light = light.map(|v| &*plane.get_or_insert_with(|| tri_light(tri, &v())));
+                    let light = light_plane(light, &mut plane, tri);
                     shade_segment(
                         &mut slots,
                         o.texture,
@@ -564,6 +584,7 @@ impl<'t, const T: usize, const N: usize> Renderer<'t, T, N> {
                         seg,
                         light,
                         |x, chunk| {
+                            #[cfg(feature = "lighting")]
                             if light.is_some() {
                                 lit += chunk.len() as u64;
                             }
@@ -583,7 +604,10 @@ impl<'t, const T: usize, const N: usize> Renderer<'t, T, N> {
         }
         #[cfg(not(feature = "lighting"))]
         scene.for_each_triangle(|obj, tri| draw!(obj, tri, None));
-        stats.lit_pixels = lit;
+        #[cfg(feature = "lighting")]
+        {
+            stats.lit_pixels = lit;
+        }
         stats.raster = raster.counters();
         stats.shade = slots_stats(&slots);
         Ok(stats)
@@ -744,6 +768,7 @@ impl<'t, const T: usize, const N: usize> Renderer<'t, T, N> {
                 *filled = Some((w, h));
             }
             let mut blended = 0u64;
+            #[cfg(feature = "lighting")]
             let mut lit = 0u64;
             let mut skipped = 0u64;
             let keep = |g: usize| {
@@ -756,11 +781,8 @@ impl<'t, const T: usize, const N: usize> Renderer<'t, T, N> {
             // light plane at its first segment (a triangle with none in this band costs nothing).
             macro_rules! draw {
                 ($g:expr, $obj:expr, $tri:expr, $light:expr) => {{
-                    let (g, tri, light): (
-                        usize,
-                        &[ScreenVertex; 3],
-                        Option<&dyn Fn() -> VertexLights>,
-                    ) = ($g, $tri, $light);
+                    let (g, tri, light): (usize, &[ScreenVertex; 3], LightFn<'_>) =
+                        ($g, $tri, $light);
                     if binning {
                         if let Some(b) = bins.get(g) {
                             if let Some((r0, r1)) = triangle_rows(tri, &image, w) {
@@ -773,8 +795,7 @@ impl<'t, const T: usize, const N: usize> Renderer<'t, T, N> {
                     let Some(o) = scene.object($obj) else { return };
                     let mut plane: Option<TriLight> = None;
                     let mut seg_sink = |seg: &Segment| {
-                        let light =
-                            light.map(|v| &*plane.get_or_insert_with(|| tri_light(tri, &v())));
+                        let light = light_plane(light, &mut plane, tri);
                         shade_segment(
                             &mut slots,
                             o.texture,
@@ -782,6 +803,7 @@ impl<'t, const T: usize, const N: usize> Renderer<'t, T, N> {
                             seg,
                             light,
                             |x, chunk| {
+                                #[cfg(feature = "lighting")]
                                 if light.is_some() {
                                     lit += chunk.len() as u64;
                                 }
@@ -811,7 +833,10 @@ impl<'t, const T: usize, const N: usize> Renderer<'t, T, N> {
             #[cfg(not(feature = "lighting"))]
             scene.for_each_triangle_grouped(keep, |g, obj, tri| draw!(g, obj, tri, None));
             stats.blended_pixels += blended;
-            stats.lit_pixels += lit;
+            #[cfg(feature = "lighting")]
+            {
+                stats.lit_pixels += lit;
+            }
             stats.skipped_groups += skipped;
             flush_rows(&buf, y0..y1, sink);
             stats.bands += 1;

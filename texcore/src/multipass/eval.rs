@@ -10,7 +10,7 @@
 
 use super::band::{Band, PassTerm};
 use super::MultipassConfig;
-use crate::bandlimit::{spread_width48, term_band};
+use crate::bandlimit::{build_spread_width48, term_band};
 use crate::format::TexValue;
 use crate::model::{quantize_coord, TextureModel};
 use crate::noise::{split, BasisKind};
@@ -72,7 +72,7 @@ pub fn eval_span<const T: usize>(
         *st = (u0, du, dyl, true, grads && b.gradient, b.amplitude);
     }
     let info = SpanInfo {
-        extra_width48: spread_width48(variance),
+        extra_width48: build_spread_width48(variance),
     };
 
     let mut band = Band::<MULTIPASS_BAND>::new();

@@ -236,7 +236,7 @@ impl Plane {
         let mut num = [0i128; 3];
         for (k, n) in num.iter_mut().enumerate() {
             let e = basis.e.map(|row| row.get(k).copied().unwrap_or(0));
-            *n = if basis.narrow {
+            *n = if !cfg!(texcore_lean) && basis.narrow {
                 dot_narrow(l, e)
             } else {
                 // |l_i E_i| < 2^124, |l_i dE_i| < 2^97: the sum of three fits i128.
