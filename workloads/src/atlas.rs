@@ -194,8 +194,13 @@ impl QuadAtlas {
         if all_in(1) {
             return 1;
         }
-        let centroid = [0, 1, 2]
-            .map(|j| ((i64::from(v[0][j]) + i64::from(v[1][j]) + i64::from(v[2][j])) / 3) as i32);
+        // Constant indices only (no bounds check survives at opt-level "z": panic-never).
+        let m = |a: i32, b: i32, c: i32| ((i64::from(a) + i64::from(b) + i64::from(c)) / 3) as i32;
+        let centroid = [
+            m(v[0][0], v[1][0], v[2][0]),
+            m(v[0][1], v[1][1], v[2][1]),
+            m(v[0][2], v[1][2], v[2][2]),
+        ];
         match bary(&self.half_solid(0), centroid) {
             // A small tolerance (1/256): a centroid on the shared diagonal belongs to either.
             Some((b, g)) if b >= -256 && g >= -256 && b + g <= (1 << 16) + 256 => 0,
@@ -207,7 +212,13 @@ impl QuadAtlas {
 /// Barycentric coordinates `(beta, gamma)` (`Q16`) of `p` in solid triangle `s`, in the plane
 /// of the two axes the triangle's normal is least along; `None` for a degenerate triangle.
 fn bary(s: &[[i32; 3]; 3], p: [i32; 3]) -> Option<(i64, i64)> {
-    let sub = |a: [i32; 3], b: [i32; 3]| [0, 1, 2].map(|j| i64::from(a[j]) - i64::from(b[j]));
+    let sub = |a: [i32; 3], b: [i32; 3]| {
+        [
+            i64::from(a[0]) - i64::from(b[0]),
+            i64::from(a[1]) - i64::from(b[1]),
+            i64::from(a[2]) - i64::from(b[2]),
+        ]
+    };
     let (mut e1, mut e2, mut d) = (sub(s[1], s[0]), sub(s[2], s[0]), sub(p, s[0]));
     // A common shift so that every component is below 2^20 (products below 2^41, shifted
     // numerators below 2^57).
