@@ -371,9 +371,17 @@ pub fn build_firmware(target: DeviceTarget, opts: &RunOptions) -> Result<PathBuf
     if !opts.features.is_empty() {
         cmd.arg("--features").arg(opts.features.join(","));
     }
-    // The outer cargo (when called from a test) must not leak its per-crate settings, and the
-    // firmware (hence its instruction counts) must not depend on ambient host RUSTFLAGS (a
-    // `-C target-cpu=native` would not even build for the device).
+    isolate_cargo_env(&mut cmd, &[]);
+    cargo_artifact(&mut cmd, &opts.cargo, "firmware")
+        .map_err(|message| DeviceError::Build { target, message })
+}
+
+/// Removes from `cmd` the environment a device build must not inherit, and the variables named
+/// in `also`: the outer cargo's per-crate settings (when called from a test or a build script)
+/// and ambient host `RUSTFLAGS`, so that the device build (hence its sizes and instruction
+/// counts) depends on the repository's configuration alone (a `-C target-cpu=native` would not
+/// even build for the device).
+pub(crate) fn isolate_cargo_env(cmd: &mut Command, also: &[&str]) {
     for (k, _) in std::env::vars_os() {
         let k = k.to_string_lossy().into_owned();
         if k == "RUSTFLAGS"
@@ -385,12 +393,11 @@ pub fn build_firmware(target: DeviceTarget, opts: &RunOptions) -> Result<PathBuf
             || k == "CARGO_MANIFEST_DIR"
             || k == "CARGO_MANIFEST_PATH"
             || k == "CARGO_PRIMARY_PACKAGE"
+            || also.contains(&k.as_str())
         {
             cmd.env_remove(&k);
         }
     }
-    cargo_artifact(&mut cmd, &opts.cargo, "firmware")
-        .map_err(|message| DeviceError::Build { target, message })
 }
 
 /// Runs a `cargo build --message-format=json` command and returns the executable it built for

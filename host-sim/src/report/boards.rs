@@ -58,24 +58,9 @@ impl Board {
         cmd.current_dir(self.dir(workspace))
             .args(["build", "--release", "--locked", "--target-dir"])
             .arg(workspace.join("target/boards"));
-        // The board's own configuration decides the build, not the calling cargo's environment.
-        for (k, _) in std::env::vars_os() {
-            let k = k.to_string_lossy().into_owned();
-            if k == "RUSTFLAGS"
-                || k == "CARGO_ENCODED_RUSTFLAGS"
-                || k == "CARGO_BUILD_RUSTFLAGS"
-                || k == "CARGO_BUILD_TARGET"
-                || k == "CARGO_TARGET_DIR"
-                || k.starts_with("CARGO_PKG_")
-                || k.starts_with("CARGO_CRATE_")
-                || k.starts_with("CARGO_BIN_")
-                || k == "CARGO_MANIFEST_DIR"
-                || k == "CARGO_MANIFEST_PATH"
-                || k == "CARGO_PRIMARY_PACKAGE"
-            {
-                cmd.env_remove(&k);
-            }
-        }
+        // The board's own configuration decides the build, not the calling cargo's environment
+        // (its target and target directory included).
+        crate::device::isolate_cargo_env(&mut cmd, &["CARGO_BUILD_TARGET", "CARGO_TARGET_DIR"]);
         let out = cmd
             .output()
             .map_err(|e| format!("running {}: {e}", cargo.display()))?;

@@ -321,21 +321,7 @@ fn build(
         }
     }
     // As host_sim::device::build_firmware: the device build depends on the repository alone.
-    for (k, _) in std::env::vars_os() {
-        let k = k.to_string_lossy().into_owned();
-        if k == "RUSTFLAGS"
-            || k == "CARGO_ENCODED_RUSTFLAGS"
-            || k == "CARGO_BUILD_RUSTFLAGS"
-            || k.starts_with("CARGO_PKG_")
-            || k.starts_with("CARGO_CRATE_")
-            || k.starts_with("CARGO_BIN_")
-            || k == "CARGO_MANIFEST_DIR"
-            || k == "CARGO_MANIFEST_PATH"
-            || k == "CARGO_PRIMARY_PACKAGE"
-        {
-            cmd.env_remove(&k);
-        }
-    }
+    crate::device::isolate_cargo_env(&mut cmd, &[]);
     let what = match features {
         None => format!("{bin} ({profile}, default features)"),
         Some([]) => format!("{bin} ({profile}, no features)"),
