@@ -67,15 +67,21 @@ pub struct SupersampledReport {
     pub longest_flat_band_unfiltered: u32,
 }
 
-/// The truth of frame `frame` of `scene`: `n x n` stratified point samples a pixel of the f64
-/// model (every octave, exact perspective, nearest entry), averaged.
-pub fn truth(
+/// A scene frame enlarged for supersampling: the scene, its materials and its own image size.
+type Enlarged = (
+    texcore::scene::Scene,
+    Vec<crate::unit::MaterialSpec>,
+    (u16, u16),
+);
+
+/// Frame `frame` of `scene` and its materials with the image `n` times as large on each axis,
+/// and the scene's own size; `n` and the enlarged size checked.
+fn enlarged_frame(
     scene: &HostScene,
     frame: u32,
-    cfg: &UnitConfig,
     hash: HashKind,
     n: u16,
-) -> Result<Vec<[f64; 4]>, UnitError> {
+) -> Result<Enlarged, UnitError> {
     if n == 0 || n > MAX_SUPERSAMPLE {
         return Err(UnitError::Render(format!(
             "supersampling factor {n} out of range 1..={MAX_SUPERSAMPLE}"
@@ -91,6 +97,19 @@ pub fn truth(
     }
     s.camera.width = bw as u16;
     s.camera.height = bh as u16;
+    Ok((s, materials, (w, h)))
+}
+
+/// The truth of frame `frame` of `scene`: `n x n` stratified point samples a pixel of the f64
+/// model (every octave, exact perspective, nearest entry), averaged.
+pub fn truth(
+    scene: &HostScene,
+    frame: u32,
+    cfg: &UnitConfig,
+    hash: HashKind,
+    n: u16,
+) -> Result<Vec<[f64; 4]>, UnitError> {
+    let (mut s, materials, (w, h)) = enlarged_frame(scene, frame, hash, n)?;
     for o in s.objects.iter_mut() {
         o.perspective = Perspective::Exact;
     }
@@ -183,21 +202,7 @@ pub fn texcore_supersampled(
     hash: HashKind,
     k: u16,
 ) -> Result<Vec<[f64; 4]>, UnitError> {
-    if k == 0 || k > MAX_SUPERSAMPLE {
-        return Err(UnitError::Render(format!(
-            "supersampling factor {k} out of range 1..={MAX_SUPERSAMPLE}"
-        )));
-    }
-    let (mut s, materials) = scene.frame(frame, hash)?;
-    let (w, h) = s.size();
-    let (bw, bh) = (u32::from(w) * u32::from(k), u32::from(h) * u32::from(k));
-    if bw > 16384 || bh > 16384 {
-        return Err(UnitError::Render(format!(
-            "supersampled image {bw}x{bh} too large (at most 16384 a side)"
-        )));
-    }
-    s.camera.width = bw as u16;
-    s.camera.height = bh as u16;
+    let (s, materials, (w, h)) = enlarged_frame(scene, frame, hash, k)?;
     let big =
         crate::dispatch_table_size!(cfg.table_size, render_n(&s, &materials, cfg, Output::Color))?;
     Ok(crate::accuracy::measure::downsample(
