@@ -479,21 +479,29 @@ pub fn load_ply(name: &str, bytes: &[u8]) -> Result<TriMesh, MeshError> {
         return Err(err(Location::File, "empty file".into()));
     }
     let parser = Parser::<DefaultElement>::new();
+    let malformed = |e: std::io::Error| {
+        let msg = e.to_string();
+        // ply-rs reports "Line N: ..." for text problems.
+        let line = msg
+            .strip_prefix("Line ")
+            .and_then(|r| r.split(':').next())
+            .and_then(|n| n.trim().parse().ok());
+        let first = msg.lines().next().unwrap_or("").to_string();
+        match line {
+            Some(l) => err(Location::Line(l), format!("malformed PLY: {first}")),
+            None => err(Location::File, format!("malformed PLY: {first}")),
+        }
+    };
+    // The header's element counts are checked before any payload is read: the parser reads
+    // `count` entries of an element whatever the file holds, and an element without properties
+    // reads no bytes, so only these bounds keep its memory bounded.
+    let header = parser
+        .read_ply_header(&mut std::io::Cursor::new(bytes))
+        .map_err(malformed)?;
+    check_ply_counts(&header, bytes.len()).map_err(|m| err(Location::File, m))?;
     let ply = parser
         .read_ply(&mut std::io::Cursor::new(bytes))
-        .map_err(|e| {
-            let msg = e.to_string();
-            // ply-rs reports "Line N: ..." for text problems.
-            let line = msg
-                .strip_prefix("Line ")
-                .and_then(|r| r.split(':').next())
-                .and_then(|n| n.trim().parse().ok());
-            let first = msg.lines().next().unwrap_or("").to_string();
-            match line {
-                Some(l) => err(Location::Line(l), format!("malformed PLY: {first}")),
-                None => err(Location::File, format!("malformed PLY: {first}")),
-            }
-        })?;
+        .map_err(malformed)?;
     let ascii = ply.header.encoding == Encoding::Ascii;
     // Lines of the header (the payload starts after `end_header`).
     let header_lines = bytes
@@ -603,6 +611,59 @@ pub fn load_ply(name: &str, bytes: &[u8]) -> Result<TriMesh, MeshError> {
     TriMesh::new(name, positions, triangles, &where_vertex, &|t| {
         where_face(tri_face.get(t).copied().unwrap_or(0))
     })
+}
+
+/// The most entries all of a PLY file's elements may declare together: a mesh at capacity
+/// plus as many entries again for elements texcore ignores (edges, materials).
+pub const MAX_PLY_ENTRIES: usize = 2 * (MAX_VERTICES + MAX_TRIANGLES);
+
+/// Checks a PLY header's element counts against the capacities and, for a binary file, against
+/// the bytes a payload of that many entries needs at least; `Err` says which element is too big.
+fn check_ply_counts(header: &ply_rs_bw::ply::Header, file_bytes: usize) -> Result<(), String> {
+    use ply_rs_bw::ply::{Encoding, PropertyType, ScalarType};
+    let size = |t: &ScalarType| match t {
+        ScalarType::Char | ScalarType::UChar => 1u64,
+        ScalarType::Short | ScalarType::UShort => 2,
+        ScalarType::Int | ScalarType::UInt | ScalarType::Float => 4,
+        ScalarType::Double => 8,
+    };
+    let binary = header.encoding != Encoding::Ascii;
+    let mut total = 0usize;
+    let mut least_bytes = 0u64;
+    for (name, e) in &header.elements {
+        let cap = match name.as_str() {
+            "vertex" => MAX_VERTICES,
+            "face" => MAX_TRIANGLES,
+            _ => MAX_PLY_ENTRIES,
+        };
+        if e.count > cap {
+            return Err(format!(
+                "element {name:?} declares {} entries: more than the capacity of {cap}",
+                e.count
+            ));
+        }
+        total = total.saturating_add(e.count);
+        if total > MAX_PLY_ENTRIES {
+            return Err(format!(
+                "the elements declare more than {MAX_PLY_ENTRIES} entries together"
+            ));
+        }
+        // Every entry of a binary element takes at least its scalars and its lists' lengths.
+        let per_entry: u64 = e
+            .properties
+            .values()
+            .map(|p| match &p.data_type {
+                PropertyType::Scalar(t) | PropertyType::List(t, _) => size(t),
+            })
+            .sum();
+        least_bytes = least_bytes.saturating_add(per_entry.saturating_mul(e.count as u64));
+    }
+    if binary && least_bytes > file_bytes as u64 {
+        return Err(format!(
+            "the header declares at least {least_bytes} bytes of binary data; the file has {file_bytes}"
+        ));
+    }
+    Ok(())
 }
 
 #[cfg(test)]
@@ -715,6 +776,46 @@ mod tests {
         let e = load_ply("t.ply", b"plx\n").unwrap_err();
         assert!(e.to_string().starts_with("t.ply"), "{e}");
         assert!(load_ply("t.ply", b"").is_err());
+    }
+
+    #[test]
+    fn ply_counts_are_bounded_before_the_payload() {
+        let bin = "ply\nformat binary_little_endian 1.0\n";
+        let xyz = "property float x\nproperty float y\nproperty float z\n";
+        let face = "element face 1\nproperty list uchar int vertex_indices\nend_header\n";
+        let cases: [(String, &str); 4] = [
+            // Far more vertices than the capacity.
+            (
+                format!("{bin}element vertex 488888888887\n{xyz}{face}"),
+                "capacity",
+            ),
+            // An element without properties reads no bytes: only its count bounds it.
+            (
+                format!("{bin}element junk 4000000000\nelement vertex 3\n{xyz}{face}"),
+                "capacity",
+            ),
+            (
+                format!("{bin}element a 200000\nelement b 200000\nelement vertex 3\n{xyz}{face}"),
+                "together",
+            ),
+            // Within the capacity, but more entries than the file has bytes for.
+            (
+                format!("{bin}element vertex 60000\n{xyz}{face}"),
+                "binary data",
+            ),
+        ];
+        for (text, want) in cases {
+            let e = load_ply("t.ply", text.as_bytes()).unwrap_err();
+            assert!(e.to_string().contains(want), "{e}");
+            assert_eq!(e.file, "t.ply");
+        }
+        // The fuzzer's find: a vertex element redefined, 488888888887 entries without bytes.
+        let e = load_ply(
+            "t.ply",
+            include_bytes!("../../fuzz/corpus/mesh/ply-redefined-element")[1..].as_ref(),
+        )
+        .unwrap_err();
+        assert!(e.to_string().contains("capacity"), "{e}");
     }
 
     #[test]
