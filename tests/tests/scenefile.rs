@@ -14,7 +14,7 @@ use texcore::model::{NoiseTerm, Octaves, TextureModel};
 use texcore::noise::{BasisKind, Fade, NoiseBasis};
 use texcore::quadric::Quadric;
 use texcore::render::Output;
-use texcore::scene::{Angle, Transform, Vec3};
+use texcore::scene::{Angle, Vec3};
 use texcore::table::TableWrap;
 use texcore::transform::Affine3;
 
@@ -355,7 +355,7 @@ to = 60
             Vec3::new(f as i32 * 65536, 2 << 16, 6 << 16)
         );
         // Position: held at 0 before frame 2 and at 5 after frame 7, linear (rounded) between.
-        let y = scene.objects[1].transform.t[1];
+        let y = scene.objects[1].transform.translation()[1].to_bits();
         let want = match f {
             0..=2 => 0,
             7.. => 5 << 16,
@@ -366,7 +366,7 @@ to = 60
         let a = Angle(((f as u64 * (1u64 << 32) * 2 + 11) / 22) as u32);
         assert_eq!(
             scene.objects[0].transform,
-            Transform::rotate_y(a),
+            Affine3::rotate_y(a),
             "frame {f}"
         );
         // Amplitude factor from 1 down to 0.
@@ -411,18 +411,21 @@ texture = {{ space = "world", matrix = [[1.2, 0, 0, 3.1], [0, 1.2, 0, 0.5], [0.6
     let s = parse(&src).unwrap();
     let o = &s.scene.objects[0];
     let deg = Angle::from_degrees;
-    let t = Transform::translate(Vec3::new(-32768, 0, 0))
-        .then(&Transform::scale3(65536, 131072, 32768))
-        .then(&Transform::rotate_x(deg(10)))
-        .then(&Transform::rotate_y(deg(20)))
-        .then(&Transform::rotate_z(deg(30)))
-        .then(&Transform::translate(Vec3::units(1, 2, 3)));
+    let t = Affine3::translate(Vec3::new(-32768, 0, 0))
+        .then(&Affine3::from_bits(
+            [[65536, 0, 0], [0, 131072, 0], [0, 0, 32768]],
+            [0; 3],
+        ))
+        .then(&Affine3::rotate_x(deg(10)))
+        .then(&Affine3::rotate_y(deg(20)))
+        .then(&Affine3::rotate_z(deg(30)))
+        .then(&Affine3::translate(Vec3::units(1, 2, 3)));
     assert_eq!(o.transform, t);
     let block = Affine3::from_f64(
         [[1.2, 0.0, 0.0], [0.0, 1.2, 0.0], [0.6, 0.75, 0.35]],
         [3.1, 0.5, 0.3],
     );
-    assert_eq!(o.tex_map, t.to_affine3().then(&block));
+    assert_eq!(o.tex_map, t.then(&block));
 }
 
 #[test]
@@ -924,7 +927,7 @@ to = 0.5
     );
     assert_eq!(
         sc.objects[0].transform,
-        Transform::scale3(65536, 98304, 131072)
+        Affine3::from_bits([[65536, 0, 0], [0, 98304, 0], [0, 0, 131072]], [0; 3])
     );
     let t = sc.objects[0].tex_map.translation();
     assert_eq!(t.map(|e| e.to_bits()), [2 << 16, 0, -2 << 16]);

@@ -1,13 +1,27 @@
-//! Affine 3x4 transforms `T_k` of the noise terms: `u = M s + t` (frequency, rotation, phase).
+//! Affine maps `p -> M p + t` with `Q16.16` entries: the one affine type of texcore, both the
+//! noise terms' transforms `T_k` (frequency, rotation, phase: `u = M s + t`) and a scene object's
+//! placement (object to world) and solid-texture mapping.
 //!
-//! Entries are `I16F16` [`MatrixEntry`]. Applying a transform is the span set-up of
-//! `docs/model.md` section 3: products in i64 (32 fraction bits), rounded half up to 16 fraction
-//! bits, wrapped to i32 lattice coordinates. Composition (used by the octave builders) rounds each
-//! entry half up and saturates.
+//! # Guarantees
+//!
+//! - Entries are `I16F16` [`MatrixEntry`] (raw `Q16.16`); every value is a valid map, so the
+//!   fields are private and the constructors are total (no invariant can be broken).
+//! - Nothing here uses floating point (apart from the host convenience [`Affine3::from_f64`]) and
+//!   nothing panics for any input: host and devices compute identical bits.
+//! - Applying a map forms each component exactly in `i64` (products with 32 fraction bits, the
+//!   translation shifted up) and rounds half up once. The overflow policy is in the name:
+//!   [`Affine3::apply_point`] / [`Affine3::apply_vector`] (texture space, the span set-up of
+//!   `docs/model.md` section 3) wrap to `i32` lattice coordinates;
+//!   [`Affine3::saturating_apply`] / [`Affine3::saturating_apply_vector`] (scene geometry)
+//!   saturate; [`Affine3::apply_wide`] keeps `i64`.
+//! - Composition ([`Affine3::then`]) rounds each entry half up once and saturates.
 
 use crate::format::{round_32_to_16, MatrixEntry, TexPoint};
+use crate::scene::math::{
+    q30_to_q16, round_shift, round_shift_128, sat_i32, sat_i64, sin_cos, Angle, Vec3, ONE,
+};
 
-/// An affine map of solid texture space into a noise term's lattice space.
+/// An affine map `p -> M p + t` (rows of `M`, then `t`), `Q16.16` entries.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
 pub struct Affine3 {
     m: [[MatrixEntry; 3]; 3],
@@ -23,6 +37,16 @@ impl Default for Affine3 {
 const Z: MatrixEntry = MatrixEntry::ZERO;
 const O: MatrixEntry = MatrixEntry::ONE;
 
+/// A raw `Q16.16` value as a [`MatrixEntry`].
+const fn e(bits: i32) -> MatrixEntry {
+    MatrixEntry::from_bits(bits)
+}
+
+/// Entries below this magnitude (raw) take the `i64` paths of [`Affine3::then`] and
+/// [`Affine3::apply_wide`]: each product is below `2^61` and a sum of three plus a shifted
+/// translation fits `i64`.
+const SMALL: i32 = 1 << 30;
+
 impl Affine3 {
     /// The identity.
     pub const IDENTITY: Affine3 = Affine3 {
@@ -33,6 +57,18 @@ impl Affine3 {
     /// From a matrix (rows) and a translation.
     pub const fn new(m: [[MatrixEntry; 3]; 3], t: [MatrixEntry; 3]) -> Self {
         Affine3 { m, t }
+    }
+
+    /// From raw `Q16.16` rows and translation (`65536` = 1.0).
+    pub const fn from_bits(m: [[i32; 3]; 3], t: [i32; 3]) -> Self {
+        Affine3 {
+            m: [
+                [e(m[0][0]), e(m[0][1]), e(m[0][2])],
+                [e(m[1][0]), e(m[1][1]), e(m[1][2])],
+                [e(m[2][0]), e(m[2][1]), e(m[2][2])],
+            ],
+            t: [e(t[0]), e(t[1]), e(t[2])],
+        }
     }
 
     /// Uniform scale by `k` (frequency).
@@ -49,6 +85,33 @@ impl Affine3 {
             m: [[ks, Z, Z], [Z, kt, Z], [Z, Z, kr]],
             t: [Z, Z, Z],
         }
+    }
+
+    /// A translation by a `Q16.16` vector.
+    pub const fn translate(v: Vec3) -> Self {
+        Affine3::IDENTITY.with_translation([e(v.x), e(v.y), e(v.z)])
+    }
+
+    /// A rotation about the x axis (y towards z), right-handed; sine and cosine from
+    /// [`Angle::sin_cos`] rounded half up to `Q16.16`.
+    pub const fn rotate_x(a: Angle) -> Self {
+        let (s, c) = sin_cos(a);
+        let (s, c) = (q30_to_q16(s), q30_to_q16(c));
+        Affine3::from_bits([[ONE, 0, 0], [0, c, -s], [0, s, c]], [0; 3])
+    }
+
+    /// A rotation about the y axis (z towards x), right-handed.
+    pub const fn rotate_y(a: Angle) -> Self {
+        let (s, c) = sin_cos(a);
+        let (s, c) = (q30_to_q16(s), q30_to_q16(c));
+        Affine3::from_bits([[c, 0, s], [0, ONE, 0], [-s, 0, c]], [0; 3])
+    }
+
+    /// A rotation about the z axis (x towards y), right-handed.
+    pub const fn rotate_z(a: Angle) -> Self {
+        let (s, c) = sin_cos(a);
+        let (s, c) = (q30_to_q16(s), q30_to_q16(c));
+        Affine3::from_bits([[c, -s, 0], [s, c, 0], [0, 0, ONE]], [0; 3])
     }
 
     /// Host convenience: from real rows and translation (rounded, saturating).
@@ -74,33 +137,87 @@ impl Affine3 {
         self.t
     }
 
+    /// The translation as a raw `Q16.16` vector.
+    pub const fn translation_vec3(&self) -> Vec3 {
+        Vec3::new(
+            self.t[0].to_bits(),
+            self.t[1].to_bits(),
+            self.t[2].to_bits(),
+        )
+    }
+
     /// The same transform with another translation.
     pub const fn with_translation(mut self, t: [MatrixEntry; 3]) -> Self {
         self.t = t;
         self
     }
 
-    /// `other` applied after `self` (`other * self`), each entry rounded half up and saturated.
-    pub fn then(&self, other: &Affine3) -> Affine3 {
-        let mut m = [[Z; 3]; 3];
-        let mut t = [Z; 3];
-        // Iterators rather than indices: no bounds check survives at any opt-level.
-        let bits = |e: &MatrixEntry| i64::from(e.to_bits());
-        for (((row, ti), orow), ot) in m.iter_mut().zip(&mut t).zip(&other.m).zip(&other.t) {
-            for (j, e) in row.iter_mut().enumerate() {
-                let mut acc: i64 = 0;
-                for (o, srow) in orow.iter().zip(&self.m) {
-                    acc += bits(o) * srow.get(j).map_or(0, bits);
+    /// Raw entry `(i, j)` of `M` (`i, j < 3`).
+    #[inline]
+    const fn mb(&self, i: usize, j: usize) -> i32 {
+        self.m[i][j].to_bits()
+    }
+
+    /// Whether every entry of `M` is below [`SMALL`] in magnitude.
+    const fn small(&self) -> bool {
+        let mut i = 0;
+        while i < 3 {
+            let mut j = 0;
+            while j < 3 {
+                let v = self.mb(i, j);
+                if v <= -SMALL || v >= SMALL {
+                    return false;
                 }
-                *e = sat_entry(round_32_to_16(acc));
+                j += 1;
             }
-            let mut acc: i64 = bits(ot) << 16;
-            for (o, st) in orow.iter().zip(&self.t) {
-                acc += bits(o) * bits(st);
-            }
-            *ti = sat_entry(round_32_to_16(acc));
+            i += 1;
         }
-        Affine3 { m, t }
+        true
+    }
+
+    /// `self` followed by `other` (`other * self`), each entry rounded half up and saturated.
+    pub const fn then(&self, other: &Affine3) -> Affine3 {
+        if self.small() && other.small() {
+            // Exact in i64 (see SMALL): the same bits as the i128 path, cheaper on 32-bit cores.
+            let mut r = Affine3::IDENTITY;
+            let mut i = 0;
+            while i < 3 {
+                let mut j = 0;
+                while j < 3 {
+                    let acc = other.mb(i, 0) as i64 * self.mb(0, j) as i64
+                        + other.mb(i, 1) as i64 * self.mb(1, j) as i64
+                        + other.mb(i, 2) as i64 * self.mb(2, j) as i64;
+                    r.m[i][j] = e(sat_i32(round_shift(acc, 16)));
+                    j += 1;
+                }
+                let acc = ((other.t[i].to_bits() as i64) << 16)
+                    + other.mb(i, 0) as i64 * self.t[0].to_bits() as i64
+                    + other.mb(i, 1) as i64 * self.t[1].to_bits() as i64
+                    + other.mb(i, 2) as i64 * self.t[2].to_bits() as i64;
+                r.t[i] = e(sat_i32(round_shift(acc, 16)));
+                i += 1;
+            }
+            return r;
+        }
+        let mut r = Affine3::IDENTITY;
+        let mut i = 0;
+        while i < 3 {
+            let mut j = 0;
+            while j < 3 {
+                let acc = other.mb(i, 0) as i128 * self.mb(0, j) as i128
+                    + other.mb(i, 1) as i128 * self.mb(1, j) as i128
+                    + other.mb(i, 2) as i128 * self.mb(2, j) as i128;
+                r.m[i][j] = e(sat_i32(sat_i64(round_shift_128(acc, 16))));
+                j += 1;
+            }
+            let acc = ((other.t[i].to_bits() as i128) << 16)
+                + other.mb(i, 0) as i128 * self.t[0].to_bits() as i128
+                + other.mb(i, 1) as i128 * self.t[1].to_bits() as i128
+                + other.mb(i, 2) as i128 * self.t[2].to_bits() as i128;
+            r.t[i] = e(sat_i32(sat_i64(round_shift_128(acc, 16))));
+            i += 1;
+        }
+        r
     }
 
     /// `round(M s + t)` for a point (raw 16.16), wrapped to lattice coordinates.
@@ -133,6 +250,50 @@ impl Affine3 {
         out
     }
 
+    /// `M p + t` of a `Q16.16` point in `i64` `Q16.16` (exact products, one half-up rounding;
+    /// saturates only past `i64`, for absurd inputs).
+    #[inline]
+    pub const fn apply_wide(&self, p: Vec3) -> [i64; 3] {
+        let p = [p.x as i64, p.y as i64, p.z as i64];
+        let mut out = [0i64; 3];
+        if self.small() {
+            let mut i = 0;
+            while i < 3 {
+                let acc = self.mb(i, 0) as i64 * p[0]
+                    + self.mb(i, 1) as i64 * p[1]
+                    + self.mb(i, 2) as i64 * p[2]
+                    + ((self.t[i].to_bits() as i64) << 16);
+                out[i] = round_shift(acc, 16);
+                i += 1;
+            }
+            return out;
+        }
+        let mut i = 0;
+        while i < 3 {
+            // |each product| < 2^62; three of them plus the shifted translation fit i128,
+            // and their sum can exceed i64 only for absurd inputs: accumulate in i128.
+            let acc = self.mb(i, 0) as i128 * p[0] as i128
+                + self.mb(i, 1) as i128 * p[1] as i128
+                + self.mb(i, 2) as i128 * p[2] as i128
+                + ((self.t[i].to_bits() as i128) << 16);
+            out[i] = sat_i64(round_shift_128(acc, 16));
+            i += 1;
+        }
+        out
+    }
+
+    /// `M p + t` of a `Q16.16` point, saturated to `Q16.16` `i32`.
+    #[inline]
+    pub const fn saturating_apply(&self, p: Vec3) -> Vec3 {
+        let w = self.apply_wide(p);
+        Vec3::new(sat_i32(w[0]), sat_i32(w[1]), sat_i32(w[2]))
+    }
+
+    /// `M v` (no translation) of a `Q16.16` vector, saturated.
+    pub const fn saturating_apply_vector(&self, v: Vec3) -> Vec3 {
+        self.with_translation([Z; 3]).saturating_apply(v)
+    }
+
     /// The largest absolute row sum of `M` (raw 16.16): bounds how many cells a unit step crosses.
     pub fn max_row_sum(&self) -> u64 {
         let mut best = 0u64;
@@ -145,10 +306,6 @@ impl Affine3 {
         }
         best
     }
-}
-
-fn sat_entry(x: i64) -> MatrixEntry {
-    MatrixEntry::from_bits(x.clamp(i64::from(i32::MIN), i64::from(i32::MAX)) as i32)
 }
 
 /// Rotation by a fixed irrational-looking angle used between octaves (Miné & Neyret): a rotation
@@ -198,6 +355,7 @@ impl defmt::Format for Affine3 {
 }
 
 #[cfg(test)]
+#[allow(clippy::needless_range_loop)]
 mod tests {
     use super::*;
 
@@ -252,5 +410,107 @@ mod tests {
             c.apply_point(TexPoint::from_bits(65536, 0, 0)),
             [9 * 65536, 0, 0]
         );
+    }
+
+    /// `other * self` with every product in i128 (the reference for both paths of `then`).
+    fn then_reference(a: &Affine3, b: &Affine3) -> Affine3 {
+        let (am, at, bm, bt) = (a.matrix(), a.translation(), b.matrix(), b.translation());
+        let r = |acc: i128| sat_i32(sat_i64(round_shift_128(acc, 16)));
+        let mut m = [[0i32; 3]; 3];
+        let mut t = [0i32; 3];
+        for i in 0..3 {
+            for j in 0..3 {
+                m[i][j] = r((0..3)
+                    .map(|k| i128::from(bm[i][k].to_bits()) * i128::from(am[k][j].to_bits()))
+                    .sum());
+            }
+            t[i] = r((i128::from(bt[i].to_bits()) << 16)
+                + (0..3)
+                    .map(|k| i128::from(bm[i][k].to_bits()) * i128::from(at[k].to_bits()))
+                    .sum::<i128>());
+        }
+        Affine3::from_bits(m, t)
+    }
+
+    #[test]
+    fn composition_paths_agree_with_the_exact_product() {
+        // A small xorshift: entries around the fast-path limit, below and above it.
+        let mut x = 0x2545_F491_4F6C_DD1Du64;
+        let mut next = |limit: i64| {
+            x ^= x << 13;
+            x ^= x >> 7;
+            x ^= x << 17;
+            ((x as i64) % limit) as i32
+        };
+        for round in 0..4000 {
+            let lim = [1i64 << 18, 1 << 29, 1 << 31, 1 << 32][round % 4];
+            let mut mk = || {
+                let m = [(); 3].map(|_| [(); 3].map(|_| next(lim)));
+                Affine3::from_bits(m, [(); 3].map(|_| next(1 << 32)))
+            };
+            let (a, b) = (mk(), mk());
+            assert_eq!(a.then(&b), then_reference(&a, &b), "{a:?} then {b:?}");
+        }
+        let full = Affine3::from_bits(
+            [[i32::MIN; 3], [i32::MAX; 3], [i32::MIN, i32::MAX, i32::MIN]],
+            [i32::MIN, i32::MAX, i32::MIN],
+        );
+        let f2 = full.then(&full);
+        assert_eq!(f2.matrix()[0][0].to_bits(), i32::MAX);
+        assert_eq!(f2, then_reference(&full, &full));
+    }
+
+    #[test]
+    fn scene_placements() {
+        use crate::scene::math::units;
+        let r = Affine3::rotate_z(Angle::QUARTER);
+        assert_eq!(r.saturating_apply(Vec3::X), Vec3::Y);
+        let r = Affine3::rotate_x(Angle::QUARTER);
+        assert_eq!(r.saturating_apply(Vec3::Y), Vec3::Z);
+        let r = Affine3::rotate_y(Angle::QUARTER);
+        assert_eq!(r.saturating_apply(Vec3::Z), Vec3::X);
+        let t = Affine3::scale(e(units(2))).then(&Affine3::translate(Vec3::units(1, 2, 3)));
+        assert_eq!(
+            t.saturating_apply(Vec3::units(1, 1, 1)),
+            Vec3::units(3, 4, 5)
+        );
+        assert_eq!(t.translation_vec3(), Vec3::units(1, 2, 3));
+        assert_eq!(
+            t.saturating_apply_vector(Vec3::units(1, 1, 1)),
+            Vec3::units(2, 2, 2)
+        );
+        let a = Affine3::rotate_y(Angle::from_degrees(30));
+        let p = Vec3::milli(1234, -567, 890);
+        let q = a.saturating_apply(p);
+        let ang = 30f64.to_radians();
+        let (x, z) = (1.234f64, 0.890f64);
+        let ex = [
+            x * ang.cos() + z * ang.sin(),
+            -0.567,
+            -x * ang.sin() + z * ang.cos(),
+        ];
+        for k in 0..3 {
+            assert!((q.to_array()[k] as f64 / 65536.0 - ex[k]).abs() < 1e-4);
+        }
+        // The saturating and wrapping applications agree wherever nothing overflows.
+        let s = a.then(&Affine3::translate(Vec3::milli(-250, 4000, 17)));
+        assert_eq!(
+            s.saturating_apply(p).to_array(),
+            s.apply_point(TexPoint::from_bits(p.x, p.y, p.z))
+        );
+        assert_eq!(
+            s.saturating_apply_vector(p).to_array(),
+            s.apply_vector(TexPoint::from_bits(p.x, p.y, p.z))
+        );
+        // Never panics on extreme values.
+        let big = Affine3::scale(e(i32::MAX)).then(&Affine3::scale(e(i32::MIN)));
+        let _ = big.saturating_apply(Vec3::new(i32::MIN, i32::MAX, i32::MIN));
+        let full = Affine3::from_bits(
+            [[i32::MIN; 3], [i32::MAX; 3], [i32::MIN, i32::MAX, i32::MIN]],
+            [i32::MIN, i32::MAX, i32::MIN],
+        );
+        let _ = full.apply_wide(Vec3::new(i32::MIN, i32::MIN, i32::MIN));
+        let _ = full.saturating_apply_vector(Vec3::new(i32::MAX, i32::MAX, i32::MAX));
+        let _ = full.apply_point(TexPoint::from_bits(i32::MIN, i32::MIN, i32::MIN));
     }
 }

@@ -27,8 +27,9 @@ use texcore::draw::{PlaneMapping, TextureStyle, TexturedScene};
 use texcore::filter::Antialias;
 use texcore::presets::set_fire_phase;
 use texcore::ready::{Material, PresetName};
-use texcore::scene::math::{Angle, Transform};
+use texcore::scene::math::Angle;
 use texcore::texture::{Shader, Texture};
+use texcore::transform::Affine3;
 
 /// The result of an example: what it wrote.
 pub type Result<T> = std::result::Result<T, Box<dyn Error>>;
@@ -120,7 +121,7 @@ pub fn spinning_teapot(gif: &Path, frames: u32) -> Result<u32> {
         // Object 1 is the teapot, turned about the world's vertical axis; its texture is
         // attached to it, so it turns with it.
         if let Some(pot) = scene.objects.get_mut(1) {
-            let turn = Transform::rotate_y(Angle::from_turns(i64::from(k), frames.max(1)));
+            let turn = Affine3::rotate_y(Angle::from_turns(i64::from(k), frames.max(1)));
             pot.transform = pot.transform.then(&turn);
         }
         let mut display = SimulatorDisplay::<Rgb888>::new(Size::new(w.into(), h.into()));

@@ -7,8 +7,9 @@ use texcore::model::{NoiseTerm, Octaves, TextureModel};
 use texcore::noise::NoiseBasis;
 use texcore::presets::{PRESET_TERMS, UNIT_PLANE};
 use texcore::quadric::Quadric;
-use texcore::scene::{focal_from_fov, Angle, Camera, Object, Scene, TextureSlot, Transform, Vec3};
+use texcore::scene::{focal_from_fov, Angle, Camera, Object, Scene, TextureSlot, Vec3};
 use texcore::table::TableWrap;
+use texcore::transform::Affine3;
 
 use super::convert::{to_affine, MaterialFx, ObjectFx, ProjFx, SceneDef, Target, TermFx, Track};
 use crate::unit::{self, MaterialSpec, ShaderSpec, UnitError};
@@ -133,18 +134,18 @@ impl SceneDef {
 
 impl ObjectFx {
     /// Object to world: `p -> position + Rz Ry Rx S (p - pivot)`.
-    pub(crate) fn transform(&self) -> Transform {
+    pub(crate) fn transform(&self) -> Affine3 {
         let p = |v: [i64; 3]| vec3(v);
-        Transform::translate(p(self.pivot.map(|x| -x)))
-            .then(&Transform::scale3(
-                sat(self.scale[0]),
-                sat(self.scale[1]),
-                sat(self.scale[2]),
+        Affine3::translate(p(self.pivot.map(|x| -x)))
+            .then(&Affine3::scale3(
+                MatrixEntry::from_bits(sat(self.scale[0])),
+                MatrixEntry::from_bits(sat(self.scale[1])),
+                MatrixEntry::from_bits(sat(self.scale[2])),
             ))
-            .then(&Transform::rotate_x(angle(self.rotation[0])))
-            .then(&Transform::rotate_y(angle(self.rotation[1])))
-            .then(&Transform::rotate_z(angle(self.rotation[2])))
-            .then(&Transform::translate(p(self.position)))
+            .then(&Affine3::rotate_x(angle(self.rotation[0])))
+            .then(&Affine3::rotate_y(angle(self.rotation[1])))
+            .then(&Affine3::rotate_z(angle(self.rotation[2])))
+            .then(&Affine3::translate(p(self.position)))
     }
 
     pub(crate) fn object(&self) -> Object {

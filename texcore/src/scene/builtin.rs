@@ -16,7 +16,7 @@
 //! angles in degrees or turns): no floating point is involved.
 
 use super::camera::{focal_from_fov, Camera};
-use super::math::{milli, units, Angle, Transform, Vec3, ONE};
+use super::math::{milli, units, Angle, Vec3, ONE};
 use super::mesh::Mesh;
 use super::{Blend, Object, Scene, SceneError, TextureSlot};
 use crate::format::MatrixEntry;
@@ -96,9 +96,9 @@ const fn camera(eye: Vec3, target: Vec3, fov_degrees: i32, near: i32, far: i32) 
 }
 
 /// The teapot stood up in a y-up world (its z becomes y), centred on its bounding box.
-const fn teapot_upright() -> Transform {
-    Transform::rotate_x(Angle::from_degrees(-90))
-        .then(&Transform::translate(Vec3::milli(-215, -1575, 0)))
+const fn teapot_upright() -> Affine3 {
+    Affine3::rotate_x(Angle::from_degrees(-90))
+        .then(&Affine3::translate(Vec3::milli(-215, -1575, 0)))
 }
 
 // ---------------------------------------------------------------------------------------------
@@ -123,14 +123,14 @@ pub fn wood() -> Result<Scene, SceneError> {
     let slot = s.add_slot(TextureSlot::preset("wood"))?;
     let mut o = Object::new(Mesh::Teapot { level: 5 });
     o.slot = slot;
-    o.transform = teapot_upright().then(&Transform::rotate_y(Angle::from_degrees(-20)));
+    o.transform = teapot_upright().then(&Affine3::rotate_y(Angle::from_degrees(-20)));
     // s = 0.75 (x + 0.4), t = 0.75 (z + 2.5), r = 0.75 y (object space, z up).
     o.tex_map = tex_map([[750, 0, 0], [0, 0, 750], [0, 750, 0]], [300, 1875, 0]);
     s.add(o)?;
     s.animate = Some(|s, frame| {
         if let Some(o) = s.objects.get_mut(0) {
             let a = Angle::from_turns(frame as i64, 64);
-            o.transform = o.transform.then(&Transform::rotate_y(a));
+            o.transform = o.transform.then(&Affine3::rotate_y(a));
         }
     });
     Ok(s)
@@ -172,15 +172,15 @@ pub fn marble() -> Result<Scene, SceneError> {
     });
     cube.slot = slot;
     cube.cull = CullMode::Clockwise;
-    cube.transform = Transform::translate(Vec3::milli(0, -1250, 0));
+    cube.transform = Affine3::translate(Vec3::milli(0, -1250, 0));
     let cube = cube.with_world_texture(&MARBLE_BLOCK);
     // Teapot at 3/4 size, its base (radius 1.07) on the pedestal.
     let mut pot = Object::new(Mesh::Teapot { level: 4 });
     pot.slot = slot;
-    pot.transform = Transform::rotate_x(Angle::from_degrees(-90))
-        .then(&Transform::scale(3 * ONE / 4))
-        .then(&Transform::rotate_y(Angle::from_degrees(-25)))
-        .then(&Transform::translate(Vec3::milli(-100, 0, 0)));
+    pot.transform = Affine3::rotate_x(Angle::from_degrees(-90))
+        .then(&Affine3::scale(MatrixEntry::from_bits(3 * ONE / 4)))
+        .then(&Affine3::rotate_y(Angle::from_degrees(-25)))
+        .then(&Affine3::translate(Vec3::milli(-100, 0, 0)));
     let pot = pot.with_world_texture(&MARBLE_BLOCK);
     s.add(cube)?;
     s.add(pot)?;
@@ -236,7 +236,7 @@ pub fn seascape() -> Result<Scene, SceneError> {
     clouds.slot = sky;
     // Face down, 25 units up.
     clouds.transform =
-        Transform::rotate_x(Angle::HALF).then(&Transform::translate(Vec3::milli(0, 25_000, 0)));
+        Affine3::rotate_x(Angle::HALF).then(&Affine3::translate(Vec3::milli(0, 25_000, 0)));
     // s = x / 50, t = z / 50, r = 0.5 (clouds some 25 units across, as high as the layer).
     clouds.tex_map = tex_map([[20, 0, 0], [0, 0, 20], [0, 0, 0]], [0, 0, 500]);
     clouds.depth_test = false;
@@ -328,7 +328,7 @@ pub fn planet() -> Result<Scene, SceneError> {
     s.set_frames(128, 0)?;
     let ground = s.add_slot(TextureSlot::preset("planet"))?;
     let air = s.add_slot(TextureSlot::preset("planet-clouds"))?;
-    let tilt = Transform::rotate_z(Angle::from_degrees(20));
+    let tilt = Affine3::rotate_z(Angle::from_degrees(20));
     let mut p = Object::new(Mesh::Sphere {
         radius: ONE,
         stacks: 16,
@@ -361,7 +361,7 @@ pub fn planet() -> Result<Scene, SceneError> {
         for (k, turns) in [(0usize, 1i64), (1, 2)] {
             if let Some(o) = s.objects.get_mut(k) {
                 let a = Angle::from_turns(frame as i64 * turns, 128);
-                o.transform = Transform::rotate_y(a).then(&o.transform);
+                o.transform = Affine3::rotate_y(a).then(&o.transform);
             }
         }
     });
@@ -452,7 +452,7 @@ pub fn moonrise() -> Result<Scene, SceneError> {
     moon.cull = CullMode::Clockwise;
     moon.depth_test = false;
     moon.depth_write = false;
-    moon.transform = Transform::translate(Vec3::milli(12_000, 43_000, -260_000));
+    moon.transform = Affine3::translate(Vec3::milli(12_000, 43_000, -260_000));
     // Fractal detail a few times across the disc.
     moon.tex_map = tex_map([[80, 0, 0], [0, 80, 0], [0, 0, 80]], [7000, 3000, 1000]);
 
@@ -480,7 +480,9 @@ pub fn moonrise() -> Result<Scene, SceneError> {
         // Rise 12 units over the animation.
         if let Some(o) = s.objects.get_mut(2) {
             let dy = (frame as i64 * units(12) as i64 / 128) as i32;
-            o.transform.t[1] = o.transform.t[1].wrapping_add(dy);
+            let [x, y, z] = o.transform.translation();
+            let y = MatrixEntry::from_bits(y.to_bits().wrapping_add(dy));
+            o.transform = o.transform.with_translation([x, y, z]);
         }
     });
     Ok(s)

@@ -70,11 +70,11 @@ impl CornerValue for SceneLight<'_> {
 
     fn at(&self, o: &Object, corners: &[Vec3; 4], i: usize) -> LightRgb {
         let p = corners[i & 3];
-        let world = o.transform.apply(p);
+        let world = o.transform.saturating_apply(p);
         let n = analytic_normal(&o.mesh, p)
             .or_else(|| face_normal(corners[0], corners[1], corners[2]))
             .or_else(|| face_normal(corners[0], corners[2], corners[3]))
-            .map(|n| o.transform.apply_vector(n))
+            .map(|n| o.transform.saturating_apply_vector(n))
             .and_then(Vec3::normalized)
             .unwrap_or(Vec3::ZERO);
         let n = if i64::from(n.dot(self.eye.sub(world))) < 0 {

@@ -14,7 +14,7 @@
 //!
 //! | module | contents |
 //! |---|---|
-//! | [`math`] | `Q16.16` vectors and affine transforms, angles in turns, sine/cosine, `isqrt` |
+//! | [`math`] | `Q16.16` vectors (affine maps: [`Affine3`]), angles in turns, sine/cosine, `isqrt` |
 //! | [`camera`] | perspective/orthographic cameras, projection, near/far/guard-band clipping |
 //! | [`mesh`] | teapot, sphere, torus, cube, quad and horizon plane as triangle iterators |
 //! | [`teapot`] | the Utah teapot's 32 Bezier patches and exact tessellation |
@@ -76,12 +76,13 @@ mod tests;
 
 pub use builtin::{by_name, BUILTIN};
 pub use camera::{focal_from_fov, Camera, Projection, View};
-pub use math::{Angle, Transform, Vec3};
+pub use math::{Angle, Vec3};
 pub use mesh::Mesh;
 
 use crate::presets::Key;
 use crate::raster::{CullMode, DepthFunc, Perspective, ScreenVertex, TriangleOptions};
-use crate::transform::Affine3;
+/// Object placement and texture mapping: texcore's one affine type.
+pub use crate::transform::Affine3;
 use camera::{CamVertex, ClipOutcome};
 
 /// Most objects in a scene.
@@ -133,7 +134,7 @@ pub struct Object {
     /// The mesh (object space).
     pub mesh: Mesh,
     /// Object to world.
-    pub transform: Transform,
+    pub transform: Affine3,
     /// Object space to solid texture coordinates (`s = M p + t`, `Q16.16`): the texture is
     /// attached to the object.
     pub tex_map: Affine3,
@@ -157,7 +158,7 @@ impl Object {
     pub const fn new(mesh: Mesh) -> Object {
         Object {
             mesh,
-            transform: Transform::IDENTITY,
+            transform: Affine3::IDENTITY,
             tex_map: Affine3::IDENTITY,
             slot: 0,
             blend: Blend::Opaque,
@@ -186,7 +187,7 @@ impl Object {
     /// so that objects sharing `world_map` are cut from one block of material. Call after
     /// setting `transform`.
     pub fn with_world_texture(mut self, world_map: &Affine3) -> Object {
-        self.tex_map = self.transform.to_affine3().then(world_map);
+        self.tex_map = self.transform.then(world_map);
         self
     }
 }
@@ -478,7 +479,7 @@ impl Scene {
                     continue;
                 }
                 let cam = corners.map(|p| CamVertex {
-                    p: view.to_camera(o.transform.apply(p)),
+                    p: view.to_camera(o.transform.saturating_apply(p)),
                     tex: o
                         .tex_map
                         .apply_point(crate::format::TexPoint::from_bits(p.x, p.y, p.z)),

@@ -5,9 +5,10 @@
 extern crate std;
 
 use super::camera::{CamVertex, ClipOutcome};
-use super::math::{milli, units, Angle, Transform, Vec3, ONE};
+use super::math::{milli, units, Angle, Vec3, ONE};
 use super::*;
 use crate::raster::{Rasterizer, Rect, Reject, Segment, GUARD_BAND};
+use crate::transform::Affine3;
 use std::collections::{HashMap, HashSet, VecDeque};
 use std::vec::Vec;
 
@@ -185,7 +186,7 @@ fn marble_block_alignment() {
     for o in &s.objects {
         for t in o.mesh.triangles().take(300) {
             for p in t {
-                let world = o.transform.apply(p);
+                let world = o.transform.saturating_apply(p);
                 let direct = block.apply_point(crate::format::TexPoint::from_bits(
                     world.x, world.y, world.z,
                 ));
@@ -273,7 +274,7 @@ fn horizon_plane_stays_in_guard_band() {
                 ],
             }
         });
-        o.tex_map = crate::transform::Affine3::IDENTITY;
+        o.tex_map = Affine3::IDENTITY;
         s.add(o).unwrap();
         let mut rast = Rasterizer::new(Rect::from_size(320, 240));
         let c = s.for_each_triangle(0, |_, t| {
@@ -555,11 +556,8 @@ fn degenerate_inputs_do_not_panic() {
     assert!(collect(&s, 0).0.is_empty());
     // Objects far outside the world range, huge scales and transforms.
     let mut s = by_name("fire").unwrap();
-    s.objects[0].transform = Transform::scale(i32::MAX).then(&Transform::translate(Vec3::new(
-        i32::MIN,
-        i32::MAX,
-        i32::MIN,
-    )));
+    s.objects[0].transform = Affine3::scale(crate::format::MatrixEntry::MAX)
+        .then(&Affine3::translate(Vec3::new(i32::MIN, i32::MAX, i32::MIN)));
     let _ = collect(&s, 0);
     s.objects[0].mesh = Mesh::Quad {
         corners: [Vec3::new(i32::MAX, i32::MIN, 0); 4],
@@ -596,7 +594,9 @@ fn degenerate_inputs_do_not_panic() {
             s.camera.near = 1;
             s.camera.far = i32::MAX;
             for o in s.objects.iter_mut() {
-                o.transform.t = [i32::MAX, i32::MIN, i32::MAX];
+                o.transform = o.transform.with_translation(
+                    Affine3::translate(Vec3::new(i32::MAX, i32::MIN, i32::MAX)).translation(),
+                );
             }
             let (tris, _) = collect(&s, 0);
             assert!(tris.iter().all(|(_, t)| in_guard_band(t)));
