@@ -42,8 +42,7 @@ const fn e(bits: i32) -> MatrixEntry {
     MatrixEntry::from_bits(bits)
 }
 
-/// Entries below this magnitude (raw) take the `i64` paths of [`Affine3::then`] and
-/// [`Affine3::apply_wide`]: each product is below `2^61` and a sum of three plus a shifted
+/// Entries below this magnitude (raw) take the `i64` path of [`Affine3::apply_wide`]: each product is below `2^61` and a sum of three plus a shifted
 /// translation fits `i64`.
 const SMALL: i32 = 1 << 30;
 
@@ -176,48 +175,29 @@ impl Affine3 {
     }
 
     /// `self` followed by `other` (`other * self`), each entry rounded half up and saturated.
-    pub const fn then(&self, other: &Affine3) -> Affine3 {
-        if self.small() && other.small() {
-            // Exact in i64 (see SMALL): the same bits as the i128 path, cheaper on 32-bit cores.
-            let mut r = Affine3::IDENTITY;
-            let mut i = 0;
-            while i < 3 {
-                let mut j = 0;
-                while j < 3 {
-                    let acc = other.mb(i, 0) as i64 * self.mb(0, j) as i64
-                        + other.mb(i, 1) as i64 * self.mb(1, j) as i64
-                        + other.mb(i, 2) as i64 * self.mb(2, j) as i64;
-                    r.m[i][j] = e(sat_i32(round_shift(acc, 16)));
-                    j += 1;
+    ///
+    /// Exact for every input: each product of two entries fits `i64`, their sum is formed in
+    /// `i128` (additions only, no wide multiplication), then rounded once.
+    pub fn then(&self, other: &Affine3) -> Affine3 {
+        let mut m = [[Z; 3]; 3];
+        let mut t = [Z; 3];
+        // Iterators rather than indices: no bounds check survives at any opt-level.
+        let bits = |e: &MatrixEntry| i64::from(e.to_bits());
+        for (((row, ti), orow), ot) in m.iter_mut().zip(&mut t).zip(&other.m).zip(&other.t) {
+            for (j, e) in row.iter_mut().enumerate() {
+                let mut acc: i128 = 0;
+                for (o, srow) in orow.iter().zip(&self.m) {
+                    acc += i128::from(bits(o) * srow.get(j).map_or(0, bits));
                 }
-                let acc = ((other.t[i].to_bits() as i64) << 16)
-                    + other.mb(i, 0) as i64 * self.t[0].to_bits() as i64
-                    + other.mb(i, 1) as i64 * self.t[1].to_bits() as i64
-                    + other.mb(i, 2) as i64 * self.t[2].to_bits() as i64;
-                r.t[i] = e(sat_i32(round_shift(acc, 16)));
-                i += 1;
+                *e = round_sat_entry(acc);
             }
-            return r;
-        }
-        let mut r = Affine3::IDENTITY;
-        let mut i = 0;
-        while i < 3 {
-            let mut j = 0;
-            while j < 3 {
-                let acc = other.mb(i, 0) as i128 * self.mb(0, j) as i128
-                    + other.mb(i, 1) as i128 * self.mb(1, j) as i128
-                    + other.mb(i, 2) as i128 * self.mb(2, j) as i128;
-                r.m[i][j] = e(sat_i32(sat_i64(round_shift_128(acc, 16))));
-                j += 1;
+            let mut acc = i128::from(bits(ot) << 16);
+            for (o, st) in orow.iter().zip(&self.t) {
+                acc += i128::from(bits(o) * bits(st));
             }
-            let acc = ((other.t[i].to_bits() as i128) << 16)
-                + other.mb(i, 0) as i128 * self.t[0].to_bits() as i128
-                + other.mb(i, 1) as i128 * self.t[1].to_bits() as i128
-                + other.mb(i, 2) as i128 * self.t[2].to_bits() as i128;
-            r.t[i] = e(sat_i32(sat_i64(round_shift_128(acc, 16))));
-            i += 1;
+            *ti = round_sat_entry(acc);
         }
-        r
+        Affine3 { m, t }
     }
 
     /// `round(M s + t)` for a point (raw 16.16), wrapped to lattice coordinates.
@@ -306,6 +286,12 @@ impl Affine3 {
         }
         best
     }
+}
+
+/// `x` (32 fraction bits) rounded half up to 16 fraction bits, saturated to an entry.
+fn round_sat_entry(x: i128) -> MatrixEntry {
+    let r = (x + (1 << 15)) >> 16;
+    MatrixEntry::from_bits(r.clamp(i128::from(i32::MIN), i128::from(i32::MAX)) as i32)
 }
 
 /// Rotation by a fixed irrational-looking angle used between octaves (Miné & Neyret): a rotation

@@ -96,7 +96,7 @@ const fn camera(eye: Vec3, target: Vec3, fov_degrees: i32, near: i32, far: i32) 
 }
 
 /// The teapot stood up in a y-up world (its z becomes y), centred on its bounding box.
-const fn teapot_upright() -> Affine3 {
+fn teapot_upright() -> Affine3 {
     Affine3::rotate_x(Angle::from_degrees(-90))
         .then(&Affine3::translate(Vec3::milli(-215, -1575, 0)))
 }
