@@ -335,7 +335,10 @@ pub fn load_obj(name: &str, bytes: &[u8]) -> Result<TriMesh, MeshError> {
                 }
                 for c in &coords[..3] {
                     let v: f64 = c.parse().map_err(|_| {
-                        err(Location::Line(line), format!("bad vertex coordinate {c:?}"))
+                        err(
+                            Location::Line(line),
+                            format!("bad vertex coordinate \"{}\"", c.escape_debug()),
+                        )
                     })?;
                     if !v.is_finite() {
                         return Err(err(Location::Line(line), "vertex is not finite".into()));
@@ -370,22 +373,34 @@ pub fn load_obj(name: &str, bytes: &[u8]) -> Result<TriMesh, MeshError> {
                 for c in &corners {
                     let mut parts = c.split('/');
                     let first = parts.next().unwrap_or("");
-                    let resolved = obj_index(first, vertex_lines.len() as i64, "vertex")
-                        .map_err(|m| err(Location::Line(line), format!("{m} in {c:?}")))?;
+                    let resolved =
+                        obj_index(first, vertex_lines.len() as i64, "vertex").map_err(|m| {
+                            err(
+                                Location::Line(line),
+                                format!("{m} in \"{}\"", c.escape_debug()),
+                            )
+                        })?;
                     // Texture coordinate and normal (ignored, but checked): empty or in range.
                     for (part, count, what) in [
                         (parts.next(), texcoords, "texture coordinate"),
                         (parts.next(), normals, "normal"),
                     ] {
                         if let Some(p) = part.filter(|p| !p.is_empty()) {
-                            obj_index(p, count, what)
-                                .map_err(|m| err(Location::Line(line), format!("{m} in {c:?}")))?;
+                            obj_index(p, count, what).map_err(|m| {
+                                err(
+                                    Location::Line(line),
+                                    format!("{m} in \"{}\"", c.escape_debug()),
+                                )
+                            })?;
                         }
                     }
                     if parts.next().is_some() {
                         return Err(err(
                             Location::Line(line),
-                            format!("bad face corner {c:?} (more than v/vt/vn)"),
+                            format!(
+                                "bad face corner \"{}\" (more than v/vt/vn)",
+                                c.escape_debug()
+                            ),
                         ));
                     }
                     clean.push(' ');
@@ -451,7 +466,7 @@ pub fn load_obj(name: &str, bytes: &[u8]) -> Result<TriMesh, MeshError> {
 fn obj_index(word: &str, count: i64, what: &str) -> Result<i64, String> {
     let i: i64 = word
         .parse()
-        .map_err(|_| format!("bad {what} index {word:?}"))?;
+        .map_err(|_| format!("bad {what} index \"{}\"", word.escape_debug()))?;
     let resolved = if i < 0 {
         count.saturating_add(i).saturating_add(1)
     } else {
@@ -638,7 +653,8 @@ fn check_ply_counts(header: &ply_rs_bw::ply::Header, file_bytes: usize) -> Resul
         };
         if e.count > cap {
             return Err(format!(
-                "element {name:?} declares {} entries: more than the capacity of {cap}",
+                "element \"{}\" declares {} entries: more than the capacity of {cap}",
+                name.escape_debug(),
                 e.count
             ));
         }

@@ -260,7 +260,7 @@ pub fn run_atlas(a: &AtlasArgs) -> ExitCode {
         out!("{j}");
     } else {
         out!(
-            "{}: {:?} atlas {}x{} (gutter {}): triangles {}, coverage {:.1}%, relative_scale {:.3}, {} texels baked in {:.3} s",
+            "{}: {} atlas {}x{} (gutter {}): triangles {}, coverage {:.1}%, relative_scale {:.3}, {} texels baked in {:.3} s",
             a.mesh,
             a.kind,
             a.size,
@@ -369,7 +369,7 @@ fn render_atlas_frame(
         return ExitCode::SUCCESS;
     }
     let via = match n {
-        Some(n) => format!("via {n}x{n} atlases ({:?})", a.atlas_sampling),
+        Some(n) => format!("via {n}x{n} atlases ({})", a.atlas_sampling),
         None => "with its shading = \"atlas\" objects from their atlases".to_string(),
     };
     if a.json {

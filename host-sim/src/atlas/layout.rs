@@ -43,6 +43,18 @@ pub enum AtlasKind {
     Mip,
 }
 
+/// The kind as spelled on the command line (`--kind`).
+impl core::fmt::Display for AtlasKind {
+    fn fmt(&self, f: &mut core::fmt::Formatter<'_>) -> core::fmt::Result {
+        f.write_str(match self {
+            AtlasKind::Uniform => "uniform",
+            AtlasKind::Area => "area",
+            AtlasKind::Length => "length",
+            AtlasKind::Mip => "mip",
+        })
+    }
+}
+
 /// Why a layout cannot be made.
 #[derive(Clone, Debug, PartialEq, Eq, thiserror::Error)]
 pub enum LayoutError {
@@ -370,6 +382,19 @@ pub fn morton(i: u32) -> (u32, u32) {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn kinds_and_samplings_display_as_their_command_line_names() {
+        use clap::ValueEnum;
+        for k in AtlasKind::value_variants() {
+            let name = k.to_possible_value().unwrap();
+            assert_eq!(k.to_string(), name.get_name());
+        }
+        for k in crate::atlas::Sampling::value_variants() {
+            let name = k.to_possible_value().unwrap();
+            assert_eq!(k.to_string(), name.get_name());
+        }
+    }
 
     /// Two unit right triangles (a unit square) and a 2 x 1 rectangle.
     fn tiny() -> TriMesh {

@@ -27,6 +27,17 @@ pub enum Sampling {
     Mip,
 }
 
+/// The look-up as spelled on the command line (`--sampling`).
+impl core::fmt::Display for Sampling {
+    fn fmt(&self, f: &mut core::fmt::Formatter<'_>) -> core::fmt::Result {
+        f.write_str(match self {
+            Sampling::Nearest => "nearest",
+            Sampling::Bilinear => "bilinear",
+            Sampling::Mip => "mip",
+        })
+    }
+}
+
 /// An orbit camera around the mesh's bounding-box centre.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Orbit {

@@ -129,28 +129,36 @@ pub fn run_qemu_m0(elf: &Path) -> Result<M0Count, String> {
     let text = String::from_utf8_lossy(&out.stdout);
     if !out.status.success() {
         return Err(format!(
-            "the Cortex-M0 example exited with {:?}: {text}{}",
-            out.status.code(),
+            "the Cortex-M0 example {}: {text}{}",
+            match out.status.code() {
+                Some(c) => format!("exited with code {c}"),
+                None => "was stopped by a signal".to_string(),
+            },
             String::from_utf8_lossy(&out.stderr)
         ));
     }
     let line = text
         .lines()
         .find(|l| l.starts_with("TEXM0 "))
-        .ok_or_else(|| format!("no TEXM0 line in the Cortex-M0 example's output: {text:?}"))?;
+        .ok_or_else(|| {
+            format!(
+                "no TEXM0 line in the Cortex-M0 example's output: \"{}\"",
+                text.escape_debug()
+            )
+        })?;
     let field = |k: &str| -> Result<&str, String> {
         line.split_whitespace()
             .find_map(|w| w.strip_prefix(k).and_then(|v| v.strip_prefix('=')))
-            .ok_or_else(|| format!("no {k} in {line:?}"))
+            .ok_or_else(|| format!("no {k} in \"{}\"", line.escape_debug()))
     };
     let num = |k: &str| -> Result<u64, String> {
         field(k)?
             .parse()
-            .map_err(|_| format!("{k} is not a number in {line:?}"))
+            .map_err(|_| format!("{k} is not a number in \"{}\"", line.escape_debug()))
     };
     let checksum = field("checksum")?;
     let checksum = u32::from_str_radix(checksum.trim_start_matches("0x"), 16)
-        .map_err(|_| format!("checksum is not hex in {line:?}"))?;
+        .map_err(|_| format!("checksum is not hex in \"{}\"", line.escape_debug()))?;
     // One TIMER0 tick at 16 MHz is 62.5 ns = 62.5 instructions at -icount shift=0.
     Ok(M0Count {
         pixels: num("pixels")?,
