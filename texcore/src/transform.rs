@@ -176,8 +176,10 @@ impl Affine3 {
 
     /// `self` followed by `other` (`other * self`), each entry rounded half up and saturated.
     ///
-    /// Exact for every input: each product of two entries fits `i64`, their sum is formed in
-    /// `i128` (additions only, no wide multiplication), then rounded once.
+    /// The same bits as the exact product for every input: each product of two entries is exact
+    /// in `i64` (at most `2^62`); the sums saturate, which can only happen when the exact sum
+    /// is beyond `2^62` in magnitude, and then the entry saturates either way (the remaining
+    /// terms, each at most `2^62`, cannot bring it below `2^47`).
     pub fn then(&self, other: &Affine3) -> Affine3 {
         let mut m = [[Z; 3]; 3];
         let mut t = [Z; 3];
@@ -185,15 +187,15 @@ impl Affine3 {
         let bits = |e: &MatrixEntry| i64::from(e.to_bits());
         for (((row, ti), orow), ot) in m.iter_mut().zip(&mut t).zip(&other.m).zip(&other.t) {
             for (j, e) in row.iter_mut().enumerate() {
-                let mut acc: i128 = 0;
+                let mut acc: i64 = 0;
                 for (o, srow) in orow.iter().zip(&self.m) {
-                    acc += i128::from(bits(o) * srow.get(j).map_or(0, bits));
+                    acc = acc.saturating_add(bits(o) * srow.get(j).map_or(0, bits));
                 }
                 *e = round_sat_entry(acc);
             }
-            let mut acc = i128::from(bits(ot) << 16);
+            let mut acc: i64 = bits(ot) << 16;
             for (o, st) in orow.iter().zip(&self.t) {
-                acc += i128::from(bits(o) * bits(st));
+                acc = acc.saturating_add(bits(o) * bits(st));
             }
             *ti = round_sat_entry(acc);
         }
@@ -289,9 +291,9 @@ impl Affine3 {
 }
 
 /// `x` (32 fraction bits) rounded half up to 16 fraction bits, saturated to an entry.
-fn round_sat_entry(x: i128) -> MatrixEntry {
-    let r = (x + (1 << 15)) >> 16;
-    MatrixEntry::from_bits(r.clamp(i128::from(i32::MIN), i128::from(i32::MAX)) as i32)
+fn round_sat_entry(x: i64) -> MatrixEntry {
+    let r = x.saturating_add(1 << 15) >> 16;
+    MatrixEntry::from_bits(r.clamp(i64::from(i32::MIN), i64::from(i32::MAX)) as i32)
 }
 
 /// Rotation by a fixed irrational-looking angle used between octaves (Miné & Neyret): a rotation
