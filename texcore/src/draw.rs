@@ -37,7 +37,8 @@
 //!   call for all its visible pixels. Only pixels inside the target's bounding box are shaded.
 //! - Display errors are returned as `D::Error`; no panic, no allocation, no floating point in
 //!   the pixel path (the `f32` set-up conveniences of [`PlaneMapping`] only convert to fixed
-//!   point, identically on every target).
+//!   point, through `micromath`'s bit-exact `fract`,
+//!   identically on every target).
 
 use core::marker::PhantomData;
 
@@ -48,6 +49,7 @@ use embedded_graphics::primitives::{
     Circle, Ellipse, PointsIter, Rectangle, RoundedRectangle, StyledDrawable, Triangle,
 };
 use embedded_graphics::Drawable;
+use micromath::F32Ext;
 
 use crate::color::Rgba8888;
 use crate::format::TexPoint;
@@ -187,24 +189,25 @@ impl PlaneMapping {
         self
     }
 
-    /// [`PlaneMapping::rotated`] by `turns` of a full turn (set-up convenience; converted to a
-    /// fixed-point [`Angle`], the same on every target).
+    /// [`PlaneMapping::rotated`] by `turns` of a full turn (set-up convenience): the fraction of
+    /// a turn becomes a fixed-point [`Angle`] rounded to the nearest `2^-32` turn, the same bits
+    /// on every target (see [`f32_to_nearest_i64`]). NaN does not rotate.
     pub fn rotated_turns(self, turns: f32) -> PlaneMapping {
-        // The fractional turn in 2^-32 units: `as` casts saturate and are exact for these
-        // magnitudes on every target.
-        let frac = turns - (turns as i64) as f32;
-        self.rotated(Angle((frac * 4_294_967_296.0) as i64 as u32))
+        // In (-1, 1) exactly; times 2^32 is exact; a negative fraction wraps to its turn.
+        let frac = f32_fract(turns);
+        self.rotated(Angle(f32_to_nearest_i64(frac * 4_294_967_296.0) as u32))
     }
 
-    /// [`PlaneMapping::with_zoom`] by `k` (set-up convenience, converted to 16.16).
+    /// [`PlaneMapping::with_zoom`] by `k` (set-up convenience): `k` in 16.16 rounded to
+    /// nearest, saturating (see [`f32_to_nearest_i64`]).
     pub fn zoomed(self, k: f32) -> PlaneMapping {
-        self.with_zoom((k * 65536.0) as i32)
+        self.with_zoom(f32_to_q16(k))
     }
 
-    /// [`PlaneMapping::with_phase`] by `phase` texture units (set-up convenience, converted to
-    /// 16.16).
+    /// [`PlaneMapping::with_phase`] by `phase` texture units (set-up convenience): in 16.16
+    /// rounded to nearest, saturating (see [`f32_to_nearest_i64`]).
     pub fn phased(self, phase: f32) -> PlaneMapping {
-        self.with_phase((phase * 65536.0) as i32)
+        self.with_phase(f32_to_q16(phase))
     }
 
     /// The span of `len` pixels of display row `y` from display column `x`.
@@ -229,6 +232,48 @@ impl PlaneMapping {
             len,
         }
     }
+}
+
+/// `x` rounded to the nearest integer, ties away from zero, saturating to `i64`; NaN is 0.
+///
+/// The set-up conversions of the `f32` conveniences ([`PlaneMapping::rotated_turns`],
+/// [`PlaneMapping::zoomed`], [`PlaneMapping::phased`]): the fraction comes from `micromath`'s
+/// `fract` (exact, by bit manipulation: no FPU, no libm, identical on the host, the Cortex-M4F,
+/// the FPU-less cores), the integer part from Rust's saturating `as` cast. Never used in the
+/// pixel path.
+pub fn f32_to_nearest_i64(x: f32) -> i64 {
+    if x.is_nan() {
+        return 0;
+    }
+    // Truncated toward zero (saturating); the fraction is `x` minus exactly that.
+    let t = x as i64;
+    let f = f32_fract(x);
+    if f >= 0.5 {
+        t.saturating_add(1)
+    } else if f <= -0.5 {
+        t.saturating_sub(1)
+    } else {
+        t
+    }
+}
+
+/// The fractional part of `x` with its sign (exact), 0 for NaN and the infinities:
+/// `micromath`'s `fract` below `2^23`; every `f32` from `2^23` up is an integer (`micromath`
+/// shifts by the exponent modulo 32 there and is not used).
+fn f32_fract(x: f32) -> f32 {
+    const WHOLE: f32 = 8_388_608.0; // 2^23
+    if x.is_nan() || x >= WHOLE || x <= -WHOLE {
+        0.0
+    } else {
+        F32Ext::fract(x)
+    }
+}
+
+/// `x` as raw 16.16, rounded to nearest (ties away from zero), saturating to `i32`; NaN is 0.
+fn f32_to_q16(x: f32) -> i32 {
+    // Times 2^16 is exact below the f32 overflow; beyond it, +-inf saturates.
+    let v = f32_to_nearest_i64(x * 65536.0);
+    v.clamp(i64::from(i32::MIN), i64::from(i32::MAX)) as i32
 }
 
 /// `a k / 2^16`, saturating.
@@ -821,6 +866,32 @@ mod tests {
     }
 
     #[test]
+    fn f32_set_up_conversion_rounds_to_nearest() {
+        // Against f64's round (ties away from zero), which is exact for every f32.
+        let mut x = 0x9E37_79B9u32;
+        let mut values = std::vec![0.5f32, -0.5, 1.5, -2.5, 0.49999997, 8388609.0, -8388609.0];
+        values.extend([1.0e30, -1.0e30, f32::MAX, f32::MIN, f32::INFINITY, 3.0e9]);
+        for _ in 0..20_000 {
+            x ^= x << 13;
+            x ^= x >> 17;
+            x ^= x << 5;
+            let v = f32::from_bits(x);
+            if v.is_finite() {
+                values.push(v);
+            }
+        }
+        for v in values {
+            let want = (v as f64).round();
+            let want = want.clamp(i64::MIN as f64, i64::MAX as f64) as i64;
+            assert_eq!(f32_to_nearest_i64(v), want, "{v:e}");
+        }
+        assert_eq!(f32_to_nearest_i64(f32::NAN), 0);
+        assert_eq!(f32_to_q16(1.0e10), i32::MAX);
+        assert_eq!(f32_to_q16(-1.0e10), i32::MIN);
+        assert_eq!(f32_to_q16(1.0 / 131072.0), 1, "a tie rounds away from zero");
+    }
+
+    #[test]
     fn mapping_set_up() {
         let m = PlaneMapping::scaled(256);
         assert_eq!(m.plane().step_x, [256, 0, 0]);
@@ -832,6 +903,15 @@ mod tests {
         assert_eq!(m.zoomed(2.0).plane().step_x, [512, 0, 0]);
         // The (s, t) plane's normal is r: the phase moves r.
         assert_eq!(m.phased(0.5).plane().origin, [0, 0, 65536]);
+        assert_eq!(m.rotated_turns(-0.75), q);
+        assert_eq!(m.rotated_turns(f32::NAN), m);
+        assert_eq!(m.rotated_turns(3.0e9), m, "whole turns only");
+        // 0.3 in 16.16 is 19660.8: rounded to 19661, not truncated to 19660.
+        let one = PlaneMapping::scaled(1);
+        assert_eq!(one.zoomed(0.3).plane().step_x, [19661, 0, 0]);
+        assert_eq!(m.zoomed(f32::INFINITY), m.with_zoom(i32::MAX));
+        assert_eq!(m.phased(-0.25).plane().origin, [0, 0, 16384]);
+        assert_eq!(m.phased(f32::NAN), m);
         assert_eq!(m.with_phase(-32768).plane().origin, [0, 0, 0]);
         let sp = m.at(Point::new(10, 0)).span(10, 0, 4);
         assert_eq!(sp.s0, TexPoint::from_bits(128, 128, 32768));
