@@ -9,6 +9,10 @@
 //!     --warm-up-time 1 --measurement-time 3
 //! ```
 //!
+//! The `marble` case runs in both builds; with `--features lighting` the group also has
+//! `marble+lit` (compare `marble` in builds with and without `lighting` for the cost of the stage to a scene
+//! without lights, `marble+lit` against `marble` for the cost of lighting).
+//!
 //! With `count CASE` as arguments it runs one case once, for an instruction counter
 //! (`valgrind --tool=callgrind target/release/deps/stages-* count zoneplate`). With the
 //! `lighting` feature, `count marble+lit` renders the marble scene with a light (the lighting
@@ -85,9 +89,16 @@ fn render_scene(name: &str) -> (u32, u64) {
 
 const CASES: [&str; 3] = ["zoneplate", "fire", "wood"];
 
+/// With the `lighting` feature: the marble scene without lights (it must cost what it costs in a
+/// build without the feature) and with a light (the lighting stage's cost is the difference).
+#[cfg(feature = "lighting")]
+const LIGHTING_CASES: [&str; 2] = ["marble", "marble+lit"];
+#[cfg(not(feature = "lighting"))]
+const LIGHTING_CASES: [&str; 1] = ["marble"];
+
 fn stages(c: &mut Criterion) {
     let mut g = c.benchmark_group("stages-off");
-    for case in CASES {
+    for case in CASES.into_iter().chain(LIGHTING_CASES) {
         let (_, pixels) = render_scene(case);
         g.throughput(Throughput::Elements(pixels));
         g.bench_function(case, |b| {
