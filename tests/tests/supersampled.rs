@@ -5,8 +5,7 @@
 //! texture; the flight towards the horizon (section 4.4) flickers less than the unfiltered
 //! images and within the measured distance of its truth's flicker.
 //!
-//! Known exceptions, measured: `fire` (the box filter slightly further from the truth than the
-//! point look-up), and the seascape (and the flight, which starts from its view) keeps
+//! Known exception, measured: the seascape (and the flight, which starts from its view) keeps
 //! up to six flat rows below its horizon.
 
 use host_sim::scenes::HostScene;
@@ -63,16 +62,14 @@ fn filtered_images_are_closer_to_the_truth() {
             r.psnr_supersampled_4x4,
             r.psnr_unfiltered_no_cull
         );
-        if name != "fire" {
-            assert!(
-                r.psnr_filtered >= r.psnr_unfiltered,
-                "{name}: filtered {} < unfiltered {}",
-                r.psnr_filtered,
-                r.psnr_unfiltered
-            );
-        } else {
-            assert!(r.psnr_filtered > 40.0, "{name}: {}", r.psnr_filtered);
-        }
+        // Every scene, `fire` included (a clamp table's box is centred on the unclamped `f`:
+        // measured +2.5 dB at this size, +3.3 dB at 320 x 240).
+        assert!(
+            r.psnr_filtered >= r.psnr_unfiltered,
+            "{name}: filtered {} < unfiltered {}",
+            r.psnr_filtered,
+            r.psnr_unfiltered
+        );
         // Where the scene recedes to a horizon the filter gains: at this reduced size and 4 x 4
         // truth the seascape by 0.65 dB (1 dB is the goal at full size), the moonrise by more.
         if matches!(name, "moonrise" | "seascape" | "flight") {
