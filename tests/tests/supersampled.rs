@@ -103,7 +103,7 @@ fn the_seascape_keeps_its_texture_to_the_horizon_at_its_own_size() {
 /// The flight towards the horizon (Hart et al. 1999 section 4.4) over its first frames, at 80 x 60
 /// against a 4 x 4 truth: the filter reduces the unfiltered images' flicker near the horizon
 /// (the paper's observation) and stays within 1.5 times the truth's flicker (no aliasing). The
-/// band is not frozen flat: measured 0.24 of the truth's flicker here, 0.37 at 160 x 120 (the
+/// band is not frozen flat: measured 0.31 of the truth's flicker here, 0.55 at 320 x 240 (the
 /// goal of at least 1/1.5 is not met).
 #[test]
 fn the_flight_flickers_less_than_unfiltered_and_not_more_than_the_truth() {
@@ -123,7 +123,7 @@ fn the_flight_flickers_less_than_unfiltered_and_not_more_than_the_truth() {
     assert_eq!((f.first, f.frames, f.rows), (0, 4, [23, 37]));
     assert!(f.flicker_truth > 0.1, "{f:?}");
     assert!(f.flicker_filtered < f.flicker_unfiltered, "{f:?}");
-    assert!(f.ratio <= 1.5 && f.ratio >= 0.2, "{f:?}");
+    assert!(f.ratio <= 1.5 && f.ratio >= 0.25, "{f:?}");
     let bad = host_sim::truth::flicker(
         &scene,
         0,

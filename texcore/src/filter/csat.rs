@@ -795,7 +795,7 @@ mod tests {
             let t: ColorTable<N> = lcg_table(seed);
             let (c, c3) = (Csat::new(&t), Csat3::new(&t, TableWrap::Clamp));
             let full = (N as i64) << 16;
-            let wstep = ((N as usize) << 16) / 61 + 1;
+            let wstep = (N << 16) / 61 + 1;
             for w in (0..(N as u32) << 16)
                 .step_by(wstep)
                 .chain([1, 255, 256, 65535])

@@ -287,7 +287,7 @@ pub fn flight() -> Result<Scene, SceneError> {
             let z = o.transform.m[2];
             let d = [0, 1, 2].map(|k| {
                 let u: i64 = (0..3)
-                    .map(|j| i64::from(m[k][j].to_bits()) * i64::from(z[j]) >> 16)
+                    .map(|j| (i64::from(m[k][j].to_bits()) * i64::from(z[j])) >> 16)
                     .sum();
                 (-(u * i64::from(FLIGHT_SPEED)) >> 16) as i32
             });
