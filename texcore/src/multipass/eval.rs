@@ -12,7 +12,7 @@ use super::band::{Band, PassTerm};
 use super::MultipassConfig;
 use crate::format::TexValue;
 use crate::model::TextureModel;
-use crate::noise::{split, BasisKind};
+use crate::noise::{saturate_i64 as sat_i64, split, BasisKind};
 use crate::span::{EvalOptions, Sample, Setup, SpanStats};
 use crate::table::TableWrap;
 
@@ -156,8 +156,4 @@ pub(crate) fn eval_span<const T: usize>(
         }
         start += n;
     }
-}
-
-fn sat_i64(x: i128) -> i64 {
-    x.clamp(i128::from(i64::MIN), i128::from(i64::MAX)) as i64
 }
