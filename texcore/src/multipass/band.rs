@@ -111,30 +111,29 @@ impl<const N: usize> Band<N> {
         let prec = term.config.precision;
         let axes = self.cell.iter_mut().zip(&mut self.frac);
         let axes = axes.zip(self.w.iter_mut().zip(&mut self.wf));
+        // The passes walk the band's first `n <= N` points (iterators: no index, no slicing).
         for (((cell, frac), (w, wf)), (u0, du)) in axes.zip(u0.into_iter().zip(du)) {
-            // Every slice below is the band's first `n <= N` points.
-            let (frac, w, wf) = (&mut frac[..n], &mut w[..n], &mut wf[..n]);
             self.passes += 1;
-            decompose(&mut cell[..n], frac, w, wf, u0, du, prec);
+            decompose(cell, frac, w, wf, n, u0, du, prec);
             if !term.fade.is_linear() {
                 self.passes += 1;
-                fade_pass(frac, w, wf, term.fade, prec);
+                fade_pass(frac, w, wf, n, term.fade, prec);
             }
         }
         if term.config.hash != PassHash::Texcore {
             for (axis, (cell, rnd)) in self.cell.iter().zip(&mut self.rnd).enumerate() {
                 for (side, out) in rnd.iter_mut().enumerate() {
                     self.passes += 1;
-                    let (cell, out) = (&cell[..n], &mut out[..n]);
-                    axis_field(cell, out, axis as u32, side as u16, term.config.hash, prec);
+                    let (axis, side) = (axis as u32, side as u16);
+                    axis_field(cell, out, n, axis, side, term.config.hash, prec);
                 }
             }
         }
-        self.acc[..n].fill(0);
-        self.accf[..n].fill(0);
+        self.acc.iter_mut().take(n).for_each(|a| *a = 0);
+        self.accf.iter_mut().take(n).for_each(|a| *a = 0);
         if term.gradients {
             for p in self.part.iter_mut() {
-                p[..n].fill(0);
+                p.iter_mut().take(n).for_each(|a| *a = 0);
             }
         }
         for k in 0..8 {
@@ -337,19 +336,21 @@ impl<const N: usize> Band<N> {
     }
 }
 
-/// Decompose (one axis): `solid_int`, the fraction and the linear weight of the points
-/// `u0 + i du`.
+/// Decompose (one axis): `solid_int`, the fraction and the linear weight of the first `n`
+/// points `u0 + i du`.
+#[allow(clippy::too_many_arguments)]
 fn decompose(
     cell: &mut [u16],
     frac: &mut [u32],
     w: &mut [u32],
     wf: &mut [u16],
+    n: usize,
     u0: i32,
     du: i32,
     prec: PassPrecision,
 ) {
     let mut u = u0;
-    for (((c, f), w), wf) in cell.iter_mut().zip(frac).zip(w).zip(wf) {
+    for (((c, f), w), wf) in cell.iter_mut().zip(frac).zip(w).zip(wf).take(n) {
         match prec {
             PassPrecision::Native => {
                 *c = (u >> 16) as u16;
@@ -376,9 +377,17 @@ fn decompose(
     }
 }
 
-/// The smooth curve (one axis): the weight through the fade (rounded to the format).
-fn fade_pass(frac: &[u32], w: &mut [u32], wf: &mut [u16], fade: Fade, prec: PassPrecision) {
-    for ((&f, w), wf) in frac.iter().zip(w).zip(wf) {
+/// The smooth curve (one axis, the first `n` points): the weight through the fade (rounded to
+/// the format).
+fn fade_pass(
+    frac: &[u32],
+    w: &mut [u32],
+    wf: &mut [u16],
+    n: usize,
+    fade: Fade,
+    prec: PassPrecision,
+) {
+    for ((&f, w), wf) in frac.iter().zip(w).zip(wf).take(n) {
         let s = fade.apply(f) as u32;
         match prec {
             PassPrecision::Native => *w = s,
@@ -396,17 +405,19 @@ fn fade_pass(frac: &[u32], w: &mut [u32], wf: &mut [u16], fade: Fade, prec: Pass
     }
 }
 
-/// The per-axis random field of `solid_int + side` (summed and XOR hashes; one axis, one side).
+/// The per-axis random field of `solid_int + side` (summed and XOR hashes; one axis, one side,
+/// the first `n` points).
 fn axis_field(
     cell: &[u16],
     out: &mut [u8],
+    n: usize,
     axis: u32,
     side: u16,
     hash: PassHash,
     prec: PassPrecision,
 ) {
     let mask = lattice_mask(prec);
-    for (o, &c) in out.iter_mut().zip(cell) {
+    for (o, &c) in out.iter_mut().zip(cell).take(n) {
         let x = c.wrapping_add(side) & mask;
         *o = match hash {
             PassHash::SummedRandom => axis_third(x, axis),

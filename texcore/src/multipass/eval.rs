@@ -41,20 +41,19 @@ pub(crate) fn eval_span<const T: usize>(
     let (quad, gqx, gqy) = (&setup.quad, setup.gqx, setup.gqy);
 
     let mut band = Band::<MULTIPASS_BAND>::new();
-    let mut nsum = [0i64; MULTIPASS_BAND];
-    let mut gxn = [0i64; MULTIPASS_BAND];
-    let mut gyn = [0i64; MULTIPASS_BAND];
+    let mut nsum: [i64; MULTIPASS_BAND];
+    let mut gxn: [i64; MULTIPASS_BAND];
+    let mut gyn: [i64; MULTIPASS_BAND];
     let mut tgx = [0i64; MULTIPASS_BAND];
     let mut tgy = [0i64; MULTIPASS_BAND];
     let len = usize::from(len);
     let mut start = 0usize;
     while start < len {
         let n = (len - start).min(MULTIPASS_BAND);
-        // The band's sums (`n <= MULTIPASS_BAND`: the slices are the first `n` entries).
-        let (nsum, gxn, gyn) = (&mut nsum[..n], &mut gxn[..n], &mut gyn[..n]);
-        nsum.fill(0);
-        gxn.fill(0);
-        gyn.fill(0);
+        // The band's sums (the first `n <= MULTIPASS_BAND` entries are the band's pixels).
+        nsum = [0; MULTIPASS_BAND];
+        gxn = [0; MULTIPASS_BAND];
+        gyn = [0; MULTIPASS_BAND];
         for (ts, term) in setup.terms.iter().zip(model.terms()) {
             if !ts.active {
                 continue;
@@ -67,7 +66,12 @@ pub(crate) fn eval_span<const T: usize>(
                 (a, false)
             };
             let off = start as i32;
-            let ub = [0, 1, 2].map(|k| ts.u0[k].wrapping_add(du[k].wrapping_mul(off)));
+            let [u0, u1, u2] = ts.u0;
+            let ub = [
+                u0.wrapping_add(du[0].wrapping_mul(off)),
+                u1.wrapping_add(du[1].wrapping_mul(off)),
+                u2.wrapping_add(du[2].wrapping_mul(off)),
+            ];
             stats.noise_evaluations += n as u64;
             stats.cell_setups += n as u64;
             if want_g {
@@ -88,7 +92,11 @@ pub(crate) fn eval_span<const T: usize>(
                     *gys = gys.saturating_add(gy);
                 }
             };
-            let sums = nsum.iter_mut().zip(gxn.iter_mut()).zip(gyn.iter_mut());
+            let sums = nsum
+                .iter_mut()
+                .zip(gxn.iter_mut())
+                .zip(gyn.iter_mut())
+                .take(n);
             let sums = sums.map(|((s, gx), gy)| (s, gx, gy));
             if matches!(term.basis.kind, BasisKind::Value) {
                 let pt = PassTerm {
@@ -101,10 +109,9 @@ pub(crate) fn eval_span<const T: usize>(
                     gradients: want_g,
                 };
                 band.run(&pt, ub, du, n);
-                let (tgx, tgy) = (&mut tgx[..n], &mut tgy[..n]);
                 if want_g {
-                    band.derivative_into(term.basis.fade, du, tgx);
-                    band.derivative_into(term.basis.fade, dyl, tgy);
+                    band.derivative_into(term.basis.fade, du, &mut tgx);
+                    band.derivative_into(term.basis.fade, dyl, &mut tgy);
                 }
                 let vals = band.values().iter().zip(tgx.iter()).zip(tgy.iter());
                 for (sum, ((&v, &gx), &gy)) in sums.zip(vals) {
@@ -127,11 +134,15 @@ pub(crate) fn eval_span<const T: usize>(
                         (0, 0)
                     };
                     add(sum, (v, gx, gy));
-                    u = [0, 1, 2].map(|k| u[k].wrapping_add(du[k]));
+                    u = [
+                        u[0].wrapping_add(du[0]),
+                        u[1].wrapping_add(du[1]),
+                        u[2].wrapping_add(du[2]),
+                    ];
                 }
             }
         }
-        let sums = nsum.iter().zip(gxn.iter()).zip(gyn.iter());
+        let sums = nsum.iter().zip(gxn.iter()).zip(gyn.iter()).take(n);
         for (i, ((&ns, &gxs), &gys)) in sums.enumerate() {
             let p = (start + i) as i64;
             let q48 = quad.at(p);
