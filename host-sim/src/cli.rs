@@ -101,6 +101,9 @@ pub struct RenderArgs {
     /// Atlas look-up with --via-atlas.
     #[arg(long, value_enum, default_value_t = crate::atlas::Sampling::Bilinear)]
     pub atlas_sampling: crate::atlas::Sampling,
+    /// Atlas layout with --via-atlas (as `texsim atlas --kind`).
+    #[arg(long, value_enum, default_value_t = crate::atlas::AtlasKind::Uniform)]
+    pub atlas_kind: crate::atlas::AtlasKind,
     /// Accuracy knobs.
     #[command(flatten)]
     pub knobs: KnobArgs,

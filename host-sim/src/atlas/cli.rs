@@ -291,7 +291,7 @@ pub fn render_via_atlas(
     n: u32,
 ) -> ExitCode {
     render_atlas_frame(a, host, Some(n), &|frame, cfg, hash| {
-        super::scene::render_via_atlas(host, frame, n, a.atlas_sampling, cfg, hash)
+        super::scene::render_via_atlas(host, frame, (n, a.atlas_kind), a.atlas_sampling, cfg, hash)
     })
 }
 
