@@ -132,6 +132,7 @@ const fn variance(a: i32, sigma: u32, part: u32) -> u64 {
 
 /// What `term` contributes to a span whose lattice steps are `du` and `dy`, with band-limiting
 /// (`band_limit`) or the unfaded contract.
+#[inline(always)]
 pub const fn term_band(term: &NoiseTerm, du: [i32; 3], dy: [i32; 3], band_limit: bool) -> TermBand {
     let a = term.amplitude.to_bits();
     let l = reach(du, dy);
