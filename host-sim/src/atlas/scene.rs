@@ -372,14 +372,9 @@ mod tests {
             hash,
         )
         .unwrap();
-        let p = crate::scenes::render_frame(
-            &scene,
-            frame,
-            &cfg,
-            hash,
-            texcore::render::Output::Color,
-        )
-        .unwrap();
+        let p =
+            crate::scenes::render_frame(&scene, frame, &cfg, hash, texcore::render::Output::Color)
+                .unwrap();
         let m = crate::metrics::compare_rgba8(&r.frame.pixels, &p.frame.pixels).unwrap();
         assert!(m.psnr > 30.0, "{}", m.psnr);
         assert!(r.baked_texels > 0);

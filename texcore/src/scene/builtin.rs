@@ -284,7 +284,7 @@ pub fn flight() -> Result<Scene, SceneError> {
         for o in s.objects.iter_mut() {
             let m = o.tex_map.matrix();
             // R^T z: the world's z in object space (the third row of the rotation).
-            let z = o.transform.m[2];
+            let z = o.transform.matrix()[2].map(|e| e.to_bits());
             let d = [0, 1, 2].map(|k| {
                 let u: i64 = (0..3)
                     .map(|j| (i64::from(m[k][j].to_bits()) * i64::from(z[j])) >> 16)
