@@ -31,19 +31,35 @@ struct Lane {
     /// The lattice coordinate along `k` at pixel 0 of the span, and its step a pixel.
     u0: i32,
     d: i32,
-    /// The lattice steps along and across the span.
-    du: [i32; 3],
+    /// The lattice step across the span.
     dy: [i32; 3],
     /// The current cell and fractions (the two axes other than `k` never change).
     cell: [u16; 3],
     frac: [u32; 3],
+    /// The blends of the current cell's faces `c_k = 0` and `c_k = 1` (`axis::face`).
+    faces: [Face; 2],
     /// The current cell's polynomial (linear: `g[2] = g[3] = h[2] = 0`).
     poly: CubicPoly,
-    faces: AxisFaces,
     hash: HashKind,
     amp: i32,
     /// Gradients for this term.
     g: bool,
+}
+
+impl Lane {
+    /// The blend of face `b` of the current cell.
+    #[inline(always)]
+    fn blend(&self, b: usize, fv: u32, vb: u32) -> Face {
+        let k = self.k.min(2); // always 0..=2: lets the compiler drop the bounds checks
+        let w = face_bits(k, self.hash, self.cell, b, self.amp, fv, vb);
+        face(&w, k, self.frac, self.dy, self.g)
+    }
+
+    /// The current cell's polynomial from its face blends.
+    #[inline(always)]
+    fn poly(&self) -> CubicPoly {
+        poly(&self.faces, self.k, self.frac, self.d, self.dy, self.g)
+    }
 }
 
 impl<'m, const T: usize> EvalCore<'m, T> {
@@ -105,30 +121,27 @@ impl<'m, const T: usize> EvalCore<'m, T> {
             let g = grads && ts.gradient;
             grad_terms += u64::from(g);
             let (cell, frac) = split(ts.u0);
-            let (hash, amp) = (term.basis.hash, ts.amp);
-            let mut faces = AxisFaces::default();
-            let poly = faces.enter(cell, frac, k, ts.du, ts.dy, g, |c, b| {
-                face_bits(k, hash, c, b, amp, fv, vb)
-            });
-            linear_add(&mut sum, &poly, g);
             let d = ts.du[k];
-            // At most T terms: never full.
-            let _ = lanes.push(Lane {
+            let mut lane = Lane {
                 left: pixels_in_cell_axis(frac[k], d),
                 l: 0,
                 k,
                 u0: ts.u0[k],
                 d,
-                du: ts.du,
                 dy: ts.dy,
                 cell,
                 frac,
-                poly,
-                faces,
-                hash,
-                amp,
+                faces: [Face::default(); 2],
+                poly: CubicPoly::default(),
+                hash: term.basis.hash,
+                amp: ts.amp,
                 g,
-            });
+            };
+            lane.faces = [lane.blend(0, fv, vb), lane.blend(1, fv, vb)];
+            lane.poly = lane.poly();
+            linear_add(&mut sum, &lane.poly, g);
+            // At most T terms: never full.
+            let _ = lanes.push(lane);
         }
         let mut setups = lanes.len() as u64;
 
@@ -167,14 +180,22 @@ impl<'m, const T: usize> EvalCore<'m, T> {
                 let (k, g) = (t.k.min(2), t.g);
                 linear_sub(&mut sum, &t.poly, t.l, g);
                 let uk = t.u0.wrapping_add(t.d.wrapping_mul(i as i32));
+                let cell = (uk >> 16) as u16;
+                let step = match t.cell.get(k) {
+                    Some(&c) => cell.wrapping_sub(c),
+                    None => 0,
+                };
                 if let (Some(c), Some(f)) = (t.cell.get_mut(k), t.frac.get_mut(k)) {
-                    *c = (uk >> 16) as u16;
+                    *c = cell;
                     *f = (uk & 0xFFFF) as u32;
                 }
-                let (hash, amp) = (t.hash, t.amp);
-                t.poly = t.faces.enter(t.cell, t.frac, k, t.du, t.dy, g, |c, b| {
-                    face_bits(k, hash, c, b, amp, fv, vb)
-                });
+                // Into the neighbouring cell along k: the shared face is kept (`AxisFaces`).
+                t.faces = match step {
+                    1 => [t.faces[1], t.blend(1, fv, vb)],
+                    0xFFFF => [t.blend(0, fv, vb), t.faces[0]],
+                    _ => [t.blend(0, fv, vb), t.blend(1, fv, vb)],
+                };
+                t.poly = t.poly();
                 linear_add(&mut sum, &t.poly, g);
                 t.l = 0;
                 t.left = pixels_in_cell_axis((uk & 0xFFFF) as u32, t.d);
