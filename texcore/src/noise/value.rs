@@ -107,26 +107,33 @@ pub fn scaled_face_bits<const K: usize>(
                 let bb = p[usize::from(a.wrapping_add(y.wrapping_add(o[1] as u8)))];
                 p[usize::from(bb.wrapping_add(z.wrapping_add(o[2] as u8)))]
             };
-            core::array::from_fn(|i| (i32::from(h(off(i))) * 257 - 32768) as i16)
+            let v = |i: usize| (i32::from(h(off(i))) * 257 - 32768) as i16;
+            [v(0), v(1), v(2), v(3)]
         }
-        HashKind::Integer => core::array::from_fn(|i| {
-            let o = off(i);
-            crate::hash::lattice_value(
-                HashKind::Integer,
-                cell[0].wrapping_add(o[0]),
-                cell[1].wrapping_add(o[1]),
-                cell[2].wrapping_add(o[2]),
-            )
-        }),
+        HashKind::Integer => {
+            let v = |i: usize| {
+                let o = off(i);
+                crate::hash::lattice_value(
+                    HashKind::Integer,
+                    cell[0].wrapping_add(o[0]),
+                    cell[1].wrapping_add(o[1]),
+                    cell[2].wrapping_add(o[2]),
+                )
+            };
+            [v(0), v(1), v(2), v(3)]
+        }
     };
-    raw.map(|v| {
+    // Written out rather than `raw.map(..)`: the array map is not always inlined (a call per
+    // face in the span kernels).
+    let scale = |v: i16| {
         let v = if value_bits < 16 {
             quantize_value(v, value_bits)
         } else {
             v
         };
         scale_bits(v, amp_raw, shift, round)
-    })
+    };
+    [scale(raw[0]), scale(raw[1]), scale(raw[2]), scale(raw[3])]
 }
 
 /// The eight corner values `lattice_value(hash, cell + c)` (corner order `cx | cy << 1 | cz << 2`),
