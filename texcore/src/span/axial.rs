@@ -218,6 +218,199 @@ impl<'m, const T: usize> EvalCore<'m, T> {
     }
 }
 
+/// One term of the axial kernel's per-pixel form (`Direct`): its cell's face blends and its
+/// fraction along the moving axis, advanced a pixel at a time.
+#[derive(Clone, Copy, Debug)]
+struct DirectLane {
+    /// Pixels before the term's next cell event.
+    left: u32,
+    k: usize,
+    u0: i32,
+    d: i32,
+    dy: [i32; 3],
+    cell: [u16; 3],
+    frac: [u32; 3],
+    faces: [Face; 2],
+    hash: HashKind,
+    amp: i32,
+}
+
+impl DirectLane {
+    #[inline(always)]
+    fn blend(&self, b: usize, fv: u32, vb: u32) -> Face {
+        let k = self.k.min(2); // always 0..=2: lets the compiler drop the bounds checks
+        let w = face_bits(k, self.hash, self.cell, b, self.amp, fv, vb);
+        face(&w, k, self.frac, self.dy, false)
+    }
+}
+
+impl<'m, const T: usize> EvalCore<'m, T> {
+    /// Whether the per-pixel axial kernel takes the span: no gradients, every active term
+    /// evaluated per pixel (`Direct`), not turbulent, with a single-axis step; `merged_takes` has
+    /// already accepted the span (every such term trilinear).
+    #[cfg_attr(not(texcore_lean), inline(always))]
+    pub(super) fn axial_direct_takes(&self, setup: &Setup<T>, strategies: &[Strategy; T]) -> bool {
+        if GRADIENTS && self.opts.gradients {
+            return false;
+        }
+        let mut any = false;
+        for ((st, ts), term) in strategies
+            .iter()
+            .zip(setup.terms.iter())
+            .zip(self.model.terms())
+        {
+            match st {
+                Strategy::Off => {}
+                Strategy::Direct if !term.turbulence && single_axis(ts.du).is_some() => any = true,
+                _ => return false,
+            }
+        }
+        any
+    }
+
+    /// The per-pixel axial kernel: every term evaluated at every pixel from its cell's two face
+    /// blends, `Phi_0 2^16 + (Phi_1 - Phi_0) f_k` (exactly `noise::value::interpolate`, see
+    /// `AxisFaces::value_at`), the faces hashed and blended once per cell (the shared face
+    /// kept), cell events found by counting down per term as in [`Self::run_axial`]. The samples
+    /// and counters are the merged loop's per-pixel path's.
+    #[inline(never)]
+    pub(super) fn run_axial_direct(
+        &mut self,
+        len: u16,
+        setup: &Setup<T>,
+        strategies: &[Strategy; T],
+        sink: &mut ChunkSink<'_, '_>,
+    ) {
+        let m = self.model;
+        let fv = m.noise_frac_bits();
+        let vb = m.precision().value_bits();
+        let len = u32::from(len);
+        let qc = setup.quad.c;
+        let affine = qc[2] == 0;
+        let (mut qq, mut dq, ddq) = (
+            qc[0] as i64,
+            qc[1].wrapping_add(qc[2]) as i64,
+            qc[2].wrapping_mul(2) as i64,
+        );
+        let noq = qq == 0 && dq == 0 && ddq == 0;
+        let mut lanes: heapless::Vec<DirectLane, T> = heapless::Vec::new();
+        for ((term, st), ts) in m.terms().iter().zip(strategies).zip(setup.terms.iter()) {
+            if *st == Strategy::Off {
+                continue;
+            }
+            let Some(k) = single_axis(ts.du) else {
+                continue;
+            };
+            let k = k.min(2);
+            let (cell, frac) = split(ts.u0);
+            let d = ts.du[k];
+            let mut lane = DirectLane {
+                left: pixels_in_cell_axis(frac[k], d),
+                k,
+                u0: ts.u0[k],
+                d,
+                dy: ts.dy,
+                cell,
+                frac,
+                faces: [Face::default(); 2],
+                hash: term.basis.hash,
+                amp: ts.amp,
+            };
+            lane.faces = [lane.blend(0, fv, vb), lane.blend(1, fv, vb)];
+            // At most T terms: never full.
+            let _ = lanes.push(lane);
+        }
+        let nd = lanes.len() as u64;
+        let fvs = fv & 31;
+        let mut acc = [0i64; SAMPLE_CHUNK];
+        let mut i = 0u32;
+        loop {
+            let seg = lanes.iter().fold(len - i, |s, t| s.min(t.left));
+            let mut left = seg as usize;
+            let mut j = i;
+            while left > 0 {
+                let n = left.min(sink.room()).min(SAMPLE_CHUNK);
+                let at = sink.chunk.len;
+                let (Some(out), Some(acc)) = (sink.chunk.f.get_mut(at..at + n), acc.get_mut(..n))
+                else {
+                    break;
+                };
+                // Each term's values over the run (its fraction steps by `d` inside the cell).
+                for (lane, t) in lanes.iter().enumerate() {
+                    let fk0 = t.u0.wrapping_add(t.d.wrapping_mul(j as i32)) & 0xFFFF;
+                    let base = t.faces[0].phi() << 16;
+                    let dphi = wsub(t.faces[1].phi(), t.faces[0].phi());
+                    let mut fk = i64::from(fk0);
+                    let d = i64::from(t.d);
+                    if lane == 0 {
+                        for a in acc.iter_mut() {
+                            *a = wadd(base, wmul(dphi, fk));
+                            fk += d;
+                        }
+                    } else {
+                        for a in acc.iter_mut() {
+                            *a = wadd(*a, wadd(base, wmul(dphi, fk)));
+                            fk += d;
+                        }
+                    }
+                }
+                for (o, &a) in out.iter_mut().zip(acc.iter()) {
+                    let f = if noq {
+                        (a >> (fvs + 32)) as i32
+                    } else {
+                        (qq.wrapping_add(a >> fvs) >> 32) as i32
+                    };
+                    *o = TexValue::from_bits(f);
+                    if !noq {
+                        qq = qq.wrapping_add(dq);
+                        if !affine {
+                            dq = dq.wrapping_add(ddq);
+                        }
+                    }
+                }
+                sink.advance(n);
+                left -= n;
+                j += n as u32;
+            }
+            i += seg;
+            if i >= len {
+                break;
+            }
+            for t in lanes.iter_mut() {
+                t.left -= seg;
+                if t.left != 0 {
+                    continue;
+                }
+                let k = t.k.min(2);
+                let uk = t.u0.wrapping_add(t.d.wrapping_mul(i as i32));
+                let cell = (uk >> 16) as u16;
+                let step = match t.cell.get(k) {
+                    Some(&c) => cell.wrapping_sub(c),
+                    None => 0,
+                };
+                if let (Some(c), Some(f)) = (t.cell.get_mut(k), t.frac.get_mut(k)) {
+                    *c = cell;
+                    *f = (uk & 0xFFFF) as u32;
+                }
+                t.faces = match step {
+                    1 => [t.faces[1], t.blend(1, fv, vb)],
+                    0xFFFF => [t.blend(0, fv, vb), t.faces[0]],
+                    _ => [t.blend(0, fv, vb), t.blend(1, fv, vb)],
+                };
+                t.left = pixels_in_cell_axis((uk & 0xFFFF) as u32, t.d);
+            }
+        }
+        let px = u64::from(len);
+        let st = &mut self.stats;
+        st.cell_setups += px * nd;
+        st.noise_evaluations += px * nd;
+        #[cfg(test)]
+        {
+            self.axial_spans += 1;
+        }
+    }
+}
+
 #[cfg(test)]
 mod tests {
     extern crate std;
@@ -299,7 +492,15 @@ mod tests {
             };
             let opts = |mode| EvalOptions { mode, gradients, cull };
             let mode = [EvalMode::Fd, EvalMode::Fd32, EvalMode::Auto][mode];
-            let (direct, _, _) = go(&m, opts(EvalMode::Direct), &span, false);
+            let (direct, direct_st, direct_axial) = go(&m, opts(EvalMode::Direct), &span, false);
+            // `Direct` in the per-pixel axial kernel (no gradients) and in the merged loop (lean).
+            let (lean_direct, lean_direct_st, _) = go(&m, opts(EvalMode::Direct), &span, true);
+            proptest::prop_assert_eq!(&direct, &lean_direct);
+            proptest::prop_assert_eq!(direct_st, lean_direct_st);
+            if !(GRADIENTS && gradients) && len > 0 && FD && !clamp && quadric == 0 {
+                let active = direct_st.noise_evaluations > 0;
+                proptest::prop_assert_eq!(direct_axial, u64::from(active));
+            }
             let (fast, fast_st, axial) = go(&m, opts(mode), &span, false);
             let (lean, lean_st, lean_axial) = go(&m, opts(mode), &span, true);
             // `Fd32` is exact where the merged loop (and so the axial kernel) takes the span.
