@@ -33,6 +33,7 @@ pub mod font;
 pub mod measure;
 pub mod output;
 pub mod plot;
+pub mod shading;
 
 /// The report's configurations and device jobs, shared with the firmware (`workloads::accuracy`).
 pub use workloads::accuracy as device_jobs;
@@ -157,7 +158,8 @@ pub struct Flicker {
 #[derive(Clone, Debug, Serialize)]
 pub struct RowReport {
     /// The knob (`coordinate_bits`, `value_bits`, `interpolation`, `evaluation`, `octaves`,
-    /// `table_size`, `antialiasing`, `gradient_norm`, `perspective`, `basis`, `hash`).
+    /// `table_size`, `antialiasing`, `gradient_norm`, `perspective`, `basis`, `hash`, and
+    /// `shading`, [`shading`]).
     pub knob: &'static str,
     /// The setting.
     pub setting: &'static str,
@@ -215,6 +217,11 @@ pub struct RowReport {
     pub checksum: String,
     /// On the Pareto front (base error against M4F instructions).
     pub pareto: bool,
+    /// `shading` rows drawn from atlases: atlas texels baked (all objects).
+    pub atlas_texels_baked: Option<u64>,
+    /// `shading` rows drawn from atlases: host milliseconds to lay out and bake the atlases
+    /// (median), not part of `host_ns_per_pixel`.
+    pub host_bake_ms: Option<f64>,
 }
 
 /// The whole report.
@@ -374,6 +381,8 @@ pub fn run(quick: bool, policy: DevicePolicy, log: &mut dyn FnMut(&str)) -> Resu
                 code_features: codesize::feature_set(cfg),
                 checksum: String::new(),
                 pareto: false,
+                atlas_texels_baked: None,
+                host_bake_ms: None,
             };
             if let Some(mode) = cfg.perspective {
                 let scene = measure::static_scene(mode).ok_or("no seascape")?;
@@ -493,11 +502,21 @@ pub fn run(quick: bool, policy: DevicePolicy, log: &mut dyn FnMut(&str)) -> Resu
         r.code_size = code.of(&row.cfg);
     }
     mark_pareto(&mut out, &rows);
+
+    // The `shading` knob: the marble scene from atlases against its procedural frame.
+    log("accuracy: shading (the marble scene from atlases)");
+    let mut shading_rows = shading::host_rows(&settings, quick, &marble_ref)?;
+    let mut device_skipped = dev.skipped.clone();
+    device_skipped.extend(shading::apply_device(&mut shading_rows, policy)?);
+    if policy != DevicePolicy::Off && !quick {
+        shading::apply_code_size(&mut shading_rows, log)?;
+    }
+    out.extend(shading_rows);
     Ok(Report {
         rows: out,
         settings,
         quick,
-        device_skipped: dev.skipped.clone(),
+        device_skipped,
         seconds: (start.elapsed().as_secs_f64(), dev.seconds),
         code_seconds: code.seconds,
         precision_images,

@@ -707,6 +707,10 @@ pub fn markdown(report: &Report) -> String {
             let _ = writeln!(s, "![marble at each coordinate precision](precision.png)\n");
         }
     }
+    let shading: Vec<&RowReport> = report.rows.iter().filter(|r| r.knob == "shading").collect();
+    if !shading.is_empty() {
+        let _ = writeln!(s, "{}", super::shading::markdown(&shading));
+    }
     let combos: Vec<&RowReport> = report.rows.iter().filter(|r| r.combination).collect();
     if !combos.is_empty() {
         let _ = writeln!(s, "## Combinations\n");
