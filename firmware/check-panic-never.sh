@@ -8,12 +8,10 @@
 # under test. The default features link the texture-unit suite (workloads/src/suite.rs), so the
 # check covers texcore's pixel path: presets and colour tables, the span evaluator with every
 # noise basis and evaluation mode, the colour stage with csat and MIP, the perturbed materials,
-# the rasterizer and the banded renderer with depth and blending, and the atlas bake and draw.
-# The firmware's `multipass` feature (its band jobs; a system of its own, outside `full`) is left
-# out: its band evaluator still has bounds-checked indexing the optimiser keeps
-# (texcore/src/multipass/band.rs, eval.rs; docs/reliability.md). Then, as a control, builds with `panic-never-canary` (a job with a reachable
-# bounds-check panic) and requires that link to FAIL on the undefined symbol, so a passing check
-# is known to mean something.
+# the rasterizer and the banded renderer with depth and blending, the atlas bake and draw, and
+# the multipass band evaluator (the `band:multipass-*` jobs). Then, as a control, builds with
+# `panic-never-canary` (a job with a reachable bounds-check panic) and requires that link to FAIL
+# on the undefined symbol, so a passing check is known to mean something.
 #
 # Exit 0 when all is as required, 1 otherwise. Uses its own target dir (target/panic-never) so
 # the normal release artefacts are untouched.
@@ -22,8 +20,8 @@ cd "$(dirname "$0")/.."
 
 targets=(thumbv7em-none-eabihf riscv32imc-unknown-none-elf)
 target_dir="${CARGO_TARGET_DIR:-target}/panic-never"
-# The firmware's default features but `multipass` (see above).
-checked="perm-hash,full,atlas"
+# The firmware's default features.
+checked="perm-hash,full,atlas,multipass"
 symbol=texcore_firmware_panic_is_reachable
 status=0
 

@@ -32,7 +32,7 @@ pub enum Command {
     Render(RenderArgs),
     /// Render every built-in scene into a directory, one PNG each.
     Gallery(GalleryArgs),
-    /// List the built-in scenes, one a line, name first.
+    /// List the built-in scenes and animations, one a line, name first.
     Scenes,
     /// Compare texcore against the f64 reference on a preset's check plane or a whole scene.
     Check(CheckArgs),
@@ -101,6 +101,9 @@ pub struct RenderArgs {
     /// Atlas look-up with --via-atlas.
     #[arg(long, value_enum, default_value_t = crate::atlas::Sampling::Bilinear)]
     pub atlas_sampling: crate::atlas::Sampling,
+    /// Atlas layout with --via-atlas (as `texsim atlas --kind`).
+    #[arg(long, value_enum, default_value_t = crate::atlas::AtlasKind::Uniform)]
+    pub atlas_kind: crate::atlas::AtlasKind,
     /// Accuracy knobs.
     #[command(flatten)]
     pub knobs: KnobArgs,
@@ -283,6 +286,11 @@ pub struct CheckArgs {
     /// `longest_flat_band` (rows; see `host_sim::truth`).
     #[arg(long, value_name = "N", value_parser = clap::value_parser!(u16).range(1..=16))]
     pub supersampled: Option<u16>,
+    /// With --supersampled: also measure the flicker around the horizon (the band of rows around
+    /// the image centre) over FRAMES frames from the checked one, texcore's and the truth's.
+    #[arg(long, value_name = "FRAMES", requires = "supersampled",
+          value_parser = clap::value_parser!(u32).range(2..=i64::from(crate::truth::MAX_FLICKER_FRAMES)))]
+    pub flicker: Option<u32>,
     /// Render a scene at this size (WIDTHxHEIGHT) instead of its own (same view).
     #[arg(long, value_name = "WxH", value_parser = parse_image_size)]
     pub image_size: Option<(u16, u16)>,
@@ -312,7 +320,10 @@ pub fn run(cli: Cli) -> ExitCode {
         Command::Gallery(a) => gallery(&a),
         Command::Scenes => {
             let mut out = std::io::stdout().lock();
-            for name in texcore::scene::BUILTIN {
+            let all = texcore::scene::BUILTIN
+                .iter()
+                .chain(&texcore::scene::ANIMATIONS);
+            for name in all {
                 if let Some(s) = texcore::scene::by_name(name) {
                     let (w, h) = s.size();
                     let _ = writeln!(
@@ -359,8 +370,9 @@ pub fn load_scene(name: &str) -> Result<scenes::HostScene, String> {
         return crate::scenefile::load(path).map_err(|e| e.to_string());
     }
     Err(format!(
-        "unknown scene `{name}` (built-in: {}; or a .toml scene file)",
-        texcore::scene::BUILTIN.join(", ")
+        "unknown scene `{name}` (built-in: {}; animations: {}; or a .toml scene file)",
+        texcore::scene::BUILTIN.join(", "),
+        texcore::scene::ANIMATIONS.join(", ")
     ))
 }
 
@@ -608,10 +620,16 @@ fn check_supersampled(
     a: &CheckArgs,
     n: u16,
 ) -> ExitCode {
-    let r = match crate::truth::check(scene, frame, cfg, a.knobs.hash(), n) {
+    let mut r = match crate::truth::check(scene, frame, cfg, a.knobs.hash(), n) {
         Ok(r) => r,
         Err(e) => return bad_input(e),
     };
+    if let Some(frames) = a.flicker {
+        match crate::truth::flicker(scene, frame, frames, cfg, a.knobs.hash(), n) {
+            Ok(f) => r.flicker = Some(f),
+            Err(e) => return bad_input(e),
+        }
+    }
     let mut out = std::io::stdout().lock();
     if a.json {
         let _ = serde_json::to_writer(&mut out, &r);
@@ -636,6 +654,21 @@ fn check_supersampled(
             r.psnr_supersampled_2x2,
             r.psnr_supersampled_4x4
         );
+        if let Some(f) = &r.flicker {
+            let _ = writeln!(
+                out,
+                "flicker over frames {}..{}, rows {}..{}: filtered {:.3}, unfiltered {:.3}, \
+                 truth {:.3} (filtered / truth {:.2})",
+                f.first,
+                f.first.wrapping_add(f.frames),
+                f.rows[0],
+                f.rows[1],
+                f.flicker_filtered,
+                f.flicker_unfiltered,
+                f.flicker_truth,
+                f.ratio
+            );
+        }
     }
     ExitCode::SUCCESS
 }

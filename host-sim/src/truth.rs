@@ -13,6 +13,12 @@
 //!   the image's luma along the row is below [`FLAT_STD`] while the truth's is at least
 //!   [`TEXTURED_STD`] (8-bit units). `longest_flat_band` is the longest run of such rows.
 //!
+//! - **Flicker** (`--flicker FRAMES`, [`flicker`]): the mean absolute frame-to-frame difference
+//!   (8-bit RGB units) over the band of rows around the image centre, a quarter of the image
+//!   height (the horizon of the seascape and the flight), over `FRAMES` consecutive frames, for
+//!   the filtered image, the unfiltered one and the truth: a filter that freezes the band flat
+//!   flickers far less than the truth, an aliasing one far more.
+//!
 //! Guarantees: every figure is a finite number (PSNR capped at [`crate::metrics::PSNR_CAP`]);
 //! sizes are checked ([`UnitError`] otherwise); nothing here panics on any scene.
 
@@ -65,6 +71,76 @@ pub struct SupersampledReport {
     pub flat_rows: u32,
     /// The same for the unfiltered image.
     pub longest_flat_band_unfiltered: u32,
+    /// Flicker over the following frames, when asked for ([`flicker`]).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub flicker: Option<FlickerReport>,
+}
+
+/// Largest number of frames of a flicker measurement.
+pub const MAX_FLICKER_FRAMES: u32 = 256;
+
+/// Flicker near the horizon over a run of frames, texcore's images and the truth.
+#[derive(Clone, Debug, PartialEq, Serialize)]
+pub struct FlickerReport {
+    /// First frame.
+    pub first: u32,
+    /// Number of frames (2 or more).
+    pub frames: u32,
+    /// The band of rows measured, `[start, end)`.
+    pub rows: [u32; 2],
+    /// Flicker of the filtered image (8-bit units, mean absolute frame-to-frame RGB difference).
+    pub flicker_filtered: f64,
+    /// Flicker of the unfiltered image.
+    pub flicker_unfiltered: f64,
+    /// Flicker of the supersampled truth.
+    pub flicker_truth: f64,
+    /// `flicker_filtered / flicker_truth` (0 when the truth does not flicker).
+    pub ratio: f64,
+}
+
+/// The flicker of frames `first .. first + frames` of `scene` in the band of rows around the
+/// image centre (a quarter of the height): texcore filtered (`cfg`), unfiltered, and the
+/// `n x n` supersampled truth. `frames` in `2..=MAX_FLICKER_FRAMES`.
+pub fn flicker(
+    scene: &HostScene,
+    first: u32,
+    frames: u32,
+    cfg: &UnitConfig,
+    hash: HashKind,
+    n: u16,
+) -> Result<FlickerReport, UnitError> {
+    if !(2..=MAX_FLICKER_FRAMES).contains(&frames) {
+        return Err(UnitError::Render(format!(
+            "flicker frames {frames} out of range 2..={MAX_FLICKER_FRAMES}"
+        )));
+    }
+    let plain_cfg = UnitConfig {
+        aa: Antialias::None,
+        ..*cfg
+    };
+    let (mut tr, mut fi, mut un) = (Vec::new(), Vec::new(), Vec::new());
+    for k in 0..frames {
+        let frame = first.wrapping_add(k);
+        tr.push(truth(scene, frame, cfg, hash, n)?);
+        let f = render_host_frame(scene, frame, cfg, hash, Output::Color)?;
+        fi.push(to_f64(&f.frame.pixels));
+        let u = render_host_frame(scene, frame, &plain_cfg, hash, Output::Color)?;
+        un.push(to_f64(&u.frame.pixels));
+    }
+    let (w, h) = scene.scene.size();
+    let (w, h) = (u32::from(w), u32::from(h));
+    let rows = (h / 2 - h / 8)..(h / 2 + h / 8);
+    let fl = |img: &[Vec<[f64; 4]>]| crate::accuracy::measure::flicker(img, w, rows.clone());
+    let (ff, fu, ft) = (fl(&fi), fl(&un), fl(&tr));
+    Ok(FlickerReport {
+        first,
+        frames,
+        rows: [rows.start, rows.end],
+        flicker_filtered: ff,
+        flicker_unfiltered: fu,
+        flicker_truth: ft,
+        ratio: if ft > 0.0 { ff / ft } else { 0.0 },
+    })
 }
 
 /// A scene frame enlarged for supersampling: the scene, its materials and its own image size.
@@ -190,6 +266,7 @@ pub fn check(
         longest_flat_band: band,
         flat_rows: rows,
         longest_flat_band_unfiltered: band_u,
+        flicker: None,
     })
 }
 

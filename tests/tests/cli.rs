@@ -116,7 +116,7 @@ fn ok(r: &Run, what: &str) {
 }
 
 #[test]
-fn scenes_lists_the_builtin_scenes_name_first() {
+fn scenes_lists_the_builtin_scenes_and_animations_name_first() {
     let r = texsim(&["scenes"]);
     ok(&r, "scenes");
     let names: Vec<&str> = r
@@ -134,7 +134,8 @@ fn scenes_lists_the_builtin_scenes_name_first() {
             "planet",
             "moonrise",
             "zoneplate",
-            "torus"
+            "torus",
+            "flight"
         ]
     );
 }

@@ -262,7 +262,21 @@ impl<'m, const T: usize> MaterialEvaluator<'m, T> {
     }
 
     /// Evaluates `span`, calling `emit` once per pixel in order.
+    ///
+    /// In the size-lean shape (crate documentation, "Code size") one copy of the evaluation serves
+    /// every `emit` (called through a trait object); the fast shape specialises it per `emit`.
+    #[cfg_attr(not(texcore_lean), allow(unused_mut))]
     pub fn eval<F: FnMut(Sample)>(&mut self, span: &Span, mut emit: F) -> SpanInfo {
+        #[cfg(texcore_lean)]
+        return self.eval_with(span, &mut emit as &mut dyn FnMut(Sample));
+        #[cfg(not(texcore_lean))]
+        self.eval_with(span, emit)
+    }
+
+    /// [`MaterialEvaluator::eval`] with `emit` as given (a trait object in the size-lean shape).
+    #[cfg_attr(texcore_lean, inline(never))]
+    #[cfg_attr(not(texcore_lean), inline(always))]
+    fn eval_with<F: FnMut(Sample)>(&mut self, span: &Span, mut emit: F) -> SpanInfo {
         match (self.material.characteristic, &mut self.e2) {
             (Characteristic::Cylinders { rings }, Some(e2)) => {
                 // Channel 2 first into a bounded chunk, then channel 0 combines; chunks keep the

@@ -16,6 +16,14 @@
 //! | `planet` | `0.5 + 0.7 sum_{i<6} 2^-i n(2^i s)` | clamp, cartographic legend |
 //! | `planet-clouds` | `0.35 + 0.8 sum_{i<5} 2^-i n(2^i s)` (rotated octaves) | clamp, alpha 0 to 0.85 white |
 //! | `zoneplate` | `50 s^2 + 50 t^2` | mod, zebra (N = 256) |
+//!
+//! Noise basis: every preset uses trilinear value noise, whose lattice shows as axis-aligned
+//! blocks in `fire` and the cloud layers (as in the paper's reduced unit, its section 4.4). The
+//! smooth bases are a priced choice, not the default: on the accuracy report's check plane
+//! (`docs/accuracy.md`, Cortex-M4F instructions a pixel) trilinear value noise costs 620, the
+//! smooth fade 5005 and gradient noise 9256 (8 and 15 times: only the trilinear basis is forward
+//! differenced), against the goal of a filtered image at no more than 1.5 times the unfiltered
+//! cost; a scene file can choose them per material.
 
 use crate::format::{Amplitude, MatrixEntry, QuadricCoeff};
 use crate::hash::HashKind;

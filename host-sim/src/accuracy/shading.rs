@@ -32,6 +32,7 @@ use super::device_jobs::BASELINE;
 use super::{codesize, measure, ErrorSummary, RowReport, Settings};
 use crate::atlas::scene::render_via_atlas;
 use crate::atlas::view::Sampling;
+use crate::atlas::AtlasKind;
 use crate::device::{self, DeviceError, DeviceTarget, RunOptions};
 use crate::metrics::{compare_rgba8, Metrics};
 use crate::report::{self, atlas as dev_atlas, cycles};
@@ -196,7 +197,16 @@ pub fn host_rows(
     let host = HostScene::builtin(scene.clone());
     let list: &[Setting] = if quick { &QUICK } else { &FULL };
     for &(setting, size, sampling) in list {
-        let draw = || render_via_atlas(&host, frame, size, sampling, &cfg, hash);
+        let draw = || {
+            render_via_atlas(
+                &host,
+                frame,
+                (size, AtlasKind::Uniform),
+                sampling,
+                &cfg,
+                hash,
+            )
+        };
         let first = draw()?;
         let mut r = row(
             setting,

@@ -291,7 +291,7 @@ pub fn render_via_atlas(
     n: u32,
 ) -> ExitCode {
     render_atlas_frame(a, host, Some(n), &|frame, cfg, hash| {
-        super::scene::render_via_atlas(host, frame, n, a.atlas_sampling, cfg, hash)
+        super::scene::render_via_atlas(host, frame, (n, a.atlas_kind), a.atlas_sampling, cfg, hash)
     })
 }
 
@@ -378,7 +378,9 @@ fn render_atlas_frame(
             "frame": frame,
             "atlas_size": n,
             "sampling": a.atlas_sampling,
+            "kind": n.map(|_| a.atlas_kind),
             "baked_texels": r.baked_texels,
+            "bake_seconds": r.bake_seconds,
             "shaded_pixels": r.shaded,
             "psnr_vs_procedural": m.psnr,
             "within_one_step_vs_procedural": m.within_one_step,

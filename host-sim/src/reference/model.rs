@@ -249,7 +249,7 @@ impl Norm {
 }
 
 /// The smallest fade weight of a band-limited term (texcore's `bandlimit::FADE_FLOOR`).
-pub const FADE_FLOOR: f64 = 0.125;
+pub const FADE_FLOOR: f64 = 0.25;
 /// Faded amplitudes below this are culled (texcore's `bandlimit::CULL_AMPLITUDE`).
 pub const CULL_AMPLITUDE: f64 = 1.0 / 256.0;
 
@@ -273,7 +273,7 @@ pub enum Nyquist {
     /// its variance `a^2 sigma^2` instead of its derivative.
     Widen,
     /// The contract with culling on (band-limiting): it enters `f` faded by
-    /// `w = max(1 / reach, 1/8)` (culled when `|a w| < 1/256`) and widens the filter by
+    /// `w = max(1 / reach, 1/4)` (culled when `|a w| < 1/256`) and widens the filter by
     /// `(1 - w/2) a^2 sigma^2` of its variance (half of it between half a cell and one cell a
     /// pixel, unfaded).
     Cull,
@@ -666,10 +666,10 @@ mod tests {
         assert!((m.f_at(&coarse, Nyquist::Cull) - (q + 0.25 * 0.25 * n)).abs() < 1e-15);
         assert!((m.f_at(&coarse, Nyquist::Widen) - (q + 0.25 * n)).abs() < 1e-15);
         assert_eq!(m.f_at(&coarse, Nyquist::Evaluate), m.f(s));
-        // Far away the weight stops at 1/8; a small term is culled there.
+        // Far away the weight stops at 1/4; a small term is culled there.
         let far = [0.0, 1.0, 0.0];
-        assert_eq!(term.band([0.0; 3], far, Nyquist::Cull).weight, 0.125);
-        let small = RefTerm::scaled(1.0 / 64.0, Basis::Gradient, 64.0, [0.0; 3]);
+        assert_eq!(term.band([0.0; 3], far, Nyquist::Cull).weight, 0.25);
+        let small = RefTerm::scaled(1.0 / 128.0, Basis::Gradient, 64.0, [0.0; 3]);
         assert_eq!(small.band([0.0; 3], far, Nyquist::Cull).weight, 0.0);
         // Width: quadric part N * |dr/dx, dr/dy| = 0 here, plus the spread sqrt(12 var).
         let n_entries = 64;

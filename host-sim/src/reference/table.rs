@@ -8,7 +8,8 @@
 //! - nearest: entry `floor(x)` (`mod` wraps, `clamp` takes `min(floor(x), N - 1)`);
 //! - linear: between entry centres, `y = x - 1/2`, `j = floor(y)`, `t = frac(y)` exactly;
 //! - box: the exact average of the piecewise-constant table over `[x - w/2, x + w/2]`, continued
-//!   periodically (`mod`) or by its end entries (`clamp`); `w >= N` gives the table mean (both wraps,
+//!   periodically (`mod`) or by its end entries (`clamp`, centred on the unclamped `x = f N`);
+//!   `w >= N` gives the table mean (both wraps,
 //!   as in the contract and the paper), `w <= 0` the nearest entry;
 //! - MIP: level `l` has `N >> l` entries, each the exact mean of its `2^l` level-0 entries;
 //!   `l = floor(log2 w)` clamped to `[0, log2 N]`, blended with level `l + 1` by
@@ -277,9 +278,14 @@ impl RefTable {
         scale(add(ends, whole), 1.0 / w)
     }
 
-    /// Exact box filter of width `w` (entries) at texture value `f`.
+    /// Exact box filter of width `w` (entries) at texture value `f`; a `clamp` table's box is
+    /// centred on the unclamped `x = f N` (its window extends the end entries).
     pub fn box_filter(&self, f: f64, w: f64, wrap: Wrap) -> Rgba {
-        self.box_at(self.coord(f, wrap), w, wrap)
+        let x = match wrap {
+            Wrap::Clamp if f.is_finite() => f * self.len() as f64,
+            _ => self.coord(f, wrap),
+        };
+        self.box_at(x, w, wrap)
     }
 
     /// MIP look-up at table coordinate `x` for width `w` (entries).

@@ -1297,7 +1297,14 @@ fn object(o: &S<ObjectDef>, field: &str, slot: u8, base: &std::path::Path) -> R<
         },
         depth_test: d.depth_test.as_ref().is_none_or(|b| *b.get_ref()),
         depth_write: d.depth_write.as_ref().is_none_or(|b| *b.get_ref()),
-        shading: crate::atlas::shading::convert(d.shading.as_ref(), d.atlas.as_ref(), field)?,
+        shading: crate::atlas::shading::convert(
+            d.shading.as_ref(),
+            d.atlas.as_ref(),
+            d.blend
+                .as_ref()
+                .is_some_and(|b| *b.get_ref() == BlendDef::Over),
+            field,
+        )?,
     })
 }
 

@@ -23,6 +23,13 @@
 //! up to four for `N = 1024`), each unpacked and added in `u32` lanes. Every intermediate fits in
 //! `u32` (`I(hi) - I(lo) <= 255 * 256 * N < 2^26`).
 //!
+//! `clamp` tables centre the box on the unclamped coordinate `x = f N` ([`clamp_box_x`], model
+//! section 7): a pixel whose `f` lies past an end of the table is shown the end entry extended
+//! over the part of its window beyond the end (wholly, when the window lies past the end), never
+//! the entries inside the end that its footprint does not reach. [`Csat::box_filter_clamp_at`]
+//! and [`Csat3::box_filter_at`] take that signed coordinate; inside `[0, N]` it is the same box as
+//! the look-ups at a `TableCoord`.
+//!
 //! Input ranges: any `TableCoord` and `FilterWidth` are accepted. `x` is first brought into the
 //! table's coordinate range (`x mod N` for `mod`, `min(x, N)` for `clamp`), which is what
 //! [`ColorTable::coord`] always produces; every index is then bounded by construction, and prefix
@@ -32,7 +39,7 @@
 //! 6160), plus the colour table (`4 N`) kept by the colour stage for unfiltered look-ups.
 
 use crate::color::Rgba8888;
-use crate::format::{FilterWidth, TableCoord};
+use crate::format::{FilterWidth, TableCoord, TexValue};
 use crate::table::{ColorTable, TableWrap};
 
 /// Packs `[r, g, b, a]` into four 16-bit lanes.
@@ -165,6 +172,24 @@ const fn endpoints(x: u32, w: u32) -> (i32, i32) {
     ((x - half + 128) >> 8, (x + half + 128) >> 8)
 }
 
+/// The box's centre for a `clamp` table (raw 16.16 entries, signed): `x = f N` unclamped, limited
+/// to `[-(w/2) - 1, N + w/2 + 1]` entries (every window further out lies wholly past the end, so
+/// the limit changes no colour and keeps every intermediate in `i32`). `n_log2 <= 10`.
+#[cfg_attr(not(texcore_lean), inline(always))]
+pub const fn clamp_box_x(f: TexValue, w: FilterWidth, n_log2: u32) -> i32 {
+    let x = (f.to_bits() as i64) << n_log2;
+    let half = (w.to_bits() / 2) as i64 + (1 << 16);
+    let full = 1i64 << (16 + n_log2);
+    let x = if x < -half {
+        -half
+    } else if x > full + half {
+        full + half
+    } else {
+        x
+    };
+    x as i32
+}
+
 /// Summed-area colour table over the `N` entries: the box filter with the paper's case analysis.
 #[derive(Clone, Debug, PartialEq, Eq, Hash)]
 pub struct Csat<const N: usize> {
@@ -277,6 +302,55 @@ impl<const N: usize> Csat<N> {
 }
 
 impl<const N: usize> Csat<N> {
+    /// The box filter of a `clamp` table centred at the signed coordinate `x` ([`clamp_box_x`],
+    /// raw 16.16 entries), width `w`: the average of the end-extended table over
+    /// `[x - w/2, x + w/2]` (model section 7). For `0 <= x <= N` the same as
+    /// [`Csat::box_filter`] with `TableWrap::Clamp`; a window wholly past an end gives that end's
+    /// entry; `w >= N` gives the table mean.
+    pub fn box_filter_clamp_at(&self, x: i32, w: FilterWidth) -> Rgba8888 {
+        let n_log2 = N.trailing_zeros();
+        let wb = w.to_bits();
+        if wb >= 1u32 << (16 + n_log2) {
+            return self.mean;
+        }
+        let full = 1i64 << (16 + n_log2);
+        let half = i64::from(wb / 2) + (1 << 16);
+        // The same limits as `clamp_box_x`, so any `x` is accepted.
+        let x = i64::from(x).clamp(-half, full + half);
+        if (0..=full).contains(&x) {
+            return self.box_filter(TableCoord::from_bits(x as u32), w, TableWrap::Clamp);
+        }
+        let (s, t) = (&self.sums[..], self.total);
+        let x = x as i32;
+        let half = (wb / 2) as i32;
+        let (lo, hi) = ((x - half + 128) >> 8, (x + half + 128) >> 8);
+        let end = (N as i32) << 8;
+        if hi <= 0 || (hi == lo && x < 0) {
+            return from_lanes(entry(s, t, 0));
+        }
+        if lo >= end || hi == lo {
+            return from_lanes(entry(s, t, N - 1));
+        }
+        let d = (hi - lo) as u32;
+        // lo < 0 < hi <= end (x < 0) or 0 <= lo < end < hi (x > N): one end extended.
+        let num = if lo < 0 {
+            let c0 = entry(s, t, 0);
+            let k = lo.unsigned_abs();
+            add4(
+                [k * c0[0], k * c0[1], k * c0[2], k * c0[3]],
+                integral(s, t, 0, hi as u32),
+            )
+        } else {
+            let cl = entry(s, t, N - 1);
+            let k = (hi - end) as u32;
+            add4(
+                [k * cl[0], k * cl[1], k * cl[2], k * cl[3]],
+                integral(s, t, lo as u32, end as u32),
+            )
+        };
+        divide(num, d)
+    }
+
     /// [`Csat::box_filter`] for tables of at most 256 entries, with the two end entries read from
     /// `entries` (the table these sums were built from) instead of recovered from prefix-sum
     /// differences, and `mod` windows crossing an end of the table resolved by periodicity
@@ -434,6 +508,41 @@ impl<const N: usize> Csat3<N> {
         let num = integral(s, self.last, (lo + off) as u32, (hi + off) as u32);
         divide(num, (hi - lo) as u32)
     }
+
+    /// For a `clamp` table: the box centred at the signed coordinate `x` ([`clamp_box_x`]),
+    /// identical to [`Csat::box_filter_clamp_at`] for every input; a `mod` table takes
+    /// [`Csat3::box_filter`] at `x mod N`.
+    pub fn box_filter_at(&self, x: i32, w: FilterWidth) -> Rgba8888 {
+        let n_log2 = N.trailing_zeros();
+        let full = 1i64 << (16 + n_log2);
+        if self.wrap == TableWrap::Mod {
+            let xm = (i64::from(x) & (full - 1)) as u32;
+            return self.box_filter(TableCoord::from_bits(xm), w);
+        }
+        let wb = w.to_bits();
+        if wb >= 1u32 << (16 + n_log2) {
+            return self.mean;
+        }
+        let half = i64::from(wb / 2) + (1 << 16);
+        let x = i64::from(x).clamp(-half, full + half);
+        if (0..=full).contains(&x) {
+            return self.box_filter(TableCoord::from_bits(x as u32), w);
+        }
+        let s = self.sums.as_flattened();
+        let x = x as i32;
+        let half = (wb / 2) as i32;
+        let (lo, hi) = ((x - half + 128) >> 8, (x + half + 128) >> 8);
+        let (off, end) = ((N as i32) << 8, (N as i32) << 8);
+        if hi <= 0 || (hi == lo && x < 0) {
+            return from_lanes(entry(s, self.last, N));
+        }
+        if lo >= end || hi == lo {
+            return from_lanes(entry(s, self.last, 2 * N - 1));
+        }
+        // -N < lo < hi < 2N (w < N): inside the extended table.
+        let num = integral(s, self.last, (lo + off) as u32, (hi + off) as u32);
+        divide(num, (hi - lo) as u32)
+    }
 }
 
 #[cfg(test)]
@@ -448,13 +557,6 @@ mod tests {
     /// piecewise-constant table, entry by entry, in i64, round half up.
     fn reference(e: &[Rgba8888], x: u32, w: u32, wrap: TableWrap) -> Rgba8888 {
         let n = e.len() as i64;
-        let chans = |j: i64| -> [i64; 4] {
-            let k = match wrap {
-                TableWrap::Mod => j.rem_euclid(n),
-                TableWrap::Clamp => j.clamp(0, n - 1),
-            };
-            e[k as usize].to_array().map(i64::from)
-        };
         if w as i64 >= n * 65536 {
             let mut s = [0i64; 4];
             for c in e {
@@ -467,6 +569,19 @@ mod tests {
         let x = match wrap {
             TableWrap::Mod => (x as i64).rem_euclid(n * 65536),
             TableWrap::Clamp => (x as i64).min(n * 65536),
+        };
+        reference_at(e, x, w, wrap)
+    }
+
+    /// The box at a coordinate taken as it is (a `clamp` table's unclamped centre).
+    fn reference_at(e: &[Rgba8888], x: i64, w: u32, wrap: TableWrap) -> Rgba8888 {
+        let n = e.len() as i64;
+        let chans = |j: i64| -> [i64; 4] {
+            let k = match wrap {
+                TableWrap::Mod => j.rem_euclid(n),
+                TableWrap::Clamp => j.clamp(0, n - 1),
+            };
+            e[k as usize].to_array().map(i64::from)
         };
         let half = (w / 2) as i64;
         let lo = (x - half + 128).div_euclid(256);
@@ -670,6 +785,42 @@ mod tests {
         go::<256>();
         go::<512>();
         go::<1024>();
+    }
+
+    /// A `clamp` table's box centred past an end of the table: the end-extended table averaged
+    /// over the window, by both layouts, exhaustively on a small table and at the far limits.
+    #[test]
+    fn clamp_boxes_centred_past_the_ends() {
+        fn go<const N: usize>(seed: u64) {
+            let t: ColorTable<N> = lcg_table(seed);
+            let (c, c3) = (Csat::new(&t), Csat3::new(&t, TableWrap::Clamp));
+            let full = (N as i64) << 16;
+            let wstep = (N << 16) / 61 + 1;
+            for w in (0..(N as u32) << 16)
+                .step_by(wstep)
+                .chain([1, 255, 256, 65535])
+            {
+                let fw = FilterWidth::from_bits(w);
+                for x in (-2 * full..3 * full).step_by(full as usize / 97 + 1) {
+                    let f = TexValue::from_bits((x >> N.trailing_zeros()) as i32);
+                    let xb = clamp_box_x(f, fw, N.trailing_zeros());
+                    let want = reference_at(t.entries(), i64::from(xb), w, TableWrap::Clamp);
+                    assert_eq!(c.box_filter_clamp_at(xb, fw), want, "N {N} x {xb} w {w}");
+                    assert_eq!(c3.box_filter_at(xb, fw), want, "N {N} x {xb} w {w}");
+                    // The limit changes no colour: the box at the unlimited `f N`.
+                    let xr = i64::from(f.to_bits()) << N.trailing_zeros();
+                    let exact = reference_at(t.entries(), xr, w, TableWrap::Clamp);
+                    assert_eq!(want, exact, "N {N} x {x} w {w}");
+                }
+            }
+            for x in [i32::MIN, i32::MAX, 0, (full as i32)] {
+                let fw = FilterWidth::from_bits(3 << 16);
+                let _ = (c.box_filter_clamp_at(x, fw), c3.box_filter_at(x, fw));
+            }
+        }
+        go::<4>(3);
+        go::<16>(5);
+        go::<256>(7);
     }
 
     #[test]

@@ -69,6 +69,22 @@ enum Filter<const N: usize> {
     Csat3(ColorTable<N>, Csat3<N>),
 }
 
+/// `0 <= f <= 1`: a `clamp` table's box is centred on the clamped coordinate only there
+/// (outside, on the unclamped one: [`csat::clamp_box_x`]).
+#[cfg(feature = "csat")]
+#[cfg_attr(not(texcore_lean), inline(always))]
+const fn in_unit(f: TexValue) -> bool {
+    let raw = f.to_bits();
+    raw >= 0 && raw <= 1 << 16
+}
+
+/// `log2 N` of a power-of-two table size.
+#[cfg(feature = "csat")]
+#[cfg_attr(not(texcore_lean), inline(always))]
+const fn t_log2<const N: usize>() -> u32 {
+    N.trailing_zeros()
+}
+
 /// The colour stage of the pixel path: a colour table with its wrap, look-up mode and
 /// antialiasing filter, holding exactly the data that filter needs (the table; the table and its
 /// MIP levels; the table and its prefix sums; the table and its three-times-long prefix sums).
@@ -152,9 +168,21 @@ impl<const N: usize> ColorStage<N> {
             #[cfg(feature = "mip")]
             Filter::Mip(m) => m.lookup(m.table().coord(f, self.wrap), w, self.wrap, self.lookup),
             #[cfg(feature = "csat")]
-            Filter::Csat(t, c) => c.box_filter_in(t.entries(), t.coord(f, self.wrap), w, self.wrap),
+            Filter::Csat(t, c) => {
+                if self.wrap == TableWrap::Clamp && !in_unit(f) {
+                    c.box_filter_clamp_at(csat::clamp_box_x(f, w, t_log2::<N>()), w)
+                } else {
+                    c.box_filter_in(t.entries(), t.coord(f, self.wrap), w, self.wrap)
+                }
+            }
             #[cfg(feature = "csat")]
-            Filter::Csat3(t, c) => c.box_filter(t.coord(f, self.wrap), w),
+            Filter::Csat3(t, c) => {
+                if self.wrap == TableWrap::Clamp && !in_unit(f) {
+                    c.box_filter_at(csat::clamp_box_x(f, w, t_log2::<N>()), w)
+                } else {
+                    c.box_filter(t.coord(f, self.wrap), w)
+                }
+            }
         }
     }
 
@@ -188,15 +216,24 @@ impl<const N: usize> ColorStage<N> {
                 }
                 TableWrap::Clamp => {
                     for (&f, &w) in pairs {
-                        let x = t.coord(f, TableWrap::Clamp);
-                        emit(c.box_filter_in(t.entries(), x, w, TableWrap::Clamp));
+                        if in_unit(f) {
+                            let x = t.coord(f, TableWrap::Clamp);
+                            emit(c.box_filter_in(t.entries(), x, w, TableWrap::Clamp));
+                        } else {
+                            let x = csat::clamp_box_x(f, w, t_log2::<N>());
+                            emit(c.box_filter_clamp_at(x, w));
+                        }
                     }
                 }
             },
             #[cfg(feature = "csat")]
             Filter::Csat3(t, c) => {
                 for (&f, &w) in pairs {
-                    emit(c.box_filter(t.coord(f, wrap), w));
+                    if wrap == TableWrap::Clamp && !in_unit(f) {
+                        emit(c.box_filter_at(csat::clamp_box_x(f, w, t_log2::<N>()), w));
+                    } else {
+                        emit(c.box_filter(t.coord(f, wrap), w));
+                    }
                 }
             }
         }
@@ -305,7 +342,12 @@ mod tests {
                         let plain = t.shade(f, wrap, lookup);
                         assert_eq!(st[0].shade(f, w), plain);
                         assert_eq!(st[1].shade(f, w), mip.lookup(x, w, wrap, lookup));
-                        let b = csat.box_filter(x, w, wrap);
+                        // A clamp table's box past an end is centred on the unclamped `f N`.
+                        let b = if wrap == TableWrap::Clamp && !in_unit(f) {
+                            csat.box_filter_clamp_at(csat::clamp_box_x(f, w, 5), w)
+                        } else {
+                            csat.box_filter(x, w, wrap)
+                        };
                         assert_eq!(st[2].shade(f, w), b);
                         assert_eq!(st[3].shade(f, w), b);
                         for s in &st {

@@ -109,25 +109,31 @@ impl<const N: usize> Band<N> {
         let n = len.min(N);
         self.len = n;
         let prec = term.config.precision;
-        for axis in 0..3 {
-            self.decompose(axis, u0[axis], du[axis], prec);
+        let axes = self.cell.iter_mut().zip(&mut self.frac);
+        let axes = axes.zip(self.w.iter_mut().zip(&mut self.wf));
+        // The passes walk the band's first `n <= N` points (iterators: no index, no slicing).
+        for (((cell, frac), (w, wf)), (u0, du)) in axes.zip(u0.into_iter().zip(du)) {
+            self.passes += 1;
+            decompose(cell, frac, w, wf, n, u0, du, prec);
             if !term.fade.is_linear() {
-                self.fade(axis, term.fade, prec);
+                self.passes += 1;
+                fade_pass(frac, w, wf, n, term.fade, prec);
             }
         }
         if term.config.hash != PassHash::Texcore {
-            for axis in 0..3 {
-                for side in 0..2 {
-                    self.axis_field(axis, side, term.config.hash, prec);
+            for (axis, (cell, rnd)) in self.cell.iter().zip(&mut self.rnd).enumerate() {
+                for (side, out) in rnd.iter_mut().enumerate() {
+                    self.passes += 1;
+                    let (axis, side) = (axis as u32, side as u16);
+                    axis_field(cell, out, n, axis, side, term.config.hash, prec);
                 }
             }
         }
-        let n = self.len;
-        self.acc[..n].fill(0);
-        self.accf[..n].fill(0);
+        self.acc.iter_mut().take(n).for_each(|a| *a = 0);
+        self.accf.iter_mut().take(n).for_each(|a| *a = 0);
         if term.gradients {
             for p in self.part.iter_mut() {
-                p[..n].fill(0);
+                p.iter_mut().take(n).for_each(|a| *a = 0);
             }
         }
         for k in 0..8 {
@@ -150,12 +156,12 @@ impl<const N: usize> Band<N> {
     /// the last [`Band::run`] had `gradients`).
     pub fn derivative_into(&mut self, fade: Fade, d: [i32; 3], out: &mut [i64]) {
         self.passes += 1;
-        let n = self.len.min(out.len());
+        let n = self.len.min(N);
         let [p0, p1, p2] = &self.part;
-        let (p0, p1, p2) = (&p0[..n], &p1[..n], &p2[..n]);
+        let parts = p0.iter().zip(p1).zip(p2).take(n);
         if fade.is_linear() {
             let d = d.map(i64::from);
-            for (((o, &a), &b), &c) in out[..n].iter_mut().zip(p0).zip(p1).zip(p2) {
+            for (o, ((&a, &b), &c)) in out.iter_mut().zip(parts) {
                 *o = a
                     .wrapping_mul(d[0])
                     .wrapping_add(b.wrapping_mul(d[1]))
@@ -164,16 +170,13 @@ impl<const N: usize> Band<N> {
         } else {
             // The chain rule through the fade, in i128, as the direct derivative.
             let [f0, f1, f2] = &self.frac;
-            for i in 0..n {
-                let p = [p0[i], p1[i], p2[i]];
-                let f = [f0[i], f1[i], f2[i]];
+            let fracs = f0.iter().zip(f1).zip(f2);
+            for (o, (((&a, &b), &c), ((&x, &y), &z))) in out.iter_mut().zip(parts.zip(fracs)) {
                 let mut acc: i128 = 0;
-                for axis in 0..3 {
-                    acc += i128::from(p[axis])
-                        * i128::from(fade.derivative(f[axis]))
-                        * i128::from(d[axis]);
+                for ((p, f), d) in [a, b, c].into_iter().zip([x, y, z]).zip(d) {
+                    acc += i128::from(p) * i128::from(fade.derivative(f)) * i128::from(d);
                 }
-                out[i] = (acc >> 16) as i64;
+                *o = (acc >> 16) as i64;
             }
         }
     }
@@ -203,115 +206,37 @@ impl<const N: usize> Band<N> {
         self.byte.get(..self.len).unwrap_or(&[])
     }
 
-    /// Decompose: `solid_int`, the fraction and the linear weight of one axis.
-    fn decompose(&mut self, axis: usize, u0: i32, du: i32, prec: PassPrecision) {
-        self.passes += 1;
-        let n = self.len;
-        let cell = &mut self.cell[axis][..n];
-        let frac = &mut self.frac[axis][..n];
-        let w = &mut self.w[axis][..n];
-        let wf = &mut self.wf[axis][..n];
-        let mut u = u0;
-        for (((c, f), w), wf) in cell.iter_mut().zip(frac).zip(w).zip(wf) {
-            match prec {
-                PassPrecision::Native => {
-                    *c = (u >> 16) as u16;
-                    *f = (u & 0xFFFF) as u32;
-                    *w = *f;
-                }
-                PassPrecision::Fixed16_8 => {
-                    let f8 = ((u >> 8) & 0xFF) as u32;
-                    *c = (u >> 16) as u16;
-                    *f = f8 << 8;
-                    *w = *f;
-                    *wf = f8 as u16;
-                }
-                PassPrecision::Bits8 => {
-                    // One 8-bit channel: 4 integer bits, 4 fraction bits.
-                    let c8 = ((u >> 12) & 0xFF) as u32;
-                    *c = (c8 >> 4) as u16;
-                    *f = (c8 & 15) << 12;
-                    *w = *f;
-                    *wf = ((c8 & 15) << 4) as u16;
-                }
-            }
-            u = u.wrapping_add(du);
-        }
-    }
-
-    /// The smooth curve of one axis: the weight through the fade (rounded to the format).
-    fn fade(&mut self, axis: usize, fade: Fade, prec: PassPrecision) {
-        self.passes += 1;
-        let n = self.len;
-        let frac = &self.frac[axis][..n];
-        let w = &mut self.w[axis][..n];
-        let wf = &mut self.wf[axis][..n];
-        for ((&f, w), wf) in frac.iter().zip(w).zip(wf) {
-            let s = fade.apply(f) as u32;
-            match prec {
-                PassPrecision::Native => *w = s,
-                PassPrecision::Fixed16_8 => {
-                    let q = (s + 128) >> 8;
-                    *wf = q as u16;
-                    *w = q << 8;
-                }
-                PassPrecision::Bits8 => {
-                    let q = (s * 255 + 32768) >> 16;
-                    *wf = q as u16;
-                    *w = q * 257;
-                }
-            }
-        }
-    }
-
-    /// The per-axis random field of `solid_int + side` (summed and XOR hashes).
-    fn axis_field(&mut self, axis: usize, side: usize, hash: PassHash, prec: PassPrecision) {
-        self.passes += 1;
-        let n = self.len;
-        let mask = lattice_mask(prec);
-        let cell = &self.cell[axis][..n];
-        let out = &mut self.rnd[axis][side][..n];
-        let side = side as u16;
-        for (o, &c) in out.iter_mut().zip(cell) {
-            let x = c.wrapping_add(side) & mask;
-            *o = match hash {
-                PassHash::SummedRandom => axis_third(x, axis as u32),
-                _ => axis_random(x, axis as u32),
-            };
-        }
-    }
-
     /// The corner pass of corner `k`: its lattice point, hashed to a random value, scaled by the
     /// amplitude (native) or kept as a byte (reduced precisions).
     fn corner(&mut self, k: usize, term: &PassTerm) {
         self.passes += 1;
-        let n = self.len;
+        let n = self.len.min(N);
         let prec = term.config.precision;
         let mask = lattice_mask(prec);
         let bits = [(k & 1) as u16, ((k >> 1) & 1) as u16, ((k >> 2) & 1) as u16];
-        let [c0, c1, c2] = &self.cell;
-        let (c0, c1, c2) = (&c0[..n], &c1[..n], &c2[..n]);
         let shift = 31 - term.fv.min(16);
         let round = 1i64 << (shift - 1);
         let amp = i64::from(term.amp_raw);
-        for i in 0..n {
+        let [c0, c1, c2] = &self.cell;
+        // The per-axis random fields of the corner's side on each axis (`& 1`: in range).
+        let [r0, r1, r2] = &self.rnd;
+        let (r0, r1, r2) = (&r0[k & 1], &r1[(k >> 1) & 1], &r2[(k >> 2) & 1]);
+        let points = c0.iter().zip(c1).zip(c2).zip(r0.iter().zip(r1).zip(r2));
+        let outs = self.byte.iter_mut().zip(self.vs.iter_mut());
+        for ((((&x, &y), &z), ((&ra, &rb), &rc)), (byte_out, vs_out)) in points.zip(outs).take(n) {
             let v16: i16 = match term.config.hash {
                 PassHash::Texcore => {
-                    let x = c0[i].wrapping_add(bits[0]) & mask;
-                    let y = c1[i].wrapping_add(bits[1]) & mask;
-                    let z = c2[i].wrapping_add(bits[2]) & mask;
+                    let x = x.wrapping_add(bits[0]) & mask;
+                    let y = y.wrapping_add(bits[1]) & mask;
+                    let z = z.wrapping_add(bits[2]) & mask;
                     quantize_value(lattice_value(term.hash, x, y, z), term.value_bits)
                 }
                 PassHash::SummedRandom => {
-                    let r = u32::from(self.rnd[0][k & 1][i])
-                        + u32::from(self.rnd[1][(k >> 1) & 1][i])
-                        + u32::from(self.rnd[2][(k >> 2) & 1][i]);
+                    let r = u32::from(ra) + u32::from(rb) + u32::from(rc);
                     (r * 257) as u16 as i16 ^ i16::MIN
                 }
                 PassHash::Xor => {
-                    let r = self.rnd[0][k & 1][i]
-                        ^ self.rnd[1][(k >> 1) & 1][i]
-                        ^ self.rnd[2][(k >> 2) & 1][i];
+                    let r = ra ^ rb ^ rc;
                     (u32::from(r) * 257) as u16 as i16 ^ i16::MIN
                 }
             };
@@ -322,8 +247,8 @@ impl<const N: usize> Band<N> {
                 PassPrecision::Fixed16_8 => (byte << 8) as i16 ^ i16::MIN,
                 PassPrecision::Bits8 => (byte * 257) as i16 ^ i16::MIN,
             };
-            self.byte[i] = byte;
-            self.vs[i] = ((amp * i64::from(v) + round) >> shift) as i32;
+            *byte_out = byte;
+            *vs_out = ((amp * i64::from(v) + round) >> shift) as i32;
         }
     }
 
@@ -331,43 +256,41 @@ impl<const N: usize> Band<N> {
     /// sum.
     fn weigh(&mut self, k: usize, prec: PassPrecision) {
         self.passes += 1;
-        let n = self.len;
+        let n = self.len.min(N);
         let sel = [k & 1 != 0, (k >> 1) & 1 != 0, (k >> 2) & 1 != 0];
         match prec {
             PassPrecision::Native => {
                 let [w0, w1, w2] = &self.w;
-                let (w0, w1, w2) = (&w0[..n], &w1[..n], &w2[..n]);
                 let pick = |w: u32, s: bool| i64::from(if s { w } else { 65536 - w });
-                for i in 0..n {
-                    let wxy = pick(w0[i], sel[0]) * pick(w1[i], sel[1]);
-                    let p = i64::from(self.vs[i])
-                        .wrapping_mul(wxy)
-                        .wrapping_mul(pick(w2[i], sel[2]));
-                    self.acc[i] = self.acc[i].wrapping_add(p);
+                let terms = w0.iter().zip(w1).zip(w2).zip(&self.vs);
+                for ((((&a, &b), &c), &v), acc) in terms.zip(self.acc.iter_mut()).take(n) {
+                    let wxy = pick(a, sel[0]) * pick(b, sel[1]);
+                    let p = i64::from(v).wrapping_mul(wxy).wrapping_mul(pick(c, sel[2]));
+                    *acc = acc.wrapping_add(p);
                 }
             }
             PassPrecision::Fixed16_8 => {
                 let [w0, w1, w2] = &self.wf;
-                let (w0, w1, w2) = (&w0[..n], &w1[..n], &w2[..n]);
                 let pick = |w: u16, s: bool| i32::from(if s { w } else { 256 - w });
-                for i in 0..n {
-                    let mut p = i32::from(self.byte[i]);
-                    p = (p * pick(w0[i], sel[0]) + 128) >> 8;
-                    p = (p * pick(w1[i], sel[1]) + 128) >> 8;
-                    p = (p * pick(w2[i], sel[2]) + 128) >> 8;
-                    self.accf[i] += p;
+                let terms = w0.iter().zip(w1).zip(w2).zip(&self.byte);
+                for ((((&a, &b), &c), &byte), acc) in terms.zip(self.accf.iter_mut()).take(n) {
+                    let mut p = i32::from(byte);
+                    p = (p * pick(a, sel[0]) + 128) >> 8;
+                    p = (p * pick(b, sel[1]) + 128) >> 8;
+                    p = (p * pick(c, sel[2]) + 128) >> 8;
+                    *acc += p;
                 }
             }
             PassPrecision::Bits8 => {
                 let [w0, w1, w2] = &self.wf;
-                let (w0, w1, w2) = (&w0[..n], &w1[..n], &w2[..n]);
                 let pick = |w: u16, s: bool| u32::from(if s { w } else { 255 - w });
-                for i in 0..n {
-                    let mut p = u32::from(self.byte[i]);
-                    p = modulate8(p, pick(w0[i], sel[0]));
-                    p = modulate8(p, pick(w1[i], sel[1]));
-                    p = modulate8(p, pick(w2[i], sel[2]));
-                    self.accf[i] = (self.accf[i] + p as i32).min(255);
+                let terms = w0.iter().zip(w1).zip(w2).zip(&self.byte);
+                for ((((&a, &b), &c), &byte), acc) in terms.zip(self.accf.iter_mut()).take(n) {
+                    let mut p = u32::from(byte);
+                    p = modulate8(p, pick(a, sel[0]));
+                    p = modulate8(p, pick(b, sel[1]));
+                    p = modulate8(p, pick(c, sel[2]));
+                    *acc = (*acc + p as i32).min(255);
                 }
             }
         }
@@ -376,29 +299,26 @@ impl<const N: usize> Band<N> {
     /// The partials pass of corner `k`: its value's share of `dP/dw` on each axis.
     fn partials(&mut self, k: usize) {
         self.passes += 1;
-        let n = self.len;
+        let n = self.len.min(N);
         let sel = [k & 1 != 0, (k >> 1) & 1 != 0, (k >> 2) & 1 != 0];
         let [w0, w1, w2] = &self.w;
-        let (w0, w1, w2) = (&w0[..n], &w1[..n], &w2[..n]);
         let pick = |w: u32, s: bool| i64::from(if s { w } else { 65536 - w });
         let sign = |s: bool| if s { 1i64 } else { -1 };
         let [p0, p1, p2] = &mut self.part;
-        for i in 0..n {
-            let v = i64::from(self.vs[i]);
-            let (x, y, z) = (
-                pick(w0[i], sel[0]),
-                pick(w1[i], sel[1]),
-                pick(w2[i], sel[2]),
-            );
-            p0[i] = p0[i].wrapping_add(v.wrapping_mul(sign(sel[0]) * y * z));
-            p1[i] = p1[i].wrapping_add(v.wrapping_mul(sign(sel[1]) * x * z));
-            p2[i] = p2[i].wrapping_add(v.wrapping_mul(sign(sel[2]) * x * y));
+        let terms = w0.iter().zip(w1).zip(w2).zip(&self.vs);
+        let parts = p0.iter_mut().zip(p1.iter_mut()).zip(p2.iter_mut());
+        for ((((&a, &b), &c), &v), ((p0, p1), p2)) in terms.zip(parts).take(n) {
+            let v = i64::from(v);
+            let (x, y, z) = (pick(a, sel[0]), pick(b, sel[1]), pick(c, sel[2]));
+            *p0 = p0.wrapping_add(v.wrapping_mul(sign(sel[0]) * y * z));
+            *p1 = p1.wrapping_add(v.wrapping_mul(sign(sel[1]) * x * z));
+            *p2 = p2.wrapping_add(v.wrapping_mul(sign(sel[2]) * x * y));
         }
     }
 
     /// The finish pass: a reduced format's sum back into the model's noise units.
     fn finish(&mut self, term: &PassTerm) {
-        let n = self.len;
+        let n = self.len.min(N);
         let prec = term.config.precision;
         if prec == PassPrecision::Native {
             return;
@@ -406,13 +326,103 @@ impl<const N: usize> Band<N> {
         self.passes += 1;
         let amp = i64::from(term.amp_raw);
         let sh = 17 + term.fv.min(16);
-        for (a, &s) in self.acc[..n].iter_mut().zip(&self.accf[..n]) {
+        for (a, &s) in self.acc.iter_mut().zip(&self.accf).take(n) {
             let v16 = match prec {
                 PassPrecision::Bits8 => s * 257 - 32768,
                 _ => s * 256 - 32768,
             };
             *a = amp.wrapping_mul(i64::from(v16)).wrapping_shl(sh);
         }
+    }
+}
+
+/// Decompose (one axis): `solid_int`, the fraction and the linear weight of the first `n`
+/// points `u0 + i du`.
+#[allow(clippy::too_many_arguments)]
+fn decompose(
+    cell: &mut [u16],
+    frac: &mut [u32],
+    w: &mut [u32],
+    wf: &mut [u16],
+    n: usize,
+    u0: i32,
+    du: i32,
+    prec: PassPrecision,
+) {
+    let mut u = u0;
+    for (((c, f), w), wf) in cell.iter_mut().zip(frac).zip(w).zip(wf).take(n) {
+        match prec {
+            PassPrecision::Native => {
+                *c = (u >> 16) as u16;
+                *f = (u & 0xFFFF) as u32;
+                *w = *f;
+            }
+            PassPrecision::Fixed16_8 => {
+                let f8 = ((u >> 8) & 0xFF) as u32;
+                *c = (u >> 16) as u16;
+                *f = f8 << 8;
+                *w = *f;
+                *wf = f8 as u16;
+            }
+            PassPrecision::Bits8 => {
+                // One 8-bit channel: 4 integer bits, 4 fraction bits.
+                let c8 = ((u >> 12) & 0xFF) as u32;
+                *c = (c8 >> 4) as u16;
+                *f = (c8 & 15) << 12;
+                *w = *f;
+                *wf = ((c8 & 15) << 4) as u16;
+            }
+        }
+        u = u.wrapping_add(du);
+    }
+}
+
+/// The smooth curve (one axis, the first `n` points): the weight through the fade (rounded to
+/// the format).
+fn fade_pass(
+    frac: &[u32],
+    w: &mut [u32],
+    wf: &mut [u16],
+    n: usize,
+    fade: Fade,
+    prec: PassPrecision,
+) {
+    for ((&f, w), wf) in frac.iter().zip(w).zip(wf).take(n) {
+        let s = fade.apply(f) as u32;
+        match prec {
+            PassPrecision::Native => *w = s,
+            PassPrecision::Fixed16_8 => {
+                let q = (s + 128) >> 8;
+                *wf = q as u16;
+                *w = q << 8;
+            }
+            PassPrecision::Bits8 => {
+                let q = (s * 255 + 32768) >> 16;
+                *wf = q as u16;
+                *w = q * 257;
+            }
+        }
+    }
+}
+
+/// The per-axis random field of `solid_int + side` (summed and XOR hashes; one axis, one side,
+/// the first `n` points).
+fn axis_field(
+    cell: &[u16],
+    out: &mut [u8],
+    n: usize,
+    axis: u32,
+    side: u16,
+    hash: PassHash,
+    prec: PassPrecision,
+) {
+    let mask = lattice_mask(prec);
+    for (o, &c) in out.iter_mut().zip(cell).take(n) {
+        let x = c.wrapping_add(side) & mask;
+        *o = match hash {
+            PassHash::SummedRandom => axis_third(x, axis),
+            _ => axis_random(x, axis),
+        };
     }
 }
 

@@ -10,100 +10,94 @@
 
 use super::band::{Band, PassTerm};
 use super::MultipassConfig;
-use crate::bandlimit::{build_spread_width48, term_band};
 use crate::format::TexValue;
-use crate::model::{quantize_coord, TextureModel};
-use crate::noise::{split, BasisKind};
-use crate::span::{EvalOptions, Sample, Span, SpanInfo, SpanStats};
+use crate::model::TextureModel;
+use crate::noise::{saturate_i64 as sat_i64, split, BasisKind};
+use crate::span::{EvalOptions, Sample, Setup, SpanStats};
 use crate::table::TableWrap;
 
 /// Pixels per band of a span evaluated by multipass noise: one sample chunk
 /// ([`crate::span::SAMPLE_CHUNK`]), about 2 KB of band buffers on the stack.
 pub const MULTIPASS_BAND: usize = crate::span::SAMPLE_CHUNK;
 
-/// Evaluates `span` of `model` by multipass noise with `config`, calling `emit` once per pixel in
-/// order, counting into `stats` as the span evaluator does (a cell set-up per term and pixel: every
-/// pixel hashes its eight corners). `opts.mode` is not consulted; `opts.gradients` and
-/// `opts.cull` are.
-pub fn eval_span<const T: usize>(
+/// Evaluates the `len` pixels of a span of `model` by multipass noise with `config`, from the
+/// span's set-up (the span evaluator's: lattice starts and steps, band-limiting, the quadric),
+/// calling `emit` once per pixel in order, counting into `stats` as the span evaluator does (a
+/// cell set-up per term and pixel: every pixel hashes its eight corners). `opts.mode` is not
+/// consulted; `opts.gradients` is.
+pub(crate) fn eval_span<const T: usize>(
     model: &TextureModel<T>,
     opts: EvalOptions,
     config: MultipassConfig,
-    span: &Span,
+    setup: &Setup<T>,
+    len: u16,
     stats: &mut SpanStats,
     emit: &mut dyn FnMut(Sample),
-) -> SpanInfo {
+) {
     let grads = crate::span::GRADIENTS && opts.gradients;
     let fv = model.noise_frac_bits();
     let vb = model.precision().value_bits();
-    let cb = model.precision().coord_bits();
     let wrap = model.wrap();
-    stats.spans += 1;
-    stats.pixels += u64::from(span.len);
-
-    let bits = |p: crate::format::TexPoint| p.to_bits().map(i64::from);
-    let (s0, ds, dy) = (bits(span.s0), bits(span.ds), bits(span.dsdy));
-    let quad = model.quadric().along(s0, ds);
-    let gqx = model.quadric().derivative_along(s0, ds, ds);
-    let gqy = model.quadric().derivative_along(s0, ds, dy);
-
-    // Per-term set-up: lattice origin, steps and band-limiting, as the direct path
-    // (`crate::bandlimit`): the span's faded amplitude, culling and spread.
-    let mut variance: u64 = 0;
-    let mut setups = [([0i32; 3], [0i32; 3], [0i32; 3], false, false, 0i32); T];
-    for (st, term) in setups.iter_mut().zip(model.terms()) {
-        let du = term.transform.apply_vector(span.ds);
-        let dyl = term.transform.apply_vector(span.dsdy);
-        let b = term_band(term, du, dyl, opts.cull);
-        variance = variance.saturating_add(b.variance);
-        if !b.active {
-            stats.culled_octaves += 1;
-            continue;
-        }
-        if b.amplitude != term.amplitude.to_bits() {
-            stats.faded_octaves += 1;
-        }
-        let mut u0 = term.transform.apply_point(span.s0);
-        let mut du = du;
-        if cb < 16 {
-            u0 = u0.map(|c| quantize_coord(c, cb));
-            du = du.map(|c| quantize_coord(c, cb));
-        }
-        *st = (u0, du, dyl, true, grads && b.gradient, b.amplitude);
-    }
-    let info = SpanInfo {
-        extra_width48: build_spread_width48(variance),
-    };
+    let (quad, gqx, gqy) = (&setup.quad, setup.gqx, setup.gqy);
 
     let mut band = Band::<MULTIPASS_BAND>::new();
-    let mut nsum = [0i64; MULTIPASS_BAND];
-    let mut gxn = [0i64; MULTIPASS_BAND];
-    let mut gyn = [0i64; MULTIPASS_BAND];
+    let mut nsum: [i64; MULTIPASS_BAND];
+    let mut gxn: [i64; MULTIPASS_BAND];
+    let mut gyn: [i64; MULTIPASS_BAND];
     let mut tgx = [0i64; MULTIPASS_BAND];
     let mut tgy = [0i64; MULTIPASS_BAND];
-    let len = usize::from(span.len);
+    let len = usize::from(len);
     let mut start = 0usize;
     while start < len {
         let n = (len - start).min(MULTIPASS_BAND);
-        nsum[..n].fill(0);
-        gxn[..n].fill(0);
-        gyn[..n].fill(0);
-        for (&(u0, du, dyl, active, want_g, a), term) in setups.iter().zip(model.terms()) {
-            if !active {
+        // The band's sums (the first `n <= MULTIPASS_BAND` entries are the band's pixels).
+        nsum = [0; MULTIPASS_BAND];
+        gxn = [0; MULTIPASS_BAND];
+        gyn = [0; MULTIPASS_BAND];
+        for (ts, term) in setup.terms.iter().zip(model.terms()) {
+            if !ts.active {
                 continue;
             }
+            let want_g = grads && ts.gradient;
+            let (du, dyl, a) = (ts.du, ts.dy, ts.amp);
             let (amp, neg) = if term.turbulence {
                 (a.wrapping_abs(), a < 0)
             } else {
                 (a, false)
             };
             let off = start as i32;
-            let ub = [0, 1, 2].map(|k| u0[k].wrapping_add(du[k].wrapping_mul(off)));
+            let [u0, u1, u2] = ts.u0;
+            let ub = [
+                u0.wrapping_add(du[0].wrapping_mul(off)),
+                u1.wrapping_add(du[1].wrapping_mul(off)),
+                u2.wrapping_add(du[2].wrapping_mul(off)),
+            ];
             stats.noise_evaluations += n as u64;
             stats.cell_setups += n as u64;
             if want_g {
                 stats.gradient_evaluations += n as u64;
             }
+            // Adds one pixel's contribution of the term to the band's sums.
+            let add = |(s, gxs, gys): (&mut i64, &mut i64, &mut i64),
+                       (v, gx, gy): (i64, i64, i64)| {
+                let (mut v, mut gx, mut gy) = (v, gx, gy);
+                if term.turbulence && ((v < 0) != neg) {
+                    v = v.wrapping_neg();
+                    gx = gx.wrapping_neg();
+                    gy = gy.wrapping_neg();
+                }
+                *s = s.wrapping_add(v);
+                if want_g {
+                    *gxs = gxs.saturating_add(gx);
+                    *gys = gys.saturating_add(gy);
+                }
+            };
+            let sums = nsum
+                .iter_mut()
+                .zip(gxn.iter_mut())
+                .zip(gyn.iter_mut())
+                .take(n);
+            let sums = sums.map(|((s, gx), gy)| (s, gx, gy));
             if matches!(term.basis.kind, BasisKind::Value) {
                 let pt = PassTerm {
                     hash: term.basis.hash,
@@ -116,32 +110,22 @@ pub fn eval_span<const T: usize>(
                 };
                 band.run(&pt, ub, du, n);
                 if want_g {
-                    band.derivative_into(term.basis.fade, du, &mut tgx[..n]);
-                    band.derivative_into(term.basis.fade, dyl, &mut tgy[..n]);
+                    band.derivative_into(term.basis.fade, du, &mut tgx);
+                    band.derivative_into(term.basis.fade, dyl, &mut tgy);
                 }
-                let vals = band.values();
-                for i in 0..n {
-                    let (mut v, mut gx, mut gy) = (vals[i], tgx[i], tgy[i]);
-                    if term.turbulence && ((v < 0) != neg) {
-                        v = v.wrapping_neg();
-                        gx = gx.wrapping_neg();
-                        gy = gy.wrapping_neg();
-                    }
-                    nsum[i] = nsum[i].wrapping_add(v);
-                    if want_g {
-                        gxn[i] = gxn[i].saturating_add(gx);
-                        gyn[i] = gyn[i].saturating_add(gy);
-                    }
+                let vals = band.values().iter().zip(tgx.iter()).zip(tgy.iter());
+                for (sum, ((&v, &gx), &gy)) in sums.zip(vals) {
+                    add(sum, (v, gx, gy));
                 }
             } else {
                 // Not a lattice value noise: per pixel, as the direct path.
                 let b = &term.basis;
-                for i in 0..n {
-                    let u = [0, 1, 2].map(|k| ub[k].wrapping_add(du[k].wrapping_mul(i as i32)));
+                let mut u = ub;
+                for sum in sums {
                     let (cell, frac) = split(u);
                     let data = b.cell_bits(cell, amp, fv, vb);
-                    let mut v = b.sample(&data, frac, amp, fv);
-                    let (mut gx, mut gy) = if want_g {
+                    let v = b.sample(&data, frac, amp, fv);
+                    let (gx, gy) = if want_g {
                         (
                             b.derivative(&data, frac, du, amp, fv),
                             b.derivative(&data, frac, dyl, amp, fv),
@@ -149,25 +133,22 @@ pub fn eval_span<const T: usize>(
                     } else {
                         (0, 0)
                     };
-                    if term.turbulence && ((v < 0) != neg) {
-                        v = v.wrapping_neg();
-                        gx = gx.wrapping_neg();
-                        gy = gy.wrapping_neg();
-                    }
-                    nsum[i] = nsum[i].wrapping_add(v);
-                    if want_g {
-                        gxn[i] = gxn[i].saturating_add(gx);
-                        gyn[i] = gyn[i].saturating_add(gy);
-                    }
+                    add(sum, (v, gx, gy));
+                    u = [
+                        u[0].wrapping_add(du[0]),
+                        u[1].wrapping_add(du[1]),
+                        u[2].wrapping_add(du[2]),
+                    ];
                 }
             }
         }
-        for i in 0..n {
+        let sums = nsum.iter().zip(gxn.iter()).zip(gyn.iter()).take(n);
+        for (i, ((&ns, &gxs), &gys)) in sums.enumerate() {
             let p = (start + i) as i64;
             let q48 = quad.at(p);
             let f48 = match wrap {
-                TableWrap::Mod => (q48 as i64).wrapping_add(nsum[i] >> fv),
-                TableWrap::Clamp => sat_i64(q48).saturating_add(nsum[i] >> fv),
+                TableWrap::Mod => (q48 as i64).wrapping_add(ns >> fv),
+                TableWrap::Clamp => sat_i64(q48).saturating_add(ns >> fv),
             };
             let f = TexValue::from_bits((f48 >> 32) as i32);
             let sample = if grads {
@@ -176,8 +157,8 @@ pub fn eval_span<const T: usize>(
                 let gq = |g: [i128; 2]| sat_i64(g[0].wrapping_add(g[1].wrapping_mul(pi)));
                 Sample {
                     f,
-                    gx: gq(gqx).saturating_add(gxn[i] >> fv),
-                    gy: gq(gqy).saturating_add(gyn[i] >> fv),
+                    gx: gq(gqx).saturating_add(gxs >> fv),
+                    gy: gq(gqy).saturating_add(gys >> fv),
                 }
             } else {
                 Sample { f, gx: 0, gy: 0 }
@@ -186,9 +167,4 @@ pub fn eval_span<const T: usize>(
         }
         start += n;
     }
-    info
-}
-
-fn sat_i64(x: i128) -> i64 {
-    x.clamp(i128::from(i64::MIN), i128::from(i64::MAX)) as i64
 }

@@ -53,7 +53,8 @@ mod band;
 mod eval;
 
 pub use band::{Band, PassTerm};
-pub use eval::{eval_span, MULTIPASS_BAND};
+pub(crate) use eval::eval_span;
+pub use eval::MULTIPASS_BAND;
 
 /// Arithmetic of the multipass weight passes (module documentation, "Settings").
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]

@@ -74,8 +74,11 @@ pub const fn split(u: [i32; 3]) -> ([u16; 3], [u32; 3]) {
     )
 }
 
-/// Saturates an i128 to the i64 range.
+/// Saturates an i128 to the i64 range. One out-of-line copy in the size-lean shape with filter
+/// widths (feature `gradients`: most callers saturate gradients); left to the compiler in the
+/// lean builds without them (one or two callers).
 #[cfg_attr(not(texcore_lean), inline(always))]
+#[cfg_attr(all(texcore_lean, feature = "gradients"), inline(never))]
 pub(crate) fn saturate_i64(x: i128) -> i64 {
     if x > i128::from(i64::MAX) {
         i64::MAX

@@ -36,7 +36,10 @@ pub const BUILTIN: [&str; 8] = [
     "torus",
 ];
 
-/// A built-in scene by name.
+/// Names of the built-in animations that are not figures of the paper (section 4.4's tests).
+pub const ANIMATIONS: [&str; 1] = ["flight"];
+
+/// A built-in scene or animation ([`BUILTIN`], [`ANIMATIONS`]) by name.
 pub fn by_name(name: &str) -> Option<Scene> {
     let scene = match name {
         "wood" => wood(),
@@ -47,6 +50,7 @@ pub fn by_name(name: &str) -> Option<Scene> {
         "moonrise" => moonrise(),
         "zoneplate" => zoneplate(),
         "torus" => torus(),
+        "flight" => flight(),
         _ => return None,
     };
     // Every built-in scene is within the scene's capacities (`tests::builtins_build`).
@@ -254,6 +258,40 @@ pub fn seascape() -> Result<Scene, SceneError> {
         }
         if let Some(o) = s.objects.get_mut(1) {
             o.tex_map = drift(&o.tex_map, [0, -milli(10), milli(4)], frame);
+        }
+    });
+    Ok(s)
+}
+
+// ---------------------------------------------------------------------------------------------
+// Section 4.4: the flight towards the horizon.
+
+/// The eye's speed in the [`flight`]: half a unit a frame towards the horizon (raw 16.16).
+pub const FLIGHT_SPEED: i32 = milli(500);
+
+/// Section 4.4's animation test: the [`seascape`]'s cloud and sea planes and view, the eye flying
+/// towards the horizon (along `-z`) at [`FLIGHT_SPEED`] for 128 frames (64 units), no wind. Both
+/// planes are infinite to the eye, so flying is moving their textures towards the eye: an eye
+/// moved by `-D` along the world's `z` sees at each screen point the texture coordinate
+/// `M R^T (p - D z) + t`, so each plane's texture translation moves by `-D M R^T z` (`M` its
+/// texture mapping, `R` its rotation), with the planes' meshes and the perspective set-up
+/// unchanged from frame to frame. The still is frame 0 (the seascape without wind).
+pub fn flight() -> Result<Scene, SceneError> {
+    let mut s = seascape()?;
+    s.name = "flight";
+    s.set_frames(128, 0)?;
+    s.animate = Some(|s, frame| {
+        for o in s.objects.iter_mut() {
+            let m = o.tex_map.matrix();
+            // R^T z: the world's z in object space (the third row of the rotation).
+            let z = o.transform.m[2];
+            let d = [0, 1, 2].map(|k| {
+                let u: i64 = (0..3)
+                    .map(|j| (i64::from(m[k][j].to_bits()) * i64::from(z[j])) >> 16)
+                    .sum();
+                (-(u * i64::from(FLIGHT_SPEED)) >> 16) as i32
+            });
+            o.tex_map = drift(&o.tex_map, d, frame);
         }
     });
     Ok(s)

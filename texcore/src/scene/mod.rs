@@ -18,7 +18,7 @@
 //! | [`camera`] | perspective/orthographic cameras, projection, near/far/guard-band clipping |
 //! | [`mesh`] | teapot, sphere, torus, cube, quad and horizon plane as triangle iterators |
 //! | [`teapot`] | the Utah teapot's 32 Bezier patches and exact tessellation |
-//! | [`builtin`] | the paper's scenes (`wood`, `marble`, `seascape`, `fire`, `planet`, `moonrise`, `zoneplate`, `torus`) |
+//! | [`builtin`] | the paper's scenes (`wood`, `marble`, `seascape`, `fire`, `planet`, `moonrise`, `zoneplate`, `torus`) and the animation `flight` |
 //!
 //! # Cost on the devices
 //!
@@ -74,7 +74,7 @@ pub mod teapot;
 #[cfg(test)]
 mod tests;
 
-pub use builtin::{by_name, BUILTIN};
+pub use builtin::{by_name, ANIMATIONS, BUILTIN};
 pub use camera::{focal_from_fov, Camera, Projection, View};
 pub use math::{Angle, Transform, Vec3};
 pub use mesh::Mesh;

@@ -742,3 +742,45 @@ fn builtins_build_and_scene_capacities_are_checked() {
         .to_string()
         .contains("at most 8 objects"));
 }
+
+/// The flight is the seascape's planes and view with the eye flying towards the horizon: the
+/// sea's `t = z / 5` falls by `0.2 D` and the clouds' `t` (on a plane turned over, whose object
+/// `z` is the world's `-z`) rises by `D / 50`, for `D` = half a unit a frame; nothing else moves.
+#[test]
+fn flight_moves_the_textures_towards_the_eye() {
+    assert!(super::ANIMATIONS.iter().all(|n| !BUILTIN.contains(n)));
+    let sea = by_name("seascape").unwrap();
+    let fl = by_name("flight").unwrap();
+    assert_eq!(fl.name, "flight");
+    assert_eq!((fl.frames(), fl.still()), (128, 0));
+    assert_eq!(fl.camera, sea.camera);
+    assert_eq!(fl.objects.len(), 2);
+    let f0 = fl.at_frame(0);
+    for (a, b) in f0.objects.iter().zip(&sea.objects) {
+        assert_eq!(a.tex_map, b.tex_map);
+        assert_eq!(a.transform, b.transform);
+    }
+    let k = 40;
+    let fk = fl.at_frame(k);
+    let t = |s: &Scene, o: usize| s.objects[o].tex_map.translation().map(|e| e.to_bits());
+    let (c0, ck) = (t(&f0, 0), t(&fk, 0));
+    let (w0, wk) = (t(&f0, 1), t(&fk, 1));
+    let d = i64::from(k) * i64::from(super::builtin::FLIGHT_SPEED);
+    // Within a rounding of the per-frame step (one raw unit a frame).
+    let near = |got: i32, want: i64| (i64::from(got) - want).abs() <= i64::from(k);
+    assert!(
+        near(wk[1] - w0[1], -d / 5),
+        "sea t {} {}",
+        wk[1] - w0[1],
+        -d / 5
+    );
+    assert_eq!((wk[0], wk[2]), (w0[0], w0[2]));
+    assert!(
+        near(ck[1] - c0[1], d / 50),
+        "clouds t {} {}",
+        ck[1] - c0[1],
+        d / 50
+    );
+    assert_eq!((ck[0], ck[2]), (c0[0], c0[2]));
+    assert_eq!(fk.camera, sea.camera);
+}

@@ -355,20 +355,23 @@ const PASS_MIN: u32 = 4;
 /// Half a cell per pixel (raw 16.16): the Nyquist limit of a lattice noise.
 pub const NYQUIST_STEP: i32 = 1 << 15;
 
-/// A term's span set-up.
+/// A term's span set-up (read by the multipass evaluator too).
 #[derive(Clone, Copy, Debug, Default)]
-struct TermSetup {
-    u0: [i32; 3],
-    du: [i32; 3],
-    dy: [i32; 3],
+pub(crate) struct TermSetup {
+    /// Lattice point of pixel 0 (rounded to the model's coordinate precision).
+    pub(crate) u0: [i32; 3],
+    /// Lattice step along the span (rounded as `u0`).
+    pub(crate) du: [i32; 3],
+    /// Lattice step to the next row (unrounded).
+    pub(crate) dy: [i32; 3],
     /// Evaluate the value.
-    active: bool,
+    pub(crate) active: bool,
     /// Evaluate the gradient (false past one cell a pixel: the term's spread goes to
     /// `extra_width48`, [`crate::bandlimit`]).
-    gradient: bool,
+    pub(crate) gradient: bool,
     /// The amplitude of this span (raw 16.16): the term's own, or faded
     /// ([`crate::bandlimit::term_band`]).
-    amp: i32,
+    pub(crate) amp: i32,
 }
 
 #[cfg_attr(not(texcore_lean), inline(always))]
@@ -431,13 +434,16 @@ fn fd_pays(len: u16, du: [i32; 3]) -> bool {
     (len << 16) > u64::from(AUTO_FD_PIXELS) * ((1 << 16) + len * sum)
 }
 
-/// The per-span part of the model evaluation shared by every mode.
-struct Setup<const T: usize> {
+/// The per-span part of the model evaluation shared by every mode (multipass included).
+pub(crate) struct Setup<const T: usize> {
     /// One per model term, in order (inactive where culled).
-    terms: heapless::Vec<TermSetup, T>,
-    quad: QuadraticSpan,
-    gqx: [i128; 2],
-    gqy: [i128; 2],
+    pub(crate) terms: heapless::Vec<TermSetup, T>,
+    /// The quadric along the span (48 fraction bits).
+    pub(crate) quad: QuadraticSpan,
+    /// The quadric's x-gradient along the span: `gqx[0] + i gqx[1]` (zero without gradients).
+    pub(crate) gqx: [i128; 2],
+    /// The quadric's y-gradient along the span, as `gqx`.
+    pub(crate) gqy: [i128; 2],
     extra_width48: i64,
 }
 
@@ -641,13 +647,13 @@ impl<'m, const T: usize> SpanEvaluator<'m, T> {
     /// The extra filter width of `span` from octaves past the Nyquist limit (what
     /// [`SpanInfo::extra_width48`] of [`SpanEvaluator::eval`] will be), without evaluating it.
     pub fn extra_width48(&self, span: &Span) -> i64 {
-        let core = &self.core;
-        let mut variance: u64 = 0;
-        for term in core.model.terms().iter().take(T) {
-            let (du, dy) = lattice_steps(term, span);
-            variance = variance.saturating_add(term_band(term, du, dy, core.opts.cull).variance);
-        }
-        build_spread_width48(variance)
+        let mut each = |_: &NoiseTerm, _: &[i32; 3], _: &[i32; 3], _: Option<(i32, bool)>| {};
+        band_terms(
+            self.core.model,
+            span,
+            self.core.opts.cull,
+            each_term(&mut each),
+        )
     }
 
     /// Evaluates `span`, calling `emit` once per pixel in order. Returns the span's facts.
@@ -690,15 +696,6 @@ impl<'m, const T: usize> SpanEvaluator<'m, T> {
             chunk: &mut chunk,
             out,
         };
-        #[cfg(feature = "multipass")]
-        if let EvalMode::Multipass(cfg) = self.core.opts.mode {
-            sink.chunk.extra_width48 = self.extra_width48(span);
-            let core = &mut self.core;
-            let (m, o, st) = (core.model, core.opts, &mut core.stats);
-            let info = crate::multipass::eval_span(m, o, cfg, span, st, &mut |s| sink.push(s));
-            sink.finish();
-            return info;
-        }
         let info = self.core.eval_inner(span, &mut sink);
         sink.finish();
         info
@@ -757,39 +754,37 @@ impl<'m, const T: usize> EvalCore<'m, T> {
         }
         // A vector, not an array: nothing is written for the slots past the model's terms.
         let terms = &mut out.terms;
-        let mut variance: u64 = 0;
+        let stats = &mut self.stats;
         // Coordinate precision (`docs/model.md` 3.2): `U0` and `DU` rounded to `F` fraction bits,
         // so `u(i) = U0 + i DU` stays linear in `i`; band-limiting uses the unrounded step.
         let cb = m.precision().coord_bits();
-        for term in m.terms().iter().take(T) {
-            let (du, dyl) = lattice_steps(term, span);
-            let band = term_band(term, du, dyl, self.opts.cull);
-            variance = variance.saturating_add(band.variance);
-            if !band.active {
-                self.stats.culled_octaves += 1;
-                // At most T terms: never full.
-                let _ = terms.push(TermSetup::default());
-                continue;
-            }
-            if band.amplitude != term.amplitude.to_bits() {
-                self.stats.faded_octaves += 1;
-            }
-            let mut u0 = term.transform.apply_point(span.s0);
-            let mut du = du;
-            if cb < 16 {
-                u0 = u0.map(|c| quantize_coord(c, cb));
-                du = du.map(|c| quantize_coord(c, cb));
-            }
-            let _ = terms.push(TermSetup {
-                u0,
-                du,
-                dy: dyl,
-                active: true,
-                gradient: grads && band.gradient,
-                amp: band.amplitude,
-            });
-        }
-        out.extra_width48 = build_spread_width48(variance);
+        let mut each =
+            |term: &NoiseTerm, du: &[i32; 3], dyl: &[i32; 3], band: Option<(i32, bool)>| {
+                let Some((amp, gradient)) = band else {
+                    stats.culled_octaves += 1;
+                    // At most T terms: never full.
+                    let _ = terms.push(TermSetup::default());
+                    return;
+                };
+                if amp != term.amplitude.to_bits() {
+                    stats.faded_octaves += 1;
+                }
+                let mut u0 = term.transform.apply_point(span.s0);
+                let mut du = *du;
+                if cb < 16 {
+                    u0 = u0.map(|c| quantize_coord(c, cb));
+                    du = du.map(|c| quantize_coord(c, cb));
+                }
+                let _ = terms.push(TermSetup {
+                    u0,
+                    du,
+                    dy: *dyl,
+                    active: true,
+                    gradient: grads && gradient,
+                    amp,
+                });
+            };
+        out.extra_width48 = band_terms(m, span, self.opts.cull, each_term(&mut each));
     }
 
     /// The evaluation proper.
@@ -804,6 +799,12 @@ impl<'m, const T: usize> EvalCore<'m, T> {
         };
         // An empty span sets nothing up (in either loop).
         if span.len == 0 {
+            return info;
+        }
+        #[cfg(feature = "multipass")]
+        if let EvalMode::Multipass(cfg) = self.opts.mode {
+            let (m, o, st) = (self.model, self.opts, &mut self.stats);
+            crate::multipass::eval_span(m, o, cfg, &setup, span.len, st, &mut |s| sink.push(s));
             return info;
         }
         let mode = compiled_mode(self.opts.mode);
@@ -954,6 +955,64 @@ fn hermite_setup(
         ],
         gy: [y0, div_round(i128::from(ym) - i128::from(y0), m), 0],
     }
+}
+
+/// The per-term band-limiting of `span` ([`crate::bandlimit::term_band`]), the one loop behind
+/// the span set-up, [`SpanEvaluator::extra_width48`] and the multipass evaluator (which takes the
+/// span set-up): calls `each(term, du, dy, band)` for every term of `model` in order, with the
+/// term's unrounded lattice steps along and across the span and `band` its amplitude for the
+/// span and whether its gradient widens the filter ([`crate::bandlimit::TermBand`]; `None`:
+/// culled), and returns the span's extra filter width ([`SpanInfo::extra_width48`]) from the
+/// summed variances (the callback does not see them: builds without filter widths drop them).
+///
+/// In the size-lean shape with filter widths (feature `gradients`, where both callers are
+/// linked) the callers hand `each` over as an [`EachTerm`] trait object: one out-of-line copy.
+/// Elsewhere it is inlined with `each` (the fast shape; the lean builds without filter widths,
+/// whose only caller is the span set-up and which drop the variances).
+#[cfg_attr(not(all(texcore_lean, feature = "gradients")), inline(always))]
+fn band_terms<const T: usize, F>(
+    model: &TextureModel<T>,
+    span: &Span,
+    cull: bool,
+    each: &mut F,
+) -> i64
+where
+    F: FnMut(&NoiseTerm, &[i32; 3], &[i32; 3], Option<(i32, bool)>) + ?Sized,
+{
+    let mut variance: u64 = 0;
+    for term in model.terms().iter().take(T) {
+        let (du, dy) = lattice_steps(term, span);
+        let band = term_band(term, du, dy, cull);
+        // Summed only where filter widths exist (`build_spread_width48`).
+        if cfg!(feature = "gradients") {
+            variance = variance.saturating_add(band.variance);
+        }
+        each(
+            term,
+            &du,
+            &dy,
+            band.active.then_some((band.amplitude, band.gradient)),
+        );
+    }
+    build_spread_width48(variance)
+}
+
+/// The callback of [`band_terms`] as a trait object (the size-lean shape with filter widths).
+#[cfg(all(texcore_lean, feature = "gradients"))]
+type EachTerm<'a> = dyn FnMut(&NoiseTerm, &[i32; 3], &[i32; 3], Option<(i32, bool)>) + 'a;
+
+/// A callback as [`band_terms`] takes it: a trait object in the size-lean shape with filter
+/// widths (one copy of the loop for every caller), itself elsewhere (inlined with the loop).
+#[cfg(all(texcore_lean, feature = "gradients"))]
+fn each_term<'a>(each: &'a mut EachTerm<'a>) -> &'a mut EachTerm<'a> {
+    each
+}
+
+/// See the size-lean version.
+#[cfg(not(all(texcore_lean, feature = "gradients")))]
+#[inline(always)]
+fn each_term<F>(each: &mut F) -> &mut F {
+    each
 }
 
 /// A term's lattice steps along the span and across it (raw 16.16 cells a pixel).
