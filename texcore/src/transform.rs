@@ -221,15 +221,38 @@ impl Affine3 {
     #[inline]
     pub fn apply_vector(&self, d: TexPoint) -> [i32; 3] {
         let b = d.to_bits();
-        let mut out = [0i32; 3];
-        for (o, row) in out.iter_mut().zip(&self.m) {
-            let mut acc: i64 = 0;
-            for (m, bk) in row.iter().zip(&b) {
-                acc = acc.wrapping_add(i64::from(m.to_bits()) * i64::from(*bk));
+        #[cfg(texcore_lean)]
+        {
+            let mut out = [0i32; 3];
+            for (o, row) in out.iter_mut().zip(&self.m) {
+                let mut acc: i64 = 0;
+                for (m, bk) in row.iter().zip(&b) {
+                    acc = acc.wrapping_add(i64::from(m.to_bits()) * i64::from(*bk));
+                }
+                *o = round_32_to_16(acc) as i32;
             }
-            *o = round_32_to_16(acc) as i32;
+            out
         }
-        out
+        #[cfg(not(texcore_lean))]
+        {
+            // Fast shape: column by column, skipping the zero components of `d` (a span along
+            // a lattice axis has two): the same sum modulo 2^64.
+            let mut acc = [0i64; 3];
+            for (c, &bc) in b.iter().enumerate() {
+                if bc == 0 {
+                    continue;
+                }
+                for (o, row) in acc.iter_mut().zip(&self.m) {
+                    let m = row.get(c).map_or(0, |m| m.to_bits());
+                    *o = o.wrapping_add(i64::from(m) * i64::from(bc));
+                }
+            }
+            [
+                round_32_to_16(acc[0]) as i32,
+                round_32_to_16(acc[1]) as i32,
+                round_32_to_16(acc[2]) as i32,
+            ]
+        }
     }
 
     /// `M p + t` of a `Q16.16` point in `i64` `Q16.16` (exact products, one half-up rounding;

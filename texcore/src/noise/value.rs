@@ -107,9 +107,10 @@ pub fn scaled_face_bits<const K: usize>(
                 let bb = p[usize::from(a.wrapping_add(y.wrapping_add(o[1] as u8)))];
                 p[usize::from(bb.wrapping_add(z.wrapping_add(o[2] as u8)))]
             };
-            core::array::from_fn(|i| (i32::from(h(off(i))) * 257 - 32768) as i16)
+            let v = |i: usize| (i32::from(h(off(i))) * 257 - 32768) as i16;
+            corners4(v)
         }
-        HashKind::Integer => core::array::from_fn(|i| {
+        HashKind::Integer => corners4(|i: usize| {
             let o = off(i);
             crate::hash::lattice_value(
                 HashKind::Integer,
@@ -119,14 +120,30 @@ pub fn scaled_face_bits<const K: usize>(
             )
         }),
     };
-    raw.map(|v| {
+    let scale = |v: i16| {
         let v = if value_bits < 16 {
             quantize_value(v, value_bits)
         } else {
             v
         };
         scale_bits(v, amp_raw, shift, round)
-    })
+    };
+    // The fast shape writes the corners out rather than `raw.map(..)`: the array map is not
+    // always inlined (a call per face in the span kernels).
+    #[cfg(not(texcore_lean))]
+    return [scale(raw[0]), scale(raw[1]), scale(raw[2]), scale(raw[3])];
+    #[cfg(texcore_lean)]
+    raw.map(scale)
+}
+
+/// `[v(0), v(1), v(2), v(3)]`: written out in the fast shape (`core::array::from_fn` is not
+/// always inlined there), `from_fn` in the size-lean one.
+#[cfg_attr(not(texcore_lean), inline(always))]
+fn corners4(v: impl Fn(usize) -> i16) -> [i16; 4] {
+    #[cfg(not(texcore_lean))]
+    return [v(0), v(1), v(2), v(3)];
+    #[cfg(texcore_lean)]
+    core::array::from_fn(v)
 }
 
 /// The eight corner values `lattice_value(hash, cell + c)` (corner order `cx | cy << 1 | cz << 2`),

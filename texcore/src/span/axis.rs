@@ -73,6 +73,15 @@ pub(super) struct Face {
     h: i64,
 }
 
+impl Face {
+    /// The blend `Phi`.
+    #[cfg(not(texcore_lean))]
+    #[inline(always)]
+    pub(super) fn phi(&self) -> i64 {
+        self.phi
+    }
+}
+
 /// The four corners of the face `c_k = b` of the cell corners `v` (corner order
 /// `cx | cy << 1 | cz << 2`), in the face order `ca | cc << 1` (`a < c` the two other axes).
 #[cfg(test)]

@@ -62,6 +62,16 @@ impl<'m, const T: usize> EvalCore<'m, T> {
         if !self.merged_takes(len, setup, strategies) {
             return false;
         }
+        #[cfg(not(texcore_lean))]
+        if !lean && self.axial_takes(setup, strategies) {
+            self.run_axial(len as u16, setup, strategies, sink);
+            return true;
+        }
+        #[cfg(not(texcore_lean))]
+        if !lean && self.axial_direct_takes(setup, strategies) {
+            self.run_axial_direct(len as u16, setup, strategies, sink);
+            return true;
+        }
         let mut n_fd = 0usize;
         let mut n_direct = 0usize;
         for st in strategies.iter().take(terms.len()) {

@@ -61,6 +61,9 @@
 //! - `cubic`: the exact cell polynomial of a trilinear term and its forward-difference states;
 //! - `axis`: the cell set-up of terms whose lattice step has one nonzero axis (a linear cell
 //!   polynomial from two face blends, the shared face kept from the previous cell);
+//! - `axial` (fast shape only): the kernel of spans whose terms are all single-axis trilinear
+//!   terms, forward differenced (per-term countdowns to the cell events, coinciding events in one
+//!   pass);
 //! - `direct`: trilinear terms evaluated per pixel inside the merged loop (one cell set-up per
 //!   cell, then the cell's monomial form, or the face blends of a single-axis term);
 //! - `quad`: the quadric along the span.
@@ -74,6 +77,8 @@ use crate::noise::{split, CellData};
 use crate::quadric::QuadraticSpan;
 use crate::table::TableWrap;
 
+#[cfg(not(texcore_lean))]
+mod axial;
 mod axis;
 mod cubic;
 mod direct;
@@ -610,6 +615,9 @@ struct EvalCore<'m, const T: usize> {
     /// Tests only: run the size-lean loop shape ([`LEAN`]) whatever the build.
     #[cfg(test)]
     lean: bool,
+    /// Tests only: spans the axial kernel evaluated.
+    #[cfg(test)]
+    axial_spans: u64,
 }
 
 impl<'m, const T: usize> SpanEvaluator<'m, T> {
@@ -703,6 +711,8 @@ impl<'m, const T: usize> EvalCore<'m, T> {
             stats: SpanStats::default(),
             #[cfg(test)]
             lean: LEAN,
+            #[cfg(test)]
+            axial_spans: 0,
         }
     }
 

@@ -145,6 +145,25 @@ pub(super) fn value_pass_for(
     }
 }
 
+/// [`value_pass`] of a linear merged state (the axial kernel's: every term a single-axis term),
+/// specialised for a zero quadric and an affine one.
+#[cfg(not(texcore_lean))]
+#[inline(always)]
+pub(super) fn value_pass_linear(
+    out: &mut [TexValue],
+    fv: u32,
+    p: &mut [i64; 4],
+    q: &mut QuadStep,
+    affine: bool,
+) {
+    let noq = q.q == 0 && q.dq == 0 && q.ddq == 0;
+    match (noq, affine) {
+        (true, _) => value_pass::<true, true, true>(out, fv, p, q),
+        (false, true) => value_pass::<true, true, false>(out, fv, p, q),
+        (false, false) => value_pass::<false, true, false>(out, fv, p, q),
+    }
+}
+
 /// A gradient pass of the merged loop: `g_out = qg + (G >> fv)` per pixel, stepping the merged
 /// quadratic `g` (two additions) and the quadric's gradient `qg` (constant when affine).
 #[cfg_attr(not(texcore_lean), inline(always))]
