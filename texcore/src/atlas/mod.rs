@@ -25,7 +25,7 @@
 //!
 //! [`bake`] evaluates the texture into the owned texels of every triangle, row by row: along an
 //! atlas row the solid coordinates are affine, so each row of a triangle is one
-//! [`Span`](crate::span::Span) (forward-differenced where the texture allows) whose `ds` and
+//! [`Span`] (forward-differenced where the texture allows) whose `ds` and
 //! `dsdy` are the texel's footprint in solid space (the filter width). [`sample`] holds nearest,
 //! bilinear and MIP look-ups of a baked atlas. Nothing allocates; nothing panics.
 
