@@ -185,19 +185,21 @@ impl Affine3 {
         let mut t = [Z; 3];
         // Iterators rather than indices: no bounds check survives at any opt-level.
         let bits = |e: &MatrixEntry| i64::from(e.to_bits());
+        // One loop for the four columns of each row (the translation is the fourth: its own
+        // entry times 2^16, plus the row times this transform's translation).
         for (((row, ti), orow), ot) in m.iter_mut().zip(&mut t).zip(&other.m).zip(&other.t) {
-            for (j, e) in row.iter_mut().enumerate() {
-                let mut acc: i64 = 0;
-                for (o, srow) in orow.iter().zip(&self.m) {
-                    acc = acc.saturating_add(bits(o) * srow.get(j).map_or(0, bits));
+            for (j, e) in row.iter_mut().chain(core::iter::once(ti)).enumerate() {
+                let mut acc: i64 = if j == 3 { bits(ot) << 16 } else { 0 };
+                for ((o, srow), st) in orow.iter().zip(&self.m).zip(&self.t) {
+                    let s = if j == 3 {
+                        bits(st)
+                    } else {
+                        srow.get(j).map_or(0, bits)
+                    };
+                    acc = acc.saturating_add(bits(o) * s);
                 }
                 *e = round_sat_entry(acc);
             }
-            let mut acc: i64 = bits(ot) << 16;
-            for (o, st) in orow.iter().zip(&self.t) {
-                acc = acc.saturating_add(bits(o) * bits(st));
-            }
-            *ti = round_sat_entry(acc);
         }
         Affine3 { m, t }
     }

@@ -274,30 +274,41 @@ impl<const N: usize> Csat<N> {
                     integral(s, t, lo as u32, hi as u32)
                 }
             }
-            TableWrap::Clamp => {
-                let mut acc = [0u32; 4];
-                let a = if lo < 0 {
-                    // -(f - w/2) clut[0]
-                    let c0 = entry(s, t, 0);
-                    let k = lo.unsigned_abs();
-                    acc = [k * c0[0], k * c0[1], k * c0[2], k * c0[3]];
-                    0
-                } else {
-                    lo
-                };
-                let b = if hi > end {
-                    // (f + w/2 - (N - 1)) clut[N - 1]
-                    let cl = entry(s, t, N - 1);
-                    let k = (hi - end) as u32;
-                    acc = add4(acc, [k * cl[0], k * cl[1], k * cl[2], k * cl[3]]);
-                    end
-                } else {
-                    hi
-                };
-                add4(acc, integral(s, t, a as u32, b as u32))
-            }
+            TableWrap::Clamp => return self.clamp_window(lo, hi),
         };
         divide(num, d)
+    }
+
+    /// The end-extended table (entry 0 before it, entry `N - 1` after it) averaged over
+    /// `[lo, hi]` in 1/256 entry, `lo < hi`, `-256 (N + 1) <= lo` and `hi <= 256 (2 N + 1)`
+    /// (every lane product and sum then fits `u32`): a `clamp` table's window crossing its ends.
+    #[cfg_attr(texcore_lean, inline(never))]
+    fn clamp_window(&self, lo: i32, hi: i32) -> Rgba8888 {
+        let (s, t) = (&self.sums[..], self.total);
+        let end = (N as i32) << 8;
+        let mut acc = [0u32; 4];
+        let a = if lo < 0 {
+            // -(f - w/2) clut[0]
+            let c0 = entry(s, t, 0);
+            let k = lo.unsigned_abs();
+            acc = [k * c0[0], k * c0[1], k * c0[2], k * c0[3]];
+            0
+        } else {
+            lo
+        };
+        let b = if hi > end {
+            // (f + w/2 - (N - 1)) clut[N - 1]
+            let cl = entry(s, t, N - 1);
+            let k = (hi - end) as u32;
+            acc = add4(acc, [k * cl[0], k * cl[1], k * cl[2], k * cl[3]]);
+            end
+        } else {
+            hi
+        };
+        divide(
+            add4(acc, integral(s, t, a as u32, b as u32)),
+            (hi - lo) as u32,
+        )
     }
 }
 
@@ -331,24 +342,9 @@ impl<const N: usize> Csat<N> {
         if lo >= end || hi == lo {
             return from_lanes(entry(s, t, N - 1));
         }
-        let d = (hi - lo) as u32;
-        // lo < 0 < hi <= end (x < 0) or 0 <= lo < end < hi (x > N): one end extended.
-        let num = if lo < 0 {
-            let c0 = entry(s, t, 0);
-            let k = lo.unsigned_abs();
-            add4(
-                [k * c0[0], k * c0[1], k * c0[2], k * c0[3]],
-                integral(s, t, 0, hi as u32),
-            )
-        } else {
-            let cl = entry(s, t, N - 1);
-            let k = (hi - end) as u32;
-            add4(
-                [k * cl[0], k * cl[1], k * cl[2], k * cl[3]],
-                integral(s, t, lo as u32, end as u32),
-            )
-        };
-        divide(num, d)
+        // lo < 0 < hi <= end (x < 0) or 0 <= lo < end < hi (x > N): one end extended, and
+        // lo >= -256 (N + 1), hi <= 256 (2 N + 1) (x is limited as `clamp_box_x` limits it).
+        self.clamp_window(lo, hi)
     }
 
     /// [`Csat::box_filter`] for tables of at most 256 entries, with the two end entries read from

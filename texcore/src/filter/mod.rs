@@ -191,7 +191,24 @@ impl<const N: usize> ColorStage<N> {
     /// per pixel. Stops at the shorter slice.
     #[cfg_attr(not(any(feature = "csat", feature = "mip")), allow(unused_variables))]
     #[inline]
-    pub fn shade_each<F: FnMut(Rgba8888)>(&self, f: &[TexValue], w: &[FilterWidth], mut emit: F) {
+    pub fn shade_each<F: FnMut(Rgba8888)>(&self, f: &[TexValue], w: &[FilterWidth], emit: F) {
+        // The size-lean shape keeps one copy of the per-filter code: `shade` per pair.
+        #[cfg(texcore_lean)]
+        {
+            let mut emit = emit;
+            for (&f, &w) in f.iter().zip(w) {
+                emit(self.shade(f, w));
+            }
+        }
+        #[cfg(not(texcore_lean))]
+        self.shade_each_fast(f, w, emit);
+    }
+
+    /// [`ColorStage::shade_each`] with the filter chosen once for the run (the fast shape).
+    #[cfg(not(texcore_lean))]
+    #[cfg_attr(not(any(feature = "csat", feature = "mip")), allow(unused_variables))]
+    #[inline]
+    fn shade_each_fast<F: FnMut(Rgba8888)>(&self, f: &[TexValue], w: &[FilterWidth], mut emit: F) {
         let pairs = f.iter().zip(w);
         let (wrap, lookup) = (self.wrap, self.lookup);
         match &self.filter {
