@@ -285,9 +285,13 @@ pub fn flight() -> Result<Scene, SceneError> {
             let m = o.tex_map.matrix();
             // R^T z: the world's z in object space (the third row of the rotation).
             let z = o.transform.matrix()[2].map(|e| e.to_bits());
-            let d = [0, 1, 2].map(|k| {
-                let u: i64 = (0..3)
-                    .map(|j| (i64::from(m[k][j].to_bits()) * i64::from(z[j])) >> 16)
+            // Iterators, not indices: no bounds check at any opt-level (the firmware's
+            // panic-never check links this).
+            let d = m.map(|row| {
+                let u: i64 = row
+                    .iter()
+                    .zip(&z)
+                    .map(|(e, zj)| (i64::from(e.to_bits()) * i64::from(*zj)) >> 16)
                     .sum();
                 (-(u * i64::from(FLIGHT_SPEED)) >> 16) as i32
             });
