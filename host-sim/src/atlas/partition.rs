@@ -99,24 +99,7 @@ impl Partition {
 }
 
 fn count_components(adj: &[Vec<u32>], faces: &[u32]) -> usize {
-    let set: std::collections::HashSet<u32> = faces.iter().copied().collect();
-    let mut seen = std::collections::HashSet::new();
-    let mut n = 0;
-    for &f in faces {
-        if !seen.insert(f) {
-            continue;
-        }
-        n += 1;
-        let mut q = VecDeque::from([f]);
-        while let Some(x) = q.pop_front() {
-            for &y in &adj[x as usize] {
-                if set.contains(&y) && seen.insert(y) {
-                    q.push_back(y);
-                }
-            }
-        }
-    }
-    n
+    components_of(adj, faces).len()
 }
 
 /// Splits `faces` (at most `2 leaves` of them) over `leaves` leaves in Z order.
@@ -198,6 +181,37 @@ fn peripheral(adj: &[Vec<u32>], start: u32, inside: &dyn Fn(u32) -> bool) -> u32
     last
 }
 
+/// The faces next to a growing region, each with its neighbours in the region and the order it
+/// was first reached: [`Frontier::pop`] takes the one with the most neighbours, the earliest
+/// reached on ties (so the growth is the same on every run).
+#[derive(Default)]
+struct Frontier {
+    faces: HashMap<u32, (u32, usize)>,
+    reached: usize,
+}
+
+impl Frontier {
+    /// One more neighbour of `face` is in the region.
+    fn touch(&mut self, face: u32) {
+        let reached = &mut self.reached;
+        let e = self.faces.entry(face).or_insert_with(|| {
+            *reached += 1;
+            (0, *reached)
+        });
+        e.0 += 1;
+    }
+
+    /// Removes and returns the next face to take.
+    fn pop(&mut self) -> Option<u32> {
+        let (&x, _) = self
+            .faces
+            .iter()
+            .max_by(|a, b| a.1 .0.cmp(&b.1 .0).then(b.1 .1.cmp(&a.1 .1)))?;
+        self.faces.remove(&x);
+        Some(x)
+    }
+}
+
 /// Grows a region over the faces of the node (`member`), `n` faces, from a peripheral face: the
 /// next face is always the frontier face with the most neighbours already in the region
 /// (earliest reached on ties), which keeps the region round and leaves no bays that would cut
@@ -210,25 +224,16 @@ fn grow(adj: &[Vec<u32>], faces: &[u32], n: usize, member: &[bool]) -> HashSet<u
             break;
         };
         let seed = peripheral(adj, start, &|y| member[y as usize] && !taken.contains(&y));
-        // Frontier: face -> (neighbours in the region, order reached).
-        let mut frontier: HashMap<u32, (u32, usize)> = HashMap::from([(seed, (0, 0))]);
-        let mut reached = 1usize;
+        let mut frontier = Frontier::default();
+        frontier.touch(seed);
         while taken.len() < n {
-            let Some((&x, _)) = frontier
-                .iter()
-                .max_by(|a, b| a.1 .0.cmp(&b.1 .0).then(b.1 .1.cmp(&a.1 .1)))
-            else {
+            let Some(x) = frontier.pop() else {
                 break;
             };
-            frontier.remove(&x);
             taken.insert(x);
             for &y in &adj[x as usize] {
                 if member[y as usize] && !taken.contains(&y) {
-                    let e = frontier.entry(y).or_insert_with(|| {
-                        reached += 1;
-                        (0, reached)
-                    });
-                    e.0 += 1;
+                    frontier.touch(y);
                 }
             }
         }
@@ -293,39 +298,23 @@ fn repair(adj: &[Vec<u32>], faces: &[u32], taken: &mut HashSet<u32>, member: &[b
             return;
         }
         // Give back `moved` faces, growing the main component into the region.
-        let in_main: HashSet<u32> = comps[main].iter().copied().collect();
-        let mut grown = in_main;
-        let mut frontier: HashMap<u32, (u32, usize)> = HashMap::new();
-        let mut reached = 0usize;
+        let mut frontier = Frontier::default();
         for &x in &comps[main] {
             for &y in &adj[x as usize] {
                 if member[y as usize] && taken.contains(&y) {
-                    let e = frontier.entry(y).or_insert_with(|| {
-                        reached += 1;
-                        (0, reached)
-                    });
-                    e.0 += 1;
+                    frontier.touch(y);
                 }
             }
         }
         while moved > 0 {
-            let Some((&x, _)) = frontier
-                .iter()
-                .max_by(|a, b| a.1 .0.cmp(&b.1 .0).then(b.1 .1.cmp(&a.1 .1)))
-            else {
+            let Some(x) = frontier.pop() else {
                 break;
             };
-            frontier.remove(&x);
             taken.remove(&x);
-            grown.insert(x);
             moved -= 1;
             for &y in &adj[x as usize] {
                 if member[y as usize] && taken.contains(&y) {
-                    let e = frontier.entry(y).or_insert_with(|| {
-                        reached += 1;
-                        (0, reached)
-                    });
-                    e.0 += 1;
+                    frontier.touch(y);
                 }
             }
         }
