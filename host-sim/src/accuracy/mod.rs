@@ -224,6 +224,51 @@ pub struct RowReport {
     pub host_bake_ms: Option<f64>,
 }
 
+impl RowReport {
+    /// A row of `knob = setting` (device job `id`) with nothing measured yet: no errors, no
+    /// timings, no device counts, not a combination, not the baseline.
+    pub fn unmeasured(
+        knob: &'static str,
+        setting: &'static str,
+        id: &'static str,
+        config: String,
+        code_features: String,
+    ) -> RowReport {
+        RowReport {
+            knob,
+            setting,
+            id,
+            combination: false,
+            baseline: false,
+            config,
+            reference: "",
+            psnr: 0.0,
+            max_error: 0.0,
+            mean_error: 0.0,
+            within_one_step: 0.0,
+            base: None,
+            supersampled: None,
+            scene: None,
+            scene_supersampled: None,
+            flicker: None,
+            flicker_nocull: None,
+            host_ns_per_pixel: 0.0,
+            host_ns_min: 0.0,
+            host_ns_max: 0.0,
+            host_runs: 0,
+            device_instructions_per_pixel: BTreeMap::new(),
+            device_setup_instructions: BTreeMap::new(),
+            device_checksum_match: BTreeMap::new(),
+            code_size: None,
+            code_features,
+            checksum: String::new(),
+            pareto: false,
+            atlas_texels_baked: None,
+            host_bake_ms: None,
+        }
+    }
+}
+
 /// The whole report.
 #[derive(Clone, Debug)]
 pub struct Report {
@@ -352,38 +397,15 @@ pub fn run(quick: bool, policy: DevicePolicy, log: &mut dyn FnMut(&str)) -> Resu
         .map(|row| -> Result<_, String> {
             let cfg = &row.cfg;
             let mut precision_image = None;
-            let mut r = RowReport {
-                knob: row.knob.name(),
-                setting: row.setting,
-                id: row.id,
-                combination: row.combination,
-                baseline: *cfg == BASELINE,
-                config: describe(cfg),
-                reference: "",
-                psnr: 0.0,
-                max_error: 0.0,
-                mean_error: 0.0,
-                within_one_step: 0.0,
-                base: None,
-                supersampled: None,
-                scene: None,
-                scene_supersampled: None,
-                flicker: None,
-                flicker_nocull: None,
-                host_ns_per_pixel: 0.0,
-                host_ns_min: 0.0,
-                host_ns_max: 0.0,
-                host_runs: 0,
-                device_instructions_per_pixel: BTreeMap::new(),
-                device_setup_instructions: BTreeMap::new(),
-                device_checksum_match: BTreeMap::new(),
-                code_size: None,
-                code_features: codesize::feature_set(cfg),
-                checksum: String::new(),
-                pareto: false,
-                atlas_texels_baked: None,
-                host_bake_ms: None,
-            };
+            let mut r = RowReport::unmeasured(
+                row.knob.name(),
+                row.setting,
+                row.id,
+                describe(cfg),
+                codesize::feature_set(cfg),
+            );
+            r.combination = row.combination;
+            r.baseline = *cfg == BASELINE;
             if let Some(mode) = cfg.perspective {
                 let scene = measure::static_scene(mode).ok_or("no seascape")?;
                 let img = measure::scene_image(cfg, &scene).ok_or("seascape render failed")?;
@@ -523,6 +545,7 @@ pub fn run(quick: bool, policy: DevicePolicy, log: &mut dyn FnMut(&str)) -> Resu
     })
 }
 
+/// Sets a row's primary errors (`psnr`, `max_error`, `mean_error`, `within_one_step`).
 fn set_primary(r: &mut RowReport, m: &Metrics) {
     r.psnr = m.psnr;
     r.max_error = m.max_error;

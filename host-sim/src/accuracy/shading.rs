@@ -29,12 +29,12 @@ use texcore::scene::Scene;
 
 use super::device::DevicePolicy;
 use super::device_jobs::BASELINE;
-use super::{codesize, measure, ErrorSummary, RowReport, Settings};
+use super::{codesize, measure, set_primary, ErrorSummary, RowReport, Settings};
 use crate::atlas::scene::render_via_atlas;
 use crate::atlas::view::Sampling;
 use crate::atlas::AtlasKind;
 use crate::device::{self, DeviceError, DeviceTarget, RunOptions};
-use crate::metrics::{compare_rgba8, Metrics};
+use crate::metrics::compare_rgba8;
 use crate::report::{self, atlas as dev_atlas, cycles};
 use crate::scenes::{self, HostScene};
 
@@ -92,45 +92,9 @@ const ATLAS_SET: (&str, &[&str]) = (
 );
 
 fn row(setting: &'static str, id: &'static str, config: String, features: &str) -> RowReport {
-    RowReport {
-        knob: "shading",
-        setting,
-        id,
-        combination: false,
-        baseline: false,
-        config,
-        reference: "the same frame of the marble scene shaded procedurally",
-        psnr: 0.0,
-        max_error: 0.0,
-        mean_error: 0.0,
-        within_one_step: 0.0,
-        base: None,
-        supersampled: None,
-        scene: None,
-        scene_supersampled: None,
-        flicker: None,
-        flicker_nocull: None,
-        host_ns_per_pixel: 0.0,
-        host_ns_min: 0.0,
-        host_ns_max: 0.0,
-        host_runs: 0,
-        device_instructions_per_pixel: BTreeMap::new(),
-        device_setup_instructions: BTreeMap::new(),
-        device_checksum_match: BTreeMap::new(),
-        code_size: None,
-        code_features: features.to_string(),
-        checksum: String::new(),
-        pareto: false,
-        atlas_texels_baked: None,
-        host_bake_ms: None,
-    }
-}
-
-fn set_errors(r: &mut RowReport, m: &Metrics) {
-    r.psnr = m.psnr;
-    r.max_error = m.max_error;
-    r.mean_error = m.mean_error;
-    r.within_one_step = m.within_one_step;
+    let mut r = RowReport::unmeasured("shading", setting, id, config, features.to_string());
+    r.reference = "the same frame of the marble scene shaded procedurally";
+    r
 }
 
 /// Median, fastest and slowest of `t`.
@@ -178,7 +142,7 @@ pub fn host_rows(
         PROCEDURAL_SET.0,
     );
     r.reference = "the procedural frame itself";
-    set_errors(
+    set_primary(
         &mut r,
         &compare_rgba8(&proc_img, &proc_img).map_err(|e| e.to_string())?,
     );
@@ -218,7 +182,7 @@ pub fn host_rows(
             ),
             ATLAS_SET.0,
         );
-        set_errors(
+        set_primary(
             &mut r,
             &compare_rgba8(&first.frame.pixels, &proc_img).map_err(|e| e.to_string())?,
         );
@@ -297,7 +261,7 @@ fn device_row(
         ATLAS_SET.0,
     );
     r.reference = "the same frame shaded procedurally, both in RGB565";
-    set_errors(
+    set_primary(
         &mut r,
         &compare_rgba8(&img, &proc565).map_err(|e| e.to_string())?,
     );
