@@ -411,6 +411,22 @@ impl Prepared {
         })
     }
 
+    /// What the textured-triangle path needs beyond coverage and depth: the edge functions
+    /// (`[E_i(0, 0), dE_i/dx, dE_i/dy]`), whether they all fit `i32`, the vertex `1/w`, the
+    /// vertex texture coordinates (raw) and the doubled signed area.
+    #[cfg(feature = "atlas")]
+    pub(crate) fn homogeneous_parts(
+        &self,
+    ) -> (&[[i64; 3]; 3], bool, [u32; 3], &[[i64; 3]; 3], i128) {
+        (
+            &self.basis.e,
+            self.basis.narrow,
+            self.inv_w,
+            &self.tex,
+            self.setup.area2,
+        )
+    }
+
     /// The coverage of the triangle.
     pub(crate) fn coverage(&self) -> Coverage {
         self.setup.cov
