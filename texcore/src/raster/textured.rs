@@ -24,6 +24,7 @@
 //! - Integer arithmetic only, the same code on every target: host = device bit for bit. Never
 //!   panics; a colour band shorter than the depth buffer's rectangle draws nothing.
 
+use super::setup::HomogeneousParts;
 use super::{DepthBuffer, Perspective, Rasterizer, ScreenVertex, Segment, TriangleOptions};
 
 /// An RGB565 texture of `side x side` texels (`side` a power of two, 1 to 128), row-major.
@@ -86,17 +87,11 @@ struct Homogeneous {
 }
 
 impl Homogeneous {
-    /// The planes for edge functions `e`, vertex `1/w` `inv_w`, texture coordinates `tex` (raw
-    /// `Q16.16`), doubled area `area2`; `None` when the fast path does not apply.
-    fn new(
-        e: &[[i64; 3]; 3],
-        narrow: bool,
-        inv_w: [u32; 3],
-        tex: &[[i64; 3]; 3],
-        area2: i128,
-        affine: bool,
-        tx: &Texture565<'_>,
-    ) -> Option<Homogeneous> {
+    /// The planes of a prepared triangle (its edge functions, vertex `1/w`, texture coordinates
+    /// and doubled area) for texture `tx`; `None` when the fast path does not apply.
+    fn new(parts: &HomogeneousParts<'_>, affine: bool, tx: &Texture565<'_>) -> Option<Homogeneous> {
+        let (e, narrow, inv_w, tex, area2) =
+            (parts.e, parts.narrow, parts.inv_w, parts.tex, parts.area2);
         let mag = u32::try_from(area2.unsigned_abs()).ok()?;
         if !narrow || mag == 0 {
             return None;
@@ -178,9 +173,8 @@ impl Rasterizer {
         let Ok(pre) = &r else {
             return;
         };
-        let (e, narrow, inv_w, tx, area2) = pre.homogeneous_parts();
         let affine = opts.perspective == Perspective::Affine;
-        let Some(h) = Homogeneous::new(e, narrow, inv_w, tx, area2, affine, tex) else {
+        let Some(h) = Homogeneous::new(&pre.homogeneous_parts(), affine, tex) else {
             return self.draw_textured_general(v, opts, depth, tex, colour, stride);
         };
         let plane = pre.depth_plane();
