@@ -65,7 +65,7 @@
 //!
 //! - `rtt`: log over RTT (`defmt-rtt`, real hardware with probe-rs) instead of semihosting.
 //! - `dwt`: Cortex-M hardware cycle counter (DWT CYCCNT) instead of the QEMU SysTick vernier.
-//! - `peers`: run the peer-comparison jobs ([`peers`], `texsim report peers`) instead of the
+//! - `peers`: run the peer-comparison jobs (`workloads::peer_jobs`, `texsim report peers`) instead of the
 //!   default jobs: texcore next to `fastnoise-lite`; `peers-band` shortens them to one band.
 //! - `panic-never`: the panic handler calls an undefined symbol, so the release link fails if
 //!   any panicking path survives optimisation; `firmware/check-panic-never.sh` builds it for both
@@ -107,10 +107,6 @@ pub mod guard;
 pub mod harness;
 #[cfg(all(target_os = "none", not(feature = "rtt")))]
 mod logger;
-#[cfg(all(target_os = "none", feature = "peers"))]
-pub mod peer_jobs;
-#[cfg(all(target_os = "none", feature = "peers"))]
-pub mod peers;
 #[cfg(target_os = "none")]
 pub mod stack;
 
