@@ -420,7 +420,7 @@ fn check(target: DeviceTarget) {
         );
     }
 
-    // The peers' plane workloads (`firmware/src/peers_workload.rs`), per sample.
+    // The peers' plane workloads (`workloads/src/peers_workload.rs`), per sample.
     for w in report::peers_workload::WORKLOADS {
         let name = format!("peers:{}", w.name);
         let row = rows
