@@ -94,6 +94,9 @@ impl<'m, const T: usize> EvalCore<'m, T> {
         let fv = m.noise_frac_bits();
         let vb = m.precision().value_bits();
         let grads = GRADIENTS && self.opts.gradients;
+        if !grads {
+            return self.run_lanes(len, setup, strategies, sink);
+        }
         let len = u32::from(len);
         let qc = setup.quad.c;
         let affine = qc[2] == 0 && setup.gqx[1] == 0 && setup.gqy[1] == 0;

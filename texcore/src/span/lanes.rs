@@ -1,0 +1,261 @@
+//! The axial kernel lane by lane: the spans of the axial kernel (`axial`) without gradients,
+//! evaluated one term at a time over each chunk of samples instead of through one merged state.
+//!
+//! On such a span every term is linear inside its cell (`axis`): its value at the next pixel
+//! `v` and its slope `s` are two words, and a pixel is one 64-bit addition `v += s`. Each term
+//! (a *lane*) walks the chunk on its own: the first lane stores its values to a chunk of
+//! accumulators, the next ones add theirs, and the last one adds its values and writes the
+//! sample (`f = (N >> fv) >> 32` with a zero quadric; otherwise a pass over the accumulators
+//! adds the quadric). A lane's cell event happens inside its own walk, so there is no segment
+//! loop over the lanes at every event, and nothing is subtracted at an exit: the new cell's
+//! polynomial simply replaces the lane's `(v, s)`. A span of one lane writes its samples
+//! directly, without accumulators.
+//!
+//! Exactness: a lane's `v` at pixel `j` of its cell is `g0 + j g1` of the cell polynomial
+//! (`axis::poly`), the term's value in the merged loop, and every sum is wrapping modulo 2^64
+//! as the merged state's, so the sums (in any order of the terms) and the samples are the
+//! merged loop's, and so are the counters (tested against `Direct`, the merged loop of the
+//! size-lean shape and the axial kernel with gradients).
+
+use super::*;
+use crate::noise::value::{face_keys, keyed_face_bits};
+
+/// One term of the lane kernel.
+#[derive(Clone, Copy, Debug)]
+struct ValueLane {
+    /// Pixels before the term's next cell event.
+    left: u32,
+    /// The term's value at the next pixel, and its step a pixel.
+    v: i64,
+    s: i64,
+    /// The moving axis (0..=2).
+    k: usize,
+    /// The lattice coordinate along `k` at pixel 0 of the span, and its step a pixel.
+    u0: i32,
+    d: i32,
+    /// The current cell and fractions (the two axes other than `k` never change).
+    cell: [u16; 3],
+    frac: [u32; 3],
+    /// The blends `Phi` of the current cell's faces `c_k = 0` and `c_k = 1`.
+    phi: [i64; 2],
+    /// The hash work shared by every face of the lane (`noise::value::face_keys`).
+    keys: [u32; 4],
+    hash: HashKind,
+    amp: i32,
+}
+
+impl ValueLane {
+    /// The blend of face `b` of the current cell.
+    #[inline(always)]
+    fn blend(&self, b: usize, fv: u32, vb: u32) -> i64 {
+        let k = self.k.min(2); // always 0..=2: lets the compiler drop the bounds checks
+        let (h, keys, cell, b16, amp) = (self.hash, &self.keys, self.cell, b as u16, self.amp);
+        let w = match k {
+            0 => keyed_face_bits::<0>(h, keys, cell, b16, amp, fv, vb),
+            1 => keyed_face_bits::<1>(h, keys, cell, b16, amp, fv, vb),
+            _ => keyed_face_bits::<2>(h, keys, cell, b16, amp, fv, vb),
+        };
+        face(&w, k, self.frac, [0; 3], false).phi()
+    }
+
+    /// Sets `(v, s)` from the current cell's faces: the cell polynomial at its local pixel 0
+    /// and its step (`axis::poly`'s `g[0]` and `g[1]`).
+    #[inline(always)]
+    fn start(&mut self) {
+        let k = self.k.min(2);
+        let [p0, p1] = self.phi;
+        let dphi = wsub(p1, p0);
+        self.v = wadd(p0 << 16, wmul(dphi, i64::from(self.frac[k])));
+        self.s = wmul(dphi, i64::from(self.d));
+    }
+
+    /// The cell event at span pixel `i`: into the next cell along `k` (the shared face kept).
+    #[inline(always)]
+    fn event(&mut self, i: u32, fv: u32, vb: u32) {
+        let k = self.k.min(2);
+        let uk = self.u0.wrapping_add(self.d.wrapping_mul(i as i32));
+        let cell = (uk >> 16) as u16;
+        let step = match self.cell.get(k) {
+            Some(&c) => cell.wrapping_sub(c),
+            None => 0,
+        };
+        let fk = (uk & 0xFFFF) as u32;
+        if let (Some(c), Some(f)) = (self.cell.get_mut(k), self.frac.get_mut(k)) {
+            *c = cell;
+            *f = fk;
+        }
+        self.phi = match step {
+            1 => [self.phi[1], self.blend(1, fv, vb)],
+            0xFFFF => [self.blend(0, fv, vb), self.phi[0]],
+            _ => [self.blend(0, fv, vb), self.blend(1, fv, vb)],
+        };
+        self.start();
+        self.left = pixels_in_cell_axis(fk, self.d);
+    }
+}
+
+/// What a lane does with its values over a chunk.
+#[derive(Clone, Copy, PartialEq, Eq)]
+enum Role {
+    /// The only lane, zero quadric: writes the samples.
+    Only,
+    /// The first of several: stores to the accumulators.
+    First,
+    /// A middle one (or the last with a quadric): adds to the accumulators.
+    Add,
+    /// The last of several, zero quadric: adds and writes the samples.
+    Last,
+}
+
+/// `run` pixels of a lane from `(v, s)` into `acc` / `out` (as `role` says).
+#[inline(always)]
+fn walk(role: Role, acc: &mut [i64], out: &mut [TexValue], fvs: u32, v: &mut i64, s: i64) {
+    let mut x = *v;
+    match role {
+        Role::Only => {
+            for o in out.iter_mut() {
+                *o = TexValue::from_bits(((x >> 32) as i32) >> fvs);
+                x = x.wrapping_add(s);
+            }
+        }
+        Role::First => {
+            for a in acc.iter_mut() {
+                *a = x;
+                x = x.wrapping_add(s);
+            }
+        }
+        Role::Add => {
+            for a in acc.iter_mut() {
+                *a = a.wrapping_add(x);
+                x = x.wrapping_add(s);
+            }
+        }
+        Role::Last => {
+            for (o, a) in out.iter_mut().zip(acc.iter()) {
+                *o = TexValue::from_bits(((a.wrapping_add(x) >> 32) as i32) >> fvs);
+                x = x.wrapping_add(s);
+            }
+        }
+    }
+    *v = x;
+}
+
+impl<'m, const T: usize> EvalCore<'m, T> {
+    /// The axial kernel without gradients, lane by lane (see the module documentation); the
+    /// span must have been accepted by `merged_takes` and `axial_takes`.
+    #[inline(never)]
+    pub(super) fn run_lanes(
+        &mut self,
+        len: u16,
+        setup: &Setup<T>,
+        strategies: &[Strategy; T],
+        sink: &mut ChunkSink<'_, '_>,
+    ) {
+        let m = self.model;
+        let fv = m.noise_frac_bits();
+        let fvs = fv & 31;
+        let vb = m.precision().value_bits();
+        let len = u32::from(len);
+        let qc = setup.quad.c;
+        let affine = qc[2] == 0;
+        let (mut qq, mut dq, ddq) = (
+            qc[0] as i64,
+            qc[1].wrapping_add(qc[2]) as i64,
+            qc[2].wrapping_mul(2) as i64,
+        );
+        let noq = qq == 0 && dq == 0 && ddq == 0;
+
+        let mut lanes: heapless::Vec<ValueLane, T> = heapless::Vec::new();
+        for ((term, st), ts) in m.terms().iter().zip(strategies).zip(setup.terms.iter()) {
+            if *st == Strategy::Off {
+                continue;
+            }
+            let Some(k) = single_axis(ts.du) else {
+                continue;
+            };
+            let k = k.min(2);
+            let (cell, frac) = split(ts.u0);
+            let d = ts.du[k];
+            let mut lane = ValueLane {
+                left: pixels_in_cell_axis(frac[k], d),
+                v: 0,
+                s: 0,
+                k,
+                u0: ts.u0[k],
+                d,
+                cell,
+                frac,
+                phi: [0; 2],
+                keys: match k {
+                    0 => face_keys::<0>(term.basis.hash, cell),
+                    1 => face_keys::<1>(term.basis.hash, cell),
+                    _ => face_keys::<2>(term.basis.hash, cell),
+                },
+                hash: term.basis.hash,
+                amp: ts.amp,
+            };
+            lane.phi = [lane.blend(0, fv, vb), lane.blend(1, fv, vb)];
+            lane.start();
+            // At most T terms: never full.
+            let _ = lanes.push(lane);
+        }
+        let nl = lanes.len();
+        let mut setups = nl as u64;
+
+        let mut acc = [0i64; SAMPLE_CHUNK];
+        let mut i = 0u32;
+        while i < len {
+            let n = ((len - i) as usize).min(sink.room());
+            let at = sink.chunk.len;
+            let (Some(out), Some(acc)) = (sink.chunk.f.get_mut(at..at + n), acc.get_mut(..n))
+            else {
+                break;
+            };
+            for (li, t) in lanes.iter_mut().enumerate() {
+                let role = match (li == 0, li + 1 == nl && noq) {
+                    (true, true) => Role::Only,
+                    (true, false) => Role::First,
+                    (false, true) => Role::Last,
+                    (false, false) => Role::Add,
+                };
+                let mut j = 0usize;
+                loop {
+                    let run = (n - j).min(t.left as usize);
+                    if let (Some(a), Some(o)) = (acc.get_mut(j..j + run), out.get_mut(j..j + run)) {
+                        walk(role, a, o, fvs, &mut t.v, t.s);
+                    }
+                    j += run;
+                    t.left -= run as u32;
+                    if t.left == 0 && i + (j as u32) < len {
+                        t.event(i + j as u32, fv, vb);
+                        setups += 1;
+                    }
+                    if j >= n {
+                        break;
+                    }
+                }
+            }
+            if !noq {
+                for (o, &a) in out.iter_mut().zip(acc.iter()) {
+                    *o = TexValue::from_bits((qq.wrapping_add(a >> fvs) >> 32) as i32);
+                    qq = qq.wrapping_add(dq);
+                    if !affine {
+                        dq = dq.wrapping_add(ddq);
+                    }
+                }
+            }
+            sink.advance(n);
+            i += n as u32;
+        }
+
+        let px = u64::from(len);
+        let st = &mut self.stats;
+        st.cell_setups += setups;
+        st.noise_evaluations += px * nl as u64;
+        st.fd_pixels += px;
+        #[cfg(test)]
+        {
+            self.axial_spans += 1;
+        }
+    }
+}
