@@ -61,22 +61,9 @@ pub fn perm_hash(x: u16, y: u16, z: u16) -> u8 {
 /// Table-free integer hash of a lattice point (32 well-mixed bits, period 2^16 per axis).
 #[inline]
 pub fn int_hash(x: u16, y: u16, z: u16) -> u32 {
-    let [mx, my, mz] = INT_HASH_MUL;
-    int_hash_mix(
-        u32::from(x).wrapping_mul(mx)
-            ^ u32::from(y).wrapping_mul(my)
-            ^ u32::from(z).wrapping_mul(mz),
-    )
-}
-
-/// The per-axis multipliers of [`int_hash`] (its first step is the exclusive or of the three
-/// coordinates' products).
-pub(crate) const INT_HASH_MUL: [u32; 3] = [0x9E37_79B1, 0x85EB_CA77, 0xC2B2_AE3D];
-
-/// The mixing rounds of [`int_hash`] after its first step (so a caller that keeps the products
-/// of constant coordinates hashes exactly as [`int_hash`]).
-#[inline(always)]
-pub(crate) fn int_hash_mix(mut h: u32) -> u32 {
+    let mut h = u32::from(x).wrapping_mul(0x9E37_79B1)
+        ^ u32::from(y).wrapping_mul(0x85EB_CA77)
+        ^ u32::from(z).wrapping_mul(0xC2B2_AE3D);
     h ^= h >> 15;
     h = h.wrapping_mul(0x2C1B_3C6D);
     h ^= h >> 12;

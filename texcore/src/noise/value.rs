@@ -120,12 +120,6 @@ pub fn scaled_face_bits<const K: usize>(
             )
         }),
     };
-    scale_face(raw, amp_raw, shift, round, value_bits)
-}
-
-/// The scaled values of a face's four raw corner values (the end of [`scaled_face_bits`]).
-#[inline(always)]
-fn scale_face(raw: [i16; 4], amp_raw: i32, shift: u32, round: i64, value_bits: u32) -> [i32; 4] {
     let scale = |v: i16| {
         let v = if value_bits < 16 {
             quantize_value(v, value_bits)
@@ -140,92 +134,6 @@ fn scale_face(raw: [i16; 4], amp_raw: i32, shift: u32, round: i64, value_bits: u
     return [scale(raw[0]), scale(raw[1]), scale(raw[2]), scale(raw[3])];
     #[cfg(texcore_lean)]
     raw.map(scale)
-}
-
-/// The hash work of the faces `c_k = b` (`K = k`) that stays the same for every cell along axis
-/// `k` (the two other cell coordinates fixed), per face corner (order `ca | cc << 1`): for the
-/// integer hash the exclusive or of the two other coordinates' products, for the permutation
-/// chain the look-ups before the `k` coordinate enters it (none for `k = 0`). A lane moving
-/// along `k` computes them once ([`keyed_face_bits`]).
-#[cfg(not(texcore_lean))]
-#[inline(always)]
-pub fn face_keys<const K: usize>(hash: HashKind, cell: [u16; 3]) -> [u32; 4] {
-    let key = |i: usize| -> u32 {
-        let (ca, cc) = ((i & 1) as u16, (i >> 1) as u16);
-        // The two other axes of face corner `i` and their offsets.
-        let (a, oa, c, oc) = match K {
-            0 => (1, ca, 2, cc),
-            1 => (0, ca, 2, cc),
-            _ => (0, ca, 1, cc),
-        };
-        match hash {
-            #[cfg(feature = "perm-hash")]
-            HashKind::Permutation => {
-                let p = &crate::hash::PERMUTATION;
-                let x = (cell[0] as u8).wrapping_add(ca as u8);
-                match K {
-                    0 => 0,
-                    1 => u32::from(p[usize::from(x)]),
-                    _ => {
-                        let y = (cell[1] as u8).wrapping_add(cc as u8);
-                        u32::from(p[usize::from(p[usize::from(x)].wrapping_add(y))])
-                    }
-                }
-            }
-            HashKind::Integer => {
-                let m = crate::hash::INT_HASH_MUL;
-                u32::from(cell[a].wrapping_add(oa)).wrapping_mul(m[a])
-                    ^ u32::from(cell[c].wrapping_add(oc)).wrapping_mul(m[c])
-            }
-        }
-    };
-    [key(0), key(1), key(2), key(3)]
-}
-
-/// [`scaled_face_bits`] from the face's [`face_keys`] (computed for a cell with the same two
-/// other coordinates): bit-identical, with the constant part of the hash work done once.
-#[cfg(not(texcore_lean))]
-#[inline(always)]
-pub fn keyed_face_bits<const K: usize>(
-    hash: HashKind,
-    keys: &[u32; 4],
-    cell: [u16; 3],
-    b: u16,
-    amp_raw: i32,
-    fv: u32,
-    value_bits: u32,
-) -> [i32; 4] {
-    let shift = 31 - fv.min(16);
-    let round = 1i64 << (shift - 1);
-    let ck = cell[K.min(2)].wrapping_add(b);
-    let raw: [i16; 4] = match hash {
-        #[cfg(feature = "perm-hash")]
-        HashKind::Permutation => {
-            if K == 0 {
-                return scaled_face_bits::<K>(hash, cell, b, amp_raw, fv, value_bits);
-            }
-            let p = &crate::hash::PERMUTATION;
-            let z = cell[2] as u8;
-            let ck = ck as u8;
-            corners4(|i: usize| {
-                let cc = (i >> 1) as u8;
-                let k = keys[i] as u8;
-                let h = if K == 1 {
-                    p[usize::from(
-                        p[usize::from(k.wrapping_add(ck))].wrapping_add(z.wrapping_add(cc)),
-                    )]
-                } else {
-                    p[usize::from(k.wrapping_add(ck))]
-                };
-                (i32::from(h) * 257 - 32768) as i16
-            })
-        }
-        HashKind::Integer => {
-            let t = u32::from(ck).wrapping_mul(crate::hash::INT_HASH_MUL[K.min(2)]);
-            corners4(|i: usize| (crate::hash::int_hash_mix(keys[i] ^ t) >> 16) as u16 as i16)
-        }
-    };
-    scale_face(raw, amp_raw, shift, round, value_bits)
 }
 
 /// `[v(0), v(1), v(2), v(3)]`: written out in the fast shape (`core::array::from_fn` is not
@@ -469,50 +377,6 @@ mod tests {
                                 assert_eq!(*v, all[idx], "{hash:?} {cell:?} k {k} b {b} i {i}");
                             }
                         }
-                    }
-                }
-            }
-        }
-    }
-
-    #[cfg(not(texcore_lean))]
-    #[test]
-    fn keyed_faces_are_the_faces() {
-        let kinds = [
-            HashKind::Integer,
-            #[cfg(feature = "perm-hash")]
-            HashKind::Permutation,
-        ];
-        for hash in kinds {
-            for cell in [
-                [0u16, 0, 0],
-                [255, 7, 65535],
-                [1234, 40000, 99],
-                [65535, 255, 256],
-            ] {
-                for (amp, fv, vb) in [(65536, 16, 16), (-12345, 3, 9), (32768, 0, 12)] {
-                    for b in 0..2u16 {
-                        // Keys of another cell along the axis: only the other coordinates count.
-                        let moved = |k: usize| {
-                            let mut c = cell;
-                            c[k] = c[k].wrapping_add(777);
-                            c
-                        };
-                        let k0 = face_keys::<0>(hash, moved(0));
-                        let k1 = face_keys::<1>(hash, moved(1));
-                        let k2 = face_keys::<2>(hash, moved(2));
-                        assert_eq!(
-                            keyed_face_bits::<0>(hash, &k0, cell, b, amp, fv, vb),
-                            scaled_face_bits::<0>(hash, cell, b, amp, fv, vb)
-                        );
-                        assert_eq!(
-                            keyed_face_bits::<1>(hash, &k1, cell, b, amp, fv, vb),
-                            scaled_face_bits::<1>(hash, cell, b, amp, fv, vb)
-                        );
-                        assert_eq!(
-                            keyed_face_bits::<2>(hash, &k2, cell, b, amp, fv, vb),
-                            scaled_face_bits::<2>(hash, cell, b, amp, fv, vb)
-                        );
                     }
                 }
             }

@@ -6,7 +6,8 @@
 //! (a *lane*) walks the chunk on its own: the first lane stores its values to a chunk of
 //! accumulators, the next ones add theirs, and the last one adds its values and writes the
 //! sample (`f = (N >> fv) >> 32` with a zero quadric; otherwise a pass over the accumulators
-//! adds the quadric). A lane's cell event happens inside its own walk, so there is no segment
+//! adds the quadric). The accumulators are the chunk's gradient slots (zero without gradients),
+//! zeroed again as they are read, so the span clears no scratch array of its own. A lane's cell event happens inside its own walk, so there is no segment
 //! loop over the lanes at every event, and nothing is subtracted at an exit: the new cell's
 //! polynomial simply replaces the lane's `(v, s)`. A span of one lane writes its samples
 //! directly, without accumulators.
@@ -18,7 +19,6 @@
 //! size-lean shape and the axial kernel with gradients).
 
 use super::*;
-use crate::noise::value::{face_keys, keyed_face_bits};
 
 /// One term of the lane kernel.
 #[derive(Clone, Copy, Debug)]
@@ -38,35 +38,46 @@ struct ValueLane {
     frac: [u32; 3],
     /// The blends `Phi` of the current cell's faces `c_k = 0` and `c_k = 1`.
     phi: [i64; 2],
-    /// The hash work shared by every face of the lane (`noise::value::face_keys`).
-    keys: [u32; 4],
     hash: HashKind,
     amp: i32,
+}
+
+/// The blend `Phi` of face `b` of `cell` for a lane moving along `k` (constant fractions `frac`
+/// on the two other axes).
+#[allow(clippy::too_many_arguments)]
+#[inline(always)]
+fn face_phi(
+    k: usize,
+    hash: HashKind,
+    cell: [u16; 3],
+    frac: [u32; 3],
+    b: usize,
+    amp: i32,
+    fv: u32,
+    vb: u32,
+) -> i64 {
+    let k = k.min(2); // always 0..=2: lets the compiler drop the bounds checks
+    let w = face_bits(k, hash, cell, b, amp, fv, vb);
+    face(&w, k, frac, [0; 3], false).phi()
+}
+
+/// The cell polynomial at its local pixel 0 and its step from the face blends (`axis::poly`'s
+/// `g[0]` and `g[1]`), `fk` the fraction along the moving axis, `d` its step.
+#[inline(always)]
+fn value_and_step(phi: [i64; 2], fk: u32, d: i32) -> (i64, i64) {
+    let [p0, p1] = phi;
+    let dphi = wsub(p1, p0);
+    (
+        wadd(p0 << 16, wmul(dphi, i64::from(fk))),
+        wmul(dphi, i64::from(d)),
+    )
 }
 
 impl ValueLane {
     /// The blend of face `b` of the current cell.
     #[inline(always)]
     fn blend(&self, b: usize, fv: u32, vb: u32) -> i64 {
-        let k = self.k.min(2); // always 0..=2: lets the compiler drop the bounds checks
-        let (h, keys, cell, b16, amp) = (self.hash, &self.keys, self.cell, b as u16, self.amp);
-        let w = match k {
-            0 => keyed_face_bits::<0>(h, keys, cell, b16, amp, fv, vb),
-            1 => keyed_face_bits::<1>(h, keys, cell, b16, amp, fv, vb),
-            _ => keyed_face_bits::<2>(h, keys, cell, b16, amp, fv, vb),
-        };
-        face(&w, k, self.frac, [0; 3], false).phi()
-    }
-
-    /// Sets `(v, s)` from the current cell's faces: the cell polynomial at its local pixel 0
-    /// and its step (`axis::poly`'s `g[0]` and `g[1]`).
-    #[inline(always)]
-    fn start(&mut self) {
-        let k = self.k.min(2);
-        let [p0, p1] = self.phi;
-        let dphi = wsub(p1, p0);
-        self.v = wadd(p0 << 16, wmul(dphi, i64::from(self.frac[k])));
-        self.s = wmul(dphi, i64::from(self.d));
+        face_phi(self.k, self.hash, self.cell, self.frac, b, self.amp, fv, vb)
     }
 
     /// The cell event at span pixel `i`: into the next cell along `k` (the shared face kept).
@@ -89,7 +100,7 @@ impl ValueLane {
             0xFFFF => [self.blend(0, fv, vb), self.phi[0]],
             _ => [self.blend(0, fv, vb), self.blend(1, fv, vb)],
         };
-        self.start();
+        (self.v, self.s) = value_and_step(self.phi, fk, self.d);
         self.left = pixels_in_cell_axis(fk, self.d);
     }
 }
@@ -131,8 +142,9 @@ fn walk(role: Role, acc: &mut [i64], out: &mut [TexValue], fvs: u32, v: &mut i64
             }
         }
         Role::Last => {
-            for (o, a) in out.iter_mut().zip(acc.iter()) {
+            for (o, a) in out.iter_mut().zip(acc.iter_mut()) {
                 *o = TexValue::from_bits(((a.wrapping_add(x) >> 32) as i32) >> fvs);
+                *a = 0;
                 x = x.wrapping_add(s);
             }
         }
@@ -176,39 +188,39 @@ impl<'m, const T: usize> EvalCore<'m, T> {
             let k = k.min(2);
             let (cell, frac) = split(ts.u0);
             let d = ts.du[k];
-            let mut lane = ValueLane {
+            let (hash, amp) = (term.basis.hash, ts.amp);
+            let phi = [
+                face_phi(k, hash, cell, frac, 0, amp, fv, vb),
+                face_phi(k, hash, cell, frac, 1, amp, fv, vb),
+            ];
+            let (v, s) = value_and_step(phi, frac[k], d);
+            let lane = ValueLane {
                 left: pixels_in_cell_axis(frac[k], d),
-                v: 0,
-                s: 0,
+                v,
+                s,
                 k,
                 u0: ts.u0[k],
                 d,
                 cell,
                 frac,
-                phi: [0; 2],
-                keys: match k {
-                    0 => face_keys::<0>(term.basis.hash, cell),
-                    1 => face_keys::<1>(term.basis.hash, cell),
-                    _ => face_keys::<2>(term.basis.hash, cell),
-                },
-                hash: term.basis.hash,
-                amp: ts.amp,
+                phi,
+                hash,
+                amp,
             };
-            lane.phi = [lane.blend(0, fv, vb), lane.blend(1, fv, vb)];
-            lane.start();
             // At most T terms: never full.
             let _ = lanes.push(lane);
         }
         let nl = lanes.len();
         let mut setups = nl as u64;
 
-        let mut acc = [0i64; SAMPLE_CHUNK];
         let mut i = 0u32;
         while i < len {
             let n = ((len - i) as usize).min(sink.room());
             let at = sink.chunk.len;
-            let (Some(out), Some(acc)) = (sink.chunk.f.get_mut(at..at + n), acc.get_mut(..n))
-            else {
+            // The accumulators are the chunk's gradient slots, zero without gradients: they are
+            // zeroed again as they are read, before the chunk is handed over.
+            let c = &mut sink.chunk;
+            let (Some(out), Some(acc)) = (c.f.get_mut(at..at + n), c.gx.get_mut(at..at + n)) else {
                 break;
             };
             for (li, t) in lanes.iter_mut().enumerate() {
@@ -236,8 +248,9 @@ impl<'m, const T: usize> EvalCore<'m, T> {
                 }
             }
             if !noq {
-                for (o, &a) in out.iter_mut().zip(acc.iter()) {
-                    *o = TexValue::from_bits((qq.wrapping_add(a >> fvs) >> 32) as i32);
+                for (o, a) in out.iter_mut().zip(acc.iter_mut()) {
+                    *o = TexValue::from_bits((qq.wrapping_add(*a >> fvs) >> 32) as i32);
+                    *a = 0;
                     qq = qq.wrapping_add(dq);
                     if !affine {
                         dq = dq.wrapping_add(ddq);
