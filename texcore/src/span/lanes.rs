@@ -5,12 +5,12 @@
 //! `v` and its slope `s` are two words, and a pixel is one 64-bit addition `v += s`. Each term
 //! (a *lane*) walks the chunk on its own: the first lane stores its values to a chunk of
 //! accumulators, the next ones add theirs, and the last one adds its values and writes the
-//! sample (`f = (N >> fv) >> 32` with a zero quadric; otherwise a pass over the accumulators
-//! adds the quadric). The accumulators are the chunk's gradient slots (zero without gradients),
-//! zeroed again as they are read, so the span clears no scratch array of its own. A lane's cell event happens inside its own walk, so there is no segment
-//! loop over the lanes at every event, and nothing is subtracted at an exit: the new cell's
-//! polynomial simply replaces the lane's `(v, s)`. A span of one lane writes its samples
-//! directly, without accumulators.
+//! sample (`f = (q + (N >> fv)) >> 32`, the quadric `q` stepped in the same loop; with a zero
+//! quadric `f = (N >> 32) >> fv`); a span of one lane writes its samples directly. The
+//! accumulators are the chunk's gradient slots (zero without gradients), zeroed again as they
+//! are read, so the span clears no scratch array of its own. A lane's cell event happens
+//! inside its own walk, so there is no segment loop over the lanes at every event, and nothing
+//! is subtracted at an exit: the new cell's polynomial simply replaces the lane's `(v, s)`.
 //!
 //! Exactness: a lane's `v` at pixel `j` of its cell is `g0 + j g1` of the cell polynomial
 //! (`axis::poly`), the term's value in the merged loop, and every sum is wrapping modulo 2^64
@@ -108,48 +108,85 @@ impl ValueLane {
 /// What a lane does with its values over a chunk.
 #[derive(Clone, Copy, PartialEq, Eq)]
 enum Role {
-    /// The only lane, zero quadric: writes the samples.
+    /// The only lane: writes the samples.
     Only,
     /// The first of several: stores to the accumulators.
     First,
-    /// A middle one (or the last with a quadric): adds to the accumulators.
+    /// A middle one: adds to the accumulators.
     Add,
-    /// The last of several, zero quadric: adds and writes the samples.
+    /// The last of several: adds to the accumulators and writes the samples.
     Last,
 }
 
-/// `run` pixels of a lane from `(v, s)` into `acc` / `out` (as `role` says).
+/// `run` pixels of a lane from `(v, s)` into the accumulators `acc`.
 #[inline(always)]
-fn walk(role: Role, acc: &mut [i64], out: &mut [TexValue], fvs: u32, v: &mut i64, s: i64) {
+fn walk_acc<const ADD: bool>(acc: &mut [i64], v: &mut i64, s: i64) {
     let mut x = *v;
-    match role {
-        Role::Only => {
-            for o in out.iter_mut() {
-                *o = TexValue::from_bits(((x >> 32) as i32) >> fvs);
-                x = x.wrapping_add(s);
-            }
-        }
-        Role::First => {
-            for a in acc.iter_mut() {
-                *a = x;
-                x = x.wrapping_add(s);
-            }
-        }
-        Role::Add => {
-            for a in acc.iter_mut() {
-                *a = a.wrapping_add(x);
-                x = x.wrapping_add(s);
-            }
-        }
-        Role::Last => {
-            for (o, a) in out.iter_mut().zip(acc.iter_mut()) {
-                *o = TexValue::from_bits(((a.wrapping_add(x) >> 32) as i32) >> fvs);
-                *a = 0;
-                x = x.wrapping_add(s);
-            }
-        }
+    for a in acc.iter_mut() {
+        *a = if ADD { a.wrapping_add(x) } else { x };
+        x = x.wrapping_add(s);
     }
     *v = x;
+}
+
+/// `run` pixels of a lane from `(v, s)` written as samples (`ADD`: plus the accumulators, which
+/// are zeroed as they are read): `f = (q + (N >> fv)) >> 32`, `q` the quadric (`NOQ`: zero,
+/// `f = (N >> 32) >> fv`; `AFFINE`: a constant step).
+#[inline(always)]
+fn walk_out<const ADD: bool, const NOQ: bool, const AFFINE: bool>(
+    out: &mut [TexValue],
+    acc: &mut [i64],
+    fvs: u32,
+    v: &mut i64,
+    s: i64,
+    q: &mut [i64; 3],
+) {
+    let mut x = *v;
+    let [mut qq, mut dq, ddq] = *q;
+    for (o, a) in out.iter_mut().zip(acc.iter_mut()) {
+        let n = if ADD { a.wrapping_add(x) } else { x };
+        if ADD {
+            *a = 0;
+        }
+        let f = if NOQ {
+            ((n >> 32) as i32) >> fvs
+        } else {
+            let f = (qq.wrapping_add(n >> fvs) >> 32) as i32;
+            qq = qq.wrapping_add(dq);
+            if !AFFINE {
+                dq = dq.wrapping_add(ddq);
+            }
+            f
+        };
+        *o = TexValue::from_bits(f);
+        x = x.wrapping_add(s);
+    }
+    *v = x;
+    *q = [qq, dq, ddq];
+}
+
+/// One lane's `run` pixels in its role (`quad`: zero quadric, affine, curved).
+#[inline(always)]
+fn walk(
+    role: Role,
+    quad: u8,
+    acc: &mut [i64],
+    out: &mut [TexValue],
+    fvs: u32,
+    v: &mut i64,
+    s: i64,
+    q: &mut [i64; 3],
+) {
+    match (role, quad) {
+        (Role::First, _) => walk_acc::<false>(acc, v, s),
+        (Role::Add, _) => walk_acc::<true>(acc, v, s),
+        (Role::Only, 0) => walk_out::<false, true, true>(out, acc, fvs, v, s, q),
+        (Role::Only, 1) => walk_out::<false, false, true>(out, acc, fvs, v, s, q),
+        (Role::Only, _) => walk_out::<false, false, false>(out, acc, fvs, v, s, q),
+        (Role::Last, 0) => walk_out::<true, true, true>(out, acc, fvs, v, s, q),
+        (Role::Last, 1) => walk_out::<true, false, true>(out, acc, fvs, v, s, q),
+        (Role::Last, _) => walk_out::<true, false, false>(out, acc, fvs, v, s, q),
+    }
 }
 
 impl<'m, const T: usize> EvalCore<'m, T> {
@@ -169,13 +206,17 @@ impl<'m, const T: usize> EvalCore<'m, T> {
         let vb = m.precision().value_bits();
         let len = u32::from(len);
         let qc = setup.quad.c;
-        let affine = qc[2] == 0;
-        let (mut qq, mut dq, ddq) = (
+        let mut q = [
             qc[0] as i64,
             qc[1].wrapping_add(qc[2]) as i64,
             qc[2].wrapping_mul(2) as i64,
-        );
-        let noq = qq == 0 && dq == 0 && ddq == 0;
+        ];
+        // 0: zero quadric, 1: affine, 2: curved.
+        let quad = match (q == [0; 3], qc[2] == 0) {
+            (true, _) => 0u8,
+            (false, true) => 1,
+            (false, false) => 2,
+        };
 
         let mut lanes: heapless::Vec<ValueLane, T> = heapless::Vec::new();
         for ((term, st), ts) in m.terms().iter().zip(strategies).zip(setup.terms.iter()) {
@@ -224,7 +265,7 @@ impl<'m, const T: usize> EvalCore<'m, T> {
                 break;
             };
             for (li, t) in lanes.iter_mut().enumerate() {
-                let role = match (li == 0, li + 1 == nl && noq) {
+                let role = match (li == 0, li + 1 == nl) {
                     (true, true) => Role::Only,
                     (true, false) => Role::First,
                     (false, true) => Role::Last,
@@ -234,7 +275,7 @@ impl<'m, const T: usize> EvalCore<'m, T> {
                 loop {
                     let run = (n - j).min(t.left as usize);
                     if let (Some(a), Some(o)) = (acc.get_mut(j..j + run), out.get_mut(j..j + run)) {
-                        walk(role, a, o, fvs, &mut t.v, t.s);
+                        walk(role, quad, a, o, fvs, &mut t.v, t.s, &mut q);
                     }
                     j += run;
                     t.left -= run as u32;
@@ -244,16 +285,6 @@ impl<'m, const T: usize> EvalCore<'m, T> {
                     }
                     if j >= n {
                         break;
-                    }
-                }
-            }
-            if !noq {
-                for (o, a) in out.iter_mut().zip(acc.iter_mut()) {
-                    *o = TexValue::from_bits((qq.wrapping_add(*a >> fvs) >> 32) as i32);
-                    *a = 0;
-                    qq = qq.wrapping_add(dq);
-                    if !affine {
-                        dq = dq.wrapping_add(ddq);
                     }
                 }
             }
