@@ -166,6 +166,7 @@ fn walk_out<const ADD: bool, const NOQ: bool, const AFFINE: bool>(
 }
 
 /// One lane's `run` pixels in its role (`quad`: zero quadric, affine, curved).
+#[allow(clippy::too_many_arguments)]
 #[inline(always)]
 fn walk(
     role: Role,
