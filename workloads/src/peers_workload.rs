@@ -23,7 +23,7 @@
 
 use texcore::hash::HashKind;
 use texcore::noise::{BasisKind, Fade, NoiseBasis};
-use texcore::span::{EvalMode, EvalOptions, Sample, SpanEvaluator};
+use texcore::span::{EvalMode, EvalOptions, Sample, SampleChunk, SpanEvaluator};
 use texcore::texture::workload::{self, PEERS_SIZE};
 
 /// FNV-1a 32-bit offset basis.
@@ -180,11 +180,17 @@ fn plane_values(ev: &mut SpanEvaluator<'_, { workload::TERMS }>, span: u16, work
             let mut x0 = 0u16;
             while x0 < PEERS_SIZE {
                 let len = span.min(PEERS_SIZE - x0);
-                let mut out = line.iter_mut().skip(usize::from(x0));
-                ev.eval(&workload::peers_span(x0, y, len), |s| {
-                    if let Some(p) = out.next() {
-                        *p = s.f.to_bits() as u32;
+                // The chunks' `f` slices copied into the row (the values-only consumer's path:
+                // no `Sample` built a pixel).
+                let mut x = usize::from(x0);
+                ev.eval_chunks(&workload::peers_span(x0, y, len), &mut |c: &SampleChunk| {
+                    let f = c.f();
+                    if let Some(dst) = line.get_mut(x..x + f.len()) {
+                        for (d, v) in dst.iter_mut().zip(f) {
+                            *d = v.to_bits() as u32;
+                        }
                     }
+                    x += f.len();
                 });
                 x0 += len;
             }
@@ -212,11 +218,14 @@ fn plane_samples(ev: &mut SpanEvaluator<'_, { workload::TERMS }>, span: u16, wor
             let mut x0 = 0u16;
             while x0 < PEERS_SIZE {
                 let len = span.min(PEERS_SIZE - x0);
-                let mut out = line.iter_mut().skip(usize::from(x0));
-                ev.eval(&workload::peers_span(x0, y, len), |s| {
-                    if let Some(p) = out.next() {
-                        *p = s;
+                let mut x = usize::from(x0);
+                ev.eval_chunks(&workload::peers_span(x0, y, len), &mut |c: &SampleChunk| {
+                    if let Some(dst) = line.get_mut(x..x + c.len()) {
+                        for (d, s) in dst.iter_mut().zip(c.iter()) {
+                            *d = s;
+                        }
                     }
+                    x += c.len();
                 });
                 x0 += len;
             }

@@ -28,7 +28,7 @@ use crate::hash::HashKind;
 use crate::model::{Octaves, TextureModel};
 use crate::noise::NoiseBasis;
 use crate::quadric::Quadric;
-use crate::span::{Sample, Span, SpanEvaluator};
+use crate::span::{Sample, SampleChunk, Span, SpanEvaluator};
 use crate::table::TableWrap;
 use crate::transform::Affine3;
 
@@ -234,9 +234,11 @@ pub fn value_row<const T: usize>(
                 }
             });
         } else {
-            ev.eval(&sp, |s| {
-                if let Some(p) = px.next() {
-                    *p = s.f.to_bits() as u32;
+            // The values-only consumer's path: each chunk's `f` slice copied into the row.
+            ev.eval_chunks(&sp, &mut |c: &SampleChunk| {
+                // `f` first: the zip stops on it without taking a pixel of the next chunk.
+                for (v, p) in c.f().iter().zip(&mut px) {
+                    *p = v.to_bits() as u32;
                 }
             });
         }
