@@ -90,18 +90,42 @@ pub const fn reach(du: [i32; 3], dy: [i32; 3]) -> u32 {
     m
 }
 
-/// The fade weight (raw 0.16, `1 << 16` is 1) of a term of reach `l` (raw 16.16):
-/// `1` up to [`FADE_START`], then `max(floor(2^32 / l), FADE_FLOOR)`.
-pub const fn fade_weight(l: u32) -> u32 {
-    if l <= FADE_START {
+/// The fade weight (raw 0.16, `1 << 16` is 1) of a term whose reaches along the span and across
+/// it are `lx` and `ly` (raw 16.16 cells a pixel, [`reach_along`]): `1` while both are at most
+/// [`FADE_START`], then `max(floor(2^32 / isqrt(lx' ly')), FADE_FLOOR)` with `lx' = max(lx, 1)`,
+/// `ly' = max(ly, 1)`: one over the square root of the number of cells the pixel's footprint
+/// covers (the standard deviation of an octave's average over that many independent cells), so
+/// a footprint long in depth and narrow across (a receding plane) keeps `1 / sqrt(ly)` of the
+/// octave where a square one keeps `1 / l`.
+pub const fn fade_weight(lx: u32, ly: u32) -> u32 {
+    let lx = if lx < FADE_START { FADE_START } else { lx };
+    let ly = if ly < FADE_START { FADE_START } else { ly };
+    // lx' ly' (raw 32.32) < 2^64; its root (raw 16.16) is at least 2^16.
+    let r = crate::filter::isqrt(lx as u64 * ly as u64);
+    if r <= FADE_START as u64 {
         return 1 << 16;
     }
-    let w = ((1u64 << 32) / l as u64) as u32; // l > 2^16: w < 2^16
+    let w = ((1u64 << 32) / r) as u32; // r > 2^16: w < 2^16
     if w < FADE_FLOOR {
         FADE_FLOOR
     } else {
         w
     }
+}
+
+/// The largest magnitude of the components of a lattice step (raw 16.16 cells a pixel): a term's
+/// reach along one screen direction.
+pub const fn reach_along(d: [i32; 3]) -> u32 {
+    let mut m = 0u32;
+    let mut k = 0;
+    while k < 3 {
+        let a = d[k].unsigned_abs();
+        if a > m {
+            m = a;
+        }
+        k += 1;
+    }
+    m
 }
 
 /// The standard deviation of a basis's values (raw 0.16), measured over its lattice (plain, and
@@ -152,7 +176,7 @@ pub const fn term_band(term: &NoiseTerm, du: [i32; 3], dy: [i32; 3], band_limit:
     } else if l <= FADE_START {
         (a, true, (1 << 16) - NEAR_PART)
     } else {
-        let w = fade_weight(l);
+        let w = fade_weight(reach_along(du), reach_along(dy));
         // |a w| < 2^31 * 2^16: the product fits i64; the shift floors (towards minus infinity)
         // and the result has at most the magnitude of `a` (w <= 1), so it fits i32.
         let faded = ((a as i64 * w as i64) >> 16) as i32;

@@ -67,6 +67,18 @@ impl RefTerm {
         dx.iter().chain(dy.iter()).fold(0.0, |m, c| m.max(c.abs()))
     }
 
+    /// The fade weight of a term past one cell a pixel (`docs/model.md` 8.1): one over the square
+    /// root of the cells its footprint covers, `1 / sqrt(max(lx, 1) max(ly, 1))` with `lx`, `ly`
+    /// its reaches along `dsdx` and `dsdy`, at least [`FADE_FLOOR`].
+    pub fn fade_weight(&self, dsdx: [f64; 3], dsdy: [f64; 3]) -> f64 {
+        let along = |d: [f64; 3]| {
+            self.lattice_step(d)
+                .iter()
+                .fold(1.0f64, |m, c| m.max(c.abs()))
+        };
+        (1.0 / (along(dsdx) * along(dsdy)).sqrt()).max(FADE_FLOOR)
+    }
+
     /// Past the Nyquist limit, half a cell a pixel (`docs/model.md` 8): the term widens the filter
     /// by (part of) its variance instead of its gradient, and past one cell it is faded.
     pub fn past_nyquist(&self, dsdx: [f64; 3], dsdy: [f64; 3]) -> bool {
@@ -111,7 +123,7 @@ impl RefTerm {
                 variance: full,
             };
         }
-        let w = (1.0 / l).max(FADE_FLOOR);
+        let w = self.fade_weight(dsdx, dsdy);
         if (self.amplitude * w).abs() < CULL_AMPLITUDE {
             return Band {
                 weight: 0.0,
