@@ -320,8 +320,8 @@ mod tests {
         let near_full = term_band(&t, [3 << 14, 0, 0], [0; 3], false);
         assert!(near.variance * 2 >= near_full.variance - 2);
         assert!(near.variance * 2 <= near_full.variance + 2);
-        // Two cells a pixel: half the amplitude, half the variance.
-        let f = term_band(&t, [2 << 16, 0, 0], [0; 3], true);
+        // Two cells a pixel along and across: half the amplitude.
+        let f = term_band(&t, [2 << 16, 0, 0], [0, 2 << 16, 0], true);
         assert_eq!(f.amplitude, 1 << 14);
         assert!(f.active && !f.gradient);
         let full = term_band(&t, [2 << 16, 0, 0], [0; 3], false);
@@ -335,7 +335,7 @@ mod tests {
         let long = term_band(&t, [1 << 14, 0, 0], [0, 4 << 16, 0], true);
         assert_eq!(long.amplitude, 1 << 14);
         // Negative amplitudes fade symmetrically (up to the floor's rounding).
-        let n = term_band(&term(-0.5, false), [2 << 16, 0, 0], [0; 3], true);
+        let n = term_band(&term(-0.5, false), [2 << 16, 0, 0], [0, 0, 2 << 16], true);
         assert_eq!(n.amplitude, -(1 << 14));
         // Tiny amplitudes are culled far away, never nearby.
         let tiny = term(1.0 / 128.0, false);
