@@ -79,40 +79,43 @@ pub struct TermBand {
 /// The term's reach: the largest magnitude of the lattice steps `du` (along the span) and `dy`
 /// (to the next row), raw 16.16 cells a pixel.
 pub const fn reach(du: [i32; 3], dy: [i32; 3]) -> u32 {
-    let mut m = 0u32;
-    let mut k = 0;
-    while k < 3 {
-        let a = du[k].unsigned_abs();
-        let b = dy[k].unsigned_abs();
-        if a > m {
-            m = a;
-        }
-        if b > m {
-            m = b;
-        }
-        k += 1;
+    let (a, b) = (reach_along(du), reach_along(dy));
+    if a > b {
+        a
+    } else {
+        b
     }
-    m
 }
 
 /// The fade weight (raw 0.16, `1 << 16` is 1) of a term whose reaches along the span and across
-/// it are `lx` and `ly` (raw 16.16 cells a pixel, [`reach_along`]): `1` while both are at most
-/// [`FADE_START`], then `max(floor(2^32 / isqrt(lx' ly')), FADE_FLOOR)` with `lx' = max(lx, 1)`,
-/// `ly' = max(ly, 1)`: one over the square root of the number of cells the pixel's footprint
-/// covers (the standard deviation of an octave's average over that many independent cells), so
-/// a footprint long in depth and narrow across (a receding plane) keeps `1 / sqrt(ly)` of the
-/// octave where a square one keeps `1 / l`.
+/// it are `lx` and `ly` (raw 16.16 cells a pixel, [`reach_along`]): one over the square root of
+/// the number of cells the pixel's footprint covers, `lx' ly'` with `lx' = max(lx, 1)` and
+/// `ly' = max(ly, 1)` (the standard deviation of an octave's average over that many independent
+/// cells), at least [`FADE_FLOOR`]: a footprint long in depth and narrow across (a receding
+/// plane) keeps `1 / sqrt(ly)` of the octave where a square one keeps `1 / l`. In 32-bit
+/// integers (the floor is reached at 16 cells, so only `lx', ly' < 16` matter):
+/// `p = (lx' >> 4) (ly' >> 4)` (cells, 24 fraction bits), `1` when `p <= 2^24`, [`FADE_FLOOR`]
+/// when `p >= 2^28` (or either reach is 16 or more), else `floor(2^28 / isqrt(p))`.
 pub const fn fade_weight(lx: u32, ly: u32) -> u32 {
     let lx = if lx < FADE_START { FADE_START } else { lx };
     let ly = if ly < FADE_START { FADE_START } else { ly };
-    // lx' ly' (raw 32.32) < 2^64; its root (raw 16.16) is at least 2^16.
-    let r = crate::filter::isqrt(lx as u64 * ly as u64);
-    if r <= FADE_START as u64 {
+    if lx >= 16 << 16 || ly >= 16 << 16 {
+        return FADE_FLOOR;
+    }
+    // Both below 2^20: p < 2^32.
+    let p = (lx >> 4) * (ly >> 4);
+    if p <= 1 << 24 {
         return 1 << 16;
     }
-    let w = ((1u64 << 32) / r) as u32; // r > 2^16: w < 2^16
+    if p >= 1 << 28 {
+        return FADE_FLOOR;
+    }
+    // sqrt(p) with 12 fraction bits, in [2^12, 2^14): w = 2^28 / r in (2^14, 2^16].
+    let w = (1 << 28) / crate::filter::isqrt32(p);
     if w < FADE_FLOOR {
         FADE_FLOOR
+    } else if w > 1 << 16 {
+        1 << 16
     } else {
         w
     }
@@ -171,7 +174,8 @@ const fn variance(a: i32, sigma: u32, part: u32) -> u64 {
 #[inline(always)]
 pub const fn term_band(term: &NoiseTerm, du: [i32; 3], dy: [i32; 3], band_limit: bool) -> TermBand {
     let a = term.amplitude.to_bits();
-    let l = reach(du, dy);
+    let (lx, ly) = (reach_along(du), reach_along(dy));
+    let l = if lx > ly { lx } else { ly };
     if l <= GRADIENT_REACH {
         return TermBand {
             amplitude: a,
@@ -188,7 +192,7 @@ pub const fn term_band(term: &NoiseTerm, du: [i32; 3], dy: [i32; 3], band_limit:
     } else if l <= FADE_START {
         (a, true, (1 << 16) - NEAR_PART)
     } else {
-        let w = fade_weight(reach_along(du), reach_along(dy));
+        let w = fade_weight(lx, ly);
         // |a w| < 2^31 * 2^16: the product fits i64; the shift floors (towards minus infinity)
         // and the result has at most the magnitude of `a` (w <= 1), so it fits i32.
         let faded = ((a as i64 * w as i64) >> 16) as i32;
