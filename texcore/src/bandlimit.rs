@@ -95,30 +95,44 @@ pub const fn reach(du: [i32; 3], dy: [i32; 3]) -> u32 {
 /// plane) keeps `1 / sqrt(ly)` of the octave where a square one keeps `1 / l`. In 32-bit
 /// integers (the floor is reached at 16 cells, so only `lx', ly' < 16` matter):
 /// `p = (lx' >> 4) (ly' >> 4)` (cells, 24 fraction bits), `1` when `p <= 2^24`, [`FADE_FLOOR`]
-/// when `p >= 2^28` (or either reach is 16 or more), else `floor(2^28 / isqrt(p))`.
+/// when `p >= 2^28` (each reach clamped to 16 cells first, saturating), else `floor(2^28 / isqrt(p))`.
 pub const fn fade_weight(lx: u32, ly: u32) -> u32 {
-    let lx = if lx < FADE_START { FADE_START } else { lx };
-    let ly = if ly < FADE_START { FADE_START } else { ly };
-    if lx >= 16 << 16 || ly >= 16 << 16 {
-        return FADE_FLOOR;
-    }
-    // Both below 2^20: p < 2^32.
-    let p = (lx >> 4) * (ly >> 4);
+    // Each reach clamped to [1, 16] cells (the floor is reached at 16 cells).
+    const TOP: u32 = 16 << 16;
+    let lx = if lx < FADE_START {
+        FADE_START
+    } else if lx > TOP {
+        TOP
+    } else {
+        lx
+    };
+    let ly = if ly < FADE_START {
+        FADE_START
+    } else if ly > TOP {
+        TOP
+    } else {
+        ly
+    };
+    let p = (lx >> 4).saturating_mul(ly >> 4);
     if p <= 1 << 24 {
         return 1 << 16;
     }
     if p >= 1 << 28 {
         return FADE_FLOOR;
     }
-    // sqrt(p) with 12 fraction bits, in [2^12, 2^14): w = 2^28 / r in (2^14, 2^16].
-    let w = (1 << 28) / crate::filter::isqrt32(p);
-    if w < FADE_FLOOR {
-        FADE_FLOOR
-    } else if w > 1 << 16 {
-        1 << 16
-    } else {
-        w
+    // r = floor(sqrt(p)) (12 fraction bits, in [2^12, 2^14)) digit by digit (p < 2^28; smaller
+    // than a general square root where nothing else needs one): w = 2^28 / r in (2^14, 2^16].
+    let (mut rem, mut r, mut bit) = (p, 0u32, 1u32 << 26);
+    while bit != 0 {
+        if rem >= r + bit {
+            rem -= r + bit;
+            r = (r >> 1) + bit;
+        } else {
+            r >>= 1;
+        }
+        bit >>= 2;
     }
+    (1 << 28) / r
 }
 
 /// The part (raw 0.16) of a faded term's variance that widens the filter for a fade weight `w`

@@ -27,7 +27,6 @@ pub use csat::{Csat, Csat3};
 #[cfg(feature = "mip")]
 pub use mip::ColorMip;
 pub use width::{filter_width, filter_width_spread, isqrt, GradientNorm, WidthStream};
-pub(crate) use width::isqrt32;
 
 use crate::color::Rgba8888;
 use crate::format::{FilterWidth, TexValue};
