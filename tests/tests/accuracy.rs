@@ -12,17 +12,11 @@
 
 use std::io::Write;
 use std::path::PathBuf;
-use std::process::{Command, ExitCode};
 
-use clap::Parser;
-use host_sim::cli::Cli;
 use host_sim::metrics::compare_to_reference;
 use host_sim::unit::{self, UnitConfig};
 use texcore::hash::HashKind;
 use texcore::model::Precision;
-
-const CHILD_ARGS: &str = "TEXSIM_ACCURACY_TEST_ARGS";
-const MARKER: &str = "--- texsim output ---";
 
 const KNOBS: [&str; 12] = [
     "coordinate_bits",
@@ -40,54 +34,7 @@ const KNOBS: [&str; 12] = [
 ];
 const TARGETS: [&str; 2] = ["thumbv7em-none-eabihf", "riscv32imc-unknown-none-elf"];
 
-/// In the child process: run the command line given in the environment and exit with its status.
-#[test]
-fn texsim_child() {
-    let Ok(args) = std::env::var(CHILD_ARGS) else {
-        return;
-    };
-    let args: Vec<String> = serde_json::from_str(&args).unwrap();
-    println!("{MARKER}");
-    let code = match Cli::try_parse_from(std::iter::once("texsim".to_string()).chain(args)) {
-        Ok(cli) => host_sim::cli::run(cli),
-        Err(e) => {
-            let _ = e.print();
-            ExitCode::from(2)
-        }
-    };
-    let _ = std::io::stdout().flush();
-    let _ = std::io::stderr().flush();
-    let status = [0u8, 1, 2]
-        .into_iter()
-        .find(|&k| code == ExitCode::from(k))
-        .map_or(101, i32::from);
-    std::process::exit(status);
-}
-
-fn texsim(args: &[&str]) -> (i32, String, String) {
-    let exe = std::env::current_exe().unwrap();
-    let out = Command::new(exe)
-        .args([
-            "texsim_child",
-            "--exact",
-            "--nocapture",
-            "--test-threads=1",
-            "-q",
-        ])
-        .env(CHILD_ARGS, serde_json::to_string(args).unwrap())
-        .output()
-        .unwrap();
-    let stdout = String::from_utf8_lossy(&out.stdout);
-    let stdout = stdout
-        .split_once(MARKER)
-        .map(|(_, s)| s.trim_start_matches('\n').to_string())
-        .unwrap_or_else(|| panic!("no child output for {args:?}: {stdout}"));
-    (
-        out.status.code().unwrap_or(-1),
-        stdout,
-        String::from_utf8_lossy(&out.stderr).into_owned(),
-    )
-}
+texcore_tests::texsim_child_test!();
 
 fn qemu_available() -> bool {
     host_sim::device::DeviceTarget::ALL
@@ -125,7 +72,12 @@ fn report_accuracy_quick_json_schema() {
         "# t\n\n<!-- accuracy:begin -->\nold\n<!-- accuracy:end -->\n\n## after\n",
     )
     .unwrap();
-    let (status, stdout, stderr) = texsim(&[
+    let texcore_tests::child::Run {
+        status,
+        stdout,
+        stderr,
+        ..
+    } = texcore_tests::child::texsim(&[
         "report",
         "accuracy",
         "--quick",

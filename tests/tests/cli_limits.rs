@@ -6,97 +6,25 @@
 
 use std::io::Write;
 use std::path::{Path, PathBuf};
-use std::process::{Command, ExitCode};
 
-use clap::Parser;
-use host_sim::cli::Cli;
+use std::process::Command;
 
-const CHILD_ARGS: &str = "TEXSIM_LIMITS_TEST_ARGS";
-const MARKER: &[u8] = b"--- texsim output ---\n";
+use texcore_tests::child::{command, finish, s, texsim, tmp_dir, Run};
 
-/// In the child process: run the command line given in `TEXSIM_LIMITS_TEST_ARGS` and exit with
-/// its status. In the normal test run this does nothing.
-#[test]
-fn texsim_child() {
-    let Ok(args) = std::env::var(CHILD_ARGS) else {
-        return;
-    };
-    let args: Vec<String> = serde_json::from_str(&args).unwrap();
-    {
-        let mut out = std::io::stdout().lock();
-        out.write_all(MARKER).unwrap();
-        out.flush().unwrap();
-    }
-    let code = match Cli::try_parse_from(std::iter::once("texsim".to_string()).chain(args)) {
-        Ok(cli) => host_sim::cli::run(cli),
-        Err(e) => {
-            let _ = e.print();
-            if e.use_stderr() {
-                ExitCode::from(2)
-            } else {
-                ExitCode::SUCCESS
-            }
-        }
-    };
-    let _ = std::io::stdout().flush();
-    let _ = std::io::stderr().flush();
-    let status = [0u8, 1, 2, 130]
-        .into_iter()
-        .find(|&k| code == ExitCode::from(k))
-        .map_or(101, i32::from);
-    std::process::exit(status);
-}
-
-struct Run {
-    status: i32,
-    stdout: Vec<u8>,
-    stderr: String,
-}
-
-fn child(args: &[&str], threads: Option<usize>) -> Command {
-    let mut cmd = Command::new(std::env::current_exe().unwrap());
-    cmd.args([
-        "texsim_child",
-        "--exact",
-        "--nocapture",
-        "--test-threads=1",
-        "-q",
-    ])
-    .env(CHILD_ARGS, serde_json::to_string(args).unwrap());
-    if let Some(n) = threads {
-        cmd.env("RAYON_NUM_THREADS", n.to_string());
-    }
-    cmd
-}
-
-fn texsim_threads(args: &[&str], threads: Option<usize>) -> Run {
-    let out = child(args, threads).output().unwrap();
-    let at = out
-        .stdout
-        .windows(MARKER.len())
-        .position(|w| w == MARKER)
-        .unwrap_or_else(|| panic!("no child output for {args:?}"));
-    Run {
-        status: out.status.code().unwrap_or(-1),
-        stdout: out.stdout[at + MARKER.len()..].to_vec(),
-        stderr: String::from_utf8_lossy(&out.stderr).into_owned(),
-    }
-}
-
-fn texsim(args: &[&str]) -> Run {
-    texsim_threads(args, None)
-}
+texcore_tests::texsim_child_test!();
 
 /// A fresh temporary directory for one test.
 fn tmp(name: &str) -> PathBuf {
-    let d = std::env::temp_dir().join(format!("texsim-limits-{}-{name}", std::process::id()));
-    let _ = std::fs::remove_dir_all(&d);
-    std::fs::create_dir_all(&d).unwrap();
-    d
+    tmp_dir("texsim-limits", name)
 }
 
-fn s(p: &Path) -> &str {
-    p.to_str().unwrap()
+/// `texsim ARGS` with `threads` worker threads (the default when `None`).
+fn texsim_threads(args: &[&str], threads: Option<usize>) -> Run {
+    let mut cmd = command(args);
+    if let Some(n) = threads {
+        cmd.env("RAYON_NUM_THREADS", n.to_string());
+    }
+    finish(cmd)
 }
 
 fn files(dir: &Path) -> Vec<String> {
@@ -297,11 +225,11 @@ fn render_outputs_a_file_standard_output_or_dev_null_and_needs_one() {
     assert_eq!(r.status, 0, "{}", r.stderr);
     let r = texsim(&["render", "zoneplate", "-o", "-"]);
     assert_eq!(r.status, 0, "{}", r.stderr);
-    assert_eq!(r.stdout, std::fs::read(&file).unwrap());
+    assert_eq!(r.bytes, std::fs::read(&file).unwrap());
     // An animation to standard output is an APNG.
     let r = texsim(&["render", "fire", "--frames", "2", "-o", "-"]);
     assert_eq!(r.status, 0, "{}", r.stderr);
-    let dec = png::Decoder::new(std::io::Cursor::new(r.stdout));
+    let dec = png::Decoder::new(std::io::Cursor::new(r.bytes));
     let reader = dec.read_info().unwrap();
     assert_eq!(reader.info().animation_control().unwrap().num_frames, 2);
     // /dev/null: written (and left) as it is.
@@ -407,14 +335,11 @@ fn ctrl_c_leaves_no_file() {
     let dir = tmp("ctrlc");
     let scene = tiny_fire(&dir);
     let out = dir.join("long.gif");
-    let mut c = child(
-        &["render", s(&scene), "--frames", "1000000", "-o", s(&out)],
-        None,
-    )
-    .stdout(std::process::Stdio::null())
-    .stderr(std::process::Stdio::piped())
-    .spawn()
-    .unwrap();
+    let mut c = command(&["render", s(&scene), "--frames", "1000000", "-o", s(&out)])
+        .stdout(std::process::Stdio::null())
+        .stderr(std::process::Stdio::piped())
+        .spawn()
+        .unwrap();
     // Wait until the temporary file exists (the animation is being written).
     let start = std::time::Instant::now();
     while !files(&dir).iter().any(|n| n.ends_with(".tmp")) {

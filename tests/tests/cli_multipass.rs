@@ -2,88 +2,15 @@
 //! re-executes itself with the command line in an environment variable): `--eval multipass`
 //! with each `--multipass-precision`, `--show multipass-stages` and `texsim report multipass`.
 
-use std::io::Write;
-use std::path::{Path, PathBuf};
-use std::process::{Command, ExitCode};
+use std::path::PathBuf;
 
-use clap::Parser;
-use host_sim::cli::Cli;
+use texcore_tests::child::{s, texsim, tmp_dir, Run};
 
-const CHILD_ARGS: &str = "TEXSIM_CLI_MULTIPASS_TEST_ARGS";
-const MARKER: &str = "--- texsim output ---";
-
-/// In the child process: run the command line given in `TEXSIM_CLI_MULTIPASS_TEST_ARGS` and exit with
-/// its status. In the normal test run this does nothing.
-#[test]
-fn texsim_child() {
-    let Ok(args) = std::env::var(CHILD_ARGS) else {
-        return;
-    };
-    let args: Vec<String> = serde_json::from_str(&args).unwrap();
-    println!("{MARKER}");
-    let code = match Cli::try_parse_from(std::iter::once("texsim".to_string()).chain(args)) {
-        Ok(cli) => host_sim::cli::run(cli),
-        Err(e) => {
-            let _ = e.print();
-            if e.use_stderr() {
-                ExitCode::from(2)
-            } else {
-                ExitCode::SUCCESS
-            }
-        }
-    };
-    let _ = std::io::stdout().flush();
-    let _ = std::io::stderr().flush();
-    let status = [0u8, 1, 2]
-        .into_iter()
-        .find(|&k| code == ExitCode::from(k))
-        .map_or(101, i32::from);
-    std::process::exit(status);
-}
-
-/// What a texsim run did.
-struct Run {
-    status: i32,
-    stdout: String,
-    stderr: String,
-}
-
-fn texsim(args: &[&str]) -> Run {
-    let exe = std::env::current_exe().unwrap();
-    let json = serde_json::to_string(args).unwrap();
-    let out = Command::new(exe)
-        .args([
-            "texsim_child",
-            "--exact",
-            "--nocapture",
-            "--test-threads=1",
-            "-q",
-        ])
-        .env(CHILD_ARGS, json)
-        .output()
-        .unwrap();
-    let stdout = String::from_utf8_lossy(&out.stdout);
-    let stdout = stdout
-        .split_once(MARKER)
-        .map(|(_, s)| s.trim_start_matches('\n').to_string())
-        .unwrap_or_else(|| panic!("no child output for {args:?}: {stdout}"));
-    Run {
-        status: out.status.code().unwrap_or(-1),
-        stdout,
-        stderr: String::from_utf8_lossy(&out.stderr).into_owned(),
-    }
-}
+texcore_tests::texsim_child_test!();
 
 /// A fresh temporary directory for one test.
 fn tmp(name: &str) -> PathBuf {
-    let d = std::env::temp_dir().join(format!("texsim-mp-{}-{name}", std::process::id()));
-    let _ = std::fs::remove_dir_all(&d);
-    std::fs::create_dir_all(&d).unwrap();
-    d
-}
-
-fn s(p: &Path) -> &str {
-    p.to_str().unwrap()
+    tmp_dir("texsim-mp", name)
 }
 
 fn ok(r: &Run, what: &str) {

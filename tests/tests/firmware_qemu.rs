@@ -493,13 +493,14 @@ fn marble_scene_bound(target: DeviceTarget) -> u64 {
 
 /// Upper bound of the net instructions per frame pixel of `atlas:marble`: the marble scene's
 /// still frame (320 x 240) drawn from its 128 x 128 device atlas (scene walk and binning,
-/// triangle set-up per 24-row band, perspective-correct atlas coordinates, nearest look-ups,
-/// depth test, checksum). Measured at 392.3 (Cortex-M4F) and 531.9 (rv32imc) when the bound was
-/// set (the goal is 60 / 100: not reached); about 10% of headroom.
+/// coverage and depth set-up per 24-row band, the textured-triangle path: atlas coordinates by
+/// the homogeneous ratio at every pixel, nearest look-ups, depth test, checksum). Measured at
+/// 242.7 (Cortex-M4F) and 330.7 (rv32imc) when the bound was set (the goal is 60 / 100:
+/// not reached); about 10% of headroom.
 fn atlas_draw_bound(target: DeviceTarget) -> u64 {
     match target {
-        DeviceTarget::CortexM4F => 432,
-        DeviceTarget::Riscv32imc => 585,
+        DeviceTarget::CortexM4F => 267,
+        DeviceTarget::Riscv32imc => 364,
     }
 }
 

@@ -1,81 +1,15 @@
 //! `texsim mesh pack` and `texsim atlas` as separate processes (the harness of `cli.rs`): bad
 //! meshes exit 2 naming the file and line and write nothing; good ones pack and lay out.
 
-use std::io::Write;
 use std::path::{Path, PathBuf};
-use std::process::{Command, ExitCode};
 
-use clap::Parser;
-use host_sim::cli::Cli;
+use texcore_tests::child::{s, texsim, tmp_dir};
 
-const CHILD_ARGS: &str = "TEXSIM_MESH_CLI_TEST_ARGS";
-const MARKER: &str = "--- texsim output ---";
+texcore_tests::texsim_child_test!();
 
-/// In the child process: run the command line in `TEXSIM_MESH_CLI_TEST_ARGS`, exit with its
-/// status. In the normal test run this does nothing.
-#[test]
-fn texsim_child() {
-    let Ok(args) = std::env::var(CHILD_ARGS) else {
-        return;
-    };
-    let args: Vec<String> = serde_json::from_str(&args).unwrap();
-    println!("{MARKER}");
-    let code = match Cli::try_parse_from(std::iter::once("texsim".to_string()).chain(args)) {
-        Ok(cli) => host_sim::cli::run(cli),
-        Err(e) => {
-            let _ = e.print();
-            ExitCode::from(2)
-        }
-    };
-    let _ = std::io::stdout().flush();
-    let _ = std::io::stderr().flush();
-    let status = [0u8, 1, 2]
-        .into_iter()
-        .find(|&k| code == ExitCode::from(k))
-        .map_or(101, i32::from);
-    std::process::exit(status);
-}
-
-struct Run {
-    status: i32,
-    stdout: String,
-    stderr: String,
-}
-
-fn texsim(args: &[&str]) -> Run {
-    let exe = std::env::current_exe().unwrap();
-    let out = Command::new(exe)
-        .args([
-            "texsim_child",
-            "--exact",
-            "--nocapture",
-            "--test-threads=1",
-            "-q",
-        ])
-        .env(CHILD_ARGS, serde_json::to_string(args).unwrap())
-        .output()
-        .unwrap();
-    let stdout = String::from_utf8_lossy(&out.stdout);
-    let stdout = stdout
-        .split_once(MARKER)
-        .map(|(_, s)| s.trim_start_matches('\n').to_string())
-        .unwrap_or_default();
-    Run {
-        status: out.status.code().unwrap_or(-1),
-        stdout,
-        stderr: String::from_utf8_lossy(&out.stderr).into_owned(),
-    }
-}
-
+/// A fresh temporary directory for one test.
 fn tmp(name: &str) -> PathBuf {
-    let d = std::env::temp_dir().join(format!("texsim-mesh-{}-{name}", std::process::id()));
-    let _ = std::fs::remove_dir_all(&d);
-    std::fs::create_dir_all(&d).unwrap();
-    d
-}
-
-fn s(p: &Path) -> &str {
-    p.to_str().unwrap()
+    tmp_dir("texsim-mesh", name)
 }
 
 fn bunny() -> String {

@@ -117,12 +117,8 @@ impl Affine3 {
     pub fn from_f64(m: [[f64; 3]; 3], t: [f64; 3]) -> Self {
         let e = MatrixEntry::saturating_from_num::<f64>;
         Affine3 {
-            m: [
-                [e(m[0][0]), e(m[0][1]), e(m[0][2])],
-                [e(m[1][0]), e(m[1][1]), e(m[1][2])],
-                [e(m[2][0]), e(m[2][1]), e(m[2][2])],
-            ],
-            t: [e(t[0]), e(t[1]), e(t[2])],
+            m: m.map(|row| row.map(e)),
+            t: t.map(e),
         }
     }
 

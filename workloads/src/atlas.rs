@@ -3,8 +3,9 @@
 //! layout, [`UniformLayout`]), the object's texture is baked into it once with texcore's bake
 //! kernel (`texcore::atlas::bake`: row spans of the span evaluator, the filter width from the
 //! texel's footprint on the surface), then the frame is drawn in bands of
-//! [`DRAW_ROWS`] rows with texcore's rasterizer interpolating atlas coordinates
-//! perspective-correctly and every pixel reading its nearest atlas texel.
+//! [`DRAW_ROWS`] rows with texcore's textured-triangle path (`Rasterizer::draw_textured`:
+//! the rasterizer's coverage and depth test, atlas coordinates interpolated
+//! perspective-correctly at every pixel, the nearest atlas texel written into the band).
 //!
 //! Memory: the atlas is caller-owned frame memory like the band buffers (32 KB for 128 x 128
 //! RGB565, on the job's stack), not texture-unit state; the RGB565 band and its depth band
@@ -28,7 +29,7 @@ use texcore::atlas::{bake, AtlasTriangle, Half};
 use texcore::color::Rgba8888;
 use texcore::format::TexPoint;
 use texcore::hash::HashKind;
-use texcore::raster::{DepthBuffer, Rasterizer, Rect, ScreenVertex, Segment};
+use texcore::raster::{DepthBuffer, DepthFunc, Rasterizer, Rect, ScreenVertex, Texture565};
 use texcore::render::{GroupRows, TriangleSource};
 use texcore::scene::{Object, Scene};
 use texcore::sink::ChecksumSink;
@@ -420,6 +421,9 @@ pub fn draw_scene_rows<O: FnMut(&[u16])>(
         *s = at;
         at += o.mesh.quad_count();
     }
+    let Some(texture) = Texture565::new(atlas, SIDE) else {
+        return false;
+    };
     let mut band = [0u16; DRAW_PIXELS];
     let mut raster = Rasterizer::new(Rect::from_size(w, h));
     let mut cache: Option<(usize, QuadAtlas)> = None;
@@ -451,11 +455,13 @@ pub fn draw_scene_rows<O: FnMut(&[u16])>(
                 let [u, t] = qa.atlas_of(k, s);
                 vert.tex = TexPoint::from_bits(u, t, 0);
             }
-            let mut shade = |seg: &Segment| shade_segment(seg, y0, wu, atlas, &mut band);
             if d.depth {
-                raster.draw_depth(&v, &d.raster, &mut db, &mut shade);
+                raster.draw_textured(&v, &d.raster, &mut db, &texture, &mut band);
             } else {
-                raster.draw(&v, &d.raster, &mut shade);
+                let mut opts = d.raster;
+                opts.depth_func = DepthFunc::Always;
+                opts.depth_write = false;
+                raster.draw_textured(&v, &opts, &mut db, &texture, &mut band);
             }
         });
         for row in band.chunks(wu.max(1)).take(usize::from(y1 - y0)) {
@@ -464,26 +470,6 @@ pub fn draw_scene_rows<O: FnMut(&[u16])>(
         y0 = y1;
     }
     true
-}
-
-/// Writes a segment's nearest atlas texels into the band (rows from `y0`, `w` wide).
-#[inline(always)]
-fn shade_segment(seg: &Segment, y0: u16, w: usize, atlas: &AtlasTexels, band: &mut [u16]) {
-    let s0 = seg.s0.to_bits();
-    let ds = seg.ds.to_bits();
-    let (mut u, mut v) = (s0[0], s0[1]);
-    let start = usize::from(seg.y.wrapping_sub(y0)) * w + usize::from(seg.x0);
-    let Some(out) = band.get_mut(start..start + usize::from(seg.len)) else {
-        return;
-    };
-    let max = i32::from(SIDE) - 1;
-    for px in out {
-        let tu = (u >> 16).clamp(0, max) as usize;
-        let tv = (v >> 16).clamp(0, max) as usize;
-        *px = atlas[(tv * usize::from(SIDE) + tu) & (TEXELS - 1)];
-        u = u.wrapping_add(ds[0]);
-        v = v.wrapping_add(ds[1]);
-    }
 }
 
 /// `atlas:<SCENE>-bake` (with `work`) and its set-up: the scene's frame and its textures built,

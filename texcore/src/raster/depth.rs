@@ -75,6 +75,12 @@ impl<'a> DepthBuffer<'a> {
         }
     }
 
+    /// The stored depths, row-major over [`DepthBuffer::rect`] (textured-triangle path).
+    #[cfg(feature = "atlas")]
+    pub(crate) fn data_mut(&mut self) -> &mut [Depth] {
+        self.data
+    }
+
     fn index(&self, x: u16, y: u16) -> Option<usize> {
         if !self.rect.contains(x, y) {
             return None;

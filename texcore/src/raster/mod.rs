@@ -96,10 +96,14 @@ mod perspective;
 mod setup;
 #[cfg(test)]
 mod tests;
+#[cfg(feature = "atlas")]
+mod textured;
 
 pub use depth::{DepthBuffer, DepthFunc};
 use setup::Prepared;
 pub use setup::{Reject, TriangleSetup};
+#[cfg(feature = "atlas")]
+pub use textured::Texture565;
 
 use crate::format::{TexCoord, TexPoint};
 use fixed::types::{I28F4, U1F31};

@@ -324,6 +324,21 @@ fn bitlen(v: u64) -> u32 {
     64 - v.leading_zeros()
 }
 
+/// A read-only view of a prepared triangle for the textured-triangle path.
+#[cfg(feature = "atlas")]
+pub(crate) struct HomogeneousParts<'a> {
+    /// The edge functions: `[E_i(0, 0), dE_i/dx, dE_i/dy]` per vertex `i`.
+    pub(crate) e: &'a [[i64; 3]; 3],
+    /// Every entry of `e` fits `i32`.
+    pub(crate) narrow: bool,
+    /// The vertex `1/w`.
+    pub(crate) inv_w: [u32; 3],
+    /// The vertex texture coordinates (raw).
+    pub(crate) tex: &'a [[i64; 3]; 3],
+    /// The doubled signed area.
+    pub(crate) area2: i128,
+}
+
 /// A triangle whose coverage and depth plane are set up, its texture interpolation not yet
 /// ([`Prepared::complete`] adds it). The rasteriser prepares a triangle, depth-tests its covered
 /// pixels and completes the set-up only when a pixel is visible: a triangle hidden in a band,
@@ -409,6 +424,18 @@ impl Prepared {
             range,
             inv_w: v.map(|p| p.inv_w.to_bits()),
         })
+    }
+
+    /// What the textured-triangle path needs beyond coverage and depth.
+    #[cfg(feature = "atlas")]
+    pub(crate) fn homogeneous_parts(&self) -> HomogeneousParts<'_> {
+        HomogeneousParts {
+            e: &self.basis.e,
+            narrow: self.basis.narrow,
+            inv_w: self.inv_w,
+            tex: &self.tex,
+            area2: self.setup.area2,
+        }
     }
 
     /// The coverage of the triangle.

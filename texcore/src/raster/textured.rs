@@ -1,0 +1,423 @@
+//! Textured triangles: a triangle drawn straight into an RGB565 colour band from an RGB565
+//! texture with nearest look-ups (the draw of a meshed texture atlas), without segments, the
+//! perspective planes or the texture pipeline.
+//!
+//! # Guarantees
+//!
+//! - **Coverage and depth** are exactly those of [`Rasterizer::draw_depth`]: the same set-up
+//!   (guard band, area, culling, top-left fill rule, depth plane, depth test and write).
+//! - **Texture coordinates** are the vertices' `tex.x`, `tex.y` (raw `Q16.16` texels), taken to
+//!   `f = 15 - log2(side)` fraction bits (clamped to the texture), and interpolated
+//!   perspective-correctly at **every pixel** by the homogeneous ratio
+//!   `u = N / D = (sum_i E_i q_i u_i) / (sum_i E_i q_i)` of the barycentric edge functions `E_i`
+//!   (no division by the area: it cancels). `N` and `D` are planes with exact integer
+//!   coefficients, stepped exactly in `i64` along a row; each pixel divides their high words on
+//!   the 32-bit hardware divide. `q_i` is `1/w` normalised to 15 bits (the largest in
+//!   `[2^14, 2^15)`; all equal for [`Perspective::Affine`]). With `r = max q_i / min q_i` the
+//!   quotient is within `2 + 2 r` units of `2^-f` texel of the real-arithmetic ratio of the
+//!   quantised vertex data (for the 128-texel atlas, `f = 8`: within 1/8 texel for `r <= 16`).
+//!   The texel read is `(floor(v), floor(u))`, clamped to the texture.
+//! - **Fallback**: a triangle with a normalised `q_i` of 0 (ratio past `2^15`), a doubled area
+//!   of `2^32` raw units or more, or edge functions past `i32` (far outside a small target) is
+//!   drawn through [`Rasterizer::draw_depth`] (segments with `Every16`-style perspective, as
+//!   the triangle's options say) with the same nearest look-up of each segment pixel.
+//! - Integer arithmetic only, the same code on every target: host = device bit for bit. Never
+//!   panics; a colour band shorter than the depth buffer's rectangle draws nothing.
+
+use super::setup::HomogeneousParts;
+use super::{DepthBuffer, Perspective, Rasterizer, ScreenVertex, Segment, TriangleOptions};
+
+/// An RGB565 texture of `side x side` texels (`side` a power of two, 1 to 128), row-major.
+/// Built by [`Texture565::new`].
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct Texture565<'a> {
+    texels: &'a [u16],
+    log2_side: u32,
+}
+
+impl<'a> Texture565<'a> {
+    /// The texture of `texels` (`side * side` of them, row-major); `None` unless `side` is a
+    /// power of two from 1 to 128 and `texels.len() == side * side`.
+    pub fn new(texels: &'a [u16], side: u16) -> Option<Texture565<'a>> {
+        if !side.is_power_of_two()
+            || side > 128
+            || texels.len() != usize::from(side) << side.trailing_zeros()
+        {
+            return None;
+        }
+        Some(Texture565 {
+            texels,
+            log2_side: side.trailing_zeros(),
+        })
+    }
+
+    /// Side in texels.
+    pub const fn side(&self) -> u16 {
+        1 << self.log2_side
+    }
+
+    /// Fraction bits of the interpolated coordinates (`15 - log2(side)`).
+    const fn frac(&self) -> u32 {
+        15 - self.log2_side
+    }
+
+    /// The texel at raw `Q16.16` coordinates `(u, v)`, nearest, clamped.
+    #[inline]
+    fn nearest_q16(&self, u: i32, v: i32) -> u16 {
+        let max = (1i32 << self.log2_side) - 1;
+        let tu = (u >> 16).clamp(0, max) as usize;
+        let tv = (v >> 16).clamp(0, max) as usize;
+        self.texels
+            .get((tv << self.log2_side) | tu)
+            .copied()
+            .unwrap_or(0)
+    }
+}
+
+/// Number of significant bits of `v`.
+const fn bitlen(v: u64) -> u32 {
+    64 - v.leading_zeros()
+}
+
+/// The per-triangle state of the homogeneous interpolation: planes `[c, dx, dy]` (at the centre
+/// of pixel `(0, 0)`, per pixel) of `N_u`, `N_v` and `D`, all scaled by `2^k` so that `D < 2^48`
+/// and `N < 2^63` at every covered pixel.
+struct Homogeneous {
+    planes: [[i64; 3]; 3],
+}
+
+impl Homogeneous {
+    /// The planes of a prepared triangle (its edge functions, vertex `1/w`, texture coordinates
+    /// and doubled area) for texture `tx`; `None` when the fast path does not apply.
+    fn new(parts: &HomogeneousParts<'_>, affine: bool, tx: &Texture565<'_>) -> Option<Homogeneous> {
+        let (e, narrow, inv_w, tex, area2) =
+            (parts.e, parts.narrow, parts.inv_w, parts.tex, parts.area2);
+        let mag = u32::try_from(area2.unsigned_abs()).ok()?;
+        if !narrow || mag == 0 {
+            return None;
+        }
+        let qmax = inv_w.iter().copied().max().unwrap_or(0);
+        let q = if affine || qmax == 0 {
+            [1u32 << 14; 3]
+        } else {
+            let b = bitlen(u64::from(qmax));
+            inv_w.map(|w| if b > 15 { w >> (b - 15) } else { w << (15 - b) })
+        };
+        if q.contains(&0) {
+            return None;
+        }
+        // D <= |area2| q_max < 2^(bitlen + 15): scaled by 2^k, k = 33 - bitlen >= 1, below 2^48.
+        let k = 33 - bitlen(u64::from(mag));
+        let f = tx.frac();
+        let top = (1i64 << 15) - 1;
+        let coord = |t: i64| (t >> (16 - f)).clamp(0, top);
+        let neg = area2 < 0;
+        let mut w = [[0i64; 3]; 3];
+        for ((wi, qi), t) in w.iter_mut().zip(q).zip(tex) {
+            let qi = i64::from(qi);
+            // q u < 2^30; scaled < 2^63 - 2^33.
+            let ws = [qi * coord(t[0]), qi * coord(t[1]), qi].map(|x| x << k);
+            *wi = if neg { ws.map(i64::wrapping_neg) } else { ws };
+        }
+        let mut planes = [[0i64; 3]; 3];
+        for (j, plane) in planes.iter_mut().enumerate() {
+            for (c, out) in plane.iter_mut().enumerate() {
+                // Ring arithmetic modulo 2^64: exact wherever the true value fits (every covered
+                // pixel, where E_i >= 0 sum to |area2|).
+                *out = e.iter().zip(&w).fold(0i64, |acc, (ei, wi)| {
+                    let (a, b) = (
+                        ei.get(c).copied().unwrap_or(0),
+                        wi.get(j).copied().unwrap_or(0),
+                    );
+                    acc.wrapping_add(a.wrapping_mul(b))
+                });
+            }
+        }
+        Some(Homogeneous { planes })
+    }
+
+    /// The three planes' values at pixel `(px, py)` (wrapping).
+    #[inline]
+    fn at(&self, px: i64, py: i64) -> [i64; 3] {
+        self.planes.map(|p| {
+            p[0].wrapping_add(p[1].wrapping_mul(px))
+                .wrapping_add(p[2].wrapping_mul(py))
+        })
+    }
+}
+
+impl Rasterizer {
+    /// Draws a textured triangle into `colour` (RGB565, row-major over `depth`'s rectangle, as
+    /// `depth`'s storage) with the depth test and write of `opts`, reading `tex` nearest at the
+    /// vertices' `tex.x`, `tex.y` (raw `Q16.16` texels) interpolated perspective-correctly: see
+    /// the module documentation ([`Texture565`]) for the guarantees. Clipped to the clip
+    /// rectangle and the depth buffer's rectangle.
+    pub fn draw_textured(
+        &mut self,
+        v: &[ScreenVertex; 3],
+        opts: &TriangleOptions,
+        depth: &mut DepthBuffer<'_>,
+        tex: &Texture565<'_>,
+        colour: &mut [u16],
+    ) {
+        let rect = depth.rect();
+        let stride = usize::from(rect.width());
+        if colour.len() < stride * usize::from(rect.height()) {
+            return;
+        }
+        let clip = self.clip.intersect(&rect);
+        if self.misses(v, clip) {
+            return;
+        }
+        let r = self.prepare(v, opts);
+        let Ok(pre) = &r else {
+            return;
+        };
+        let affine = opts.perspective == Perspective::Affine;
+        let Some(h) = Homogeneous::new(&pre.homogeneous_parts(), affine, tex) else {
+            return self.draw_textured_general(v, opts, depth, tex, colour, stride);
+        };
+        let plane = pre.depth_plane();
+        let (func, write) = (plane.func, plane.write);
+        let f = tex.frac();
+        let max = u32::from(tex.side()) - 1;
+        let log2 = tex.log2_side;
+        let texels = tex.texels;
+        let data = depth.data_mut();
+        let counters = &mut self.counters;
+        super::edge::walk_runs(&pre.coverage(), clip, |py, xa, xb| {
+            let off = usize::from(py - rect.y0) * stride + usize::from(xa - rect.x0);
+            let n = usize::from(xb - xa);
+            let (Some(drow), Some(crow)) =
+                (data.get_mut(off..off + n), colour.get_mut(off..off + n))
+            else {
+                return;
+            };
+            let (px, pyi) = (i64::from(xa), i64::from(py));
+            let mut zp = plane.z.at(px, pyi);
+            let [mut nu, mut nv, mut dd] = h.at(px, pyi);
+            let [du, dv, ddx] = h.planes.map(|p| p[1]);
+            let mut shown = 0u64;
+            for (d, c) in drow.iter_mut().zip(crow.iter_mut()) {
+                let z = (zp.wrapping_add(1 << 31) >> 32).clamp(plane.zlo, plane.zhi) as u16;
+                if func.passes(z, *d) {
+                    if write {
+                        *d = z;
+                    }
+                    let den = (dd >> 32) as u32;
+                    let u = ((nu >> 32) as u32).checked_div(den).unwrap_or(0) >> f;
+                    let t = ((nv >> 32) as u32).checked_div(den).unwrap_or(0) >> f;
+                    let i = ((t.min(max) << log2) | u.min(max)) as usize;
+                    *c = texels.get(i).copied().unwrap_or(0);
+                    shown += 1;
+                }
+                zp = zp.wrapping_add(plane.z.dx);
+                nu = nu.wrapping_add(du);
+                nv = nv.wrapping_add(dv);
+                dd = dd.wrapping_add(ddx);
+            }
+            counters.pixels = counters.pixels.wrapping_add(shown);
+            counters.depth_failed = counters.depth_failed.wrapping_add(n as u64 - shown);
+        });
+    }
+
+    /// [`Rasterizer::draw_textured`] through the general rasterizer (its segments, nearest
+    /// look-ups along each).
+    fn draw_textured_general(
+        &mut self,
+        v: &[ScreenVertex; 3],
+        opts: &TriangleOptions,
+        depth: &mut DepthBuffer<'_>,
+        tex: &Texture565<'_>,
+        colour: &mut [u16],
+        stride: usize,
+    ) {
+        let rect = depth.rect();
+        self.draw_depth(v, opts, depth, &mut |seg: &Segment| {
+            let s0 = seg.s0.to_bits();
+            let ds = seg.ds.to_bits();
+            let (mut u, mut t) = (s0[0], s0[1]);
+            let start = usize::from(seg.y.wrapping_sub(rect.y0)) * stride
+                + usize::from(seg.x0.wrapping_sub(rect.x0));
+            let Some(out) = colour.get_mut(start..start + usize::from(seg.len)) else {
+                return;
+            };
+            for px in out {
+                *px = tex.nearest_q16(u, t);
+                u = u.wrapping_add(ds[0]);
+                t = t.wrapping_add(ds[1]);
+            }
+        });
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::super::*;
+    use super::*;
+    use crate::format::TexPoint;
+
+    /// A texture whose texel at `(tu, tv)` is `tv * side + tu`.
+    fn index_texture(side: u16) -> std::vec::Vec<u16> {
+        (0..u32::from(side) * u32::from(side))
+            .map(|i| i as u16)
+            .collect()
+    }
+
+    fn vtx(x: f64, y: f64, z: u16, w: f64, u: f64, v: f64) -> ScreenVertex {
+        ScreenVertex::new(
+            ScreenCoord::from_num(x),
+            ScreenCoord::from_num(y),
+            z,
+            InvW::from_num(1.0 / w),
+            TexPoint::from_f64(u, v, 0.0),
+        )
+    }
+
+    #[test]
+    fn texture_constructor_checks_side_and_length() {
+        let t = index_texture(16);
+        assert!(Texture565::new(&t, 16).is_some());
+        assert!(Texture565::new(&t, 8).is_none());
+        assert!(Texture565::new(&t[..255], 16).is_none());
+        let t = index_texture(12);
+        assert!(Texture565::new(&t, 12).is_none());
+        let t = vec![0u16; 256 * 256];
+        assert!(Texture565::new(&t, 256).is_none());
+    }
+
+    /// The pixels a triangle covers (depth written) through `draw_depth` and `draw_textured`
+    /// are the same, and every textured pixel reads the texel of the real-arithmetic
+    /// perspective-correct coordinates within the stated bound.
+    #[test]
+    fn coverage_equals_draw_depth_and_texels_follow_perspective() {
+        let (w, h) = (64u16, 48u16);
+        let side = 128u16;
+        let texels = index_texture(side);
+        let tex = Texture565::new(&texels, side).unwrap();
+        let tris = [
+            [
+                vtx(3.3, 2.1, 100, 1.0, 1.5, 2.5),
+                vtx(60.7, 9.9, 900, 3.0, 120.0, 10.25),
+                vtx(12.2, 45.5, 500, 1.7, 20.0, 126.0),
+            ],
+            [
+                vtx(50.0, 40.0, 10, 2.0, 100.0, 100.0),
+                vtx(5.0, 30.0, 10, 1.0, 3.0, 70.0),
+                vtx(40.0, 1.0, 10, 4.0, 60.0, 4.0),
+            ],
+            // Affine-like (equal w), thin.
+            [
+                vtx(0.5, 0.5, 0, 1.0, 0.5, 0.5),
+                vtx(63.5, 3.0, 0, 1.0, 127.5, 6.0),
+                vtx(1.0, 2.0, 0, 1.0, 1.0, 3.5),
+            ],
+        ];
+        for (k, tri) in tris.iter().enumerate() {
+            for persp in [Perspective::Every16, Perspective::Affine] {
+                let opts = TriangleOptions::new(persp);
+                let mut zref = vec![u16::MAX; usize::from(w) * usize::from(h)];
+                let mut zfast = zref.clone();
+                let mut colour = vec![u16::MAX; zref.len()];
+                let rect = Rect::from_size(w, h);
+                let mut r = Rasterizer::new(rect);
+                let mut db = DepthBuffer::new(&mut zref, rect).unwrap();
+                r.draw_depth(tri, &opts, &mut db, &mut |_: &Segment| {});
+                let mut db = DepthBuffer::new(&mut zfast, rect).unwrap();
+                r.draw_textured(tri, &opts, &mut db, &tex, &mut colour);
+                assert_eq!(zref, zfast, "triangle {k}: coverage and depth");
+                let mut drawn = 0;
+                for (i, c) in colour.iter().enumerate() {
+                    if zfast[i] == u16::MAX {
+                        assert_eq!(*c, u16::MAX);
+                        continue;
+                    }
+                    drawn += 1;
+                    let (px, py) = (
+                        (i % usize::from(w)) as f64 + 0.5,
+                        (i / usize::from(w)) as f64 + 0.5,
+                    );
+                    // Barycentric weights of the pixel centre, perspective-weighted.
+                    let p = tri.map(|v| (v.x.to_num::<f64>(), v.y.to_num::<f64>()));
+                    let e = |a: (f64, f64), b: (f64, f64)| {
+                        (b.0 - a.0) * (py - a.1) - (b.1 - a.1) * (px - a.0)
+                    };
+                    let l = [e(p[1], p[2]), e(p[2], p[0]), e(p[0], p[1])];
+                    let q = tri.map(|v| {
+                        if persp == Perspective::Affine {
+                            1.0
+                        } else {
+                            v.inv_w.to_num::<f64>()
+                        }
+                    });
+                    let den: f64 = (0..3).map(|j| l[j] * q[j]).sum();
+                    let coord = |c: usize| {
+                        (0..3)
+                            .map(|j| l[j] * q[j] * f64::from(tri[j].tex.to_bits()[c]) / 65536.0)
+                            .sum::<f64>()
+                            / den
+                    };
+                    let (u, v) = (coord(0), coord(1));
+                    let (tu, tv) = (f64::from(*c % side), f64::from(*c / side));
+                    // Within 2 + 2r units of 1/256 texel (r <= 4 here): 10/256 texel.
+                    let tol = 10.0 / 256.0;
+                    assert!(
+                        tu >= (u - tol).floor().max(0.0) && tu <= (u + tol).floor().min(127.0),
+                        "triangle {k} pixel {i}: u {u} texel {tu}"
+                    );
+                    assert!(
+                        tv >= (v - tol).floor().max(0.0) && tv <= (v + tol).floor().min(127.0),
+                        "triangle {k} pixel {i}: v {v} texel {tv}"
+                    );
+                }
+                assert!(drawn > 20, "triangle {k}: {drawn} pixels");
+            }
+        }
+    }
+
+    /// A triangle past the fast path's range (doubled area of 2^32 raw units or more) is drawn
+    /// through the general rasterizer: the same coverage as `draw_depth`.
+    #[test]
+    fn large_triangles_take_the_general_path() {
+        let (w, h) = (32u16, 16u16);
+        let texels = index_texture(128);
+        let tex = Texture565::new(&texels, 128).unwrap();
+        let tri = [
+            vtx(-9000.0, -9000.0, 5, 1.0, 0.0, 0.0),
+            vtx(9000.0, -9000.0, 5, 1.0, 127.0, 0.0),
+            vtx(0.0, 9000.0, 5, 1.0, 64.0, 127.0),
+        ];
+        let opts = TriangleOptions::new(Perspective::Every16);
+        let rect = Rect::from_size(w, h);
+        let mut r = Rasterizer::new(rect);
+        let mut zref = vec![u16::MAX; 512];
+        let mut zfast = zref.clone();
+        let mut colour = vec![u16::MAX; 512];
+        r.draw_depth(
+            &tri,
+            &opts,
+            &mut DepthBuffer::new(&mut zref, rect).unwrap(),
+            &mut |_: &Segment| {},
+        );
+        r.draw_textured(
+            &tri,
+            &opts,
+            &mut DepthBuffer::new(&mut zfast, rect).unwrap(),
+            &tex,
+            &mut colour,
+        );
+        assert_eq!(zref, zfast);
+        assert!(colour.iter().all(|c| *c != u16::MAX));
+        // A colour band shorter than the depth rectangle draws nothing.
+        let mut short = vec![u16::MAX; 511];
+        let mut z = vec![u16::MAX; 512];
+        r.draw_textured(
+            &tri,
+            &opts,
+            &mut DepthBuffer::new(&mut z, rect).unwrap(),
+            &tex,
+            &mut short,
+        );
+        assert!(z.iter().all(|d| *d == u16::MAX));
+    }
+}
