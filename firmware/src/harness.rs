@@ -27,13 +27,15 @@
 //! memory instead, and an overflow ends the run with `TEXFW error what=stack-overflow`.
 
 use crate::counter::{Counter, Sample, NAME, UNIT};
-#[cfg(feature = "peers")]
-use crate::peer_jobs::JOBS;
 use crate::stack;
 use defmt::println;
 use workloads::job::{Ctx, JobFn};
 #[cfg(not(feature = "peers"))]
 use workloads::jobs::{JOBS, SCENE_JOBS};
+#[cfg(feature = "peers-band")]
+use workloads::peer_jobs::BAND as JOBS;
+#[cfg(all(feature = "peers", not(feature = "peers-band")))]
+use workloads::peer_jobs::PLANE as JOBS;
 
 /// The peer-comparison firmware runs no scene jobs.
 #[cfg(feature = "peers")]

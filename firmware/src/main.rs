@@ -5,7 +5,7 @@
 //! - `thumbv7em-none-eabihf`: Cortex-M4F, QEMU machine `mps2-an386`, `cortex-m-rt`, memory map
 //!   `memory.x` at the repository root (512 KiB flash at 0, 128 KiB RAM at 0x2000_0000).
 //! - `riscv32imc-unknown-none-elf`: RISC-V soft-core class (no FPU, table-free code only), QEMU
-//!   `virt -bios none`, `riscv-rt`, memory map `firmware/memory-riscv.x` (512 KiB + 128 KiB in
+//!   `virt -bios none`, `riscv-rt`, memory map `firmware/memory-riscv.x` (576 KiB + 128 KiB in
 //!   the DRAM window at 0x8000_0000).
 //!
 //! On the host this crate's program only delegates: `cargo run -p firmware` builds the firmware
@@ -65,7 +65,7 @@
 //!
 //! - `rtt`: log over RTT (`defmt-rtt`, real hardware with probe-rs) instead of semihosting.
 //! - `dwt`: Cortex-M hardware cycle counter (DWT CYCCNT) instead of the QEMU SysTick vernier.
-//! - `peers`: run the peer-comparison jobs ([`peers`], `texsim report peers`) instead of the
+//! - `peers`: run the peer-comparison jobs (`workloads::peer_jobs`, `texsim report peers`) instead of the
 //!   default jobs: texcore next to `fastnoise-lite`; `peers-band` shortens them to one band.
 //! - `panic-never`: the panic handler calls an undefined symbol, so the release link fails if
 //!   any panicking path survives optimisation; `firmware/check-panic-never.sh` builds it for both
@@ -107,10 +107,6 @@ pub mod guard;
 pub mod harness;
 #[cfg(all(target_os = "none", not(feature = "rtt")))]
 mod logger;
-#[cfg(all(target_os = "none", feature = "peers"))]
-pub mod peer_jobs;
-#[cfg(all(target_os = "none", feature = "peers"))]
-pub mod peers;
 #[cfg(target_os = "none")]
 pub mod stack;
 

@@ -2,7 +2,7 @@
 //! the peers firmware (feature `peers-band`: one 8-row band of the 256 x 256 peer plane, 2048
 //! samples a job, so the test stays short; the report runs the whole plane) is built and run, and
 //! every texcore row must
-//! - give the host's checksum (the same kernel recomputed here, `firmware/src/peers.rs`), and
+//! - give the host's checksum (the same kernel recomputed here, `workloads/src/peers.rs`), and
 //! - cost at most its bound in exact instructions per sample (net of the set-up and the checksum
 //!   fold, as the report counts them).
 //!

@@ -188,6 +188,10 @@ pub static JOBS: &[Job] = &[
     job!("atlas:marble", atlas_draw),
     #[cfg(feature = "atlas")]
     job!("atlas:marble/setup", atlas_draw_setup),
+    #[cfg(feature = "lighting")]
+    job!("scene:marble-lit", scene_marble_lit),
+    #[cfg(feature = "lighting")]
+    job!("scene:marble-lit/setup", scene_marble_lit_setup),
     #[cfg(feature = "panic-never-canary")]
     Job {
         name: "panic_never_canary",

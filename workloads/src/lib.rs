@@ -10,9 +10,11 @@
 //! - [`suite`]: the texture-unit suite's job wrappers around [`planes`], [`stages`], [`scenes`],
 //!   [`band`];
 //! - `atlas` (feature `atlas`): a built-in scene baked into a texture atlas and drawn from it;
-//! - [`accuracy`]: the accuracy report's configurations and device jobs.
+//! - [`accuracy`]: the accuracy report's configurations and device jobs;
+//! - `peers` and `peer_jobs` (feature `peers`): texcore's modes next to `fastnoise-lite` on the
+//!   peers' plane (`texsim report peers`), the kernels and the peers firmware's job lists.
 //!
-//! Uses nothing but `texcore` and `core`: no allocation, no panics on the job paths (the
+//! Uses nothing but `texcore` and `core` (and, with feature `peers`, `fastnoise-lite`): no allocation, no panics on the job paths (the
 //! firmware's `panic-never` build links every job with a panic handler that cannot link).
 #![no_std]
 #![deny(unsafe_code)]
@@ -28,6 +30,10 @@ pub mod band;
 pub mod bench;
 pub mod job;
 pub mod jobs;
+#[cfg(feature = "peers")]
+pub mod peer_jobs;
+#[cfg(feature = "peers")]
+pub mod peers;
 pub mod peers_workload;
 pub mod planes;
 pub mod scenes;

@@ -10,7 +10,8 @@
 //! ([`builtin_strip`]), each continuing the previous strip's checksum so that the last strip's
 //! is the checksum of the whole frame; those render with their mesh quads binned into bands
 //! (`Renderer::render_banded_rows_binned`, [`SCENE_GROUPS`] bins, one walk over the scene per
-//! frame), which changes no pixel.
+//! frame), which changes no pixel. With feature `lighting` also [`LIT_SCENES`]: a built-in scene
+//! with lights, its whole frame in one job ([`lit_frame_job`]).
 
 use texcore::color::Rgba8888;
 use texcore::filter::Antialias;
@@ -175,23 +176,45 @@ pub fn builtin_strip(
     let Some(scene) = builtin_frame(name) else {
         return 0;
     };
+    frame_rows(&scene, hash, work, Some(k), above, band, depth, bins)
+}
+
+/// The body of [`builtin_strip`] (`strip = Some(k)`) and [`lit_frame_job`] (`None`: the whole
+/// frame, as strip 0 through the last row): builds the slot textures, renders the rows and
+/// returns their checksum continuing `above` (with `work == false` the set-up's checksum).
+#[inline(always)]
+#[allow(clippy::too_many_arguments)]
+fn frame_rows(
+    scene: &Scene,
+    hash: HashKind,
+    work: bool,
+    strip: Option<usize>,
+    above: u32,
+    band: &mut [Rgba8888],
+    depth: &mut [u16],
+    bins: &mut [GroupRows],
+) -> u32 {
     let mut textures = SlotTextures::new();
-    if !slot_textures(&scene, hash, &mut textures) {
+    if !slot_textures(scene, hash, &mut textures) {
         return 0;
     }
-    let (textures, scene) = core::hint::black_box((&textures[..], &scene));
+    let (textures, scene) = core::hint::black_box((&textures[..], scene));
     let renderer = Renderer::new(textures);
     let mut bins = FrameBins::new(bins);
     // A frame walks its whole scene once: strip 0's first band bins the quads; the later
     // strips take the frame's bins, filled here (in the job and in its set-up alike, so that
     // the walk is not counted twice).
-    if k > 0 && renderer.bin(scene, &mut bins).is_err() {
+    if strip.is_some_and(|k| k > 0) && renderer.bin(scene, &mut bins).is_err() {
         return 0;
     }
     if !work {
         return scene.objects.len() as u32 ^ textures.len() as u32;
     }
-    let rows = strip_rows(scene.size().1, k);
+    let height = scene.size().1;
+    let rows = match strip {
+        Some(k) => strip_rows(height, k),
+        None => 0..height,
+    };
     let mut sink = ChecksumSink::resume(above);
     match renderer
         .render_banded_rows_binned(scene, rows, band, depth, BAND_ROWS, &mut bins, &mut sink)
@@ -199,6 +222,56 @@ pub fn builtin_strip(
         Ok(_) => sink.checksum(),
         Err(_) => 0,
     }
+}
+
+/// The lit scenes the device renders (feature `lighting`): `<built-in>-lit` is the built-in
+/// scene with lights ([`lit_scene`]), job `scene:<name>` ([`lit_frame_job`]).
+#[cfg(feature = "lighting")]
+pub const LIT_SCENES: [&str; 1] = ["marble-lit"];
+
+/// Lit scene `name` of [`LIT_SCENES`] at frame 0: built-in scene `<name without -lit>` with
+/// ambient 1/8 and one white directional light from the upper left front (the lighting of
+/// `texcore/benches/stages.rs`'s `marble+lit`); `None` for another name.
+#[cfg(feature = "lighting")]
+pub fn lit_scene(name: &str) -> Option<Scene> {
+    use texcore::light::{Light, Lighting};
+    use texcore::scene::{math::ONE, Vec3};
+    if !LIT_SCENES.contains(&name) {
+        return None;
+    }
+    let mut s = builtin::by_name(name.strip_suffix("-lit")?)?;
+    let mut lighting = Lighting::new().with_ambient([ONE / 8; 3]).ok()?;
+    let sun = Light::directional(Vec3::new(-ONE, ONE, ONE), [ONE; 3], ONE).ok()?;
+    lighting.try_add(sun).ok()?;
+    s.set_lighting(lighting);
+    Some(s)
+}
+
+/// The frame of lit scene `name` the device renders: its still frame.
+#[cfg(feature = "lighting")]
+pub fn lit_frame(name: &str) -> Option<Scene> {
+    lit_scene(name).map(|s| s.at_frame(s.still()))
+}
+
+/// The whole frame of lit scene `name` ([`lit_frame`]) in one job, as [`builtin_strip`] renders
+/// a strip (slot textures, bins, bands of [`BAND_ROWS`] rows, `ChecksumSink` from
+/// [`FRAME_START`]): the checksum of the frame (`texsim render` of the same scene), or the
+/// set-up's with `work == false`; 0 if the scene or a texture cannot be built. One job fits
+/// the Cortex-M4F counter's window (the unlit marble frame is about 80 million instructions).
+#[cfg(feature = "lighting")]
+#[inline(never)]
+pub fn lit_frame_job(
+    name: &str,
+    hash: HashKind,
+    work: bool,
+    band: &mut [Rgba8888],
+    depth: &mut [u16],
+    bins: &mut [GroupRows],
+) -> u32 {
+    let Some(scene) = lit_frame(name) else {
+        return 0;
+    };
+    frame_rows(&scene, hash, work, None, FRAME_START, band, depth, bins)
 }
 
 /// The scene called `name`.

@@ -272,6 +272,25 @@ pub fn atlas_draw_setup(_: &mut Ctx) -> u32 {
     with_bands(|_, _, g| crate::atlas::draw_job(hash(), false, g))
 }
 
+/// `scene:marble-lit` (feature `lighting`): the built-in marble scene with a light, whole frame
+/// ([`scenes::lit_frame_job`]).
+#[cfg(feature = "lighting")]
+pub fn scene_marble_lit(_: &mut Ctx) -> u32 {
+    if STUBBED {
+        return 0;
+    }
+    with_bands(|b, d, g| scenes::lit_frame_job("marble-lit", hash(), true, b, d, g))
+}
+
+/// `scene:marble-lit/setup` (feature `lighting`).
+#[cfg(feature = "lighting")]
+pub fn scene_marble_lit_setup(_: &mut Ctx) -> u32 {
+    if STUBBED {
+        return 0;
+    }
+    with_bands(|b, d, g| scenes::lit_frame_job("marble-lit", hash(), false, b, d, g))
+}
+
 /// `scene:<BUILTIN_SCENES[S]>@<K>`: strip `K` of a built-in scene's frame.
 pub fn scene_strip<const S: usize, const K: usize>(ctx: &mut Ctx) -> u32 {
     builtin_strip(ctx, S, K, true)

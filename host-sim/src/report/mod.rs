@@ -72,6 +72,7 @@ pub fn suite_for(target: DeviceTarget) -> Vec<SuiteJob> {
             || j.kind != JobKind::Scene
             || j.name.strip_prefix("scene:").is_some_and(|w| {
                 texcore::scene::builtin::by_name(w).is_some()
+                    || scenes::LIT_SCENES.contains(&w)
                     || scenes::scene(w).is_some_and(|s| s.m4f)
             })
     });
@@ -139,6 +140,15 @@ pub fn suite() -> Vec<SuiteJob> {
         jobs.push(one(
             format!("atlas:{}", atlas::SCENE),
             JobKind::Atlas,
+            u64::from(w) * u64::from(h),
+            "pixel",
+        ));
+    }
+    for name in scenes::LIT_SCENES {
+        let (w, h) = scenes::lit_frame(name).map_or((0, 0), |s| s.size());
+        jobs.push(one(
+            format!("scene:{name}"),
+            JobKind::Scene,
             u64::from(w) * u64::from(h),
             "pixel",
         ));
@@ -249,6 +259,22 @@ fn host_frame_rows(name: &str, hash: HashKind) -> Option<std::sync::Arc<Vec<u32>
     Some(rows)
 }
 
+/// The host's checksum of lit scene `name` ([`scenes::LIT_SCENES`]): its still frame through
+/// the host's own scene textures and renderer ([`crate::scenes::render_frame`], default knobs),
+/// FNV-1a over the RGB565 pixels as `texsim render` prints it.
+pub fn host_lit_scene_checksum(name: &str, hash: HashKind) -> Option<u32> {
+    let scene = scenes::lit_scene(name)?;
+    let r = crate::scenes::render_frame(
+        &scene,
+        scene.still(),
+        &UnitConfig::default(),
+        hash,
+        texcore::render::Output::Color,
+    )
+    .ok()?;
+    Some(crate::scenes::checksum(&r.frame))
+}
+
 /// The set-up checksum of a built-in scene strip job (scene and textures built, nothing
 /// rendered), through the device's own code.
 fn host_builtin_strip_setup(name: &str, k: usize, hash: HashKind) -> u32 {
@@ -322,6 +348,18 @@ pub fn host_checksum(name: &str, hash: HashKind) -> Option<u32> {
         }
         "scene" if texcore::scene::builtin::by_name(what).is_some() => {
             work.then(|| host_builtin_scene_checksum(what, hash))?
+        }
+        "scene" if scenes::LIT_SCENES.contains(&what) => {
+            if work {
+                host_lit_scene_checksum(what, hash)
+            } else {
+                let mut band = vec![Rgba8888::TRANSPARENT; scenes::BAND_PIXELS];
+                let mut depth = vec![0u16; scenes::BAND_PIXELS];
+                let mut bins = vec![texcore::render::GroupRows::EMPTY; scenes::SCENE_GROUPS];
+                Some(scenes::lit_frame_job(
+                    what, hash, false, &mut band, &mut depth, &mut bins,
+                ))
+            }
         }
         "scene" => Some(host_scene(scenes::scene(what)?.run, hash, work)),
         "atlas" => host_atlas(what, hash, work),
@@ -411,6 +449,32 @@ mod tests {
             assert_ne!(setup, host_checksum("band:direct", hash));
         }
         assert_eq!(band::band("fd").map(|b| b.pixels()), Some(2560));
+    }
+
+    /// The lit scene job (`scene:marble-lit`), run on the host with the device's code, gives the
+    /// host renderer's frame; its light changes the unlit marble frame; its set-up builds the
+    /// scene and textures only; the row is in the suite of both targets.
+    #[test]
+    fn lit_scene_job_is_the_host_frame() {
+        let mut band = vec![Rgba8888::TRANSPARENT; scenes::BAND_PIXELS];
+        let mut depth = vec![0u16; scenes::BAND_PIXELS];
+        let mut bins = vec![texcore::render::GroupRows::EMPTY; scenes::SCENE_GROUPS];
+        let hash = HashKind::Integer;
+        let device =
+            scenes::lit_frame_job("marble-lit", hash, true, &mut band, &mut depth, &mut bins);
+        assert_eq!(host_checksum("scene:marble-lit", hash), Some(device));
+        assert_ne!(host_builtin_scene_checksum("marble", hash), Some(device));
+        let setup = host_checksum("scene:marble-lit/setup", hash);
+        assert_eq!(setup, Some(host_builtin_strip_setup("marble", 0, hash)));
+        assert!(scenes::lit_scene("marble").is_none() && scenes::lit_scene("nope-lit").is_none());
+        assert!(scenes::lit_frame("marble-lit").is_some_and(|s| s.is_lit()));
+        for target in [DeviceTarget::CortexM4F, DeviceTarget::Riscv32imc] {
+            let row = suite_for(target)
+                .into_iter()
+                .find(|j| j.name == "scene:marble-lit")
+                .expect("lit row");
+            assert_eq!((row.units, row.device_jobs.len()), (320 * 240, 1));
+        }
     }
 
     #[test]

@@ -94,6 +94,9 @@ impl<'m, const T: usize> EvalCore<'m, T> {
         let fv = m.noise_frac_bits();
         let vb = m.precision().value_bits();
         let grads = GRADIENTS && self.opts.gradients;
+        if !grads {
+            return self.run_lanes(len, setup, strategies, sink);
+        }
         let len = u32::from(len);
         let qc = setup.quad.c;
         let affine = qc[2] == 0 && setup.gqx[1] == 0 && setup.gqy[1] == 0;
@@ -444,7 +447,8 @@ mod tests {
         /// not compile the kernel): any start, step (short and long cells, steps past a cell a
         /// pixel with culling off), length, gradients on and off, `mod` and `clamp`, zero,
         /// affine and curved quadrics, `Fd`, `Fd32` (exact where the merged loop takes the span,
-        /// otherwise its 32-bit accumulators) and `Auto`.
+        /// otherwise its 32-bit accumulators) and `Auto`; and the lane kernel's values are the
+        /// merged axial kernel's.
         #[test]
         fn axial_kernel_is_direct(
             s0 in proptest::array::uniform3(-4_000_000i32..4_000_000),
@@ -491,6 +495,7 @@ mod tests {
                 len,
             };
             let opts = |mode| EvalOptions { mode, gradients, cull };
+            let opts_g = |mode, gradients| EvalOptions { mode, gradients, cull };
             let mode = [EvalMode::Fd, EvalMode::Fd32, EvalMode::Auto][mode];
             let (direct, direct_st, direct_axial) = go(&m, opts(EvalMode::Direct), &span, false);
             // `Direct` in the per-pixel axial kernel (no gradients) and in the merged loop (lean).
@@ -510,6 +515,12 @@ mod tests {
             proptest::prop_assert_eq!(&fast, &lean);
             proptest::prop_assert_eq!(fast_st, lean_st);
             proptest::prop_assert_eq!(lean_axial, 0);
+            // Without gradients the lane kernel (`lanes`) takes the span, with them the merged
+            // axial kernel: the same values.
+            let f_of = |g: bool| -> Vec<TexValue> {
+                go(&m, opts_g(mode, g), &span, false).0.iter().map(|s| s.f).collect()
+            };
+            proptest::prop_assert_eq!(f_of(false), f_of(true));
             // `Fd` on a span the merged loop takes is the axial kernel's.
             let resolved = (step >> zoom).unsigned_abs() < NYQUIST_STEP as u32;
             if mode == EvalMode::Fd && len > 0 && FD && !clamp && quadric == 0 && resolved {

@@ -64,6 +64,8 @@
 //! - `axial` (fast shape only): the kernel of spans whose terms are all single-axis trilinear
 //!   terms, forward differenced (per-term countdowns to the cell events, coinciding events in one
 //!   pass);
+//! - `lanes` (fast shape only): the axial kernel without gradients, one term at a time over each
+//!   chunk of samples (no merged state, no segment loop);
 //! - `direct`: trilinear terms evaluated per pixel inside the merged loop (one cell set-up per
 //!   cell, then the cell's monomial form, or the face blends of a single-axis term);
 //! - `quad`: the quadric along the span.
@@ -83,6 +85,8 @@ mod axis;
 mod cubic;
 mod direct;
 mod general;
+#[cfg(not(texcore_lean))]
+mod lanes;
 mod merged;
 mod passes;
 mod quad;

@@ -1,5 +1,5 @@
 //! The peer-comparison workloads (`texsim report peers`, `docs/peers.md`): one plane and one
-//! per-row kernel per workload, shared by the device jobs (`firmware/src/peers.rs`), the host
+//! per-row kernel per workload, shared by the device jobs (`workloads/src/peers.rs`), the host
 //! measurements and the benchmarks, so that texcore and the peer libraries measure the same
 //! thing.
 //!

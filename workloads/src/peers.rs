@@ -1,11 +1,13 @@
-//! The peer-comparison jobs (feature `peers`, `texsim report peers`): texcore's evaluation modes
-//! next to `fastnoise-lite` (f32, `no_std` with `libm`) on the workloads of
+//! The peer-comparison kernels (feature `peers`, `texsim report peers`): texcore's evaluation
+//! modes next to `fastnoise-lite` (f32, `no_std` with `libm`) on the workloads of
 //! `texcore::texture::workload::peers`, over the same plane.
 //!
-//! Uses nothing but `texcore` and `fastnoise-lite`, so the host includes this file verbatim
-//! (`host_sim::report::peers`) to recompute every checksum and to time the same kernels.
+//! The peers firmware runs them as the jobs of [`crate::peer_jobs`]; the host
+//! (`host_sim::report::peers`) calls the same functions to recompute every device checksum and
+//! to time the same kernels. No allocation and no panics (a too-short line or a row without an
+//! equivalent returns 0).
 //!
-//! Jobs (in [`JOB_LIST`] order), each with a `/setup` twin that builds the same model, texture or
+//! Jobs (in [`rows`] order), each with a `/setup` twin that builds the same model, texture or
 //! noise generator and evaluates no row:
 //! - `peers:<workload>:<implementation>`: `ROWS` rows of the plane, each row's stored words
 //!   (one per pixel, see the workload module) folded into the checksum after the row;
@@ -14,22 +16,15 @@
 //!
 //! Instructions per sample = `(job - setup - fold) / (ROWS * 256)`.
 //!
-//! `ROWS` (`crate::peer_jobs::ROWS`) is the whole plane (256), or with feature `peers-band` one
-//! 8-row band (the bound test `tests/tests/peers_qemu.rs`).
+//! `ROWS` is the whole plane (256, [`crate::peer_jobs::PLANE`]) or one 8-row band
+//! ([`crate::peer_jobs::BAND`], the bound test `tests/tests/peers_qemu.rs`).
 
 use fastnoise_lite::{FastNoiseLite, FractalType, NoiseType};
 use texcore::hash::HashKind;
 use texcore::span::{EvalMode, EvalOptions, SpanEvaluator};
 use texcore::texture::workload::peers::{self, Workload};
 
-/// FNV-1a 32-bit offset basis.
-pub const FNV_OFFSET: u32 = 0x811C_9DC5;
-
-/// Folds one word (FNV-1a over 32-bit words).
-#[inline(always)]
-pub fn fold(acc: u32, word: u32) -> u32 {
-    (acc ^ word).wrapping_mul(0x0100_0193)
-}
+pub use crate::job::{fold, FNV_OFFSET};
 
 /// An implementation in the comparison (the device ones; the host adds `noise`).
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
@@ -212,10 +207,4 @@ pub fn rows() -> impl Iterator<Item = (Workload, Implementation)> {
             .filter(move |&i| has(w, i))
             .map(move |i| (w, i))
     })
-}
-
-/// The job name of a row: `peers:<workload>:<implementation>`.
-#[cfg(not(target_os = "none"))]
-pub fn job_name(w: Workload, imp: Implementation) -> String {
-    format!("peers:{}:{}", w.name(), imp.name())
 }

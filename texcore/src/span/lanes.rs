@@ -1,0 +1,306 @@
+//! The axial kernel lane by lane: the spans of the axial kernel (`axial`) without gradients,
+//! evaluated one term at a time over each chunk of samples instead of through one merged state.
+//!
+//! On such a span every term is linear inside its cell (`axis`): its value at the next pixel
+//! `v` and its slope `s` are two words, and a pixel is one 64-bit addition `v += s`. Each term
+//! (a *lane*) walks the chunk on its own: the first lane stores its values to a chunk of
+//! accumulators, the next ones add theirs, and the last one adds its values and writes the
+//! sample (`f = (q + (N >> fv)) >> 32`, the quadric `q` stepped in the same loop; with a zero
+//! quadric `f = (N >> 32) >> fv`); a span of one lane writes its samples directly. The
+//! accumulators are the chunk's gradient slots (zero without gradients), zeroed again as they
+//! are read, so the span clears no scratch array of its own. A lane's cell event happens
+//! inside its own walk, so there is no segment loop over the lanes at every event, and nothing
+//! is subtracted at an exit: the new cell's polynomial simply replaces the lane's `(v, s)`.
+//!
+//! Exactness: a lane's `v` at pixel `j` of its cell is `g0 + j g1` of the cell polynomial
+//! (`axis::poly`), the term's value in the merged loop, and every sum is wrapping modulo 2^64
+//! as the merged state's, so the sums (in any order of the terms) and the samples are the
+//! merged loop's, and so are the counters (tested against `Direct`, the merged loop of the
+//! size-lean shape and the axial kernel with gradients).
+
+use super::*;
+
+/// One term of the lane kernel.
+#[derive(Clone, Copy, Debug)]
+struct ValueLane {
+    /// Pixels before the term's next cell event.
+    left: u32,
+    /// The term's value at the next pixel, and its step a pixel.
+    v: i64,
+    s: i64,
+    /// The moving axis (0..=2).
+    k: usize,
+    /// The lattice coordinate along `k` at pixel 0 of the span, and its step a pixel.
+    u0: i32,
+    d: i32,
+    /// The current cell and fractions (the two axes other than `k` never change).
+    cell: [u16; 3],
+    frac: [u32; 3],
+    /// The blends `Phi` of the current cell's faces `c_k = 0` and `c_k = 1`.
+    phi: [i64; 2],
+    hash: HashKind,
+    amp: i32,
+}
+
+/// The blend `Phi` of face `b` of `cell` for a lane moving along `k` (constant fractions `frac`
+/// on the two other axes).
+#[allow(clippy::too_many_arguments)]
+#[inline(always)]
+fn face_phi(
+    k: usize,
+    hash: HashKind,
+    cell: [u16; 3],
+    frac: [u32; 3],
+    b: usize,
+    amp: i32,
+    fv: u32,
+    vb: u32,
+) -> i64 {
+    let k = k.min(2); // always 0..=2: lets the compiler drop the bounds checks
+    let w = face_bits(k, hash, cell, b, amp, fv, vb);
+    face(&w, k, frac, [0; 3], false).phi()
+}
+
+/// The cell polynomial at its local pixel 0 and its step from the face blends (`axis::poly`'s
+/// `g[0]` and `g[1]`), `fk` the fraction along the moving axis, `d` its step.
+#[inline(always)]
+fn value_and_step(phi: [i64; 2], fk: u32, d: i32) -> (i64, i64) {
+    let [p0, p1] = phi;
+    let dphi = wsub(p1, p0);
+    (
+        wadd(p0 << 16, wmul(dphi, i64::from(fk))),
+        wmul(dphi, i64::from(d)),
+    )
+}
+
+impl ValueLane {
+    /// The blend of face `b` of the current cell.
+    #[inline(always)]
+    fn blend(&self, b: usize, fv: u32, vb: u32) -> i64 {
+        face_phi(self.k, self.hash, self.cell, self.frac, b, self.amp, fv, vb)
+    }
+
+    /// The cell event at span pixel `i`: into the next cell along `k` (the shared face kept).
+    #[inline(always)]
+    fn event(&mut self, i: u32, fv: u32, vb: u32) {
+        let k = self.k.min(2);
+        let uk = self.u0.wrapping_add(self.d.wrapping_mul(i as i32));
+        let cell = (uk >> 16) as u16;
+        let step = match self.cell.get(k) {
+            Some(&c) => cell.wrapping_sub(c),
+            None => 0,
+        };
+        let fk = (uk & 0xFFFF) as u32;
+        if let (Some(c), Some(f)) = (self.cell.get_mut(k), self.frac.get_mut(k)) {
+            *c = cell;
+            *f = fk;
+        }
+        self.phi = match step {
+            1 => [self.phi[1], self.blend(1, fv, vb)],
+            0xFFFF => [self.blend(0, fv, vb), self.phi[0]],
+            _ => [self.blend(0, fv, vb), self.blend(1, fv, vb)],
+        };
+        (self.v, self.s) = value_and_step(self.phi, fk, self.d);
+        self.left = pixels_in_cell_axis(fk, self.d);
+    }
+}
+
+/// What a lane does with its values over a chunk.
+#[derive(Clone, Copy, PartialEq, Eq)]
+enum Role {
+    /// The only lane: writes the samples.
+    Only,
+    /// The first of several: stores to the accumulators.
+    First,
+    /// A middle one: adds to the accumulators.
+    Add,
+    /// The last of several: adds to the accumulators and writes the samples.
+    Last,
+}
+
+/// `run` pixels of a lane from `(v, s)` into the accumulators `acc`.
+#[inline(always)]
+fn walk_acc<const ADD: bool>(acc: &mut [i64], v: &mut i64, s: i64) {
+    let mut x = *v;
+    for a in acc.iter_mut() {
+        *a = if ADD { a.wrapping_add(x) } else { x };
+        x = x.wrapping_add(s);
+    }
+    *v = x;
+}
+
+/// `run` pixels of a lane from `(v, s)` written as samples (`ADD`: plus the accumulators, which
+/// are zeroed as they are read): `f = (q + (N >> fv)) >> 32`, `q` the quadric (`NOQ`: zero,
+/// `f = (N >> 32) >> fv`; `AFFINE`: a constant step).
+#[inline(always)]
+fn walk_out<const ADD: bool, const NOQ: bool, const AFFINE: bool>(
+    out: &mut [TexValue],
+    acc: &mut [i64],
+    fvs: u32,
+    v: &mut i64,
+    s: i64,
+    q: &mut [i64; 3],
+) {
+    let mut x = *v;
+    let [mut qq, mut dq, ddq] = *q;
+    for (o, a) in out.iter_mut().zip(acc.iter_mut()) {
+        let n = if ADD { a.wrapping_add(x) } else { x };
+        if ADD {
+            *a = 0;
+        }
+        let f = if NOQ {
+            ((n >> 32) as i32) >> fvs
+        } else {
+            let f = (qq.wrapping_add(n >> fvs) >> 32) as i32;
+            qq = qq.wrapping_add(dq);
+            if !AFFINE {
+                dq = dq.wrapping_add(ddq);
+            }
+            f
+        };
+        *o = TexValue::from_bits(f);
+        x = x.wrapping_add(s);
+    }
+    *v = x;
+    *q = [qq, dq, ddq];
+}
+
+/// One lane's `run` pixels in its role (`quad`: zero quadric, affine, curved).
+#[allow(clippy::too_many_arguments)]
+#[inline(always)]
+fn walk(
+    role: Role,
+    quad: u8,
+    acc: &mut [i64],
+    out: &mut [TexValue],
+    fvs: u32,
+    v: &mut i64,
+    s: i64,
+    q: &mut [i64; 3],
+) {
+    match (role, quad) {
+        (Role::First, _) => walk_acc::<false>(acc, v, s),
+        (Role::Add, _) => walk_acc::<true>(acc, v, s),
+        (Role::Only, 0) => walk_out::<false, true, true>(out, acc, fvs, v, s, q),
+        (Role::Only, 1) => walk_out::<false, false, true>(out, acc, fvs, v, s, q),
+        (Role::Only, _) => walk_out::<false, false, false>(out, acc, fvs, v, s, q),
+        (Role::Last, 0) => walk_out::<true, true, true>(out, acc, fvs, v, s, q),
+        (Role::Last, 1) => walk_out::<true, false, true>(out, acc, fvs, v, s, q),
+        (Role::Last, _) => walk_out::<true, false, false>(out, acc, fvs, v, s, q),
+    }
+}
+
+impl<'m, const T: usize> EvalCore<'m, T> {
+    /// The axial kernel without gradients, lane by lane (see the module documentation); the
+    /// span must have been accepted by `merged_takes` and `axial_takes`.
+    #[inline(never)]
+    pub(super) fn run_lanes(
+        &mut self,
+        len: u16,
+        setup: &Setup<T>,
+        strategies: &[Strategy; T],
+        sink: &mut ChunkSink<'_, '_>,
+    ) {
+        let m = self.model;
+        let fv = m.noise_frac_bits();
+        let fvs = fv & 31;
+        let vb = m.precision().value_bits();
+        let len = u32::from(len);
+        let qc = setup.quad.c;
+        let mut q = [
+            qc[0] as i64,
+            qc[1].wrapping_add(qc[2]) as i64,
+            qc[2].wrapping_mul(2) as i64,
+        ];
+        // 0: zero quadric, 1: affine, 2: curved.
+        let quad = match (q == [0; 3], qc[2] == 0) {
+            (true, _) => 0u8,
+            (false, true) => 1,
+            (false, false) => 2,
+        };
+
+        let mut lanes: heapless::Vec<ValueLane, T> = heapless::Vec::new();
+        for ((term, st), ts) in m.terms().iter().zip(strategies).zip(setup.terms.iter()) {
+            if *st == Strategy::Off {
+                continue;
+            }
+            let Some(k) = single_axis(ts.du) else {
+                continue;
+            };
+            let k = k.min(2);
+            let (cell, frac) = split(ts.u0);
+            let d = ts.du[k];
+            let (hash, amp) = (term.basis.hash, ts.amp);
+            let phi = [
+                face_phi(k, hash, cell, frac, 0, amp, fv, vb),
+                face_phi(k, hash, cell, frac, 1, amp, fv, vb),
+            ];
+            let (v, s) = value_and_step(phi, frac[k], d);
+            let lane = ValueLane {
+                left: pixels_in_cell_axis(frac[k], d),
+                v,
+                s,
+                k,
+                u0: ts.u0[k],
+                d,
+                cell,
+                frac,
+                phi,
+                hash,
+                amp,
+            };
+            // At most T terms: never full.
+            let _ = lanes.push(lane);
+        }
+        let nl = lanes.len();
+        let mut setups = nl as u64;
+
+        let mut i = 0u32;
+        while i < len {
+            let n = ((len - i) as usize).min(sink.room());
+            let at = sink.chunk.len;
+            // The accumulators are the chunk's gradient slots, zero without gradients: they are
+            // zeroed again as they are read, before the chunk is handed over.
+            let c = &mut sink.chunk;
+            let (Some(out), Some(acc)) = (c.f.get_mut(at..at + n), c.gx.get_mut(at..at + n)) else {
+                break;
+            };
+            for (li, t) in lanes.iter_mut().enumerate() {
+                let role = match (li == 0, li + 1 == nl) {
+                    (true, true) => Role::Only,
+                    (true, false) => Role::First,
+                    (false, true) => Role::Last,
+                    (false, false) => Role::Add,
+                };
+                let mut j = 0usize;
+                loop {
+                    let run = (n - j).min(t.left as usize);
+                    if let (Some(a), Some(o)) = (acc.get_mut(j..j + run), out.get_mut(j..j + run)) {
+                        walk(role, quad, a, o, fvs, &mut t.v, t.s, &mut q);
+                    }
+                    j += run;
+                    t.left -= run as u32;
+                    if t.left == 0 && i + (j as u32) < len {
+                        t.event(i + j as u32, fv, vb);
+                        setups += 1;
+                    }
+                    if j >= n {
+                        break;
+                    }
+                }
+            }
+            sink.advance(n);
+            i += n as u32;
+        }
+
+        let px = u64::from(len);
+        let st = &mut self.stats;
+        st.cell_setups += setups;
+        st.noise_evaluations += px * nl as u64;
+        st.fd_pixels += px;
+        #[cfg(test)]
+        {
+            self.axial_spans += 1;
+        }
+    }
+}
