@@ -507,7 +507,8 @@ fn lit_scene_file_renders_and_bad_lights_exit_2() {
     assert!(pixels > 10_000);
     assert_eq!(count(&v, "lit_pixels"), pixels);
     // Pinned: the lighting stage is integer arithmetic, the same bits on every target.
-    assert_eq!(v["checksum"], "414df048", "lit-marble.toml's image changed");
+    // (8fcaed2f since the footprint fade of docs/model.md 8.1; 414df048 before.)
+    assert_eq!(v["checksum"], "8fcaed2f", "lit-marble.toml's image changed");
     let src = std::fs::read_to_string(example("lit-marble.toml")).unwrap();
     let unlit_src = src.split("[lighting]").next().unwrap().to_string()
         + &src[src.find("[[objects]]").unwrap()..];

@@ -67,6 +67,18 @@ impl RefTerm {
         dx.iter().chain(dy.iter()).fold(0.0, |m, c| m.max(c.abs()))
     }
 
+    /// The fade weight of a term past one cell a pixel (`docs/model.md` 8.1): one over the square
+    /// root of the cells its footprint covers, `1 / sqrt(max(lx, 1) max(ly, 1))` with `lx`, `ly`
+    /// its reaches along `dsdx` and `dsdy`, at least [`FADE_FLOOR`].
+    pub fn fade_weight(&self, dsdx: [f64; 3], dsdy: [f64; 3]) -> f64 {
+        let along = |d: [f64; 3]| {
+            self.lattice_step(d)
+                .iter()
+                .fold(1.0f64, |m, c| m.max(c.abs()))
+        };
+        (1.0 / (along(dsdx) * along(dsdy)).sqrt()).max(FADE_FLOOR)
+    }
+
     /// Past the Nyquist limit, half a cell a pixel (`docs/model.md` 8): the term widens the filter
     /// by (part of) its variance instead of its gradient, and past one cell it is faded.
     pub fn past_nyquist(&self, dsdx: [f64; 3], dsdy: [f64; 3]) -> bool {
@@ -111,7 +123,7 @@ impl RefTerm {
                 variance: full,
             };
         }
-        let w = (1.0 / l).max(FADE_FLOOR);
+        let w = self.fade_weight(dsdx, dsdy);
         if (self.amplitude * w).abs() < CULL_AMPLITUDE {
             return Band {
                 weight: 0.0,
@@ -122,7 +134,7 @@ impl RefTerm {
         Band {
             weight: w,
             gradient: false,
-            variance: full * (1.0 - 0.5 * w),
+            variance: full * FADED_PART * (1.0 - w * w),
         }
     }
 
@@ -250,6 +262,9 @@ impl Norm {
 
 /// The smallest fade weight of a band-limited term (texcore's `bandlimit::FADE_FLOOR`).
 pub const FADE_FLOOR: f64 = 0.25;
+/// The share of a faded term's within-footprint variance `1 - w^2` that widens the filter
+/// (texcore's `bandlimit::FADED_PART`).
+pub const FADED_PART: f64 = 0.75;
 /// Faded amplitudes below this are culled (texcore's `bandlimit::CULL_AMPLITUDE`).
 pub const CULL_AMPLITUDE: f64 = 1.0 / 256.0;
 
@@ -652,7 +667,8 @@ mod tests {
                 .weight,
             1.0
         );
-        // 64 / 16 = 4 cells a pixel along y only: faded to 1/4.
+        // 64 / 16 = 4 cells a pixel along y, a quarter along x: the footprint covers four cells,
+        // faded to 1 / sqrt(4) = 1/2.
         let coarse = Footprint {
             s,
             dsdx: [1.0 / 256.0, 0.0, 0.0],
@@ -663,7 +679,7 @@ mod tests {
         let q = s[2]; // f without the noise: the quadric 2 I r = r
         let u = term.lattice_point(s);
         let n = gradient_noise(u, Fade::Smooth, HashKind::default()).value;
-        assert!((m.f_at(&coarse, Nyquist::Cull) - (q + 0.25 * 0.25 * n)).abs() < 1e-15);
+        assert!((m.f_at(&coarse, Nyquist::Cull) - (q + 0.25 * 0.5 * n)).abs() < 1e-15);
         assert!((m.f_at(&coarse, Nyquist::Widen) - (q + 0.25 * n)).abs() < 1e-15);
         assert_eq!(m.f_at(&coarse, Nyquist::Evaluate), m.f(s));
         // Far away the weight stops at 1/4; a small term is culled there.
@@ -676,7 +692,7 @@ mod tests {
         let sigma = term.sigma();
         let full = (0.25 * sigma).powi(2);
         let w_cull = m.filter_width(&coarse, n_entries, Norm::L1, true);
-        assert!((w_cull - 64.0 * (12.0 * full * (1.0 - 0.125)).sqrt()).abs() < 1e-12);
+        assert!((w_cull - 64.0 * (12.0 * full * 0.75 * (1.0 - 0.25)).sqrt()).abs() < 1e-12);
         let w_widen = m.filter_width_with(&coarse, n_entries, Norm::L1, Nyquist::Widen);
         assert!((w_widen - 64.0 * (12.0 * full).sqrt()).abs() < 1e-12);
         let (gx, gy, extra) = m.screen_derivatives(&coarse, Nyquist::Evaluate);
