@@ -94,35 +94,20 @@ pub const fn reach(du: [i32; 3], dy: [i32; 3]) -> u32 {
 /// cells), at least [`FADE_FLOOR`]: a footprint long in depth and narrow across (a receding
 /// plane) keeps `1 / sqrt(ly)` of the octave where a square one keeps `1 / l`. In 32-bit
 /// integers (the floor is reached at 16 cells, so only `lx', ly' < 16` matter):
-/// `p = (lx' >> 4) (ly' >> 4)` (cells, 24 fraction bits), `1` when `p <= 2^24`, [`FADE_FLOOR`]
-/// when `p >= 2^28` (each reach clamped to 16 cells first, saturating), else `floor(2^28 / isqrt(p))`.
+/// `p = (lx' >> 4) (ly' >> 4)` (cells, 24 fraction bits, saturating), [`FADE_FLOOR`] when
+/// `p >= 2^28`, else `floor(2^28 / isqrt(p))` (which is 1 at `p = 2^24`, one cell each way).
 pub const fn fade_weight(lx: u32, ly: u32) -> u32 {
-    // Each reach clamped to [1, 16] cells (the floor is reached at 16 cells).
-    const TOP: u32 = 16 << 16;
-    let lx = if lx < FADE_START {
-        FADE_START
-    } else if lx > TOP {
-        TOP
-    } else {
-        lx
-    };
-    let ly = if ly < FADE_START {
-        FADE_START
-    } else if ly > TOP {
-        TOP
-    } else {
-        ly
-    };
+    // Each reach at least one cell. No upper clamp is needed: a reach of 16 cells or more puts
+    // `p` at or past `2^28` whatever the other one is (the product saturates), as the clamped
+    // reach would; and `p = 2^24` (both one cell) gives `r = 2^12`, so `w = 1` below.
+    let lx = if lx < FADE_START { FADE_START } else { lx };
+    let ly = if ly < FADE_START { FADE_START } else { ly };
     let p = (lx >> 4).saturating_mul(ly >> 4);
-    if p <= 1 << 24 {
-        return 1 << 16;
-    }
-    if p >= 1 << 28 {
-        return FADE_FLOOR;
-    }
-    // r = floor(sqrt(p)) (12 fraction bits, in [2^12, 2^14)) digit by digit (p < 2^28; smaller
-    // than a general square root where nothing else needs one): w = 2^28 / r in (2^14, 2^16].
-    let (mut rem, mut r, mut bit) = (p, 0u32, 1u32 << 26);
+    // At most 16 cells: `p = 2^28` gives `r = 2^14` and so `w = FADE_FLOOR` below.
+    let p = if p > 1 << 28 { 1 << 28 } else { p };
+    // r = floor(sqrt(p)) (12 fraction bits, in [2^12, 2^14]) digit by digit (p <= 2^28; smaller
+    // than a general square root where nothing else needs one): w = 2^28 / r in [2^14, 2^16].
+    let (mut rem, mut r, mut bit) = (p, 0u32, 1u32 << 28);
     while bit != 0 {
         if rem >= r + bit {
             rem -= r + bit;
@@ -300,6 +285,41 @@ mod tests {
                 last = w;
             }
         }
+    }
+
+    #[test]
+    fn fade_weight_equals_its_clamped_form() {
+        // The form with both reaches clamped to [1, 16] cells and an early return at one cell.
+        fn clamped(lx: u32, ly: u32) -> u32 {
+            let c = |l: u32| l.clamp(FADE_START, 16 << 16);
+            let p = u64::from(c(lx) >> 4) * u64::from(c(ly) >> 4);
+            if p <= 1 << 24 {
+                1 << 16
+            } else if p >= 1 << 28 {
+                FADE_FLOOR
+            } else {
+                (1 << 28) / (p as f64).sqrt().floor() as u32
+            }
+        }
+        let mut r = 0x2545_f491_u32;
+        let mut next = || {
+            r ^= r << 13;
+            r ^= r >> 17;
+            r ^= r << 5;
+            r
+        };
+        for i in 0..200_000u32 {
+            // Every scale: below a cell, around 1 and 16 cells, and huge.
+            let (a, b) = (next() >> (next() % 32), next() >> (next() % 32));
+            let (a, b) = if i < 4096 {
+                ((i & 63) << 14, (i >> 6) << 14)
+            } else {
+                (a, b)
+            };
+            assert_eq!(fade_weight(a, b), clamped(a, b), "{a:#x} {b:#x}");
+        }
+        assert_eq!(fade_weight(u32::MAX, u32::MAX), FADE_FLOOR);
+        assert_eq!(fade_weight(0, 0), 1 << 16);
     }
 
     #[test]
