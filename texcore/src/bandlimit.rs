@@ -117,7 +117,12 @@ pub const fn fade_weight(lx: u32, ly: u32) -> u32 {
         }
         bit >>= 2;
     }
-    (1 << 28) / r
+    // r >= 2^12 here (p >= 2^24); the checked division keeps the pixel path free of a panic
+    // branch (the optimiser cannot see the bound through the loop).
+    match (1u32 << 28).checked_div(r) {
+        Some(w) => w,
+        None => FADE_FLOOR,
+    }
 }
 
 /// The part (raw 0.16) of a faded term's variance that widens the filter for a fade weight `w`
