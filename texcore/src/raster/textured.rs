@@ -65,8 +65,8 @@ impl<'a> Texture565<'a> {
     #[inline]
     fn nearest_q16(&self, u: i32, v: i32) -> u16 {
         let max = (1i32 << self.log2_side) - 1;
-        let tu = (u >> 16).clamp(0, max) as usize;
-        let tv = (v >> 16).clamp(0, max) as usize;
+        let tu = (u >> 16).max(0).min(max) as usize;
+        let tv = (v >> 16).max(0).min(max) as usize;
         self.texels
             .get((tv << self.log2_side) | tu)
             .copied()
@@ -110,7 +110,7 @@ impl Homogeneous {
         let k = 33 - bitlen(u64::from(mag));
         let f = tx.frac();
         let top = (1i64 << 15) - 1;
-        let coord = |t: i64| (t >> (16 - f)).clamp(0, top);
+        let coord = |t: i64| (t >> (16 - f)).max(0).min(top);
         let neg = area2 < 0;
         let mut w = [[0i64; 3]; 3];
         for ((wi, qi), t) in w.iter_mut().zip(q).zip(tex) {
@@ -199,7 +199,11 @@ impl Rasterizer {
             let [du, dv, ddx] = h.planes.map(|p| p[1]);
             let mut shown = 0u64;
             for (d, c) in drow.iter_mut().zip(crow.iter_mut()) {
-                let z = (zp.wrapping_add(1 << 31) >> 32).clamp(plane.zlo, plane.zhi) as u16;
+                // `max` then `min`, as the depth stage does (`clamp` would carry a panic branch
+                // for `zlo > zhi`, which the set-up never gives).
+                let z = (zp.wrapping_add(1 << 31) >> 32)
+                    .max(plane.zlo)
+                    .min(plane.zhi) as u16;
                 if func.passes(z, *d) {
                     if write {
                         *d = z;
