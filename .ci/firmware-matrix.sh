@@ -25,6 +25,7 @@ probe_sets=(
   "render|render|release-size"
   "multipass|fd,multipass|release-size"
   "atlas|atlas|release-size"
+  "lighting|render,lighting|release-size"
   "full|full,perm-hash|release-size"
   "full-fast|full,perm-hash|release"
 )

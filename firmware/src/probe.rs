@@ -159,7 +159,53 @@ mod probe {
                     f(obj, &[v[0], v[2], v[3]]);
                 }
             }
+            /// With feature `lighting` the scene is lit (as far as the optimiser knows), so the
+            /// renderer's lighting stage and `Lighting::shade` stay linked.
+            #[cfg(feature = "lighting")]
+            fn is_lit(&self) -> bool {
+                black_box(true)
+            }
+            #[cfg(feature = "lighting")]
+            fn for_each_lit_triangle_grouped<K, F>(&self, mut keep: K, mut f: F)
+            where
+                K: FnMut(usize) -> bool,
+                F: FnMut(
+                    usize,
+                    usize,
+                    &[ScreenVertex; 3],
+                    &dyn Fn() -> [texcore::light::LightRgb; 3],
+                ),
+            {
+                let lighting = black_box(lighting());
+                let (p, n, eye) =
+                    black_box((Vec3::ZERO, Vec3::new(0, 0, ONE), Vec3::new(0, 0, 4 * ONE)));
+                let light = || {
+                    let l = lighting.shade(p, n, eye);
+                    [l, l, l]
+                };
+                let mut group = 0usize;
+                self.for_each_triangle(|o, t| {
+                    if keep(group) {
+                        f(group, o, t, &light);
+                    }
+                    group = group.wrapping_add(1);
+                });
+            }
         }
+        /// Ambient 1/8 and one white directional light (the lit scene job's set-up).
+        #[cfg(feature = "lighting")]
+        fn lighting() -> texcore::light::Lighting<1> {
+            use texcore::light::{Light, Lighting};
+            let Ok(mut l) = Lighting::new().with_ambient([ONE / 8; 3]) else {
+                return Lighting::new();
+            };
+            if let Ok(sun) = Light::directional(Vec3::new(ONE, ONE, ONE), [ONE; 3], ONE) {
+                let _ = l.try_add(sun);
+            }
+            l
+        }
+        #[cfg(feature = "lighting")]
+        use texcore::scene::math::{Vec3, ONE};
         let c = |x: i32, y: i32, w: u32| {
             ScreenVertex::from_bits(
                 x << 4,

@@ -61,7 +61,7 @@ pub struct FeatureSet {
 
 /// The probe's feature sets, from `minimal` to `full`, and `full` in the fast code shape.
 /// `perm-hash` only takes effect on the Cortex-M4F (the rv32imc build is table-free in every set).
-pub const FEATURE_SETS: [FeatureSet; 12] = [
+pub const FEATURE_SETS: [FeatureSet; 13] = [
     FeatureSet {
         name: "minimal",
         features: &[],
@@ -126,6 +126,14 @@ pub const FEATURE_SETS: [FeatureSet; 12] = [
         profile: "release-size",
         what: "minimal + meshed texture atlases: packed-mesh validation, the atlas bake, nearest, \
                bilinear and MIP atlas look-ups (a system of its own, not part of `full`)",
+    },
+    FeatureSet {
+        name: "lighting",
+        features: &["render", "lighting"],
+        profile: "release-size",
+        what: "render + per-vertex lighting: the lights of a lit scene's vertices \
+               (`Lighting::shade`: ambient, diffuse, specular) and the renderer's lighting stage \
+               (a system of its own, not part of `full`; compare with `render`)",
     },
     FeatureSet {
         name: "full",
