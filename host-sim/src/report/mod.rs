@@ -201,9 +201,14 @@ pub fn host_plane_checksum(name: &str, hash: HashKind) -> Option<u32> {
 /// frame, default knobs, `hash`), through the host's own scene textures and renderer
 /// ([`crate::scenes::render_frame`]).
 fn host_builtin_frame(name: &str, hash: HashKind) -> Option<crate::output::Frame> {
-    let scene = texcore::scene::builtin::by_name(name)?;
+    host_still_frame(&texcore::scene::builtin::by_name(name)?, hash)
+}
+
+/// The still frame of `scene` with the default knobs and `hash`, through the host's own scene
+/// textures and renderer ([`crate::scenes::render_frame`]).
+fn host_still_frame(scene: &texcore::scene::Scene, hash: HashKind) -> Option<crate::output::Frame> {
     let r = crate::scenes::render_frame(
-        &scene,
+        scene,
         scene.still(),
         &UnitConfig::default(),
         hash,
@@ -263,16 +268,8 @@ fn host_frame_rows(name: &str, hash: HashKind) -> Option<std::sync::Arc<Vec<u32>
 /// the host's own scene textures and renderer ([`crate::scenes::render_frame`], default knobs),
 /// FNV-1a over the RGB565 pixels as `texsim render` prints it.
 pub fn host_lit_scene_checksum(name: &str, hash: HashKind) -> Option<u32> {
-    let scene = scenes::lit_scene(name)?;
-    let r = crate::scenes::render_frame(
-        &scene,
-        scene.still(),
-        &UnitConfig::default(),
-        hash,
-        texcore::render::Output::Color,
-    )
-    .ok()?;
-    Some(crate::scenes::checksum(&r.frame))
+    let frame = host_still_frame(&scenes::lit_scene(name)?, hash)?;
+    Some(crate::scenes::checksum(&frame))
 }
 
 /// The set-up checksum of a built-in scene strip job (scene and textures built, nothing
