@@ -79,7 +79,7 @@ impl<const T: usize, const N: usize> Texture<T, N> {
             opts: EvalOptions {
                 mode,
                 gradients,
-                cull: true,
+                ..EvalOptions::default()
             },
         }
     }
@@ -87,6 +87,12 @@ impl<const T: usize, const N: usize> Texture<T, N> {
     /// The same texture with octave culling switched on or off.
     pub fn with_culling(mut self, cull: bool) -> Self {
         self.opts.cull = cull;
+        self
+    }
+
+    /// The same texture with another band-limiting setting (in force while culling is on).
+    pub fn with_band_limit(mut self, band_limit: crate::bandlimit::BandLimit) -> Self {
+        self.opts.band_limit = band_limit;
         self
     }
 

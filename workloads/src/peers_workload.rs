@@ -94,6 +94,7 @@ impl PeerWorkload {
             mode: self.mode,
             gradients: self.gradients,
             cull: true,
+            ..Default::default()
         };
         let mut ev = SpanEvaluator::new(&model, opts);
         if self.gradients {

@@ -297,6 +297,7 @@ mod tests {
                 mode,
                 gradients: w.gradients(),
                 cull: true,
+                ..Default::default()
             };
             let mut fd = SpanEvaluator::new(&m, opts(EvalMode::Fd));
             let mut direct = SpanEvaluator::new(&m, opts(EvalMode::Direct));
