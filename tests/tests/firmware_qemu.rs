@@ -101,6 +101,7 @@ fn texture_checksum(name: &str) -> Option<u32> {
             mode: m,
             gradients: true,
             cull: true,
+            ..Default::default()
         },
     );
     for y in 0..TEX_PLANE {
