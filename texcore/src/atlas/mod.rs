@@ -172,6 +172,8 @@ impl AtlasTriangle {
     /// along the legs, `INSET` inside the hypotenuse too (`u + v <= L - INSET` from the right
     /// angle). Every point of this smaller triangle, and every point a few `2^-16` texel off it,
     /// is strictly inside the triangle, where the owned texels hold every look-up's footprint.
+    /// (`Q16.16` holds texel coordinates below 32 768: a block beyond them, which
+    /// [`AtlasTriangle::new`] accepts up to 65 535, gets wrapped coordinates, never a panic.)
     pub fn inset_corners(&self) -> [[i32; 2]; 3] {
         let c = self.corners_x16().map(|p| p.map(|v| v << 12));
         let s = match self.half {
