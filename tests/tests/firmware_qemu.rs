@@ -536,7 +536,7 @@ fn atlas_draw_bound(target: DeviceTarget) -> u64 {
 /// Upper bound of the net instructions per baked texel of `atlas:marble-bake` (15 060 texels,
 /// 6 x 5 blocks: row spans of at most 6 texels, so the span set-up dominates). Measured at
 /// 3508.4 (Cortex-M4F) and 4908.2 (rv32imc) when the bound was set; about 10% of headroom
-/// (3618.8 and 4902.3 with legs of 5 in the same blocks, the tighter ownership rule).
+/// (3637.7 and 4900.9 with legs of 5 in the same blocks, the tighter ownership rule).
 fn atlas_bake_bound(target: DeviceTarget) -> u64 {
     match target {
         DeviceTarget::CortexM4F => 3_860,
