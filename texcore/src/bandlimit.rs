@@ -59,7 +59,10 @@ pub const FADE_FLOOR: u32 = 1 << 14;
 /// filter: 3/4. Measured against the supersampled truth (seascape and flight, 320 x 240, 4 x 4
 /// truth): with the whole `1 - w^2` the flight's horizon flickers 0.66 times as much as the
 /// truth's (PSNR 31.51 dB), with 1/2 of it 0.71 (31.54 dB), 5/8 0.69 and 3/4 0.68 (31.58 dB,
-/// the closest), 7/8 0.67 (31.56 dB).
+/// the closest), 7/8 0.67 (31.56 dB). The accuracy report's `band_limit` knob (`docs/accuracy.md`:
+/// the seascape's still frame at 160 x 120 against an 8 x 8 truth) puts 1/2 0.42 dB closer on
+/// that frame (33.23 against 32.81 dB) with the same horizon flicker (0.35 against 0.34, the
+/// truth's 0.34): the share is a trade between the two scenes, not a clear optimum.
 pub const FADED_PART: u32 = 3 << 14;
 /// A faded term whose faded amplitude (raw 16.16) is below this is culled: 1/256.
 pub const CULL_AMPLITUDE: u32 = 1 << 8;
