@@ -269,6 +269,38 @@ impl Reciprocal32 {
         }
         (q, r >> s)
     }
+
+    /// `n / d` of the original divisor, for `n < 2^127`, in straight-line code: `n << s` as five
+    /// 32-bit words whose top one (below `2^s <= 2^31 <= d`) is the first remainder, then one two-word step per remaining word, high to low, skipping the steps of
+    /// leading zero words of `n` (their quotient digits are 0 and their shifted word, below
+    /// `2^s`, is the next remainder). At most four steps of one 32 x 32 -> 64-bit product each.
+    #[inline(always)]
+    pub(crate) fn div_u127(&self, n: u128) -> u128 {
+        let s = self.s;
+        let (w3, w2, w1, w0) = (
+            (n >> 96) as u32,
+            (n >> 64) as u32,
+            (n >> 32) as u32,
+            n as u32,
+        );
+        // `(x << s) | (y >> (32 - s))`, 0 for the second part when s = 0.
+        let join = |x: u32, y: u32| (x << s) | ((y >> 1) >> (31 - s));
+        let (q3, r) = if w3 == 0 {
+            (0, join(0, w2))
+        } else {
+            self.div_2by1(join(0, w3), join(w3, w2))
+        };
+        let (q2, r) = if (w3 | w2) == 0 {
+            (0, join(0, w1))
+        } else {
+            self.div_2by1(r, join(w2, w1))
+        };
+        let (q1, r) = self.div_2by1(r, join(w1, w0));
+        let (q0, _) = self.div_2by1(r, w0 << s);
+        let lo = (u64::from(q1) << 32) | u64::from(q0);
+        let hi = (u64::from(q3) << 32) | u64::from(q2);
+        (u128::from(hi) << 64) | u128::from(lo)
+    }
 }
 
 /// `(n / d, n % d)` for a 64-bit `n` and a divisor below 2^32 (`None` for `d == 0`): two steps of
@@ -657,6 +689,9 @@ mod tests {
                     (n / u128::from(d), (n % u128::from(d)) as u32),
                     "{n} / {d}"
                 );
+                for n in [n >> 1, n >> 33, n >> 65, n >> 97] {
+                    assert_eq!(r.div_u127(n), n / u128::from(d), "{n} / {d}");
+                }
             }
         }
         assert!(Reciprocal32::new(0).is_none());
@@ -679,6 +714,8 @@ mod tests {
                 let r = Reciprocal32::new(d).expect("non-zero");
                 for n in [n, n >> nshift] {
                     proptest::prop_assert_eq!(r.div_rem(n), (n / u128::from(d), (n % u128::from(d)) as u32));
+                    let n = n >> 1;
+                    proptest::prop_assert_eq!(r.div_u127(n), n / u128::from(d));
                 }
             }
         }

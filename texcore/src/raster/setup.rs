@@ -126,23 +126,18 @@ impl AreaDivisor {
     #[cfg(not(texcore_lean))]
     #[inline]
     fn div_round(&self, n: i128) -> i128 {
-        // |n| < 2^126 (every plane numerator: below 2^125): with a = |area2| and n' = n sign(area2),
-        // round_half_up(n' / a) = floor((n' + floor(a / 2)) / a) (for odd a, the 1/2 that
-        // n' / a + 1/2 adds beyond floor(a / 2) / a never reaches the next multiple of a), and
-        // m = n' + floor(a / 2) cannot overflow. The floor of m / a from its magnitude's quotient
-        // and remainder.
-        if let (AreaRecip::Narrow(r), true) = (self.recip, n.unsigned_abs() < 1 << 126) {
+        // |n| <= 2^126 (every plane numerator: below 2^125): with a = |area2| and
+        // n' = n sign(area2), round_half_up(n' / a) = floor((n' + floor(a / 2)) / a) (for odd a,
+        // the 1/2 that n' / a + 1/2 adds beyond floor(a / 2) / a never reaches the next multiple
+        // of a), and m = n' + floor(a / 2) lies in (-2^127, 2^127). For m < 0,
+        // floor(m / a) = -1 - floor((-m - 1) / a) = !floor(!m / a): the quotient of the magnitude
+        // m ^ (m >> 127) < 2^127, xor-ed with the same mask.
+        let top = ((n >> 96) as i32) >> 30;
+        if let (AreaRecip::Narrow(r), true) = (self.recip, top == 0 || top == -1) {
             let n = if self.area2 < 0 { n.wrapping_neg() } else { n };
             let m = n.wrapping_add(i128::from(self.mag >> 1));
-            let (q, rem) = r.div_rem(m.unsigned_abs());
-            let q = q as i128;
-            return if m >= 0 {
-                q
-            } else if rem == 0 {
-                q.wrapping_neg()
-            } else {
-                q.wrapping_neg().wrapping_sub(1)
-            };
+            let mask = m >> 127;
+            return (r.div_u127((m ^ mask) as u128) as i128) ^ mask;
         }
         self.div_round_general(n)
     }
