@@ -124,7 +124,7 @@ impl AreaDivisor {
 
     /// `round(n / area2)`, ties up, exactly as `div_round_i128(n, area2)`.
     #[cfg(not(texcore_lean))]
-    #[inline]
+    #[inline(always)]
     fn div_round(&self, n: i128) -> i128 {
         // |n| <= 2^126 (every plane numerator: below 2^125): with a = |area2| and
         // n' = n sign(area2), round_half_up(n' / a) = floor((n' + floor(a / 2)) / a) (for odd a,
@@ -142,8 +142,10 @@ impl AreaDivisor {
         self.div_round_general(n)
     }
 
-    /// [`AreaDivisor::div_round`] for every numerator.
+    /// [`AreaDivisor::div_round`] for every numerator (out of line: the narrow path is inlined
+    /// into each plane).
     #[cfg(not(texcore_lean))]
+    #[inline(never)]
     fn div_round_general(&self, n: i128) -> i128 {
         // As div_round_i128: a negative divisor negates both (saturating).
         let nn = if self.area2 < 0 {
