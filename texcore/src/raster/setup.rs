@@ -227,6 +227,15 @@ fn dot_narrow(l: [i64; 3], e: [i64; 3]) -> i128 {
 }
 
 impl Plane {
+    /// The zero plane.
+    const ZERO: Plane = Plane {
+        c: 0,
+        dx: 0,
+        dy: 0,
+        gx: 0,
+        gy: 0,
+    };
+
     /// The plane through the vertex values `l` (each `|l_i| <= 2^62`) at the vertex positions
     /// of `basis`, `area` dividing by the doubled signed area `!= 0`.
     fn new(l: [i64; 3], basis: &PlaneBasis, area: &AreaDivisor) -> Plane {
@@ -285,6 +294,15 @@ pub(crate) struct PerspInterp {
     pub(crate) p: [Plane; 3],
     /// The 1/w plane is shifted right by this much for component `c` (`bitlen` of its range).
     pub(crate) qshift: [u32; 3],
+}
+
+impl PerspInterp {
+    /// All planes zero (a placeholder until the planes are computed).
+    const ZERO: PerspInterp = PerspInterp {
+        q: Plane::ZERO,
+        p: [Plane::ZERO; 3],
+        qshift: [0; 3],
+    };
 }
 
 /// How a triangle's texture coordinates are interpolated.
@@ -404,8 +422,8 @@ impl Prepared {
             setup: TriangleSetup {
                 cov: Coverage::new(p),
                 opts: *opts,
-                // Written by `fill_interp`.
-                interp: Interp::Affine(AffineInterp::default()),
+                // Written by `fill_interp` (in place when perspective).
+                interp: Interp::Persp(PerspInterp::ZERO),
                 z,
                 zlo,
                 zhi,
@@ -492,14 +510,15 @@ impl Prepared {
                     (w + (1 << (b - 31))) >> (b - 30)
                 }
             });
-            self.setup.interp = Interp::Persp(PerspInterp {
-                q: Plane::new(q.map(|q| q << 32), p, area),
-                p: [Plane::default(); 3],
-                qshift: [0; 3],
-            });
+            // The placeholder of `Prepared::new` is already perspective: the planes are written
+            // in place (no zeroed temporary copied over the set-up).
+            if !matches!(self.setup.interp, Interp::Persp(_)) {
+                self.setup.interp = Interp::Persp(PerspInterp::ZERO);
+            }
             let Interp::Persp(pi) = &mut self.setup.interp else {
                 return;
             };
+            pi.q = Plane::new(q.map(|q| q << 32), p, area);
             for c in 0..3 {
                 let bl = bitlen(range[c]);
                 let mut l = [0i64; 3];
