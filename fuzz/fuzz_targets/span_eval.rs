@@ -2,10 +2,12 @@
 //! turbulence, any transform and quadric bits, any precision, both table wraps) and random spans
 //! (any start, step and second direction, up to 1023 pixels). The exact modes (`Fd`, `Auto`)
 //! give the same samples as `Direct`, bit for bit, with and without culling and gradients; the
-//! approximate modes (`Fd32`, `Reanchored`) never panic and give one sample per pixel.
+//! approximate modes (`Fd32`, `Reanchored`) never panic and give one sample per pixel. Every
+//! band-limiting setting (either fade rule, any floor and share) is drawn too.
 #![no_main]
 
 use libfuzzer_sys::fuzz_target;
+use texcore::bandlimit::{BandLimit, FadeWeight};
 use texcore::format::{Amplitude, MatrixEntry, QuadricCoeff, TexPoint};
 use texcore::hash::HashKind;
 use texcore::model::{NoiseTerm, Octaves, Precision, TextureModel};
@@ -75,11 +77,19 @@ fn model(b: &mut Bytes) -> TextureModel<4> {
     m
 }
 
+/// A band-limiting setting: either rule, a floor in [1/16, 1] and a share in [0, 1).
+fn band_limit(b: &mut Bytes) -> BandLimit {
+    let weight = b.pick(&[FadeWeight::Footprint, FadeWeight::Reach]);
+    let floor = (1 << 12) + u32::from(b.u16()) % ((1 << 16) - (1 << 12) + 1);
+    BandLimit::new(weight, floor, u32::from(b.u16())).unwrap_or_default()
+}
+
 fn eval(
     m: &TextureModel<4>,
     mode: EvalMode,
     gradients: bool,
     cull: bool,
+    band_limit: BandLimit,
     span: &Span,
 ) -> Vec<Sample> {
     let mut ev = SpanEvaluator::new(
@@ -88,6 +98,7 @@ fn eval(
             mode,
             gradients,
             cull,
+            band_limit,
         },
     );
     let mut out = Vec::with_capacity(usize::from(span.len));
@@ -104,22 +115,23 @@ fuzz_target!(|data: &[u8]| {
         dsdy: point(&mut b),
         len: b.u16() & 1023,
     };
+    let band = band_limit(&mut b);
     let n = usize::from(span.len);
     for (gradients, cull) in [(true, true), (true, false), (false, true)] {
-        let direct = eval(&m, EvalMode::Direct, gradients, cull, &span);
+        let direct = eval(&m, EvalMode::Direct, gradients, cull, band, &span);
         assert_eq!(direct.len(), n);
         for mode in [EvalMode::Fd, EvalMode::Auto] {
-            let got = eval(&m, mode, gradients, cull, &span);
+            let got = eval(&m, mode, gradients, cull, band, &span);
             if let Some(i) = (0..n).find(|&i| got[i] != direct[i]) {
                 panic!(
                     "{mode:?} differs from Direct at pixel {i} (gradients {gradients}, cull \
-                     {cull}): {:?} vs {:?}\nmodel {m:?}\nspan {span:?}",
+                     {cull}, {band:?}): {:?} vs {:?}\nmodel {m:?}\nspan {span:?}",
                     got[i], direct[i]
                 );
             }
         }
     }
     for mode in [EvalMode::Fd32, EvalMode::Reanchored] {
-        assert_eq!(eval(&m, mode, true, true, &span).len(), n);
+        assert_eq!(eval(&m, mode, true, true, band, &span).len(), n);
     }
 });

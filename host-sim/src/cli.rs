@@ -239,6 +239,7 @@ impl KnobArgs {
                 EvalArg::Multipass => EvalMode::Multipass(self.multipass()),
             },
             cull: !self.no_cull,
+            band_limit: texcore::bandlimit::BandLimit::DEFAULT,
             precision: texcore::model::Precision::NATIVE,
         }
     }

@@ -3,6 +3,7 @@
 //! texcore and with the f64 reference.
 
 use serde::Serialize;
+use texcore::bandlimit::BandLimit;
 use texcore::filter::{Antialias, GradientNorm};
 use texcore::format::TexPoint;
 use texcore::hash::HashKind;
@@ -66,6 +67,9 @@ pub struct UnitConfig {
     pub mode: EvalMode,
     /// Cull octaves past Nyquist.
     pub cull: bool,
+    /// How culling fades and spreads the octaves past Nyquist (`texcore::bandlimit`).
+    #[serde(serialize_with = "ser_display")]
+    pub band_limit: BandLimit,
     /// Arithmetic precision of the noise terms (`docs/model.md` 3.2; default 16/16, native).
     #[serde(serialize_with = "ser_precision")]
     pub precision: Precision,
@@ -99,6 +103,7 @@ impl Default for UnitConfig {
             norm: GradientNorm::L2,
             mode: EvalMode::Auto,
             cull: true,
+            band_limit: BandLimit::DEFAULT,
             precision: Precision::NATIVE,
         }
     }
@@ -189,6 +194,7 @@ pub fn texture<const N: usize>(
         norm: cfg.norm,
         mode: cfg.mode,
         cull: cfg.cull,
+        band_limit: cfg.band_limit,
     };
     Material::new(shader, m.wrap, &m.keys)
         .with_spacing(spacing(m))

@@ -18,7 +18,7 @@ use host_sim::unit::{self, UnitConfig};
 use texcore::hash::HashKind;
 use texcore::model::Precision;
 
-const KNOBS: [&str; 12] = [
+const KNOBS: [&str; 13] = [
     "coordinate_bits",
     "value_bits",
     "interpolation",
@@ -30,6 +30,7 @@ const KNOBS: [&str; 12] = [
     "perspective",
     "basis",
     "hash",
+    "band_limit",
     "shading",
 ];
 const TARGETS: [&str; 2] = ["thumbv7em-none-eabihf", "riscv32imc-unknown-none-elf"];
@@ -144,6 +145,27 @@ fn report_accuracy_quick_json_schema() {
             .map(|r| r["psnr"].as_f64().unwrap())
     };
     assert_eq!(psnr("acc:evaluation=direct"), psnr("acc:evaluation=auto"));
+    // The band-limiting rows: the default rule is the seascape's own image (the `every16`
+    // perspective row), the other rule another image; both measured against the supersampled
+    // truth and for flicker.
+    let by_id = |id: &str| {
+        rows.iter()
+            .find(|r| r["id"] == id)
+            .unwrap_or_else(|| panic!("{id} missing"))
+    };
+    let (foot, reach) = (
+        by_id("acc:band_limit=footprint"),
+        by_id("acc:band_limit=reach"),
+    );
+    assert_eq!(
+        foot["checksum"],
+        by_id("acc:perspective=every16")["checksum"]
+    );
+    assert_ne!(foot["checksum"], reach["checksum"]);
+    for r in [foot, reach] {
+        assert!(r["scene_supersampled"]["psnr"].is_number(), "{}", r["id"]);
+        assert!(r["flicker"]["texcore"].is_number(), "{}", r["id"]);
+    }
     assert!(rows.iter().any(|r| r["pareto"] == true));
     check_code_sizes(&rows);
     // Generated files.

@@ -101,6 +101,7 @@ fn texture_checksum(name: &str) -> Option<u32> {
             mode: m,
             gradients: true,
             cull: true,
+            ..Default::default()
         },
     );
     for y in 0..TEX_PLANE {
@@ -524,7 +525,7 @@ fn marble_lit_scene_bound(target: DeviceTarget) -> u64 {
 /// coverage and depth set-up per 24-row band, the textured-triangle path: atlas coordinates by
 /// the homogeneous ratio at every pixel, nearest look-ups, depth test, checksum). Measured at
 /// 242.7 (Cortex-M4F) and 330.7 (rv32imc) when the bound was set (the goal is 60 / 100:
-/// not reached); about 10% of headroom.
+/// not reached); about 10% of headroom (244.2 and 326.2 with the device layout's legs of 5).
 fn atlas_draw_bound(target: DeviceTarget) -> u64 {
     match target {
         DeviceTarget::CortexM4F => 267,
@@ -533,8 +534,9 @@ fn atlas_draw_bound(target: DeviceTarget) -> u64 {
 }
 
 /// Upper bound of the net instructions per baked texel of `atlas:marble-bake` (15 060 texels,
-/// legs of 4 texels: row spans of at most 6 texels, so the span set-up dominates). Measured at
-/// 3508.4 (Cortex-M4F) and 4908.2 (rv32imc) when the bound was set; about 10% of headroom.
+/// 6 x 5 blocks: row spans of at most 6 texels, so the span set-up dominates). Measured at
+/// 3508.4 (Cortex-M4F) and 4908.2 (rv32imc) when the bound was set; about 10% of headroom
+/// (3637.7 and 4900.9 with legs of 5 in the same blocks, the tighter ownership rule).
 fn atlas_bake_bound(target: DeviceTarget) -> u64 {
     match target {
         DeviceTarget::CortexM4F => 3_860,

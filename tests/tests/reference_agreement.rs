@@ -243,6 +243,7 @@ fn hard_cases_agree_with_reference() {
                     mode,
                     gradients: false,
                     cull: false,
+                    ..Default::default()
                 },
             );
             let mut i = 0i64;
@@ -396,6 +397,7 @@ fn precision_knobs_agree_with_reference() {
                         mode: EvalMode::Auto,
                         gradients: false,
                         cull: true,
+                        ..Default::default()
                     },
                 );
                 let (mut worst, mut bad, mut n) = (0.0f64, 0u32, 0u32);

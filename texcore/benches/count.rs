@@ -55,6 +55,7 @@ fn run(case: &str) -> Option<u32> {
             mode: m,
             gradients: true,
             cull: true,
+            ..Default::default()
         },
     );
     for y in 0..SIZE {

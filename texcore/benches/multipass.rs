@@ -46,6 +46,7 @@ fn band(c: &mut Criterion) {
                             mode,
                             gradients,
                             cull: true,
+                            ..Default::default()
                         },
                     );
                     let mut acc = workload::FNV_OFFSET;
@@ -113,6 +114,7 @@ fn image(c: &mut Criterion) {
                         mode,
                         gradients: false,
                         cull: true,
+                        ..Default::default()
                     },
                 );
                 let mut acc = workload::FNV_OFFSET;

@@ -42,6 +42,7 @@ fn plane(c: &mut Criterion) {
                             mode,
                             gradients: true,
                             cull: true,
+                            ..Default::default()
                         },
                     );
                     let mut acc = workload::FNV_OFFSET;

@@ -153,7 +153,8 @@ impl From<ModelError> for MaterialError {
 }
 
 /// The knobs of a texture besides its table size and filter. The default is the project's
-/// default unit: nearest look-up, L2 gradient norm, [`EvalMode::Auto`], octave culling on.
+/// default unit: nearest look-up, L2 gradient norm, [`EvalMode::Auto`], octave culling on with
+/// the default band-limiting.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 #[cfg_attr(feature = "defmt", derive(defmt::Format))]
 pub struct TextureOptions {
@@ -165,6 +166,9 @@ pub struct TextureOptions {
     pub mode: EvalMode,
     /// Cull noise octaves past the Nyquist limit.
     pub cull: bool,
+    /// How culling fades and spreads the octaves past the Nyquist limit (the measured best by
+    /// default; an accuracy knob).
+    pub band_limit: crate::bandlimit::BandLimit,
 }
 
 impl Default for TextureOptions {
@@ -174,6 +178,7 @@ impl Default for TextureOptions {
             norm: GradientNorm::L2,
             mode: EvalMode::Auto,
             cull: true,
+            band_limit: crate::bandlimit::BandLimit::DEFAULT,
         }
     }
 }
@@ -364,7 +369,9 @@ impl<'k, const T: usize> Material<'k, T> {
     ) -> Result<Texture<T, N>, MaterialError> {
         let stage = self.stage(aa, opts.lookup)?;
         let shader = self.shader()?.clone();
-        Ok(Texture::new(shader, stage, opts.norm, opts.mode).with_culling(opts.cull))
+        Ok(Texture::new(shader, stage, opts.norm, opts.mode)
+            .with_culling(opts.cull)
+            .with_band_limit(opts.band_limit))
     }
 }
 

@@ -79,7 +79,7 @@ impl<const T: usize, const N: usize> Texture<T, N> {
             opts: EvalOptions {
                 mode,
                 gradients,
-                cull: true,
+                ..EvalOptions::default()
             },
         }
     }
@@ -87,6 +87,12 @@ impl<const T: usize, const N: usize> Texture<T, N> {
     /// The same texture with octave culling switched on or off.
     pub fn with_culling(mut self, cull: bool) -> Self {
         self.opts.cull = cull;
+        self
+    }
+
+    /// The same texture with another band-limiting setting (in force while culling is on).
+    pub fn with_band_limit(mut self, band_limit: crate::bandlimit::BandLimit) -> Self {
+        self.opts.band_limit = band_limit;
         self
     }
 
@@ -398,48 +404,6 @@ pub mod workload {
         }
     }
 
-    /// Octave-0 lattice step of the peers' plane workload: `s = x / 32`, raw 16.16.
-    pub const PEERS_STEP: i32 = 2048;
-    /// The peers' plane workload's constant third coordinate `r = 0.37`, raw 16.16 (`0.37 * 2^16`
-    /// rounded down).
-    pub const PEERS_R: i32 = 24_248;
-    /// Side of the peers' square plane, in pixels.
-    pub const PEERS_SIZE: u16 = 256;
-
-    /// The noise of the peers' plane workload (the comparison with other noise libraries):
-    /// `f = sum_{i < octaves} 2^-i n(2^i s)` with `basis`, unrotated octaves, no quadric, `mod`
-    /// wrap. `octaves` is clamped to `1..=TERMS`.
-    pub fn peers_model(octaves: u8, basis: NoiseBasis) -> TextureModel<TERMS> {
-        let mut m = TextureModel::new(Quadric::ZERO, TableWrap::Mod);
-        let oct = Octaves {
-            count: octaves.clamp(1, TERMS as u8),
-            base: Affine3::scale(MatrixEntry::ONE),
-            amplitude: Amplitude::ONE,
-            rotate: false,
-            basis,
-            turbulence: false,
-        };
-        // Up to TERMS octaves of amplitude sum < 2 always fit: this cannot fail.
-        let _ = m.push_octaves(&oct);
-        m
-    }
-
-    /// The span of the peers' plane workload that starts at pixel `(x0, y)` and is `len` pixels
-    /// long: pixel `(x, y)` at `s = (x / 32, y / 32, 0.37)` ([`PEERS_STEP`], [`PEERS_R`]); whole
-    /// rows are `peers_span(0, y, PEERS_SIZE)`.
-    pub fn peers_span(x0: u16, y: u16, len: u16) -> Span {
-        Span {
-            s0: TexPoint::from_bits(
-                i32::from(x0) * PEERS_STEP,
-                i32::from(y) * PEERS_STEP,
-                PEERS_R,
-            ),
-            ds: TexPoint::from_bits(PEERS_STEP, 0, 0),
-            dsdy: TexPoint::from_bits(0, PEERS_STEP, 0),
-            len,
-        }
-    }
-
     /// The marble preset's model, `r + sum_{i<4} 2^-i n(2^i s)` (`mod`), built without floating
     /// point (the preset builder converts `f64` constants, which links panicking paths into a
     /// device build); equal to `presets::marble(hash).model` (tested).
@@ -533,26 +497,6 @@ pub mod workload {
     #[cfg(test)]
     mod tests {
         use super::*;
-
-        #[test]
-        fn peers_plane_is_x_over_32() {
-            for (x0, y, len) in [(0u16, 0u16, PEERS_SIZE), (16, 5, 16), (240, 255, 16)] {
-                let sp = peers_span(x0, y, len);
-                for i in [0u16, 1, len - 1] {
-                    let x = i32::from(x0 + i);
-                    let s = sp.s0.to_bits();
-                    let d = sp.ds.to_bits();
-                    // s = (x / 32, y / 32, 0.37) in 16.16.
-                    assert_eq!(s[0] + i32::from(i) * d[0], x << 11);
-                    assert_eq!(s[1] + i32::from(i) * d[1], i32::from(y) << 11);
-                    assert_eq!(s[2] + i32::from(i) * d[2], (0.37f64 * 65536.0) as i32);
-                }
-                assert_eq!(sp.len, len);
-            }
-            let m = peers_model(4, NoiseBasis::trilinear(HashKind::Integer));
-            assert_eq!(m.terms().len(), 4);
-            assert!(m.quadric().is_zero());
-        }
 
         #[test]
         fn marble_workload_is_the_preset() {

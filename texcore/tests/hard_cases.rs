@@ -21,6 +21,7 @@ fn eval(m: &TextureModel<8>, mode: EvalMode, span: &Span) -> Vec<Sample> {
             mode,
             gradients: true,
             cull: true,
+            ..Default::default()
         },
     );
     let mut out = Vec::with_capacity(usize::from(span.len));

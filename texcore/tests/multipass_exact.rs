@@ -26,6 +26,7 @@ fn eval<const T: usize>(
             mode,
             gradients,
             cull,
+            ..Default::default()
         },
     );
     let mut out = Vec::with_capacity(usize::from(span.len));

@@ -24,6 +24,7 @@ fn eval<const T: usize>(
             mode,
             gradients: true,
             cull,
+            ..Default::default()
         },
     );
     let mut out = Vec::with_capacity(usize::from(span.len));
@@ -623,6 +624,7 @@ fn single_axis_spans_are_exact() {
                 mode,
                 gradients: false,
                 cull: true,
+                ..Default::default()
             },
         );
         let mut out = Vec::new();

@@ -29,6 +29,7 @@
 //! feature also enables the texcore features the rows need (fades, gradient noise, mNoise, MIP,
 //! and the permutation hash on both targets).
 
+use texcore::bandlimit::{BandLimit, FadeWeight, FADED_PART, FADE_FLOOR};
 use texcore::color::Rgba8888;
 use texcore::filter::{Antialias, ColorStage, GradientNorm};
 use texcore::format::{Amplitude, QuadricCoeff, TexPoint, TexValue};
@@ -92,11 +93,13 @@ pub enum Knob {
     Basis,
     /// Lattice hash.
     Hash,
+    /// Band-limiting of the octaves past the Nyquist limit (the seascape's horizon).
+    BandLimit,
 }
 
 impl Knob {
     /// Every knob, in report order.
-    pub const ALL: [Knob; 11] = [
+    pub const ALL: [Knob; 12] = [
         Knob::CoordinateBits,
         Knob::ValueBits,
         Knob::Interpolation,
@@ -108,6 +111,7 @@ impl Knob {
         Knob::Perspective,
         Knob::Basis,
         Knob::Hash,
+        Knob::BandLimit,
     ];
 
     /// The knob's name in the report's JSON.
@@ -124,6 +128,7 @@ impl Knob {
             Knob::Perspective => "perspective",
             Knob::Basis => "basis",
             Knob::Hash => "hash",
+            Knob::BandLimit => "band_limit",
         }
     }
 }
@@ -230,6 +235,8 @@ pub struct Config {
     pub mode: EvalMode,
     /// Octave culling past Nyquist.
     pub cull: bool,
+    /// How culling fades and spreads the octaves past Nyquist.
+    pub band_limit: BandLimit,
     /// `Some`: a scene job (the perspective rows) with every object in this mode.
     pub perspective: Option<Perspective>,
 }
@@ -248,8 +255,18 @@ pub const BASELINE: Config = Config {
     norm: GradientNorm::L2,
     mode: EvalMode::Auto,
     cull: true,
+    band_limit: BandLimit::DEFAULT,
     perspective: None,
 };
+
+/// A band-limiting setting of the table below (the defaults where one is out of range, which a
+/// test rules out).
+const fn band(weight: FadeWeight, floor: u32, faded_part: u32) -> BandLimit {
+    match BandLimit::new(weight, floor, faded_part) {
+        Some(b) => b,
+        None => BandLimit::DEFAULT,
+    }
+}
 
 /// One row of the report: a knob setting (or a combination) and its configuration.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -301,7 +318,7 @@ macro_rules! combo {
 const B: Config = BASELINE;
 
 /// Number of rows.
-pub const N_ROWS: usize = 59;
+pub const N_ROWS: usize = 66;
 
 /// Every row, in report order (knobs in [`Knob::ALL`] order, combinations last).
 pub const ROWS: [Row; N_ROWS] = [
@@ -657,6 +674,82 @@ pub const ROWS: [Row; N_ROWS] = [
             ..B
         }
     ),
+    row!(
+        BandLimit,
+        "band_limit",
+        "footprint",
+        true,
+        Config {
+            perspective: Some(Perspective::Every16),
+            ..B
+        }
+    ),
+    row!(
+        BandLimit,
+        "band_limit",
+        "reach",
+        true,
+        Config {
+            band_limit: band(FadeWeight::Reach, FADE_FLOOR, FADED_PART),
+            perspective: Some(Perspective::Every16),
+            ..B
+        }
+    ),
+    row!(
+        BandLimit,
+        "band_limit",
+        "floor=1/8",
+        false,
+        Config {
+            band_limit: band(FadeWeight::Footprint, 1 << 13, FADED_PART),
+            perspective: Some(Perspective::Every16),
+            ..B
+        }
+    ),
+    row!(
+        BandLimit,
+        "band_limit",
+        "floor=1/2",
+        false,
+        Config {
+            band_limit: band(FadeWeight::Footprint, 1 << 15, FADED_PART),
+            perspective: Some(Perspective::Every16),
+            ..B
+        }
+    ),
+    row!(
+        BandLimit,
+        "band_limit",
+        "share=1/2",
+        false,
+        Config {
+            band_limit: band(FadeWeight::Footprint, FADE_FLOOR, 1 << 15),
+            perspective: Some(Perspective::Every16),
+            ..B
+        }
+    ),
+    row!(
+        BandLimit,
+        "band_limit",
+        "share=1",
+        false,
+        Config {
+            band_limit: band(FadeWeight::Footprint, FADE_FLOOR, 1 << 16),
+            perspective: Some(Perspective::Every16),
+            ..B
+        }
+    ),
+    row!(
+        BandLimit,
+        "band_limit",
+        "off",
+        false,
+        Config {
+            cull: false,
+            perspective: Some(Perspective::Every16),
+            ..B
+        }
+    ),
     combo!(
         Octaves,
         "1oct+none",
@@ -806,6 +899,7 @@ pub fn texture<const N: usize>(
         norm: cfg.norm,
         mode: cfg.mode,
         cull: cfg.cull,
+        band_limit: cfg.band_limit,
     };
     texcore::ready::Material::new(shader, wrap, keys)
         .texture_with(cfg.aa, opts)
@@ -1131,7 +1225,8 @@ mod device {
 
     const ALL_JOBS: [(Job, usize); 2 * N_ROWS] = jobs!(
         0 1 2 3 4 5 6 7 8 9 10 11 12 13 14 15 16 17 18 19 20 21 22 23 24 25 26 27 28 29 30 31 32
-        33 34 35 36 37 38 39 40 41 42 43 44 45 46 47 48 49 50 51 52 53 54 55 56 57 58
+        33 34 35 36 37 38 39 40 41 42 43 44 45 46 47 48 49 50 51 52 53 54 55 56 57 58 59 60 61 62 63 64
+        65
     );
 
     const fn in_part(i: usize) -> bool {
@@ -1169,4 +1264,41 @@ mod device {
     /// The accuracy jobs of this firmware's part (set-up then measurement, per row), in [`ROWS`]
     /// order.
     pub static JOBS: &[Job] = PART_STATIC.split_at(PART_JOBS.1).0;
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn band_limit_rows_are_distinct_settings_of_the_seascape() {
+        let mut rows: heapless::Vec<&Row, 16> = heapless::Vec::new();
+        for r in ROWS.iter().filter(|r| r.knob == Knob::BandLimit) {
+            assert!(rows.push(r).is_ok());
+        }
+        assert_eq!(rows.len(), 7);
+        for (i, r) in rows.iter().enumerate() {
+            assert_eq!(r.cfg.perspective, Some(Perspective::Every16), "{}", r.id);
+            // Only the band-limiting differs from the baseline.
+            let plain = Config {
+                band_limit: BandLimit::DEFAULT,
+                cull: true,
+                perspective: None,
+                ..r.cfg
+            };
+            assert_eq!(plain, BASELINE, "{}", r.id);
+            // No setting fell back to the default (`band` on an out-of-range value), and no two
+            // rows are the same setting.
+            let default = r.cfg.band_limit == BandLimit::DEFAULT && r.cfg.cull;
+            assert_eq!(default, r.setting == "footprint", "{}", r.id);
+            for q in &rows[..i] {
+                assert!(
+                    (q.cfg.band_limit, q.cfg.cull) != (r.cfg.band_limit, r.cfg.cull),
+                    "{} and {}",
+                    q.id,
+                    r.id
+                );
+            }
+        }
+    }
 }

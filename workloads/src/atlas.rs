@@ -52,12 +52,8 @@ pub const SCENE: &str = "marble";
 /// The RGB565 texels of a device atlas, row-major.
 pub type AtlasTexels = [u16; TEXELS];
 
-/// Inset of atlas corners towards the triangle's inside, raw `Q16.16` texels (1/64 texel): a
-/// look-up at a point of the triangle never rounds across an edge lying on a texel boundary.
-const INSET: i32 = 1 << 10;
-
 /// A uniform atlas layout of `quads` mesh quads: quad `q`'s two triangles share the block
-/// `q % cols, q / cols` of `(leg + 2g + 2) x (leg + 2g + 1)` texels (`texcore::atlas`), the
+/// `q % cols, q / cols` of `(leg + 2g + 1) x (leg + 2g)` texels (`texcore::atlas`), the
 /// largest leg that fits. Built by [`UniformLayout::new`].
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub struct UniformLayout {
@@ -73,7 +69,7 @@ impl UniformLayout {
         let g = u32::from(GUTTER);
         let mut best = None;
         for leg in 1..u32::from(SIDE) {
-            let (w, h) = (leg + 2 * g + 2, leg + 2 * g + 1);
+            let (w, h) = (leg + 2 * g + 1, leg + 2 * g);
             let (cols, rows) = (u32::from(SIDE) / w, u32::from(SIDE) / h);
             if cols * rows < quads {
                 break;
@@ -95,7 +91,7 @@ impl UniformLayout {
     /// Block width and height.
     fn block(&self) -> (u16, u16) {
         let g = u16::from(GUTTER);
-        (self.leg + 2 * g + 2, self.leg + 2 * g + 1)
+        (self.leg + 2 * g + 1, self.leg + 2 * g)
     }
 
     /// The atlas triangle of half `half` of quad `q` with solid corners `solid` (right angle,
@@ -118,7 +114,8 @@ impl UniformLayout {
 const HALF_CORNERS: [(Half, [usize; 3]); 2] = [(Half::Upper, [1, 2, 0]), (Half::Lower, [3, 0, 2])];
 
 /// One quad as the draw needs it: its corners' solid coordinates and, per half, whether it is a
-/// triangle and its corners' atlas positions (raw `Q16.16` texels, inset).
+/// triangle and its corners' atlas positions (raw `Q16.16` texels, inset:
+/// `AtlasTriangle::inset_corners`).
 #[derive(Clone, Copy, Default)]
 struct QuadAtlas {
     solid: [[i32; 3]; 4],
@@ -144,12 +141,7 @@ impl QuadAtlas {
         let mut uv = [[[0i32; 2]; 3]; 2];
         for (k, (half, idx)) in HALF_CORNERS.iter().enumerate() {
             let t = layout.triangle(group, *half, idx.map(|i| tex(solid[i & 3])))?;
-            let c = t.corners_x16().map(|p| p.map(|v| v << 12));
-            let s = if *half == Half::Upper { 1 } else { -1 };
-            let inset = [[s, s], [-2 * s, s], [s, -2 * s]];
-            for ((out, c), d) in uv[k].iter_mut().zip(c).zip(inset) {
-                *out = [c[0] + d[0] * INSET, c[1] + d[1] * INSET];
-            }
+            uv[k] = t.inset_corners();
         }
         Some(QuadAtlas { solid, live, uv })
     }

@@ -147,6 +147,7 @@ pub fn band_checksum(
             mode: core::hint::black_box(mode),
             gradients,
             cull: true,
+            ..Default::default()
         },
     );
     let mut acc = workload::FNV_OFFSET;

@@ -117,6 +117,7 @@ fn span_plane(ctx: &mut Ctx, m: usize, step: i32, mode: EvalMode) -> u32 {
             mode,
             gradients: true,
             cull: true,
+            ..Default::default()
         },
     );
     let line = &mut ctx.line[..usize::from(PLANE)];

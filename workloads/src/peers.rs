@@ -166,6 +166,7 @@ pub fn run(w: Workload, imp: Implementation, hash: HashKind, rows: u16, line: &m
                     mode,
                     gradients: w.gradients(),
                     cull: true,
+                    ..Default::default()
                 },
             );
             for y in 0..rows {

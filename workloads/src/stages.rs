@@ -172,6 +172,7 @@ pub fn noise_octave(hash: HashKind, work: bool) -> u32 {
         mode: EvalMode::Fd,
         gradients: false,
         cull: true,
+        ..Default::default()
     };
     eval_plane(&octave_model(hash), opts, work)
 }
@@ -182,6 +183,7 @@ pub fn noise_octave_grad(hash: HashKind, work: bool) -> u32 {
         mode: EvalMode::Fd,
         gradients: true,
         cull: true,
+        ..Default::default()
     };
     eval_plane(&octave_model(hash), opts, work)
 }
@@ -196,6 +198,7 @@ pub fn quadric(_hash: HashKind, work: bool) -> u32 {
         mode: EvalMode::Fd,
         gradients: false,
         cull: true,
+        ..Default::default()
     };
     eval_plane(&model, opts, work)
 }

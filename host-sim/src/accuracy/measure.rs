@@ -30,6 +30,7 @@ pub fn unit_config(cfg: &Config) -> UnitConfig {
         norm: cfg.norm,
         mode: cfg.mode,
         cull: cfg.cull,
+        band_limit: cfg.band_limit,
         precision: texcore::model::Precision::new(
             u32::from(cfg.coord_bits),
             u32::from(cfg.value_bits),

@@ -12,8 +12,9 @@
 //!   samples a pixel of the f64 model). Precision rows add the error on the `marble` scene
 //!   (`scene`, perspective and unaligned coordinates); antialiasing rows add the seascape's
 //!   error against its supersampled truth and the **flicker** near its horizon over a few
-//!   frames of its animation. Perspective rows are measured on the seascape against the f64
-//!   reference of the same scene drawn with exact perspective.
+//!   frames of its animation. Perspective and band-limiting rows are measured on the seascape
+//!   against the f64 reference of the same scene drawn with exact perspective (band-limiting rows
+//!   add its supersampled truth and flicker, as antialiasing rows do).
 //! - **cost**: host nanoseconds per pixel (median and range of repeated timed runs of the
 //!   device's own job code), and exact device instructions per pixel on the Cortex-M4F and
 //!   rv32imc under QEMU ([`device`]), with the device checksum compared against the same code
@@ -187,9 +188,9 @@ pub struct RowReport {
     pub supersampled: Option<ErrorSummary>,
     /// Precision rows: the `marble` scene against its f64 reference.
     pub scene: Option<ErrorSummary>,
-    /// Antialiasing rows: the seascape against its supersampled truth.
+    /// Antialiasing and band-limiting rows: the seascape against its supersampled truth.
     pub scene_supersampled: Option<ErrorSummary>,
-    /// Antialiasing rows: flicker near the seascape's horizon.
+    /// Antialiasing and band-limiting rows: flicker near the seascape's horizon.
     pub flicker: Option<Flicker>,
     /// Antialiasing rows: the same with octave culling off (the papers' unit has none).
     pub flicker_nocull: Option<Flicker>,
@@ -310,6 +311,9 @@ pub fn describe(c: &Config) -> String {
         crate::multipass::mode_name(c.mode),
         if c.cull { "" } else { " no-cull" }
     );
+    if c.cull && c.band_limit != texcore::bandlimit::BandLimit::DEFAULT {
+        s.push_str(&format!(" band-limit {}", c.band_limit));
+    }
     if let Some(p) = c.perspective {
         s.push_str(&format!(" seascape {p}"));
     }
@@ -361,7 +365,10 @@ pub fn run(quick: bool, policy: DevicePolicy, log: &mut dyn FnMut(&str)) -> Resu
     );
     let band = (u32::from(fh) / 2 - u32::from(fh) / 8)..(u32::from(fh) / 2 + u32::from(fh) / 8);
     let mut sea_truth: Vec<Vec<[f64; 4]>> = Vec::new();
-    if rows.iter().any(|r| r.knob == Knob::Antialiasing) {
+    if rows
+        .iter()
+        .any(|r| matches!(r.knob, Knob::Antialiasing | Knob::BandLimit))
+    {
         log("accuracy: supersampled seascape frames");
         for t in 0..settings.flicker_frames {
             sea_truth.push(
@@ -453,40 +460,45 @@ pub fn run(quick: bool, policy: DevicePolicy, log: &mut dyn FnMut(&str)) -> Resu
                         precision_image = Some((cfg.coord_bits, img));
                     }
                 }
-                if row.knob == Knob::Antialiasing && !row.combination {
-                    for cull in [true, false] {
-                        let c = Config { cull, ..*cfg };
-                        let mut frames = Vec::new();
-                        for t in 0..settings.flicker_frames {
-                            let f = crate::scenes::render_frame(
-                                &sea,
-                                t,
-                                &measure::unit_config(&c),
-                                c.hash,
-                                texcore::render::Output::Color,
-                            )
-                            .map_err(err)?
-                            .frame
-                            .pixels;
-                            if t == 0 && cull {
-                                r.scene_supersampled = Some(
-                                    (&measure::errors(&f, &sea_truth[0]).map_err(err)?).into(),
-                                );
-                            }
-                            frames.push(measure::to_f64(&f));
-                        }
-                        let fl = measure::flicker(&frames, u32::from(fw_), band.clone());
-                        let f = Some(Flicker {
-                            texcore: fl,
-                            reference: truth_flicker,
-                            excess: fl - truth_flicker,
-                        });
-                        if cull {
-                            r.flicker = f;
-                        } else {
-                            r.flicker_nocull = f;
-                        }
+            }
+            // The seascape's animation near its horizon: the filters (with culling on and off)
+            // and the band-limiting settings (as the row sets culling).
+            let flicker_culls: &[bool] = match row.knob {
+                _ if row.combination => &[],
+                Knob::Antialiasing => &[true, false],
+                Knob::BandLimit => &[cfg.cull],
+                _ => &[],
+            };
+            for &cull in flicker_culls {
+                let c = Config { cull, ..*cfg };
+                let mut frames = Vec::new();
+                for t in 0..settings.flicker_frames {
+                    let f = crate::scenes::render_frame(
+                        &sea,
+                        t,
+                        &measure::unit_config(&c),
+                        c.hash,
+                        texcore::render::Output::Color,
+                    )
+                    .map_err(err)?
+                    .frame
+                    .pixels;
+                    if t == 0 && cull == cfg.cull {
+                        r.scene_supersampled =
+                            Some((&measure::errors(&f, &sea_truth[0]).map_err(err)?).into());
                     }
+                    frames.push(measure::to_f64(&f));
+                }
+                let fl = measure::flicker(&frames, u32::from(fw_), band.clone());
+                let f = Some(Flicker {
+                    texcore: fl,
+                    reference: truth_flicker,
+                    excess: fl - truth_flicker,
+                });
+                if cull == cfg.cull {
+                    r.flicker = f;
+                } else {
+                    r.flicker_nocull = f;
                 }
             }
             Ok((r, precision_image))

@@ -423,6 +423,19 @@ fn knob_note(k: Knob) -> &'static str {
              same basis."
         }
         Knob::Hash => "Lattice hash; errors against the f64 reference with the same hash.",
+        Knob::BandLimit => {
+            "Band-limiting of the octaves past the Nyquist limit (`texcore::bandlimit::BandLimit`, \
+             `docs/model.md` section 8), on the seascape (160x120, still frame, its own `every16` \
+             perspective): `footprint` (the default) weighs a faded octave by one over the square \
+             root of the cells the pixel's footprint covers, `reach` by one over its largest \
+             reach; `floor` is the smallest weight (default 1/4), `share` the part of the faded \
+             variance `1 - w^2` that widens the filter (default 3/4); `off` is no band-limiting \
+             (every octave at full amplitude, its whole variance past Nyquist in the filter). \
+             PSNR: against the f64 reference of the scene drawn with exact perspective and the \
+             default band-limiting; `seascape supersampled`: the first frame against its \
+             supersampled truth; flicker as for `antialiasing`. Device counts per frame pixel, \
+             the scene walk and rasterizer included."
+        }
     }
 }
 
@@ -510,7 +523,7 @@ fn table_for(s: &mut String, rows: &[&RowReport], knob: Option<Knob>, base: Opti
     // The RAM column where some row's instance differs from the baseline's.
     let ram = ram_differs(rows, base);
     let scene = matches!(knob, Some(Knob::CoordinateBits | Knob::ValueBits));
-    let aa = matches!(knob, Some(Knob::Antialiasing));
+    let aa = matches!(knob, Some(Knob::Antialiasing | Knob::BandLimit));
     let mut head = String::from(
         "| setting | PSNR dB | max err | within 1 step | base PSNR | base within | \
          supersampled PSNR |",

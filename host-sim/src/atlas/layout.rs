@@ -2,11 +2,11 @@
 //! `H x H` atlas, as texcore [`AtlasTriangle`]s, and the paper's two quality measures.
 //!
 //! Every triangle becomes an isosceles right triangle of integer leg `L`; two consecutive
-//! triangles share a block of `(L + 2g + 2) x (L + 2g + 1)` texels (texcore's geometry, gutter
+//! triangles share a block of `(L + 2g + 1) x (L + 2g)` texels (texcore's geometry, gutter
 //! `g`: 0 for nearest look-ups, 1 for bilinear and MIP). The kinds:
 //!
 //! - **uniform**: every leg equal, blocks in rows. For `M` triangles (`P = ceil(M/2)` pairs) the
-//!   leg is the largest `L` with `floor(H / (L + 2g + 2)) * floor(H / (L + 2g + 1)) >= P`;
+//!   leg is the largest `L` with `floor(H / (L + 2g + 1)) * floor(H / (L + 2g)) >= P`;
 //!   without gutter and over-scan this is the paper's `a = floor(H / ceil(sqrt(M/2)))` (pairs of
 //!   side `a` in `sqrt(M/2)` rows and columns, the paper's equation 3 as restored);
 //! - **area**-weighted: triangles by non-increasing area, legs `max(1, floor(k sqrt(area)))`
@@ -27,7 +27,7 @@ use crate::mesh::{longest_edge, triangle_area, TriMesh};
 
 /// How far inside its atlas triangle a mesh triangle's atlas coordinates lie, in texels
 /// ([`Layout::uv`]).
-pub const INSET: f64 = 1.0 / 64.0;
+pub const INSET: f64 = texcore::atlas::INSET as f64 / 65536.0;
 
 /// The layout kinds (`--kind`).
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, clap::ValueEnum, serde::Serialize)]
@@ -137,7 +137,7 @@ fn shelves(legs: &[u32], size: u32, g: u32) -> Option<Vec<Block>> {
     let mut out = Vec::with_capacity(legs.len());
     let (mut x, mut y, mut row_h) = (0u32, 0u32, 0u32);
     for &leg in legs {
-        let (w, h) = (leg + 2 * g + 2, leg + 2 * g + 1);
+        let (w, h) = (leg + 2 * g + 1, leg + 2 * g);
         if w > size {
             return None;
         }
@@ -199,8 +199,7 @@ impl Layout {
                     .map(|i| [Some(i), (i + 1 < m).then_some(i + 1)])
                     .collect();
                 let fits = |l: u32| {
-                    (size / (l + 2 * g + 2)) as usize * (size / (l + 2 * g + 1)) as usize
-                        >= pairs.len()
+                    (size / (l + 2 * g + 1)) as usize * (size / (l + 2 * g)) as usize >= pairs.len()
                 };
                 let leg = (1..size)
                     .rev()
@@ -255,14 +254,14 @@ impl Layout {
             AtlasKind::Mip => {
                 let p = Partition::new(mesh.triangles());
                 let side = size >> p.levels;
-                if side < 2 * g + 3 {
+                if side < 2 * g + 2 {
                     return Err(too_small(format!(
                         "a {}-level quadtree leaves {side}-texel squares, below {}",
                         p.levels,
-                        2 * g + 3
+                        2 * g + 2
                     )));
                 }
-                let leg = side - 2 * g - 2;
+                let leg = side - 2 * g - 1;
                 let mut pairs = Vec::new();
                 let mut blocks = Vec::new();
                 for (leaf, pair) in p.order.chunks(2).enumerate() {
@@ -322,22 +321,18 @@ impl Layout {
         })
     }
 
-    /// The atlas coordinates (texels, `f64`) of mesh triangle `t`'s corners in mesh corner
-    /// order: the atlas triangle's corners moved towards its incentre so that its edges lie
-    /// [`INSET`] texels inside the exact ones. A renderer's rounding (a few `2^-16` texel) then
-    /// never carries a look-up across an edge that lies on a texel boundary.
+    /// The atlas coordinates (texels, `f64`, exact multiples of `2^-16`) of mesh triangle
+    /// `t`'s corners in mesh corner order: texcore's
+    /// [`AtlasTriangle::inset_corners`], [`INSET`] texels inside the legs and the hypotenuse,
+    /// the same points the device draws with and texcore's ownership test samples. A
+    /// renderer's rounding (a few `2^-16` texel) then never carries a look-up across an edge.
     pub fn uv(&self, t: usize) -> [[f64; 2]; 3] {
-        let c = self.triangles[t].corners_x16();
-        let p = c.map(|q| [q[0] as f64 / 16.0, q[1] as f64 / 16.0]);
-        let leg = self.triangles[t].leg() as f64;
-        let r = leg * (2.0 - 2f64.sqrt()) / 2.0;
-        let su = (p[1][0] - p[0][0]).signum();
-        let sv = (p[2][1] - p[0][1]).signum();
-        let inc = [p[0][0] + su * r, p[0][1] + sv * r];
-        let k = 1.0 - INSET / r;
+        let p = self.triangles[t]
+            .inset_corners()
+            .map(|q| q.map(|v| f64::from(v) / 65536.0));
         let mut out = [[0.0; 2]; 3];
         for (q, &corner) in p.iter().zip(&self.corners[t]) {
-            out[corner as usize] = [inc[0] + (q[0] - inc[0]) * k, inc[1] + (q[1] - inc[1]) * k];
+            out[corner as usize] = *q;
         }
         out
     }
@@ -413,19 +408,19 @@ mod tests {
         .unwrap()
     }
 
-    /// Hand-computed: 4 triangles, 2 pairs, size 16, gutter 1: blocks (L + 4) x (L + 3),
-    /// floor(16 / (L + 4)) * floor(16 / (L + 3)) >= 2 holds up to L = 5 (1 * 2). Coverage
-    /// 4 * 12.5 / 256 = 0.1953125. Areas 0.5, 0.5, 1, 1 (total 3); atlas areas 12.5/256 each:
-    /// S^2 = 3 * (1/4) * (12.5/256) * (2/0.5 + 2/1) = 0.2197265625, S = 0.46875.
+    /// Hand-computed: 4 triangles, 2 pairs, size 16, gutter 1: blocks (L + 3) x (L + 2),
+    /// floor(16 / (L + 3)) * floor(16 / (L + 2)) >= 2 holds up to L = 6 (1 * 2). Coverage
+    /// 4 * 18 / 256 = 0.28125. Areas 0.5, 0.5, 1, 1 (total 3); atlas areas 18/256 each:
+    /// S^2 = 3 * (1/4) * (18/256) * (2/0.5 + 2/1) = 0.31640625, S = 0.5625.
     #[test]
     fn uniform_metrics_by_hand() {
         let l = Layout::new(&tiny(), AtlasKind::Uniform, 16, 1).unwrap();
-        assert!(l.triangles.iter().all(|t| t.leg() == 5));
-        assert!((l.coverage() - 0.1953125).abs() < 1e-12);
-        assert!((l.relative_scale(&tiny()) - 0.46875).abs() < 1e-12);
-        // Nearest-only: blocks (L + 2) x (L + 1): L = 7 (1 * floor(16 / 8) = 2 blocks).
+        assert!(l.triangles.iter().all(|t| t.leg() == 6));
+        assert!((l.coverage() - 0.28125).abs() < 1e-12);
+        assert!((l.relative_scale(&tiny()) - 0.5625).abs() < 1e-12);
+        // Nearest-only: blocks (L + 1) x L: L = 8 (1 * floor(16 / 8) = 2 blocks).
         let l = Layout::new(&tiny(), AtlasKind::Uniform, 16, 0).unwrap();
-        assert!(l.triangles.iter().all(|t| t.leg() == 7));
+        assert!(l.triangles.iter().all(|t| t.leg() == 8));
     }
 
     /// Area weighting gives the larger triangles the longer legs.

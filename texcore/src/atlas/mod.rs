@@ -6,22 +6,26 @@
 //! with integer legs `L` inside a rectangular **block** of texels that it shares with at most
 //! one other triangle (its **pair**, across the hypotenuse). In texel units (texel `(i, j)`
 //! covers `[i, i+1) x [j, j+1)`, centre `(i + 1/2, j + 1/2)`), for a block at `(X, Y)` of
-//! `W x H` texels and gutter `g`:
+//! `W x H` texels and gutter `g` (0 or 1), with `o = g / 2` and `R = L + 2g`:
 //!
-//! - the **upper** triangle has its right angle at `(X + g, Y + g)` and legs along `+u`, `+v`;
-//!   it owns the texels with `di + dj <= W + H - 3 - (L + 2g)` (`di = i - X`, `dj = j - Y`);
-//! - the **lower** triangle has its right angle at `(X + W - g, Y + H - g)` and legs along
-//!   `-u`, `-v`; it owns the texels with `ei + ej <= L + 2g` (`ei = X + W - 1 - i`,
+//! - the **upper** triangle has its right angle at `(X + o, Y + o)` and legs along `+u`, `+v`;
+//!   it owns the texels with `di + dj <= W + H - 2 - R` (`di = i - X`, `dj = j - Y`);
+//! - the **lower** triangle has its right angle at `(X + W - o, Y + H - o)` and legs along
+//!   `-u`, `-v`; it owns the texels with `ei + ej <= R - 1` (`ei = X + W - 1 - i`,
 //!   `ej = Y + H - 1 - j`).
 //!
-//! With `W >= L + 2g + 2` and `H >= L + 2g + 1` the two regions are disjoint and cover the block
-//! (the pair's shared diagonal is over-scanned on both sides: the paper's hypotenuse over-scan,
-//! one extra column per pair). Each triangle owns every texel a look-up at a point inside it
-//! reads with a non-zero weight: with `g = 0` the nearest texel, with `g = 1` the four texels of
-//! the bilinear footprint (texel centres less than `g` away in each axis). Owned texels
-//! outside the triangle hold the triangle's solid coordinates **extrapolated**, so a sample near
-//! an edge blends only this triangle's texture, never a neighbour's nor the background: no
-//! seams.
+//! With `W >= R + 1` and `H >= R` the two regions are disjoint and cover the block (the pair's
+//! shared diagonal is over-scanned on both sides: the paper's hypotenuse over-scan, one extra
+//! column per pair, plus `2g` columns and rows of gutter). Each triangle owns every texel a
+//! look-up at a point strictly inside it reads with a non-zero weight: with `g = 0` the nearest
+//! texel (the corners on texel boundaries: a point with `u + v < L` from the right angle lies
+//! in a texel with `di + dj <= L - 1`); with `g = 1` the nearest texel and the four texels of
+//! the bilinear footprint (texel centres less than one texel away in each axis: with the corners
+//! on texel *centres*, `di + dj <= L + 1`). Look-ups exactly on an edge are not covered: the
+//! atlas coordinates handed to a renderer are [`AtlasTriangle::inset_corners`], [`INSET`] inside
+//! every edge, more than a renderer's rounding. Owned texels outside the triangle hold the
+//! triangle's solid coordinates **extrapolated**, so a sample near an edge blends only this
+//! triangle's texture, never a neighbour's nor the background: no seams.
 //!
 //! [`bake`] evaluates the texture into the owned texels of every triangle, row by row: along an
 //! atlas row the solid coordinates are affine, so each row of a triangle is one
@@ -35,6 +39,10 @@ use crate::color::Rgba8888;
 use crate::format::TexPoint;
 use crate::span::Span;
 use crate::texture::TextureEvaluator;
+
+/// How far inside its atlas triangle's edges a renderer's atlas coordinates are
+/// ([`AtlasTriangle::inset_corners`]), raw `Q16.16` texels: 1/64 texel.
+pub const INSET: i32 = 1 << 10;
 
 /// Which half of a block an atlas triangle is.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
@@ -52,7 +60,7 @@ pub enum Half {
 pub enum AtlasError {
     /// Leg length 0.
     ZeroLeg,
-    /// The block is smaller than `(L + 2g + 2) x (L + 2g + 1)`.
+    /// The block is smaller than `(L + 2g + 1) x (L + 2g)`.
     BlockTooSmall,
     /// The block does not fit `u16` texel coordinates.
     OutOfRange,
@@ -108,7 +116,7 @@ impl AtlasTriangle {
             return Err(AtlasError::Gutter);
         }
         let need = leg as u32 + 2 * gutter as u32;
-        if (w as u32) < need + 2 || (h as u32) < need + 1 {
+        if (w as u32) < need + 1 || (h as u32) < need {
             return Err(AtlasError::BlockTooSmall);
         }
         if x as u32 + w as u32 > u16::MAX as u32 || y as u32 + h as u32 > u16::MAX as u32 {
@@ -149,16 +157,33 @@ impl AtlasTriangle {
     /// The atlas positions of the corners, in texels times 16 (1/16 texel, exact):
     /// right angle, along `u`, along `v`.
     pub fn corners_x16(&self) -> [[i32; 2]; 3] {
-        let (g, l) = (self.gutter as i32, self.leg as i32);
+        // The right angle is `g / 2` texels inside the block's corner: 8 g sixteenths.
+        let (o, l) = (8 * self.gutter as i32, 16 * self.leg as i32);
         let (x, y, w, h) = (self.x as i32, self.y as i32, self.w as i32, self.h as i32);
         let (rx, ry, sx) = match self.half {
-            Half::Upper => (x + g, y + g, 1),
-            Half::Lower => (x + w - g, y + h - g, -1),
+            Half::Upper => (16 * x + o, 16 * y + o, 1),
+            Half::Lower => (16 * (x + w) - o, 16 * (y + h) - o, -1),
+        };
+        [[rx, ry], [rx + sx * l, ry], [rx, ry + sx * l]]
+    }
+
+    /// The atlas coordinates a renderer interpolates over the triangle (raw `Q16.16` texels;
+    /// right angle, along `u`, along `v`): the corners moved [`INSET`] inside both legs and,
+    /// along the legs, `INSET` inside the hypotenuse too (`u + v <= L - INSET` from the right
+    /// angle). Every point of this smaller triangle, and every point a few `2^-16` texel off it,
+    /// is strictly inside the triangle, where the owned texels hold every look-up's footprint.
+    /// (`Q16.16` holds texel coordinates below 32 768: a block beyond them, which
+    /// [`AtlasTriangle::new`] accepts up to 65 535, gets wrapped coordinates, never a panic.)
+    pub fn inset_corners(&self) -> [[i32; 2]; 3] {
+        let c = self.corners_x16().map(|p| p.map(|v| v << 12));
+        let s = match self.half {
+            Half::Upper => INSET,
+            Half::Lower => -INSET,
         };
         [
-            [rx * 16, ry * 16],
-            [(rx + sx * l) * 16, ry * 16],
-            [rx * 16, (ry + sx * l) * 16],
+            [c[0][0] + s, c[0][1] + s],
+            [c[1][0] - 2 * s, c[1][1] + s],
+            [c[2][0] + s, c[2][1] - 2 * s],
         ]
     }
 
@@ -172,13 +197,13 @@ impl AtlasTriangle {
         match self.half {
             Half::Upper => {
                 let dj = (j - self.y) as i32;
-                let max_sum = w + h - 3 - reach;
+                let max_sum = w + h - 2 - reach;
                 let n = (max_sum - dj + 1).clamp(0, w);
                 (n > 0).then_some((self.x, n as u16))
             }
             Half::Lower => {
                 let ej = (self.y + self.h - 1 - j) as i32;
-                let n = (reach - ej + 1).clamp(0, w);
+                let n = (reach - ej).clamp(0, w);
                 (n > 0).then_some((self.x + self.w - n as u16, n as u16))
             }
         }
@@ -265,7 +290,10 @@ pub fn bake<const T: usize, const N: usize, P: FnMut(u16, u16, Rgba8888)>(
 #[cfg(test)]
 mod tests {
     extern crate std;
+    use super::sample::AtlasImage;
     use super::*;
+    use std::format;
+    use std::string::String;
     use std::vec;
     use std::vec::Vec;
 
@@ -274,8 +302,14 @@ mod tests {
     }
 
     fn pair(l: u16, g: u8) -> [AtlasTriangle; 2] {
-        let w = l + 2 * g as u16 + 2;
-        let h = l + 2 * g as u16 + 1;
+        pair_in(l, g, 0, 0)
+    }
+
+    /// The pair of leg `l` and gutter `g` in a block `dw` columns and `dh` rows larger than
+    /// the smallest.
+    fn pair_in(l: u16, g: u8, dw: u16, dh: u16) -> [AtlasTriangle; 2] {
+        let w = l + 2 * g as u16 + 1 + dw;
+        let h = l + 2 * g as u16 + dh;
         let solid = [tp(0, 0, 0), tp(65536, 0, 0), tp(0, 65536, 0)];
         [
             AtlasTriangle::new(3, 5, w, h, l, g, Half::Upper, solid).unwrap(),
@@ -283,69 +317,167 @@ mod tests {
         ]
     }
 
-    /// The two halves of a block own disjoint sets of texels covering the block, and each owns
-    /// the nearest texel (g = 0) or every texel of the bilinear footprint (g = 1) of every point
-    /// inside itself (checked on a 1/16-texel grid).
-    #[test]
-    fn halves_partition_the_block_and_own_their_footprints() {
-        for g in [0u8, 1] {
-            for l in 1..12u16 {
-                let p = pair(l, g);
-                let (x, y, w, h) = p[0].block();
-                let mut owner = vec![None; w as usize * h as usize];
-                for (k, t) in p.iter().enumerate() {
-                    for j in y..y + h {
-                        if let Some((x0, n)) = t.row(j) {
-                            for i in x0..x0 + n {
-                                let cell =
-                                    &mut owner[(j - y) as usize * w as usize + (i - x) as usize];
-                                assert!(cell.is_none(), "l {l} g {g}: texel ({i}, {j}) twice");
-                                *cell = Some(k);
-                            }
+    /// An ownership rule: the texels a triangle owns on a row (`AtlasTriangle::row`).
+    type RowRule = dyn Fn(&AtlasTriangle, u16) -> Option<(u16, u16)>;
+    /// The atlas coordinates a renderer interpolates (`AtlasTriangle::inset_corners`).
+    type CornerRule = dyn Fn(&AtlasTriangle) -> [[i32; 2]; 3];
+
+    /// Checks a block's pair under the ownership rule `row` with the renderer's atlas
+    /// coordinates `corners`: the halves own disjoint texel sets that cover the block, and
+    /// every look-up a renderer makes over a triangle reads with a non-zero weight only texels
+    /// that triangle owns. The look-ups are texcore's own kernels (nearest, and with `g = 1`
+    /// bilinear) on a mask of the triangle's texels (alpha 255 owned, 0 otherwise, with a
+    /// margin of unowned texels around the block); the points are those the renderer samples:
+    /// a 1/32-texel grid of barycentric points of the inset triangle (its edges included), and
+    /// every 1/512 texel along its edges moved by up to 4 `2^-16` texel in each axis (the
+    /// renderer's rounding).
+    fn check(
+        p: &[AtlasTriangle; 2],
+        g: u8,
+        row: &RowRule,
+        corners: &CornerRule,
+    ) -> Result<(), String> {
+        let (x, y, w, h) = p[0].block();
+        let (iw, ih) = (x + w + 4, y + h + 4);
+        let at = |i: u16, j: u16| j as usize * iw as usize + i as usize;
+        let mut owner = vec![None; iw as usize * ih as usize];
+        for (k, t) in p.iter().enumerate() {
+            for j in y..y + h {
+                if let Some((x0, n)) = row(t, j) {
+                    for i in x0..x0 + n {
+                        if i < x || i >= x + w {
+                            return Err(format!("texel ({i}, {j}) outside the block"));
                         }
-                    }
-                }
-                assert!(
-                    owner.iter().all(Option::is_some),
-                    "l {l} g {g}: block not covered"
-                );
-                for (k, t) in p.iter().enumerate() {
-                    let [r, a, b] = t.corners_x16().map(|c| c.map(i64::from));
-                    // Points p = r + (a - r) s/n + (b - r) q/n strictly inside the triangle
-                    // (1/16 texel steps), in units of 1/(16 n) texels.
-                    let n = 16 * l as i64;
-                    let unit = 16 * n;
-                    for s in 1..n {
-                        for q in 1..(n - s) {
-                            let px = r[0] * n + (a[0] - r[0]) * s + (b[0] - r[0]) * q;
-                            let py = r[1] * n + (a[1] - r[1]) * s + (b[1] - r[1]) * q;
-                            // The texels a look-up reads with a non-zero weight: nearest (g = 0)
-                            // the texel containing p; otherwise centres in the open window
-                            // (p - g, p + g) in each axis (g = 1: the bilinear footprint).
-                            let texels = |c: i64| {
-                                let f = c.div_euclid(unit);
-                                (f - 3..=f + 3).filter(move |&i| {
-                                    if g == 0 {
-                                        i == f
-                                    } else {
-                                        let centre = (2 * i + 1) * unit;
-                                        centre > 2 * c - 2 * g as i64 * unit
-                                            && centre < 2 * c + 2 * g as i64 * unit
-                                    }
-                                })
-                            };
-                            for j in texels(py) {
-                                for i in texels(px) {
-                                    assert!(i >= x as i64 && j >= y as i64, "l {l} g {g}");
-                                    let cell = owner[(j - y as i64) as usize * w as usize
-                                        + (i - x as i64) as usize];
-                                    assert_eq!(cell, Some(k), "l {l} g {g}: texel ({i}, {j})");
-                                }
-                            }
+                        if owner[at(i, j)].replace(k).is_some() {
+                            return Err(format!("texel ({i}, {j}) owned twice"));
                         }
                     }
                 }
             }
+        }
+        for j in y..y + h {
+            for i in x..x + w {
+                if owner[at(i, j)].is_none() {
+                    return Err(format!("texel ({i}, {j}) owned by neither half"));
+                }
+            }
+        }
+        for (k, t) in p.iter().enumerate() {
+            let mask: Vec<Rgba8888> = owner
+                .iter()
+                .map(|&o| {
+                    if o == Some(k) {
+                        Rgba8888::WHITE
+                    } else {
+                        Rgba8888::TRANSPARENT
+                    }
+                })
+                .collect();
+            let img = AtlasImage::new(&mask, iw, ih).unwrap();
+            let probe = |u: i64, v: i64| -> Result<(), String> {
+                let (u, v) = (u as i32, v as i32);
+                let nearest = img.nearest(u, v).a == 255;
+                if !nearest || (g == 1 && img.bilinear(u, v).a != 255) {
+                    return Err(format!(
+                        "{:?} half: a {} look-up at ({}, {}) reads a texel it does not own",
+                        t.half(),
+                        if nearest { "bilinear" } else { "nearest" },
+                        u as f64 / 65536.0,
+                        v as f64 / 65536.0
+                    ));
+                }
+                Ok(())
+            };
+            let c = corners(t).map(|q| q.map(i64::from));
+            let l = t.leg() as i64;
+            let n = 32 * l;
+            for s in 0..=n {
+                for q in 0..=n - s {
+                    let pt = |a: usize| {
+                        c[0][a] + ((c[1][a] - c[0][a]) * s + (c[2][a] - c[0][a]) * q) / n
+                    };
+                    probe(pt(0), pt(1))?;
+                }
+            }
+            let n = 512 * l;
+            for (a, b) in [(0, 1), (1, 2), (2, 0)] {
+                for s in 0..=n {
+                    let pt = |d: usize| c[a][d] + (c[b][d] - c[a][d]) * s / n;
+                    for du in [-4, 0, 4] {
+                        for dv in [-4, 0, 4] {
+                            probe(pt(0) + du, pt(1) + dv)?;
+                        }
+                    }
+                }
+            }
+        }
+        Ok(())
+    }
+
+    /// The two halves of a block own disjoint sets of texels covering the block, and each owns
+    /// every texel a nearest (g = 0, 1) or bilinear (g = 1) look-up reads at the points a
+    /// renderer samples over it (`check`): legs 1 to 11 in the smallest blocks, legs 1 to 5 in
+    /// larger ones.
+    #[test]
+    fn halves_partition_the_block_and_own_their_footprints() {
+        for g in [0u8, 1] {
+            for l in 1..12u16 {
+                for (dw, dh) in [(0, 0), (1, 0), (0, 1), (2, 3)] {
+                    if (dw, dh) != (0, 0) && l > 5 {
+                        continue;
+                    }
+                    let r = check(
+                        &pair_in(l, g, dw, dh),
+                        g,
+                        &AtlasTriangle::row,
+                        &AtlasTriangle::inset_corners,
+                    );
+                    assert_eq!(r, Ok(()), "leg {l} gutter {g} block +{dw} +{dh}");
+                }
+            }
+        }
+    }
+
+    /// The check above fails with a rule one texel tighter (the upper half gives the last
+    /// texel of each of its rows to the lower half), with the right angle one texel inside
+    /// the block's corner instead of half a texel for bilinear look-ups (`g = 1`), and with the
+    /// exact corners instead of the inset ones.
+    #[test]
+    fn the_ownership_check_fails_broken_rules() {
+        let tighter = |t: &AtlasTriangle, j: u16| {
+            let (x0, n) = t.row(j)?;
+            match t.half() {
+                Half::Upper => (n > 1).then_some((x0, n - 1)),
+                Half::Lower if x0 > t.block().0 => Some((x0 - 1, n + 1)),
+                Half::Lower => Some((x0, n)),
+            }
+        };
+        let whole_texel_gutter = |t: &AtlasTriangle| {
+            let d = if t.half() == Half::Upper {
+                1 << 15
+            } else {
+                -(1 << 15)
+            };
+            t.inset_corners().map(|c| c.map(|v| v + d))
+        };
+        let exact = |t: &AtlasTriangle| t.corners_x16().map(|c| c.map(|v| v << 12));
+        for l in 1..12u16 {
+            for g in [0u8, 1] {
+                let p = pair(l, g);
+                let inset = &AtlasTriangle::inset_corners;
+                let r = check(&p, g, &tighter, inset);
+                assert!(
+                    r.is_err_and(|e| e.contains("look-up")),
+                    "leg {l} gutter {g}"
+                );
+                assert!(
+                    check(&p, g, &AtlasTriangle::row, &exact).is_err(),
+                    "leg {l} gutter {g}"
+                );
+            }
+            let p = pair(l, 1);
+            let r = check(&p, 1, &AtlasTriangle::row, &whole_texel_gutter);
+            assert!(r.is_err_and(|e| e.contains("bilinear")), "leg {l}");
         }
     }
 
@@ -353,13 +485,13 @@ mod tests {
     #[test]
     fn spans_follow_the_affine_map() {
         let p = pair(8, 1);
-        // Upper: right angle at (4, 6), leg 8; centre of texel (5, 6) is (5.5, 6.5):
-        // s = (1.5 / 8, 0.5 / 8).
+        // Upper: right angle at (3.5, 5.5), leg 8; centre of texel (5, 6) is (5.5, 6.5):
+        // s = (2 / 8, 1 / 8).
         let (x0, span) = p[0].row_span(6).unwrap();
         assert_eq!(x0, 3);
         let s = |i: u16| span.s0.to_bits()[0] + i as i32 * span.ds.to_bits()[0];
-        assert_eq!(s(2), 65536 * 3 / 16);
-        assert_eq!(span.s0.to_bits()[1], 65536 / 16);
+        assert_eq!(s(2), 65536 * 2 / 8);
+        assert_eq!(span.s0.to_bits()[1], 65536 / 8);
         assert_eq!(span.ds.to_bits(), [8192, 0, 0]);
         assert_eq!(span.dsdy.to_bits(), [0, 8192, 0]);
         // Lower: steps reversed.
@@ -375,9 +507,14 @@ mod tests {
             Err(AtlasError::ZeroLeg)
         );
         assert_eq!(
-            AtlasTriangle::new(0, 0, 9, 10, 8, 0, Half::Upper, s),
+            AtlasTriangle::new(0, 0, 8, 10, 8, 0, Half::Upper, s),
             Err(AtlasError::BlockTooSmall)
         );
+        assert_eq!(
+            AtlasTriangle::new(0, 0, 11, 9, 8, 1, Half::Upper, s),
+            Err(AtlasError::BlockTooSmall)
+        );
+        assert!(AtlasTriangle::new(0, 0, 11, 10, 8, 1, Half::Upper, s).is_ok());
         assert_eq!(
             AtlasTriangle::new(65530, 0, 10, 10, 8, 0, Half::Upper, s),
             Err(AtlasError::OutOfRange)

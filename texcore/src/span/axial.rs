@@ -494,8 +494,8 @@ mod tests {
                 dsdy: TexPoint::from_bits(dy[0], dy[1], dy[2]),
                 len,
             };
-            let opts = |mode| EvalOptions { mode, gradients, cull };
-            let opts_g = |mode, gradients| EvalOptions { mode, gradients, cull };
+            let opts = |mode| EvalOptions { mode, gradients, cull, ..Default::default() };
+            let opts_g = |mode, gradients| EvalOptions { mode, gradients, cull, ..Default::default() };
             let mode = [EvalMode::Fd, EvalMode::Fd32, EvalMode::Auto][mode];
             let (direct, direct_st, direct_axial) = go(&m, opts(EvalMode::Direct), &span, false);
             // `Direct` in the per-pixel axial kernel (no gradients) and in the merged loop (lean).
@@ -542,6 +542,7 @@ mod tests {
                 mode,
                 gradients: w.gradients(),
                 cull: true,
+                ..Default::default()
             };
             for y in [0, 5, 201] {
                 let span = peers::span(y, 0, peers::SIZE);

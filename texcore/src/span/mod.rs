@@ -70,7 +70,7 @@
 //!   cell, then the cell's monomial form, or the face blends of a single-axis term);
 //! - `quad`: the quadric along the span.
 
-use crate::bandlimit::{build_spread_width48, term_band};
+use crate::bandlimit::{build_spread_width48, term_band, BandLimit};
 use crate::format::{TexPoint, TexValue};
 use crate::hash::HashKind;
 use crate::model::{quantize_coord, NoiseTerm, TextureModel};
@@ -164,8 +164,20 @@ pub struct EvalOptions {
     /// Needs the crate feature `gradients` (enabled by `csat` and `mip`); without it this has no
     /// effect and the gradients are always zero.
     pub gradients: bool,
-    /// Drop octaves past the Nyquist limit.
+    /// Band-limit octaves past the Nyquist limit: fade them, cull the negligible ones and widen
+    /// the filter by what they lose ([`crate::bandlimit`]).
     pub cull: bool,
+    /// How band-limiting fades and spreads (when `cull` is on): an accuracy knob, the measured
+    /// best by default.
+    pub band_limit: BandLimit,
+}
+
+impl EvalOptions {
+    /// The band-limiting setting in force: `None` when `cull` is off.
+    #[inline(always)]
+    pub fn band(&self) -> Option<&BandLimit> {
+        self.cull.then_some(&self.band_limit)
+    }
 }
 
 impl Default for EvalOptions {
@@ -174,6 +186,7 @@ impl Default for EvalOptions {
             mode: EvalMode::Auto,
             gradients: true,
             cull: true,
+            band_limit: BandLimit::DEFAULT,
         }
     }
 }
@@ -655,7 +668,7 @@ impl<'m, const T: usize> SpanEvaluator<'m, T> {
         band_terms(
             self.core.model,
             span,
-            self.core.opts.cull,
+            self.core.opts.band(),
             each_term(&mut each),
         )
     }
@@ -788,7 +801,7 @@ impl<'m, const T: usize> EvalCore<'m, T> {
                     amp,
                 });
             };
-        out.extra_width48 = band_terms(m, span, self.opts.cull, each_term(&mut each));
+        out.extra_width48 = band_terms(m, span, self.opts.band(), each_term(&mut each));
     }
 
     /// The evaluation proper.
@@ -963,7 +976,8 @@ fn hermite_setup(
 
 /// The per-term band-limiting of `span` ([`crate::bandlimit::term_band`]), the one loop behind
 /// the span set-up, [`SpanEvaluator::extra_width48`] and the multipass evaluator (which takes the
-/// span set-up): calls `each(term, du, dy, band)` for every term of `model` in order, with the
+/// span set-up), band-limited by `rule` (`None`: the unfaded contract): calls
+/// `each(term, du, dy, band)` for every term of `model` in order, with the
 /// term's unrounded lattice steps along and across the span and `band` its amplitude for the
 /// span and whether its gradient widens the filter ([`crate::bandlimit::TermBand`]; `None`:
 /// culled), and returns the span's extra filter width ([`SpanInfo::extra_width48`]) from the
@@ -977,7 +991,7 @@ fn hermite_setup(
 fn band_terms<const T: usize, F>(
     model: &TextureModel<T>,
     span: &Span,
-    cull: bool,
+    rule: Option<&BandLimit>,
     each: &mut F,
 ) -> i64
 where
@@ -986,7 +1000,7 @@ where
     let mut variance: u64 = 0;
     for term in model.terms().iter().take(T) {
         let (du, dy) = lattice_steps(term, span);
-        let band = term_band(term, du, dy, cull);
+        let band = term_band(term, du, dy, rule);
         // Summed only where filter widths exist (`build_spread_width48`).
         if cfg!(feature = "gradients") {
             variance = variance.saturating_add(band.variance);
@@ -1118,6 +1132,7 @@ mod tests {
                 mode,
                 gradients: true,
                 cull: true,
+                ..Default::default()
             },
         );
         let mut out = Vec::new();
@@ -1188,13 +1203,72 @@ mod tests {
     }
 
     #[test]
+    fn every_band_limit_setting_is_exact_and_changes_only_faded_octaves() {
+        use crate::bandlimit::FadeWeight;
+        let m = marble();
+        // A receding row: the octaves reach about 1.5, 3, 6 and 12 cells a pixel across the
+        // span and a quarter of that along it (a long, narrow footprint).
+        let span = Span {
+            s0: TexPoint::from_f64(0.1, 0.2, 0.3),
+            ds: TexPoint::from_f64(0.09, 0.0, 0.0),
+            dsdy: TexPoint::from_f64(0.0, 0.0, 0.37),
+            len: 300,
+        };
+        let go = |mode, band_limit| {
+            let mut ev = SpanEvaluator::new(
+                &m,
+                EvalOptions {
+                    mode,
+                    band_limit,
+                    ..Default::default()
+                },
+            );
+            let mut out = Vec::new();
+            let info = ev.eval(&span, |s| out.push(s));
+            (out, info)
+        };
+        let default = go(EvalMode::Direct, BandLimit::DEFAULT);
+        let mut distinct = 0;
+        for weight in [FadeWeight::Footprint, FadeWeight::Reach] {
+            for (floor, part) in [(1 << 12, 0), (1 << 14, 3 << 14), (1 << 15, 1 << 16)] {
+                let Some(b) = BandLimit::new(weight, floor, part) else {
+                    panic!("{weight:?} {floor} {part}");
+                };
+                let d = go(EvalMode::Direct, b);
+                assert_eq!(d, go(EvalMode::Fd, b), "{b:?}");
+                assert_eq!(d, go(EvalMode::Auto, b), "{b:?}");
+                distinct += usize::from(d != default);
+            }
+        }
+        // Every setting but the default's own changes the row.
+        assert_eq!(distinct, 5);
+        // With culling off the setting plays no part.
+        let off = |b| {
+            let mut ev = SpanEvaluator::new(
+                &m,
+                EvalOptions {
+                    cull: false,
+                    band_limit: b,
+                    ..Default::default()
+                },
+            );
+            let mut out = Vec::new();
+            ev.eval(&span, |s| out.push(s));
+            out
+        };
+        let reach = BandLimit::new(FadeWeight::Reach, 1 << 12, 0);
+        assert_eq!(off(BandLimit::DEFAULT), off(reach.unwrap_or_default()));
+    }
+
+    #[test]
     fn band_limiting_counts_fades_and_widens() {
         let m = marble();
         let spread = |span: &Span, cull: bool| -> i64 {
             let mut var = 0u64;
             for t in m.terms() {
                 let (du, dy) = lattice_steps(t, span);
-                var += crate::bandlimit::term_band(t, du, dy, cull).variance;
+                var += crate::bandlimit::term_band(t, du, dy, cull.then_some(&BandLimit::DEFAULT))
+                    .variance;
             }
             crate::bandlimit::build_spread_width48(var)
         };
@@ -1213,7 +1287,7 @@ mod tests {
             .iter()
             .map(|t| {
                 let (du, dy) = lattice_steps(t, &span);
-                crate::bandlimit::term_band(t, du, dy, true)
+                crate::bandlimit::term_band(t, du, dy, Some(&BandLimit::DEFAULT))
             })
             .collect();
         let n_faded = bands
@@ -1317,6 +1391,7 @@ mod tests {
                                     mode,
                                     gradients,
                                     cull,
+                                    ..Default::default()
                                 },
                             );
                             let mut out = Vec::new();
@@ -1443,6 +1518,7 @@ mod tests {
                 mode: [EvalMode::Direct, EvalMode::Fd, EvalMode::Auto][mode],
                 gradients,
                 cull,
+                ..Default::default()
             };
             let fast = run_shape(&m, opts, &span, false);
             let lean = run_shape(&m, opts, &span, true);

@@ -223,25 +223,29 @@ pub fn value_row<const T: usize>(
     line: &mut [u32],
 ) {
     let len = w.span_len();
+    let Some(line) = line.get_mut(..usize::from(SIZE)) else {
+        return;
+    };
     let mut x0 = 0;
-    for chunk in line[..usize::from(SIZE)].chunks_mut(usize::from(len)) {
-        let mut px = chunk.iter_mut();
-        let sp = span(y, x0, len);
-        if w.gradients() {
-            ev.eval(&sp, |s| {
-                if let Some(p) = px.next() {
-                    *p = grad_word(&s);
+    while x0 < SIZE {
+        // The chunks of each span copied into the row at their own offsets (the values-only
+        // consumer's path reads each chunk's `f` slice: no `Sample` built a pixel).
+        let mut x = usize::from(x0);
+        let gradients = w.gradients();
+        ev.eval_chunks(&span(y, x0, len), &mut |c: &SampleChunk| {
+            if let Some(dst) = line.get_mut(x..x + c.len()) {
+                if gradients {
+                    for (d, s) in dst.iter_mut().zip(c.iter()) {
+                        *d = grad_word(&s);
+                    }
+                } else {
+                    for (d, v) in dst.iter_mut().zip(c.f()) {
+                        *d = v.to_bits() as u32;
+                    }
                 }
-            });
-        } else {
-            // The values-only consumer's path: each chunk's `f` slice copied into the row.
-            ev.eval_chunks(&sp, &mut |c: &SampleChunk| {
-                // `f` first: the zip stops on it without taking a pixel of the next chunk.
-                for (v, p) in c.f().iter().zip(&mut px) {
-                    *p = v.to_bits() as u32;
-                }
-            });
-        }
+            }
+            x += c.len();
+        });
         x0 += len;
     }
 }
@@ -297,6 +301,7 @@ mod tests {
                 mode,
                 gradients: w.gradients(),
                 cull: true,
+                ..Default::default()
             };
             let mut fd = SpanEvaluator::new(&m, opts(EvalMode::Fd));
             let mut direct = SpanEvaluator::new(&m, opts(EvalMode::Direct));
