@@ -130,62 +130,81 @@ pub trait TriangleSource {
     }
 }
 
-/// The light of a triangle as the renderer applies it ([`crate::gouraud::TriangleLight`]);
-/// without the `lighting` feature a type with no values, so that the lighting stage is not
-/// compiled at all.
-#[cfg(feature = "lighting")]
-type TriLight = crate::gouraud::TriangleLight;
-#[cfg(not(feature = "lighting"))]
-type TriLight = core::convert::Infallible;
+/// How a walk over the scene lights its triangles, as a type, so that each walk's drawing is
+/// compiled for its own case: the unlit walk's [`Unlit`] has no value and no code (no light
+/// plane, no option to test, no lighting stage: the same code as a build without the `lighting`
+/// feature); the lit walk's vertex-light function (feature `lighting`) computes a triangle's
+/// light plane at its first segment (a triangle with none in the band costs nothing) and
+/// multiplies each chunk of its pixels by it.
+trait WalkLight: Copy {
+    /// Whether the walk lights its pixels (counted in [`RenderStats::lit_pixels`]).
+    const LIT: bool;
+    /// Where a triangle's light plane is kept between its segments.
+    type Plane: Default;
+    /// The light of one segment of the triangle.
+    type Segment<'p>: SegmentLight
+    where
+        Self: 'p;
+    /// The light of triangle `tri`'s segments, computed into `plane` at the first one.
+    fn segment<'p>(self, plane: &'p mut Self::Plane, tri: &[ScreenVertex; 3]) -> Self::Segment<'p>;
+}
+
+/// The light of one segment's pixels (see [`WalkLight`]).
+trait SegmentLight: Copy {
+    /// The lighting stage: multiplies the pixels `x..` of row `y` by the light.
+    fn light_span(self, x: u16, y: u16, px: &mut [Rgba8888]);
+}
+
+/// No light: the unlit walk (and every walk of a build without the `lighting` feature).
+#[derive(Clone, Copy, Debug, Default)]
+struct Unlit;
+
+impl WalkLight for Unlit {
+    const LIT: bool = false;
+    type Plane = ();
+    type Segment<'p> = Unlit;
+
+    #[inline(always)]
+    fn segment(self, _: &mut (), _: &[ScreenVertex; 3]) -> Unlit {
+        Unlit
+    }
+}
+
+impl SegmentLight for Unlit {
+    #[inline(always)]
+    fn light_span(self, _: u16, _: u16, _: &mut [Rgba8888]) {}
+}
 
 /// The lights of a triangle's three vertices (`Q16.16` per channel).
 #[cfg(feature = "lighting")]
 type VertexLights = [crate::light::LightRgb; 3];
 
-/// What a walk hands the drawing of a triangle: the function giving its vertices' lights (`None`
-/// on the unlit walk); without the `lighting` feature an option that can only be `None`, so the
-/// compiler drops every lighting branch.
+/// The lit walk: the scene's function giving the triangle's vertex lights
+/// ([`TriangleSource::for_each_lit_triangle_grouped`]).
 #[cfg(feature = "lighting")]
-type LightFn<'a> = Option<&'a dyn Fn() -> VertexLights>;
-#[cfg(not(feature = "lighting"))]
-type LightFn<'a> = Option<(core::convert::Infallible, core::marker::PhantomData<&'a ()>)>;
+impl WalkLight for &dyn Fn() -> VertexLights {
+    const LIT: bool = true;
+    type Plane = Option<crate::gouraud::TriangleLight>;
+    type Segment<'p>
+        = &'p crate::gouraud::TriangleLight
+    where
+        Self: 'p;
 
-/// The triangle's light plane, computed at its first segment and kept in `plane` (`None` on the
-/// unlit walk).
-#[inline(always)]
-fn light_plane<'p>(
-    light: LightFn<'_>,
-    plane: &'p mut Option<TriLight>,
-    tri: &[ScreenVertex; 3],
-) -> Option<&'p TriLight> {
-    #[cfg(feature = "lighting")]
-    return light.map(|v| &*plane.get_or_insert_with(|| tri_light(tri, &v())));
-    #[cfg(not(feature = "lighting"))]
-    {
-        let _ = (plane, tri);
-        match light {
-            None => None,
-            Some((never, _)) => match never {},
-        }
+    #[inline(always)]
+    fn segment<'p>(
+        self,
+        plane: &'p mut Self::Plane,
+        tri: &[ScreenVertex; 3],
+    ) -> &'p crate::gouraud::TriangleLight {
+        plane.get_or_insert_with(|| crate::gouraud::TriangleLight::new(tri, &self()))
     }
 }
 
-/// The light plane of a triangle from its vertices' lights.
 #[cfg(feature = "lighting")]
-#[inline(always)]
-fn tri_light(tri: &[ScreenVertex; 3], v: &VertexLights) -> TriLight {
-    crate::gouraud::TriangleLight::new(tri, v)
-}
-
-/// The lighting stage: multiplies the pixels `x..` of row `y` by the triangle's light.
-#[inline(always)]
-fn light_span(light: &TriLight, x: u16, y: u16, px: &mut [Rgba8888]) {
-    #[cfg(feature = "lighting")]
-    light.modulate_span(x, y, px);
-    #[cfg(not(feature = "lighting"))]
-    {
-        let _ = (x, y, px);
-        match *light {}
+impl SegmentLight for &crate::gouraud::TriangleLight {
+    #[inline(always)]
+    fn light_span(self, x: u16, y: u16, px: &mut [Rgba8888]) {
+        self.modulate_span(x, y, px);
     }
 }
 
@@ -564,53 +583,32 @@ impl<'t, const T: usize, const N: usize> Renderer<'t, T, N> {
         for y in 0..h {
             sink.fill_span(0, y, w, bg);
         }
-        let mut slots = self.slots();
-        let mut raster = Rasterizer::new(Rect::from_size(w, h));
-        let mut stats = RenderStats::default();
-        #[cfg(feature = "lighting")]
-        let mut lit = 0u64;
-        // As in the banded renderer: one copy per walk, the unlit one without lighting code.
-        macro_rules! draw {
-            ($obj:expr, $tri:expr, $light:expr) => {{
-                let (tri, light): (&[ScreenVertex; 3], LightFn<'_>) = ($tri, $light);
-                let Some(o) = scene.object($obj) else { return };
-                let mut plane: Option<TriLight> = None;
-                let mut seg_sink = |seg: &Segment| {
-                    let light = light_plane(light, &mut plane, tri);
-                    shade_segment(
-                        &mut slots,
-                        o.texture,
-                        self.output,
-                        seg,
-                        light,
-                        |x, chunk| {
-                            #[cfg(feature = "lighting")]
-                            if light.is_some() {
-                                lit += chunk.len() as u64;
-                            }
-                            sink.write_span(x, seg.y, chunk)
-                        },
-                    );
-                };
-                raster.draw(tri, &o.raster, &mut seg_sink);
-            }};
-        }
+        let mut draw = StreamDraw {
+            scene,
+            slots: self.slots(),
+            output: self.output,
+            raster: Rasterizer::new(Rect::from_size(w, h)),
+            sink,
+            lit: 0,
+        };
+        // One drawing per walk, each compiled for its light (see `WalkLight`).
         #[cfg(feature = "lighting")]
         if scene.is_lit() {
-            scene
-                .for_each_lit_triangle_grouped(|_| true, |_, obj, tri, l| draw!(obj, tri, Some(l)));
+            scene.for_each_lit_triangle_grouped(
+                |_| true,
+                |_, obj, tri, l| draw.triangle(obj, tri, l),
+            );
         } else {
-            scene.for_each_triangle(|obj, tri| draw!(obj, tri, None));
+            scene.for_each_triangle(|obj, tri| draw.triangle(obj, tri, Unlit));
         }
         #[cfg(not(feature = "lighting"))]
-        scene.for_each_triangle(|obj, tri| draw!(obj, tri, None));
-        #[cfg(feature = "lighting")]
-        {
-            stats.lit_pixels = lit;
-        }
-        stats.raster = raster.counters();
-        stats.shade = slots_stats(&slots);
-        Ok(stats)
+        scene.for_each_triangle(|obj, tri| draw.triangle(obj, tri, Unlit));
+        Ok(RenderStats {
+            raster: draw.raster.counters(),
+            shade: slots_stats(&draw.slots),
+            lit_pixels: draw.lit,
+            ..RenderStats::default()
+        })
     }
 
     /// Renders in bands of `band_rows` rows through `band` (RGBA, at least `width * band_rows`
@@ -724,12 +722,11 @@ impl<'t, const T: usize, const N: usize> Renderer<'t, T, N> {
         self.check(scene)?;
         let (w, h) = scene.size();
         let reuse = bins.is_filled_for((w, h));
-        let image = 0..h;
         let (first, end) = (rows.start.min(h), rows.end.min(h));
         let uses_depth =
             (0..scene.object_count()).any(|i| scene.object(i).is_some_and(|o| o.depth));
         let rows = band_rows.max(1).min(h.max(1));
-        let mut buf = RgbaBuffer::new(band, w, 0, rows).ok_or(RenderError::BufferTooSmall)?;
+        let buf = RgbaBuffer::new(band, w, 0, rows).ok_or(RenderError::BufferTooSmall)?;
         let need = usize::from(w) * usize::from(rows);
         if uses_depth && depth.len() < need {
             return Err(RenderError::BufferTooSmall);
@@ -739,22 +736,32 @@ impl<'t, const T: usize, const N: usize> Renderer<'t, T, N> {
         } else {
             None
         };
-        let mut depth = depth.and_then(|d| DepthBuffer::new(d, Rect::new(0, 0, w, rows)));
-        let mut slots = self.slots();
+        let depth = depth.and_then(|d| DepthBuffer::new(d, Rect::new(0, 0, w, rows)));
         let mut stats = RenderStats::default();
-        let mut raster = Rasterizer::new(Rect::from_size(w, h));
         let bg = scene.background();
         let filled = &mut bins.filled;
         // Shared by the `keep` and the triangle callbacks of one walk.
         let bins = core::cell::Cell::from_mut(&mut *bins.rows).as_slice_of_cells();
+        let mut draw = BandDraw {
+            scene,
+            slots: self.slots(),
+            output: self.output,
+            raster: Rasterizer::new(Rect::from_size(w, h)),
+            buf,
+            depth,
+            binning: None,
+            image: 0..h,
+            blended: 0,
+            lit: 0,
+        };
         let mut y0 = first;
         while y0 < end {
             let y1 = y0.saturating_add(rows).min(end);
             let band_rect = Rect::new(0, y0, w, y1);
-            raster.set_clip(band_rect);
-            buf.set_y0(y0);
-            buf.clear(bg);
-            if let Some(d) = depth.as_mut() {
+            draw.raster.set_clip(band_rect);
+            draw.buf.set_y0(y0);
+            draw.buf.clear(bg);
+            if let Some(d) = draw.depth.as_mut() {
                 d.set_rect(band_rect);
                 d.clear(u16::MAX);
             }
@@ -767,84 +774,143 @@ impl<'t, const T: usize, const N: usize> Renderer<'t, T, N> {
                 }
                 *filled = Some((w, h));
             }
-            let mut blended = 0u64;
-            #[cfg(feature = "lighting")]
-            let mut lit = 0u64;
+            draw.binning = binning.then_some(bins);
             let mut skipped = 0u64;
             let keep = |g: usize| {
                 let take = binning || bins.get(g).is_none_or(|b| b.get().touches(y0, y1));
                 skipped += u64::from(!take);
                 take
             };
-            // The triangle's drawing, stamped out once per walk: the unlit walk's copy has no
-            // lighting code at all (`$light` is `None`), the lit one computes the triangle's
-            // light plane at its first segment (a triangle with none in this band costs nothing).
-            macro_rules! draw {
-                ($g:expr, $obj:expr, $tri:expr, $light:expr) => {{
-                    let (g, tri, light): (usize, &[ScreenVertex; 3], LightFn<'_>) =
-                        ($g, $tri, $light);
-                    if binning {
-                        if let Some(b) = bins.get(g) {
-                            if let Some((r0, r1)) = triangle_rows(tri, &image, w) {
-                                let mut r = b.get();
-                                r.include(r0, r1);
-                                b.set(r);
-                            }
-                        }
-                    }
-                    let Some(o) = scene.object($obj) else { return };
-                    let mut plane: Option<TriLight> = None;
-                    let mut seg_sink = |seg: &Segment| {
-                        let light = light_plane(light, &mut plane, tri);
-                        shade_segment(
-                            &mut slots,
-                            o.texture,
-                            self.output,
-                            seg,
-                            light,
-                            |x, chunk| {
-                                #[cfg(feature = "lighting")]
-                                if light.is_some() {
-                                    lit += chunk.len() as u64;
-                                }
-                                if o.blend == Blend::Over {
-                                    blended += chunk.len() as u64;
-                                    buf.blend_span(x, seg.y, chunk);
-                                } else {
-                                    buf.write_span(x, seg.y, chunk);
-                                }
-                            },
-                        );
-                    };
-                    match (o.depth, depth.as_mut()) {
-                        (true, Some(d)) => raster.draw_depth(tri, &o.raster, d, &mut seg_sink),
-                        _ => raster.draw(tri, &o.raster, &mut seg_sink),
-                    }
-                }};
-            }
+            // One walk per light, each compiled on its own (see `BandDraw::walk_unlit`).
             #[cfg(feature = "lighting")]
             if scene.is_lit() {
-                scene.for_each_lit_triangle_grouped(keep, |g, obj, tri, l| {
-                    draw!(g, obj, tri, Some(l))
-                });
+                draw.walk_lit(keep);
             } else {
-                scene.for_each_triangle_grouped(keep, |g, obj, tri| draw!(g, obj, tri, None));
+                draw.walk_unlit(keep);
             }
             #[cfg(not(feature = "lighting"))]
-            scene.for_each_triangle_grouped(keep, |g, obj, tri| draw!(g, obj, tri, None));
-            stats.blended_pixels += blended;
-            #[cfg(feature = "lighting")]
-            {
-                stats.lit_pixels += lit;
-            }
+            draw.walk_unlit(keep);
             stats.skipped_groups += skipped;
-            flush_rows(&buf, y0..y1, sink);
+            flush_rows(&draw.buf, y0..y1, sink);
             stats.bands += 1;
             y0 = y1;
         }
-        stats.raster = raster.counters();
-        stats.shade = slots_stats(&slots);
+        stats.blended_pixels = draw.blended;
+        stats.lit_pixels = draw.lit;
+        stats.raster = draw.raster.counters();
+        stats.shade = slots_stats(&draw.slots);
         Ok(stats)
+    }
+}
+
+/// What the streamed renderer draws a triangle with ([`Renderer::render_streamed`]).
+struct StreamDraw<'a, 't, S, P, const T: usize, const N: usize> {
+    scene: &'a S,
+    slots: Slots<'t, T, N>,
+    output: Output,
+    raster: Rasterizer,
+    sink: &'a mut P,
+    /// Pixels lit.
+    lit: u64,
+}
+
+impl<S: TriangleSource, P: PixelSink, const T: usize, const N: usize>
+    StreamDraw<'_, '_, S, P, T, N>
+{
+    /// Draws triangle `tri` of object `obj` straight to the sink, lit by `light`.
+    #[inline(always)]
+    fn triangle<W: WalkLight>(&mut self, obj: usize, tri: &[ScreenVertex; 3], light: W) {
+        let Some(o) = self.scene.object(obj) else {
+            return;
+        };
+        let (slots, output, sink, lit) =
+            (&mut self.slots, self.output, &mut *self.sink, &mut self.lit);
+        let mut plane = W::Plane::default();
+        let mut seg_sink = |seg: &Segment| {
+            let light = light.segment(&mut plane, tri);
+            shade_segment(slots, o.texture, output, seg, light, |x, chunk| {
+                if W::LIT {
+                    *lit += chunk.len() as u64;
+                }
+                sink.write_span(x, seg.y, chunk)
+            });
+        };
+        self.raster.draw(tri, &o.raster, &mut seg_sink);
+    }
+}
+
+/// What the banded renderer draws a triangle with ([`Renderer::render_banded_rows_binned`]).
+struct BandDraw<'a, 't, S, const T: usize, const N: usize> {
+    scene: &'a S,
+    slots: Slots<'t, T, N>,
+    output: Output,
+    raster: Rasterizer,
+    buf: RgbaBuffer<'a>,
+    depth: Option<DepthBuffer<'a>>,
+    /// The bins this band's walk fills (the first band's, unless they were filled already).
+    binning: Option<&'a [core::cell::Cell<GroupRows>]>,
+    /// The image's rows (what the bins record).
+    image: core::ops::Range<u16>,
+    /// Pixels composited with [`Blend::Over`].
+    blended: u64,
+    /// Pixels lit.
+    lit: u64,
+}
+
+impl<S: TriangleSource, const T: usize, const N: usize> BandDraw<'_, '_, S, T, N> {
+    /// One band's walk over the scene without light: the groups `keep` takes, each triangle
+    /// drawn by [`BandDraw::triangle`]. Out of line, as is [`BandDraw::walk_lit`], so that each
+    /// walk is compiled on its own: the unlit walk is the same code whether the lit one exists
+    /// (feature `lighting`) or not.
+    #[inline(never)]
+    fn walk_unlit<K: FnMut(usize) -> bool>(&mut self, keep: K) {
+        let scene = self.scene;
+        scene.for_each_triangle_grouped(keep, |g, obj, tri| self.triangle(g, obj, tri, Unlit));
+    }
+
+    /// One band's walk over the scene with its lights (see [`BandDraw::walk_unlit`]).
+    #[cfg(feature = "lighting")]
+    #[inline(never)]
+    fn walk_lit<K: FnMut(usize) -> bool>(&mut self, keep: K) {
+        let scene = self.scene;
+        scene.for_each_lit_triangle_grouped(keep, |g, obj, tri, l| self.triangle(g, obj, tri, l));
+    }
+
+    /// Draws triangle `tri` (group `g`, object `obj`) into the band, lit by `light`, recording
+    /// its rows in the bins when this walk fills them.
+    #[inline(always)]
+    fn triangle<W: WalkLight>(&mut self, g: usize, obj: usize, tri: &[ScreenVertex; 3], light: W) {
+        if let Some(b) = self.binning.and_then(|bins| bins.get(g)) {
+            if let Some((r0, r1)) = triangle_rows(tri, &self.image, self.buf.width()) {
+                let mut r = b.get();
+                r.include(r0, r1);
+                b.set(r);
+            }
+        }
+        let Some(o) = self.scene.object(obj) else {
+            return;
+        };
+        let (slots, output, buf) = (&mut self.slots, self.output, &mut self.buf);
+        let (blended, lit) = (&mut self.blended, &mut self.lit);
+        let mut plane = W::Plane::default();
+        let mut seg_sink = |seg: &Segment| {
+            let light = light.segment(&mut plane, tri);
+            shade_segment(slots, o.texture, output, seg, light, |x, chunk| {
+                if W::LIT {
+                    *lit += chunk.len() as u64;
+                }
+                if o.blend == Blend::Over {
+                    *blended += chunk.len() as u64;
+                    buf.blend_span(x, seg.y, chunk);
+                } else {
+                    buf.write_span(x, seg.y, chunk);
+                }
+            });
+        };
+        match (o.depth, self.depth.as_mut()) {
+            (true, Some(d)) => self.raster.draw_depth(tri, &o.raster, d, &mut seg_sink),
+            _ => self.raster.draw(tri, &o.raster, &mut seg_sink),
+        }
     }
 }
 
@@ -878,12 +944,12 @@ const fn log2(n: usize) -> u32 {
 }
 
 /// Shades one segment into chunks of at most [`CHUNK`] pixels, calling `out(x, chunk)`.
-fn shade_segment<const T: usize, const N: usize, O: FnMut(u16, &[Rgba8888])>(
+fn shade_segment<const T: usize, const N: usize, L: SegmentLight, O: FnMut(u16, &[Rgba8888])>(
     slots: &mut Slots<'_, T, N>,
     slot: usize,
     output: Output,
     seg: &Segment,
-    light: Option<&TriLight>,
+    light: L,
     mut out: O,
 ) {
     let span = Span {
@@ -901,9 +967,7 @@ fn shade_segment<const T: usize, const N: usize, O: FnMut(u16, &[Rgba8888])>(
         }
         n += 1;
         if n == CHUNK {
-            if let Some(l) = light {
-                light_span(l, x, seg.y, &mut chunk);
-            }
+            light.light_span(x, seg.y, &mut chunk);
             out(x, &chunk);
             x = x.saturating_add(CHUNK as u16);
             n = 0;
@@ -922,9 +986,7 @@ fn shade_segment<const T: usize, const N: usize, O: FnMut(u16, &[Rgba8888])>(
         }
     }
     if let Some(rest) = chunk.get_mut(..n).filter(|r| !r.is_empty()) {
-        if let Some(l) = light {
-            light_span(l, x, seg.y, rest);
-        }
+        light.light_span(x, seg.y, rest);
         out(x, rest);
     }
 }
