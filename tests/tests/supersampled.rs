@@ -11,18 +11,16 @@ use host_sim::unit::UnitConfig;
 use texcore::hash::HashKind;
 
 fn report(name: &str, w: u16, h: u16) -> SupersampledReport {
+    report_with(name, w, h, &UnitConfig::default())
+}
+
+/// The still frame of `name` at `w x h` with the texture unit `cfg` against its 4 x 4 truth.
+fn report_with(name: &str, w: u16, h: u16, cfg: &UnitConfig) -> SupersampledReport {
     let mut scene = HostScene::builtin(texcore::scene::by_name(name).unwrap());
     scene.scene.camera.width = w;
     scene.scene.camera.height = h;
     let frame = scene.scene.still();
-    check(
-        &scene,
-        frame,
-        &UnitConfig::default(),
-        HashKind::Permutation,
-        4,
-    )
-    .unwrap()
+    check(&scene, frame, cfg, HashKind::Permutation, 4).unwrap()
 }
 
 #[test]
@@ -172,15 +170,11 @@ fn horizon_flicker_is_within_one_and_a_half_times_the_truths() {
 fn zone_plate_filters_cut_the_error_to_six_tenths() {
     use texcore::filter::Antialias;
     for aa in [Antialias::Csat, Antialias::Csat3, Antialias::Mip] {
-        let mut scene = HostScene::builtin(texcore::scene::by_name("zoneplate").unwrap());
-        scene.scene.camera.width = 128;
-        scene.scene.camera.height = 128;
-        let frame = scene.scene.still();
         let cfg = UnitConfig {
             aa,
             ..UnitConfig::default()
         };
-        let r = check(&scene, frame, &cfg, HashKind::Permutation, 4).unwrap();
+        let r = report_with("zoneplate", 128, 128, &cfg);
         let ratio = 10f64.powf(-(r.psnr_filtered - r.psnr_unfiltered) / 20.0);
         eprintln!(
             "zoneplate {aa:?}: filtered {:.2} dB, unfiltered {:.2} dB, error ratio {ratio:.3}",
