@@ -1214,50 +1214,46 @@ mod tests {
             dsdy: TexPoint::from_f64(0.0, 0.0, 0.37),
             len: 300,
         };
-        let go = |mode, band_limit| {
-            let mut ev = SpanEvaluator::new(
-                &m,
-                EvalOptions {
-                    mode,
-                    band_limit,
-                    ..Default::default()
-                },
-            );
+        let go = |opts: EvalOptions| {
+            let mut ev = SpanEvaluator::new(&m, opts);
             let mut out = Vec::new();
             let info = ev.eval(&span, |s| out.push(s));
             (out, info)
         };
-        let default = go(EvalMode::Direct, BandLimit::DEFAULT);
+        let with = |mode, band_limit| {
+            go(EvalOptions {
+                mode,
+                band_limit,
+                ..Default::default()
+            })
+        };
+        let default = with(EvalMode::Direct, BandLimit::DEFAULT);
         let mut distinct = 0;
         for weight in [FadeWeight::Footprint, FadeWeight::Reach] {
             for (floor, part) in [(1 << 12, 0), (1 << 14, 3 << 14), (1 << 15, 1 << 16)] {
                 let Some(b) = BandLimit::new(weight, floor, part) else {
                     panic!("{weight:?} {floor} {part}");
                 };
-                let d = go(EvalMode::Direct, b);
-                assert_eq!(d, go(EvalMode::Fd, b), "{b:?}");
-                assert_eq!(d, go(EvalMode::Auto, b), "{b:?}");
+                let d = with(EvalMode::Direct, b);
+                assert_eq!(d, with(EvalMode::Fd, b), "{b:?}");
+                assert_eq!(d, with(EvalMode::Auto, b), "{b:?}");
                 distinct += usize::from(d != default);
             }
         }
         // Every setting but the default's own changes the row.
         assert_eq!(distinct, 5);
         // With culling off the setting plays no part.
-        let off = |b| {
-            let mut ev = SpanEvaluator::new(
-                &m,
-                EvalOptions {
-                    cull: false,
-                    band_limit: b,
-                    ..Default::default()
-                },
-            );
-            let mut out = Vec::new();
-            ev.eval(&span, |s| out.push(s));
-            out
+        let Some(reach) = BandLimit::new(FadeWeight::Reach, 1 << 12, 0) else {
+            panic!("reach rule");
         };
-        let reach = BandLimit::new(FadeWeight::Reach, 1 << 12, 0);
-        assert_eq!(off(BandLimit::DEFAULT), off(reach.unwrap_or_default()));
+        let off = |band_limit| {
+            go(EvalOptions {
+                cull: false,
+                band_limit,
+                ..Default::default()
+            })
+        };
+        assert_eq!(off(BandLimit::DEFAULT), off(reach));
     }
 
     #[test]
