@@ -95,3 +95,71 @@ fn device_atlas_frame_resembles_the_procedural_frame() {
         }
     }
 }
+
+/// The frame list (one walk a frame, every band drawn from the listed quads) draws exactly what
+/// the general way (every band walks the quads its bins name) draws: the marble frame seen from
+/// eight directions at three distances, the nearest cutting the teapot with the near plane (a
+/// clipped triangle sends the frame the general way), with a list large enough, with none, and
+/// with one too small for the frame.
+#[test]
+fn frame_list_draws_what_the_walk_draws() {
+    use atlas::FrameQuad;
+    let base = scenes::builtin_frame(atlas::SCENE).unwrap();
+    let mut texels = Box::new([0u16; atlas::TEXELS]);
+    atlas::bake_scene(&base, HashKind::Integer, &mut texels, true);
+    let mut bins = vec![GroupRows::EMPTY; scenes::SCENE_GROUPS];
+    let (eye, target) = (base.camera.eye, base.camera.target);
+    let (dx, dz) = (f64::from(eye.x - target.x), f64::from(eye.z - target.z));
+    let (mut listed_frames, mut walked_frames) = (0, 0);
+    for k in 0..8 {
+        for scale in [1.0, 0.6, 0.12] {
+            let a = f64::from(k) * std::f64::consts::FRAC_PI_4;
+            let (s, c) = a.sin_cos();
+            let mut scene = base.clone();
+            scene.camera.eye.x = target.x + ((dx * c - dz * s) * scale) as i32;
+            scene.camera.eye.z = target.z + ((dx * s + dz * c) * scale) as i32;
+            scene.camera.eye.y = target.y + (f64::from(eye.y - target.y) * scale) as i32;
+            let mut draw = |list: &mut [FrameQuad]| {
+                let mut px = Vec::new();
+                assert!(atlas::draw_scene_rows_with(
+                    &scene,
+                    &texels,
+                    &mut bins,
+                    list,
+                    |r| px.extend_from_slice(r)
+                ));
+                px
+            };
+            let mut list = vec![FrameQuad::EMPTY; atlas::FRAME_QUADS];
+            let listed = draw(&mut list);
+            let walked = draw(&mut []);
+            let what = format!("direction {k}, distance {scale}");
+            assert_eq!(listed.len(), 320 * 240, "{what}");
+            assert_eq!(
+                listed, walked,
+                "{what}: the listed frame differs from the walked one"
+            );
+            let used = list.iter().filter(|q| **q != FrameQuad::EMPTY).count();
+            if used > 1 {
+                let mut small = vec![FrameQuad::EMPTY; used / 2];
+                assert_eq!(draw(&mut small), walked, "{what}: a list too small");
+            }
+            // A frame with a clipped triangle cannot be listed exactly (the general way draws
+            // it); the others are drawn from the list.
+            let mut clipped = false;
+            scene.for_each_triangle_with_corners(&mut |_| true, &mut |_, _, _, c| {
+                clipped |= c.is_none()
+            });
+            if clipped {
+                walked_frames += 1;
+            } else {
+                assert!(used > 100, "{what}: {used} quads listed");
+                listed_frames += 1;
+            }
+        }
+    }
+    eprintln!("{listed_frames} frames drawn from the list, {walked_frames} with clipped triangles");
+    // Both kinds of frame occur: the far views list, the nearest cut the near plane.
+    assert!(listed_frames >= 16, "{listed_frames}");
+    assert!(walked_frames >= 1, "{walked_frames}");
+}

@@ -7,10 +7,18 @@
 //! the rasterizer's coverage and depth test, atlas coordinates interpolated
 //! perspective-correctly at every pixel, the nearest atlas texel written into the band).
 //!
+//! The frame is walked once: the scene's walk projects every quad, and the quads drawn are kept
+//! in a *frame list* ([`FrameQuad`]: projected corners, 48 bytes a quad) from which every band
+//! draws the quads that touch it, so no band walks the scene, generates a mesh quad or projects
+//! a corner again (a frame the list cannot hold exactly takes the general way: every band walks
+//! the quads its bins name, as the procedural renderer does).
+//!
 //! Memory: the atlas is caller-owned frame memory like the band buffers (32 KB for 128 x 128
 //! RGB565, on the job's stack), not texture-unit state; the RGB565 band and its depth band
-//! ([`DRAW_PIXELS`] x 2 bytes each) are on the stack too (taller bands than the procedural
-//! renderer's: a triangle is set up once per band it touches), the quad bins are the suite's.
+//! ([`DRAW_PIXELS`] x 2 bytes each, taller bands than the procedural renderer's: a triangle is
+//! set up once per band it touches) and the frame list ([`FRAME_QUADS`] entries, 27 KB) are on
+//! the stack too, the quad bins are the suite's. On the Cortex-M4F the draw job peaks at about
+//! 101 KB of the 109 KB stack: bands of 24 rows with the list would not fit.
 //!
 //! Atlas coordinates of a screen vertex: the scene's walk hands over screen triangles whose
 //! vertices carry solid coordinates. A vertex of an unclipped triangle carries exactly the solid
@@ -29,7 +37,9 @@ use texcore::atlas::{bake, AtlasTriangle, Half};
 use texcore::color::Rgba8888;
 use texcore::format::TexPoint;
 use texcore::hash::HashKind;
-use texcore::raster::{DepthBuffer, DepthFunc, Rasterizer, Rect, ScreenVertex, Texture565};
+use texcore::raster::{
+    CullMode, DepthBuffer, DepthFunc, InvW, Rasterizer, Rect, ScreenCoord, ScreenVertex, Texture565,
+};
 use texcore::render::{GroupRows, TriangleSource};
 use texcore::scene::{Object, Scene};
 use texcore::sink::ChecksumSink;
@@ -43,7 +53,7 @@ pub const TEXELS: usize = SIDE as usize * SIDE as usize;
 /// Gutter of the device layout: 0, the paper's atlas for nearest look-ups.
 pub const GUTTER: u8 = 0;
 /// Rows of a band of the atlas draw.
-pub const DRAW_ROWS: u16 = 24;
+pub const DRAW_ROWS: u16 = 16;
 /// Pixels of a band of the atlas draw (and entries of its depth band): the widest scene's.
 pub const DRAW_PIXELS: usize = WIDTH as usize * DRAW_ROWS as usize;
 /// The built-in scene the atlas jobs draw.
@@ -365,15 +375,192 @@ pub fn draw_scene(scene: &Scene, atlas: &AtlasTexels, bins: &mut [GroupRows]) ->
     }
 }
 
+/// Quads of the frame list ([`FrameQuad`]) that [`draw_scene_rows`] keeps (48 bytes each, 27 KB
+/// on the stack): the marble frame lists 516 (515 drawn quads, one of them in two entries).
+pub const FRAME_QUADS: usize = 576;
+
+/// A screen vertex of the frame list, exactly as the scene's walk made it (the atlas position is
+/// the quad corner's, from the layout): sub-pixel position (`i16`: every vertex of a listed quad
+/// lies within 2048 pixels of the origin), depth and `1/w` (as two halves, so that the vertex
+/// packs into 10 bytes).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+struct ListedVertex {
+    x: i16,
+    y: i16,
+    z: u16,
+    inv_w: [u16; 2],
+}
+
+impl ListedVertex {
+    fn new(v: &ScreenVertex) -> Option<ListedVertex> {
+        let w = v.inv_w.to_bits();
+        Some(ListedVertex {
+            x: i16::try_from(v.x.to_bits()).ok()?,
+            y: i16::try_from(v.y.to_bits()).ok()?,
+            z: v.z,
+            inv_w: [w as u16, (w >> 16) as u16],
+        })
+    }
+
+    fn vertex(&self, uv: [i32; 2]) -> ScreenVertex {
+        let w = u32::from(self.inv_w[0]) | (u32::from(self.inv_w[1]) << 16);
+        ScreenVertex::new(
+            ScreenCoord::from_bits(i32::from(self.x)),
+            ScreenCoord::from_bits(i32::from(self.y)),
+            self.z,
+            InvW::from_bits(w),
+            TexPoint::from_bits(uv[0], uv[1], 0),
+        )
+    }
+}
+
+/// One quad of the frame list: the screen corners the scene's walk projected for it, and which
+/// of its halves (`[0, 1, 2]`, `[0, 2, 3]`) are drawn (emitted unclipped and not culled).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct FrameQuad {
+    group: u16,
+    object: u8,
+    /// Bit `k`: half `k` is drawn; bit `4 + i`: corner `i` is set.
+    flags: u8,
+    /// First and last row the drawn halves can cover.
+    rows: [u16; 2],
+    corners: [ListedVertex; 4],
+}
+
+impl FrameQuad {
+    /// An unused entry.
+    pub const EMPTY: FrameQuad = FrameQuad {
+        group: 0,
+        object: 0,
+        flags: 0,
+        rows: [0, 0],
+        corners: [ListedVertex {
+            x: 0,
+            y: 0,
+            z: 0,
+            inv_w: [0, 0],
+        }; 4],
+    };
+}
+
+/// The quad corners of each half, in the walk's triangle order.
+const HALF_TRIANGLES: [[usize; 3]; 2] = [[0, 1, 2], [0, 2, 3]];
+
+/// Whether the rasterizer drops triangle `t` before drawing any pixel: zero area or culled by
+/// `cull` (the rasterizer's own test: the doubled area of the sub-pixel positions).
+fn never_drawn(t: &[ScreenVertex; 3], cull: CullMode) -> bool {
+    let p = t.map(|v| [i64::from(v.x.to_bits()), i64::from(v.y.to_bits())]);
+    let area2 =
+        (p[1][0] - p[0][0]) * (p[2][1] - p[0][1]) - (p[2][0] - p[0][0]) * (p[1][1] - p[0][1]);
+    area2 == 0
+        || match cull {
+            CullMode::None => false,
+            CullMode::Clockwise => area2 > 0,
+            CullMode::CounterClockwise => area2 < 0,
+        }
+}
+
+/// Adds the walk's triangle `t` (quad corners `corners` of group `g`, object `obj`) to the frame
+/// list: to the last entry when that is the same quad and holds the same values at the corners
+/// they share, otherwise as a new entry (the walk normalises `1/w` per triangle, so a quad's two
+/// halves can disagree at their shared corners; such a quad takes two entries). `false` when
+/// the triangle cannot be listed exactly (clipped, a vertex past `i16`, an object or group past
+/// the entry's fields, or the list full).
+fn list_triangle(
+    list: &mut [FrameQuad],
+    n: &mut usize,
+    g: usize,
+    obj: usize,
+    t: &[ScreenVertex; 3],
+    corners: Option<[u8; 3]>,
+    h: u16,
+) -> bool {
+    let Some(c) = corners else {
+        return false;
+    };
+    let Some(half) = HALF_TRIANGLES.iter().position(|h| h.map(|i| i as u8) == c) else {
+        return false;
+    };
+    let (Ok(group), Ok(object)) = (u16::try_from(g), u8::try_from(obj)) else {
+        return false;
+    };
+    let mut lv = [ListedVertex::default(); 3];
+    for (l, v) in lv.iter_mut().zip(t) {
+        let Some(x) = ListedVertex::new(v) else {
+            return false;
+        };
+        *l = x;
+    }
+    let fits = |q: &FrameQuad| {
+        q.group == group
+            && q.object == object
+            && c.iter().zip(&lv).all(|(&ci, l)| {
+                let i = usize::from(ci & 3);
+                q.flags & (1 << (4 + i)) == 0 || q.corners[i] == *l
+            })
+    };
+    let last = n.checked_sub(1);
+    let i = match last.and_then(|i| list.get(i)) {
+        Some(q) if fits(q) => last.unwrap_or(0),
+        _ => {
+            let Some(q) = list.get_mut(*n) else {
+                return false;
+            };
+            *q = FrameQuad {
+                group,
+                object,
+                rows: [u16::MAX, 0],
+                ..FrameQuad::EMPTY
+            };
+            *n += 1;
+            *n - 1
+        }
+    };
+    let Some(q) = list.get_mut(i) else {
+        return false;
+    };
+    for (&ci, l) in c.iter().zip(lv) {
+        let i = usize::from(ci & 3);
+        q.corners[i] = l;
+        q.flags |= 1 << (4 + i);
+    }
+    q.flags |= 1 << half;
+    if let Some((r0, r1)) = triangle_rows(t, h) {
+        q.rows = [q.rows[0].min(r0), q.rows[1].max(r1)];
+    }
+    true
+}
+
 /// Draws `scene` from `atlas` (laid out by [`scene_layout`]) in bands of [`DRAW_ROWS`] rows,
-/// handing every RGB565 row to `out`, top to bottom: one walk over the scene bins its quads into
-/// `bins` (one per quad; quads past the bins are walked in every band), then every band walks
-/// the quads that touch it. `false` (and no row) if the scene has no layout or is wider than
-/// [`WIDTH`].
+/// handing every RGB565 row to `out`, top to bottom: [`draw_scene_rows_with`] with a frame list
+/// of [`FRAME_QUADS`] quads on the stack.
 pub fn draw_scene_rows<O: FnMut(&[u16])>(
     scene: &Scene,
     atlas: &AtlasTexels,
     bins: &mut [GroupRows],
+    out: O,
+) -> bool {
+    let mut list = [FrameQuad::EMPTY; FRAME_QUADS];
+    draw_scene_rows_with(scene, atlas, bins, &mut list, out)
+}
+
+/// Draws `scene` from `atlas` (laid out by [`scene_layout`]) in bands of [`DRAW_ROWS`] rows,
+/// handing every RGB565 row to `out`, top to bottom. `false` (and no row) if the scene has no
+/// layout or is wider than [`WIDTH`].
+///
+/// One walk over the scene lists every drawn quad with its projected corners in `list` (a
+/// *frame list*: the quad's atlas positions come from the layout, so nothing of the walk is
+/// repeated), then every band draws the listed quads that touch it, in the walk's order. A frame
+/// the list cannot hold exactly (a clipped triangle, a vertex past 2048 pixels, more quads than
+/// `list`) is drawn the general way instead: the walk bins its quads into `bins` (one per quad;
+/// quads past the bins are walked in every band), and every band walks the quads that touch it
+/// again. Both ways draw the same triangles in the same order, so the pixels are the same
+/// (`tests/tests/atlas_device.rs`).
+pub fn draw_scene_rows_with<O: FnMut(&[u16])>(
+    scene: &Scene,
+    atlas: &AtlasTexels,
+    bins: &mut [GroupRows],
+    list: &mut [FrameQuad],
     mut out: O,
 ) -> bool {
     let Some(layout) = scene_layout(scene) else {
@@ -394,12 +581,20 @@ pub fn draw_scene_rows<O: FnMut(&[u16])>(
     for b in bins.iter_mut() {
         *b = GroupRows::EMPTY;
     }
-    scene.for_each_triangle_by_quad(&mut |_| true, &mut |g, _, tri| {
+    let mut listed = 0usize;
+    let mut exact = true;
+    scene.for_each_triangle_with_corners(&mut |_| true, &mut |g, obj, tri, corners| {
         if let (Some(b), Some((r0, r1))) = (bins.get_mut(g), triangle_rows(tri, h)) {
             *b = match b.rows() {
                 Some((a0, a1)) => GroupRows::new(a0.min(r0), a1.max(r1)),
                 None => GroupRows::new(r0, r1),
             };
+        }
+        if exact {
+            let cull = scene.object(obj).map_or(CullMode::None, |d| d.raster.cull);
+            if !never_drawn(tri, cull) {
+                exact = list_triangle(list, &mut listed, g, obj, tri, corners, h);
+            }
         }
     });
     let bg = {
@@ -416,6 +611,7 @@ pub fn draw_scene_rows<O: FnMut(&[u16])>(
     let Some(texture) = Texture565::new(atlas, SIDE) else {
         return false;
     };
+    let list = list.get(..listed).unwrap_or(&[]);
     let mut band = [0u16; DRAW_PIXELS];
     let mut raster = Rasterizer::new(Rect::from_size(w, h));
     let mut cache: Option<(usize, QuadAtlas)> = None;
@@ -427,35 +623,68 @@ pub fn draw_scene_rows<O: FnMut(&[u16])>(
         db.set_rect(rect);
         db.clear(u16::MAX);
         band.fill(bg);
-        let mut keep = |g: usize| bins.get(g).is_none_or(|b| b.touches(y0, y1));
-        scene.for_each_triangle_by_quad(&mut keep, &mut |g, obj, tri| {
-            let (Some(o), Some(d)) = (scene.objects.get(obj), scene.object(obj)) else {
+        let mut draw = |obj: usize, v: &[ScreenVertex; 3]| {
+            let Some(d) = scene.object(obj) else {
                 return;
             };
-            let start = starts.get(obj).copied().unwrap_or(0);
-            if cache.as_ref().is_none_or(|c| c.0 != g) {
-                let q = (g as u32).wrapping_sub(start);
-                cache = QuadAtlas::new(&layout, o, g as u32, q).map(|a| (g, a));
-            }
-            let Some((_, qa)) = cache.as_ref() else {
-                return;
-            };
-            let solid = tri.map(|v| v.tex.to_bits());
-            let k = qa.half_of(&solid);
-            let mut v = *tri;
-            for (vert, s) in v.iter_mut().zip(solid) {
-                let [u, t] = qa.atlas_of(k, s);
-                vert.tex = TexPoint::from_bits(u, t, 0);
-            }
             if d.depth {
-                raster.draw_textured(&v, &d.raster, &mut db, &texture, &mut band);
+                raster.draw_textured(v, &d.raster, &mut db, &texture, &mut band);
             } else {
                 let mut opts = d.raster;
                 opts.depth_func = DepthFunc::Always;
                 opts.depth_write = false;
-                raster.draw_textured(&v, &opts, &mut db, &texture, &mut band);
+                raster.draw_textured(v, &opts, &mut db, &texture, &mut band);
             }
-        });
+        };
+        if exact {
+            for q in list {
+                if q.rows[0] >= y1 || q.rows[1] < y0 {
+                    continue;
+                }
+                for (k, (half, idx)) in HALF_CORNERS.iter().enumerate() {
+                    if q.flags & (1 << k) == 0 {
+                        continue;
+                    }
+                    // The atlas position of each corner of the half (its solid coordinates
+                    // do not move it).
+                    let Some(t) = layout.triangle(u32::from(q.group), *half, [TexPoint::ZERO; 3])
+                    else {
+                        continue;
+                    };
+                    let uv = t.inset_corners();
+                    let at = |ci: usize| {
+                        let j = idx.iter().position(|&i| i == ci).unwrap_or(0);
+                        uv.get(j).copied().unwrap_or([0, 0])
+                    };
+                    let [a, b, c] = HALF_TRIANGLES[k & 1];
+                    let corner = |ci: usize| q.corners[ci & 3].vertex(at(ci));
+                    draw(usize::from(q.object), &[corner(a), corner(b), corner(c)]);
+                }
+            }
+        } else {
+            let mut keep = |g: usize| bins.get(g).is_none_or(|b| b.touches(y0, y1));
+            scene.for_each_triangle_by_quad(&mut keep, &mut |g, obj, tri| {
+                let Some(o) = scene.objects.get(obj) else {
+                    return;
+                };
+                let start = starts.get(obj).copied().unwrap_or(0);
+                if cache.as_ref().is_none_or(|c| c.0 != g) {
+                    let q = (g as u32).wrapping_sub(start);
+                    cache = QuadAtlas::new(&layout, o, g as u32, q).map(|a| (g, a));
+                }
+                let Some((_, qa)) = cache.as_ref() else {
+                    return;
+                };
+                let solid = tri.map(|v| v.tex.to_bits());
+                let k = qa.half_of(&solid);
+                let mut v = *tri;
+                for (vert, s) in v.iter_mut().zip(solid) {
+                    let [u, t] = qa.atlas_of(k, s);
+                    vert.tex = TexPoint::from_bits(u, t, 0);
+                }
+                draw(obj, &v);
+            });
+        }
         for row in band.chunks(wu.max(1)).take(usize::from(y1 - y0)) {
             out(row);
         }

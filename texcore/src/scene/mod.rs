@@ -436,6 +436,32 @@ impl Scene {
         )
     }
 
+    /// [`Scene::for_each_triangle_by_quad`] that also tells where each triangle's vertices come
+    /// from: `f(g, object, triangle, corners)` gets `Some([a, b, c])`, the indices (`0..4`) of
+    /// the quad corners ([`Mesh::quad`]) that the triangle's vertices are, in order (the quad's
+    /// triangles are its corners `[0, 1, 2]` and `[0, 2, 3]`), or `None` for a triangle that
+    /// near/far/guard-band clipping made, whose vertices need not be corners. Everything else
+    /// (which triangles, their order, the counters) is exactly
+    /// [`Scene::for_each_triangle_by_quad`]'s. A caller that keeps per-corner data (atlas
+    /// positions, for example) finds it without generating the quad's corners again.
+    pub fn for_each_triangle_with_corners<K, F>(&self, keep: &mut K, f: &mut F) -> SceneCounters
+    where
+        K: FnMut(usize) -> bool,
+        F: FnMut(usize, usize, &[ScreenVertex; 3], Option<[u8; 3]>),
+    {
+        self.walk_quads(
+            keep,
+            &mut |g, o, t, corners: &dyn Fn() -> [Option<u8>; 3]| {
+                let c = match corners() {
+                    [Some(a), Some(b), Some(d)] => Some([a, b, d]),
+                    _ => None,
+                };
+                f(g, o, t, c)
+            },
+            &CornerIndex,
+        )
+    }
+
     /// The walk of [`Scene::for_each_triangle_by_quad`], with `corner` computing what each
     /// emitted vertex carries besides its screen position, on demand: `f` gets a function that
     /// computes the triangle's three values (each quad corner at most once per walk), so a
@@ -558,6 +584,22 @@ impl CornerValue for () {
     fn mean(_: [(); 3]) {}
 }
 
+/// The quad corner index: what [`Scene::for_each_triangle_with_corners`] reports (`None` for a
+/// vertex made by clipping).
+struct CornerIndex;
+
+impl CornerValue for CornerIndex {
+    type Value = Option<u8>;
+    #[inline(always)]
+    fn at(&self, _: &Object, _: &[Vec3; 4], i: usize) -> Option<u8> {
+        Some((i & 3) as u8)
+    }
+    #[inline(always)]
+    fn mean(_: [Option<u8>; 3]) -> Option<u8> {
+        None
+    }
+}
+
 #[cfg(test)]
 mod quad_group_tests {
     extern crate std;
@@ -618,6 +660,49 @@ mod quad_group_tests {
                 assert_eq!(asked, s.quad_count());
                 let kept: Vec<_> = grouped.into_iter().filter(|t| t.0 % 3 != 1).collect();
                 assert_eq!(some, kept, "{name} frame {frame}");
+            }
+        }
+    }
+
+    /// The walk with corners is the walk by quad, and a triangle with corners is its quad's
+    /// half `[0, 1, 2]` or `[0, 2, 3]`, each vertex carrying its corner's solid coordinates;
+    /// clipped triangles (the flight's camera cuts some) report none.
+    #[test]
+    fn walk_with_corners_names_the_quad_corners() {
+        for name in BUILTIN {
+            let s = by_name(name).unwrap();
+            for frame in [0, s.still()] {
+                let s = s.at_frame(frame);
+                let mut plain = Vec::new();
+                let cp = s.for_each_triangle_by_quad(&mut |_| true, &mut |g, o, t| {
+                    plain.push((g, o, *t))
+                });
+                let mut with = Vec::new();
+                let mut clipped = 0;
+                let cw = s.for_each_triangle_with_corners(&mut |_| true, &mut |g, o, t, c| {
+                    with.push((g, o, *t));
+                    let Some(c) = c else {
+                        clipped += 1;
+                        return;
+                    };
+                    assert!(c == [0, 1, 2] || c == [0, 2, 3], "{name}: {c:?}");
+                    let obj = &s.objects[o];
+                    let start: usize = s.objects[..o]
+                        .iter()
+                        .map(|x| x.mesh.quad_count() as usize)
+                        .sum();
+                    let quad = obj.mesh.quad((g - start) as u32).unwrap();
+                    for (v, k) in t.iter().zip(c) {
+                        let p = quad[usize::from(k)];
+                        let solid = obj
+                            .tex_map
+                            .apply_point(crate::format::TexPoint::from_bits(p.x, p.y, p.z));
+                        assert_eq!(v.tex.to_bits(), solid, "{name} group {g} corner {k}");
+                    }
+                });
+                assert_eq!(cw, cp, "{name} frame {frame}");
+                assert_eq!(with, plain, "{name} frame {frame}");
+                assert!(clipped as u32 <= cw.generated, "{name}");
             }
         }
     }
