@@ -178,13 +178,27 @@ impl Rasterizer {
             return self.draw_textured_general(v, opts, depth, tex, colour, stride);
         };
         let plane = pre.depth_plane();
-        let (func, write) = (plane.func, plane.write);
+        // The depth test as one unsigned comparison `z < stored + bias`: `Less` is bias 0,
+        // `LessEqual` bias 1, `Always` past every depth (z and stored are below 2^16).
+        let bias: u32 = match plane.func {
+            super::DepthFunc::Less => 0,
+            super::DepthFunc::LessEqual => 1,
+            super::DepthFunc::Always => 1 << 16,
+        };
+        let write = plane.write;
+        // The rounded depth at a covered pixel centre is within one unit of `[zlo, zhi]` (the
+        // exact value is a convex combination of the vertex depths, the plane's rounding is far
+        // below half a unit), so its `i32` truncation is the value itself and the clamp in
+        // `i32` is the clamp in `i64`.
+        let (zlo, zhi) = (plane.zlo as i32, plane.zhi as i32);
+        let dz = plane.z.dx;
         let f = tex.frac();
         let max = u32::from(tex.side()) - 1;
         let log2 = tex.log2_side;
         let texels = tex.texels;
         let data = depth.data_mut();
         let counters = &mut self.counters;
+        let [du, dv, ddx] = h.planes.map(|p| p[1]);
         super::edge::walk_runs(&pre.coverage(), clip, |py, xa, xb| {
             let off = usize::from(py - rect.y0) * stride + usize::from(xa - rect.x0);
             let n = usize::from(xb - xa);
@@ -196,15 +210,10 @@ impl Rasterizer {
             let (px, pyi) = (i64::from(xa), i64::from(py));
             let mut zp = plane.z.at(px, pyi);
             let [mut nu, mut nv, mut dd] = h.at(px, pyi);
-            let [du, dv, ddx] = h.planes.map(|p| p[1]);
-            let mut shown = 0u64;
+            let mut shown = 0u32;
             for (d, c) in drow.iter_mut().zip(crow.iter_mut()) {
-                // `max` then `min`, as the depth stage does (`clamp` would carry a panic branch
-                // for `zlo > zhi`, which the set-up never gives).
-                let z = (zp.wrapping_add(1 << 31) >> 32)
-                    .max(plane.zlo)
-                    .min(plane.zhi) as u16;
-                if func.passes(z, *d) {
+                let z = ((zp.wrapping_add(1 << 31) >> 32) as i32).max(zlo).min(zhi) as u16;
+                if u32::from(z) < u32::from(*d) + bias {
                     if write {
                         *d = z;
                     }
@@ -215,18 +224,18 @@ impl Rasterizer {
                     *c = texels.get(i).copied().unwrap_or(0);
                     shown += 1;
                 }
-                zp = zp.wrapping_add(plane.z.dx);
+                zp = zp.wrapping_add(dz);
                 nu = nu.wrapping_add(du);
                 nv = nv.wrapping_add(dv);
                 dd = dd.wrapping_add(ddx);
             }
-            counters.pixels = counters.pixels.wrapping_add(shown);
-            counters.depth_failed = counters.depth_failed.wrapping_add(n as u64 - shown);
+            counters.pixels = counters.pixels.wrapping_add(u64::from(shown));
+            counters.depth_failed = counters
+                .depth_failed
+                .wrapping_add((n as u64).wrapping_sub(u64::from(shown)));
         });
     }
 
-    /// [`Rasterizer::draw_textured`] through the general rasterizer (its segments, nearest
-    /// look-ups along each).
     fn draw_textured_general(
         &mut self,
         v: &[ScreenVertex; 3],
