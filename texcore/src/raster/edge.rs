@@ -21,7 +21,9 @@
 //! (at the first row inside the clip), then only `i64` additions per row.
 
 use super::Rect;
-use crate::wide::{div_rem_euclid_i128, mul_wide};
+use crate::wide::div_rem_euclid_i128;
+#[cfg(texcore_lean)]
+use crate::wide::mul_wide;
 
 /// Sub-pixel units per pixel.
 pub(crate) const SUB: i64 = 16;
