@@ -473,6 +473,34 @@ impl View {
         };
         match self.proj {
             ViewProj::Perspective { k } => {
+                // The same tests in i64 when every operand is small: |x|, |y|, |k| < 2^31 make
+                // |k x|, |k y| < 2^62; 0 <= z < 2^31 and margins below 2^16 make
+                // m 2^16 z < 2^63; and the guard's 2^40 z exceeds |k x| once z >= 2^22, so
+                // its bits are clear there (below, 2^40 z < 2^62). Exact: the comparisons of
+                // the same values.
+                const L: i64 = 1 << 31;
+                let small = |a: i64| a > -L && a < L;
+                let [mx, my] = self.margin;
+                if small(x)
+                    && small(y)
+                    && small(k)
+                    && (0..L).contains(&z)
+                    && mx < 1 << 16
+                    && my < 1 << 16
+                    && mx >= 0
+                    && my >= 0
+                {
+                    let (kx, ky) = (x * k, y * k);
+                    let side64 = |a: i64, m: i64, bit: u8| -> u8 {
+                        (if a > m { bit } else { 0 }) | (if -a > m { bit << 1 } else { 0 })
+                    };
+                    s |= side64(kx, (z * mx) << 16, 4) | side64(ky, (z * my) << 16, 16);
+                    if z < 1 << 22 {
+                        let gz = z << 40;
+                        g |= side64(kx, gz, 4) | side64(ky, gz, 16);
+                    }
+                    return (s, g);
+                }
                 // Plane d = -k x + (m 2^16) z: outside iff k x > m 2^16 z.
                 let (kx, ky) = (mul_wide(x, k), mul_wide(y, k));
                 let [mx, my] = self.margin;
