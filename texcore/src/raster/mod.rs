@@ -486,18 +486,24 @@ impl Rasterizer {
         v: &[ScreenVertex; 3],
         opts: &TriangleOptions,
     ) -> Result<Prepared, Reject> {
+        let r = Prepared::new(v, opts);
+        self.count_setup(r.as_ref().err());
+        r
+    }
+
+    /// Counts a triangle submitted for set-up and its outcome (`None`: set up).
+    #[inline(always)]
+    fn count_setup(&mut self, rejected: Option<&Reject>) {
         let c = &mut self.counters;
         c.triangles = c.triangles.wrapping_add(1);
-        let r = Prepared::new(v, opts);
-        match r {
-            Ok(_) => c.setups = c.setups.wrapping_add(1),
-            Err(Reject::Degenerate) => c.degenerate = c.degenerate.wrapping_add(1),
-            Err(Reject::Culled) => c.culled = c.culled.wrapping_add(1),
-            Err(Reject::OutsideGuardBand) => {
+        match rejected {
+            None => c.setups = c.setups.wrapping_add(1),
+            Some(Reject::Degenerate) => c.degenerate = c.degenerate.wrapping_add(1),
+            Some(Reject::Culled) => c.culled = c.culled.wrapping_add(1),
+            Some(Reject::OutsideGuardBand) => {
                 c.outside_guard_band = c.outside_guard_band.wrapping_add(1)
             }
         }
-        r
     }
 
     /// Draws a set-up triangle into the clip rectangle.

@@ -339,21 +339,6 @@ fn bitlen(v: u64) -> u32 {
     64 - v.leading_zeros()
 }
 
-/// A read-only view of a prepared triangle for the textured-triangle path.
-#[cfg(feature = "atlas")]
-pub(crate) struct HomogeneousParts<'a> {
-    /// The edge functions: `[E_i(0, 0), dE_i/dx, dE_i/dy]` per vertex `i`.
-    pub(crate) e: &'a [[i64; 3]; 3],
-    /// Every entry of `e` fits `i32`.
-    pub(crate) narrow: bool,
-    /// The vertex `1/w`.
-    pub(crate) inv_w: [u32; 3],
-    /// The vertex texture coordinates (raw).
-    pub(crate) tex: &'a [[i64; 3]; 3],
-    /// The doubled signed area.
-    pub(crate) area2: i128,
-}
-
 /// A triangle whose coverage and depth plane are set up, its texture interpolation not yet
 /// ([`Prepared::complete`] adds it). The rasteriser prepares a triangle, depth-tests its covered
 /// pixels and completes the set-up only when a pixel is visible: a triangle hidden in a band,
@@ -371,9 +356,14 @@ pub(crate) struct Prepared {
     inv_w: [u32; 3],
 }
 
-impl Prepared {
-    /// Guard band, area, culling, coverage, depth plane and texture ranges of a triangle.
-    pub(crate) fn new(v: &[ScreenVertex; 3], opts: &TriangleOptions) -> Result<Prepared, Reject> {
+/// The first part of every triangle set-up, expanded into each constructor (a function would
+/// move its results into the set-up; the expansion builds them in place): guard band, doubled
+/// area, culling (returning the rejection from the enclosing constructor), and the area's
+/// divisor, the edge functions and the depth plane, as
+/// `(p, area2, area, basis, z, zlo, zhi)`.
+macro_rules! cover_and_depth {
+    ($v:expr, $opts:expr) => {{
+        let (v, opts): (&[ScreenVertex; 3], &TriangleOptions) = ($v, $opts);
         let inside = |c: i32| c.unsigned_abs() < GUARD_BAND;
         if !v
             .iter()
@@ -398,7 +388,79 @@ impl Prepared {
         if culled {
             return Err(Reject::Culled);
         }
+        let area = AreaDivisor::new(area2);
+        let zs = v.map(|p| p.z as i64);
+        let basis = PlaneBasis::new(&p);
+        let z = Plane::new(zs.map(|z| z << 32), &basis, &area);
+        let zlo = zs.iter().copied().min().unwrap_or(0);
+        let zhi = zs.iter().copied().max().unwrap_or(0);
+        (p, area2, area, basis, z, zlo, zhi)
+    }};
+}
 
+/// A triangle set up for the textured-triangle path: coverage, depth plane and the edge
+/// functions (no texture planes: that path interpolates homogeneously from the edge functions).
+#[cfg(feature = "atlas")]
+#[derive(Clone, Copy, Debug)]
+pub(crate) struct CoverDepth {
+    cov: Coverage,
+    basis: PlaneBasis,
+    z: Plane,
+    zlo: i64,
+    zhi: i64,
+    area2: i128,
+    opts: TriangleOptions,
+}
+
+#[cfg(feature = "atlas")]
+impl CoverDepth {
+    /// Guard band, area, culling, coverage and depth plane of a triangle: exactly those of
+    /// [`Prepared::new`] (the same rejections, coverage and depth plane).
+    pub(crate) fn new(v: &[ScreenVertex; 3], opts: &TriangleOptions) -> Result<CoverDepth, Reject> {
+        let (p, area2, _, basis, z, zlo, zhi) = cover_and_depth!(v, opts);
+        Ok(CoverDepth {
+            cov: Coverage::new(p),
+            basis,
+            z,
+            zlo,
+            zhi,
+            area2,
+            opts: *opts,
+        })
+    }
+
+    /// The coverage of the triangle.
+    pub(crate) fn coverage(&self) -> Coverage {
+        self.cov
+    }
+
+    /// The depth plane and test of the triangle.
+    pub(crate) fn depth_plane(&self) -> DepthPlane {
+        DepthPlane {
+            z: self.z,
+            zlo: self.zlo,
+            zhi: self.zhi,
+            func: self.opts.depth_func,
+            write: self.opts.depth_write,
+        }
+    }
+
+    /// The edge functions: `[E_i(0, 0), dE_i/dx, dE_i/dy]` per vertex `i`, and whether every
+    /// entry fits `i32`.
+    pub(crate) fn edges(&self) -> (&[[i64; 3]; 3], bool) {
+        (&self.basis.e, self.basis.narrow)
+    }
+
+    /// The doubled signed area.
+    pub(crate) fn area2(&self) -> i128 {
+        self.area2
+    }
+}
+
+impl Prepared {
+    /// Guard band, area, culling, coverage, depth plane and texture ranges of a triangle.
+    pub(crate) fn new(v: &[ScreenVertex; 3], opts: &TriangleOptions) -> Result<Prepared, Reject> {
+        let (p, area2, area, basis, z, zlo, zhi) = cover_and_depth!(v, opts);
         let tex = v.map(|p| p.tex.to_bits().map(|c| c as i64));
         let base = tex[0];
         let mut lo = base;
@@ -412,12 +474,6 @@ impl Prepared {
             }
         }
 
-        let area = AreaDivisor::new(area2);
-        let zs = v.map(|p| p.z as i64);
-        let basis = PlaneBasis::new(&p);
-        let z = Plane::new(zs.map(|z| z << 32), &basis, &area);
-        let zlo = zs.iter().copied().min().unwrap_or(0);
-        let zhi = zs.iter().copied().max().unwrap_or(0);
         Ok(Prepared {
             setup: TriangleSetup {
                 cov: Coverage::new(p),
@@ -439,18 +495,6 @@ impl Prepared {
             range,
             inv_w: v.map(|p| p.inv_w.to_bits()),
         })
-    }
-
-    /// What the textured-triangle path needs beyond coverage and depth.
-    #[cfg(feature = "atlas")]
-    pub(crate) fn homogeneous_parts(&self) -> HomogeneousParts<'_> {
-        HomogeneousParts {
-            e: &self.basis.e,
-            narrow: self.basis.narrow,
-            inv_w: self.inv_w,
-            tex: &self.tex,
-            area2: self.setup.area2,
-        }
     }
 
     /// The coverage of the triangle.

@@ -24,7 +24,7 @@
 //! - Integer arithmetic only, the same code on every target: host = device bit for bit. Never
 //!   panics; a colour band shorter than the depth buffer's rectangle draws nothing.
 
-use super::setup::HomogeneousParts;
+use super::setup::CoverDepth;
 use super::{DepthBuffer, Perspective, Rasterizer, ScreenVertex, Segment, TriangleOptions};
 
 /// An RGB565 texture of `side x side` texels (`side` a power of two, 1 to 128), row-major.
@@ -89,9 +89,15 @@ struct Homogeneous {
 impl Homogeneous {
     /// The planes of a prepared triangle (its edge functions, vertex `1/w`, texture coordinates
     /// and doubled area) for texture `tx`; `None` when the fast path does not apply.
-    fn new(parts: &HomogeneousParts<'_>, affine: bool, tx: &Texture565<'_>) -> Option<Homogeneous> {
-        let (e, narrow, inv_w, tex, area2) =
-            (parts.e, parts.narrow, parts.inv_w, parts.tex, parts.area2);
+    fn new(
+        pre: &CoverDepth,
+        v: &[ScreenVertex; 3],
+        affine: bool,
+        tx: &Texture565<'_>,
+    ) -> Option<Homogeneous> {
+        let ((e, narrow), area2) = (pre.edges(), pre.area2());
+        let inv_w = v.map(|p| p.inv_w.to_bits());
+        let tex = v.map(|p| p.tex.to_bits().map(i64::from));
         let mag = u32::try_from(area2.unsigned_abs()).ok()?;
         if !narrow || mag == 0 {
             return None;
@@ -169,12 +175,13 @@ impl Rasterizer {
         if self.misses(v, clip) {
             return;
         }
-        let r = self.prepare(v, opts);
+        let r = CoverDepth::new(v, opts);
+        self.count_setup(r.as_ref().err());
         let Ok(pre) = &r else {
             return;
         };
         let affine = opts.perspective == Perspective::Affine;
-        let Some(h) = Homogeneous::new(&pre.homogeneous_parts(), affine, tex) else {
+        let Some(h) = Homogeneous::new(pre, v, affine, tex) else {
             return self.draw_textured_general(v, opts, depth, tex, colour, stride);
         };
         let plane = pre.depth_plane();
