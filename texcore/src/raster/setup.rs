@@ -106,6 +106,7 @@ impl AreaDivisor {
     }
 
     #[cfg(not(texcore_lean))]
+    #[inline(always)]
     fn new(area2: i128) -> AreaDivisor {
         let mag = u64::try_from(area2.unsigned_abs()).ok();
         let recip = match mag {
@@ -192,6 +193,7 @@ pub(crate) struct PlaneBasis {
 
 impl PlaneBasis {
     /// The edge functions of the raw vertex positions `p` (guard band).
+    #[cfg_attr(not(texcore_lean), inline(always))]
     pub(crate) fn new(p: &[[i64; 2]; 3]) -> PlaneBasis {
         let [p0, p1, p2] = *p;
         let mut e = [[0i64; 3]; 3];
@@ -356,13 +358,14 @@ pub(crate) struct Prepared {
     inv_w: [u32; 3],
 }
 
-/// The first part of every triangle set-up, expanded into each constructor (a function would
-/// move its results into the set-up; the expansion builds them in place): guard band, doubled
-/// area, culling (returning the rejection from the enclosing constructor), and the area's
-/// divisor, the edge functions and the depth plane, as
-/// `(p, area2, area, basis, z, zlo, zhi)`.
+/// The first parts of every triangle set-up, expanded into each constructor (a function would
+/// move its results into the set-up; the expansion builds them in place, in the constructor's
+/// own order). `cover_and_depth!(reject v, opts)`: guard band, doubled area and culling
+/// (returning the rejection from the enclosing constructor), as `(p, area2)`;
+/// `cover_and_depth!(planes v, p, area2)`: the area's divisor, the edge functions and the depth
+/// plane, as `(area, basis, z, zlo, zhi)`.
 macro_rules! cover_and_depth {
-    ($v:expr, $opts:expr) => {{
+    (reject $v:expr, $opts:expr) => {{
         let (v, opts): (&[ScreenVertex; 3], &TriangleOptions) = ($v, $opts);
         let inside = |c: i32| c.unsigned_abs() < GUARD_BAND;
         if !v
@@ -388,13 +391,17 @@ macro_rules! cover_and_depth {
         if culled {
             return Err(Reject::Culled);
         }
+        (p, area2)
+    }};
+    (planes $v:expr, $p:expr, $area2:expr) => {{
+        let (v, p, area2): (&[ScreenVertex; 3], &[[i64; 2]; 3], i128) = ($v, $p, $area2);
         let area = AreaDivisor::new(area2);
         let zs = v.map(|p| p.z as i64);
-        let basis = PlaneBasis::new(&p);
+        let basis = PlaneBasis::new(p);
         let z = Plane::new(zs.map(|z| z << 32), &basis, &area);
         let zlo = zs.iter().copied().min().unwrap_or(0);
         let zhi = zs.iter().copied().max().unwrap_or(0);
-        (p, area2, area, basis, z, zlo, zhi)
+        (area, basis, z, zlo, zhi)
     }};
 }
 
@@ -417,7 +424,8 @@ impl CoverDepth {
     /// Guard band, area, culling, coverage and depth plane of a triangle: exactly those of
     /// [`Prepared::new`] (the same rejections, coverage and depth plane).
     pub(crate) fn new(v: &[ScreenVertex; 3], opts: &TriangleOptions) -> Result<CoverDepth, Reject> {
-        let (p, area2, _, basis, z, zlo, zhi) = cover_and_depth!(v, opts);
+        let (p, area2) = cover_and_depth!(reject v, opts);
+        let (_, basis, z, zlo, zhi) = cover_and_depth!(planes v, &p, area2);
         Ok(CoverDepth {
             cov: Coverage::new(p),
             basis,
@@ -460,7 +468,7 @@ impl CoverDepth {
 impl Prepared {
     /// Guard band, area, culling, coverage, depth plane and texture ranges of a triangle.
     pub(crate) fn new(v: &[ScreenVertex; 3], opts: &TriangleOptions) -> Result<Prepared, Reject> {
-        let (p, area2, area, basis, z, zlo, zhi) = cover_and_depth!(v, opts);
+        let (p, area2) = cover_and_depth!(reject v, opts);
         let tex = v.map(|p| p.tex.to_bits().map(|c| c as i64));
         let base = tex[0];
         let mut lo = base;
@@ -473,7 +481,7 @@ impl Prepared {
                 range[c] = range[c].max((t[c] - base[c]).unsigned_abs());
             }
         }
-
+        let (area, basis, z, zlo, zhi) = cover_and_depth!(planes v, &p, area2);
         Ok(Prepared {
             setup: TriangleSetup {
                 cov: Coverage::new(p),
