@@ -38,7 +38,8 @@ use texcore::color::Rgba8888;
 use texcore::format::TexPoint;
 use texcore::hash::HashKind;
 use texcore::raster::{
-    CullMode, DepthBuffer, DepthFunc, InvW, Rasterizer, Rect, ScreenCoord, ScreenVertex, Texture565,
+    DepthBuffer, DepthFunc, InvW, Rasterizer, Rect, ScreenCoord, ScreenVertex, Texture565,
+    TriangleSetup,
 };
 use texcore::render::{GroupRows, TriangleSource};
 use texcore::scene::{Object, Scene};
@@ -446,20 +447,6 @@ impl FrameQuad {
 /// The quad corners of each half, in the walk's triangle order.
 const HALF_TRIANGLES: [[usize; 3]; 2] = [[0, 1, 2], [0, 2, 3]];
 
-/// Whether the rasterizer drops triangle `t` before drawing any pixel: zero area or culled by
-/// `cull` (the rasterizer's own test: the doubled area of the sub-pixel positions).
-fn never_drawn(t: &[ScreenVertex; 3], cull: CullMode) -> bool {
-    let p = t.map(|v| [i64::from(v.x.to_bits()), i64::from(v.y.to_bits())]);
-    let area2 =
-        (p[1][0] - p[0][0]) * (p[2][1] - p[0][1]) - (p[2][0] - p[0][0]) * (p[1][1] - p[0][1]);
-    area2 == 0
-        || match cull {
-            CullMode::None => false,
-            CullMode::Clockwise => area2 > 0,
-            CullMode::CounterClockwise => area2 < 0,
-        }
-}
-
 /// Adds the walk's triangle `t` (quad corners `corners` of group `g`, object `obj`) to the frame
 /// list: to the last entry when that is the same quad and holds the same values at the corners
 /// they share, otherwise as a new entry (the walk normalises `1/w` per triangle, so a quad's two
@@ -591,8 +578,9 @@ pub fn draw_scene_rows_with<O: FnMut(&[u16])>(
             };
         }
         if exact {
-            let cull = scene.object(obj).map_or(CullMode::None, |d| d.raster.cull);
-            if !never_drawn(tri, cull) {
+            // A triangle the rasterizer rejects (zero area, culled) is not listed.
+            let opts = scene.object(obj).map(|d| d.raster).unwrap_or_default();
+            if TriangleSetup::check(tri, &opts).is_ok() {
                 exact = list_triangle(list, &mut listed, g, obj, tri, corners, h);
             }
         }

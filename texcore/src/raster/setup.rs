@@ -608,6 +608,15 @@ impl TriangleSetup {
         }
     }
 
+    /// Whether [`TriangleSetup::new`] (and so every draw call) rejects the triangle, and why,
+    /// without setting it up: the guard band, zero area and back-face culling, the same tests in
+    /// the same order. A caller that keeps triangles for later (a frame's list of triangles)
+    /// leaves out the ones that would draw nothing.
+    pub fn check(v: &[ScreenVertex; 3], opts: &TriangleOptions) -> Result<(), Reject> {
+        let _ = cover_and_depth!(reject v, opts);
+        Ok(())
+    }
+
     /// Sets up a triangle (vertices in either winding).
     pub fn new(v: &[ScreenVertex; 3], opts: &TriangleOptions) -> Result<TriangleSetup, Reject> {
         // Completed in place (no moves of the whole set-up out of the `Result`).

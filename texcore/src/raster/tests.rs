@@ -821,3 +821,70 @@ fn div_round_i64_edges() {
         assert_eq!(div_round_i64(n, -5), n);
     }
 }
+
+/// `TriangleSetup::check` rejects exactly what `TriangleSetup::new` rejects, for the same
+/// reason: zero-area, culled (both windings, both modes) and outside-the-guard-band triangles,
+/// and accepts the rest.
+#[test]
+fn check_rejects_what_setup_rejects() {
+    let big = (GUARD_BAND as i32) - 1;
+    let tris = [
+        [
+            vert(0, 0, 1 << 30, [0; 3]),
+            vert(160, 0, 1 << 30, [0; 3]),
+            vert(0, 160, 1 << 30, [0; 3]),
+        ],
+        [
+            vert(0, 0, 1 << 30, [0; 3]),
+            vert(0, 160, 1 << 30, [0; 3]),
+            vert(160, 0, 1 << 30, [0; 3]),
+        ],
+        [
+            vert(5, 5, 1 << 30, [0; 3]),
+            vert(10, 10, 1 << 30, [0; 3]),
+            vert(20, 20, 1 << 30, [0; 3]),
+        ],
+        [
+            vert(5, 5, 1 << 30, [0; 3]),
+            vert(5, 5, 1 << 30, [0; 3]),
+            vert(9, 1, 1 << 30, [0; 3]),
+        ],
+        [
+            vert(-big, 0, 1 << 30, [0; 3]),
+            vert(big, 0, 1 << 30, [0; 3]),
+            vert(0, big, 1 << 30, [0; 3]),
+        ],
+        [
+            vert(big + 1, 0, 1 << 30, [0; 3]),
+            vert(0, 16, 1 << 30, [0; 3]),
+            vert(16, 16, 1 << 30, [0; 3]),
+        ],
+        [
+            vert(0, -big - 1, 1 << 30, [0; 3]),
+            vert(0, 16, 1 << 30, [0; 3]),
+            vert(16, 16, 1 << 30, [0; 3]),
+        ],
+    ];
+    let mut seen = std::collections::BTreeSet::new();
+    for cull in [
+        CullMode::None,
+        CullMode::Clockwise,
+        CullMode::CounterClockwise,
+    ] {
+        let opts = TriangleOptions {
+            cull,
+            ..TriangleOptions::new(Perspective::Every16)
+        };
+        for (k, t) in tris.iter().enumerate() {
+            let want = TriangleSetup::new(t, &opts).map(|_| ());
+            assert_eq!(
+                TriangleSetup::check(t, &opts),
+                want,
+                "triangle {k}, {cull:?}"
+            );
+            seen.insert(format!("{want:?}"));
+        }
+    }
+    // Every outcome occurs.
+    assert_eq!(seen.len(), 4, "{seen:?}");
+}
