@@ -58,11 +58,8 @@ pub(crate) fn div_rem_euclid_i128(n: i128, d: i128) -> (i128, i128) {
 fn div_rem_euclid_i128_shaped(n: i128, d: i128, lean: bool) -> (i128, i128) {
     if let (false, Ok(n32), Ok(d32)) = (lean, i32::try_from(n), i32::try_from(d)) {
         // `i32::MIN / -1` overflows: left to the wider paths.
-        if d32 != 0 && !(n32 == i32::MIN && d32 == -1) {
-            return (
-                i128::from(n32.div_euclid(d32)),
-                i128::from(n32.rem_euclid(d32)),
-            );
+        if let Some((q, r)) = div_rem_euclid_i32(n32, d32) {
+            return (i128::from(q), i128::from(r));
         }
     }
     if d == 0 || (n == i128::MIN && d == -1) {
@@ -94,6 +91,29 @@ fn div_rem_euclid_i128_shaped(n: i128, d: i128, lean: bool) -> (i128, i128) {
     } else {
         (q, r)
     }
+}
+
+/// `(n.div_euclid(d), n.rem_euclid(d))` on the 32-bit hardware divide; `None` for `d == 0` and
+/// for `i32::MIN / -1` (which overflows).
+#[inline]
+fn div_rem_euclid_i32(n: i32, d: i32) -> Option<(i32, i32)> {
+    Some((n.checked_div_euclid(d)?, n.checked_rem_euclid(d)?))
+}
+
+/// `(n.div_euclid(d), n.rem_euclid(d))` for `i64` operands: on the 32-bit hardware divide when
+/// both fit `i32` (inlined into the caller), otherwise by [`div_rem_euclid_i128`] (`(0, 0)`
+/// for `d == 0`; `i64::MIN / -1` wraps). Not used by the size-lean shape, whose callers divide
+/// in `i128` directly.
+#[cfg(not(texcore_lean))]
+#[inline]
+pub(crate) fn div_rem_euclid_i64(n: i64, d: i64) -> (i64, i64) {
+    if let (Ok(n32), Ok(d32)) = (i32::try_from(n), i32::try_from(d)) {
+        if let Some((q, r)) = div_rem_euclid_i32(n32, d32) {
+            return (i64::from(q), i64::from(r));
+        }
+    }
+    let (q, r) = div_rem_euclid_i128(i128::from(n), i128::from(d));
+    (q as i64, r as i64)
 }
 
 /// `(n / d, n % d)` for `d >= 2^64` (never 0): restoring binary long division, one quotient bit
@@ -531,7 +551,19 @@ mod tests {
         if d == 0 {
             return;
         }
-        assert_eq!(div(n, d), (n.div_euclid(d), n.rem_euclid(d)), "{n} / {d}");
+        let want = (n.div_euclid(d), n.rem_euclid(d));
+        assert_eq!(div(n, d), want, "{n} / {d}");
+        // The i64 entry (both of its paths) where the operands and the quotient fit.
+        #[cfg(not(texcore_lean))]
+        if let (Ok(n64), Ok(d64), Ok(q64)) =
+            (i64::try_from(n), i64::try_from(d), i64::try_from(want.0))
+        {
+            assert_eq!(
+                div_rem_euclid_i64(n64, d64),
+                (q64, want.1 as i64),
+                "{n} / {d}"
+            );
+        }
     }
 
     #[test]

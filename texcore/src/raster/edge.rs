@@ -21,9 +21,10 @@
 //! (at the first row inside the clip), then only `i64` additions per row.
 
 use super::Rect;
-use crate::wide::div_rem_euclid_i128;
+#[cfg(not(texcore_lean))]
+use crate::wide::div_rem_euclid_i64;
 #[cfg(texcore_lean)]
-use crate::wide::mul_wide;
+use crate::wide::{div_rem_euclid_i128, mul_wide};
 
 /// Sub-pixel units per pixel.
 pub(crate) const SUB: i64 = 16;
@@ -81,21 +82,6 @@ impl Coverage {
     }
 }
 
-/// `(n.div_euclid(m), n.rem_euclid(m))` for `m > 0`: on the 32-bit hardware divide when both
-/// fit `i32` (every edge of a triangle within about 2000 pixels of the origin), otherwise by
-/// the shared [`div_rem_euclid_i128`].
-#[cfg(not(texcore_lean))]
-#[inline]
-fn div_rem_floor(n: i64, m: i64) -> (i64, i64) {
-    if let (Ok(n32), Ok(m32)) = (i32::try_from(n), i32::try_from(m)) {
-        if let (Some(q), Some(r)) = (n32.checked_div_euclid(m32), n32.checked_rem_euclid(m32)) {
-            return (i64::from(q), i64::from(r));
-        }
-    }
-    let (q, r) = div_rem_euclid_i128(i128::from(n), i128::from(m));
-    (q as i64, r as i64)
-}
-
 /// Walks one edge row by row: `x` is `X(cy)` of the current row, `r` the remainder of the exact
 /// quotient (`0 <= r < m`).
 #[derive(Clone, Copy, Debug)]
@@ -143,8 +129,8 @@ impl EdgeWalker {
         #[cfg(not(texcore_lean))]
         let (x, r, step_q, step_r) = {
             let n = (a[0] - HALF) * dy + (cy - a[1]) * dx + (m - 1);
-            let (x, r) = div_rem_floor(n, m);
-            let (q, sr) = div_rem_floor(SUB * dx, m);
+            let (x, r) = div_rem_euclid_i64(n, m);
+            let (q, sr) = div_rem_euclid_i64(SUB * dx, m);
             (x, r, q, sr)
         };
         EdgeWalker {
@@ -231,54 +217,6 @@ mod tests {
     use super::*;
     use std::string::String;
     use std::vec::Vec;
-
-    /// The edge walker's floor division equals `div_euclid` / `rem_euclid` on both of its
-    /// paths (operands within `i32` and beyond), at the extremes of the guard band too.
-    #[cfg(not(texcore_lean))]
-    #[test]
-    fn floor_division_is_euclidean_on_both_paths() {
-        let mut seed = 0x9E37_79B9_7F4A_7C15u64;
-        let mut next = || {
-            seed ^= seed << 13;
-            seed ^= seed >> 7;
-            seed ^= seed << 17;
-            seed
-        };
-        let mut ns = std::vec![
-            0i64,
-            1,
-            -1,
-            15,
-            -15,
-            16,
-            -16,
-            i64::from(i32::MAX),
-            i64::from(i32::MIN)
-        ];
-        ns.extend([
-            (1i64 << 62) + (1 << 61),
-            -(1i64 << 62) - (1 << 61),
-            1 << 40,
-            -(1 << 40),
-        ]);
-        let mut ms = std::vec![1i64, 2, 15, 16, 17, i64::from(i32::MAX), 1 << 31, 1 << 35];
-        for _ in 0..2000 {
-            let r = next();
-            let bits = (r % 63) as u32;
-            let n = (next() as i64) >> (63 - bits);
-            ns.push(n);
-            ms.push(((next() >> (29 + (r % 29) as u32)) as i64).max(1));
-        }
-        for &n in &ns {
-            for &m in ms.iter().step_by(7) {
-                assert_eq!(
-                    div_rem_floor(n, m),
-                    (n.div_euclid(m), n.rem_euclid(m)),
-                    "{n} / {m}"
-                );
-            }
-        }
-    }
 
     /// Raw 28.4 from pixels.
     fn px(v: f64) -> i64 {

@@ -412,11 +412,8 @@ macro_rules! cover_and_depth {
 pub(crate) struct CoverDepth {
     cov: Coverage,
     basis: PlaneBasis,
-    z: Plane,
-    zlo: i64,
-    zhi: i64,
+    depth: DepthPlane,
     area2: i128,
-    opts: TriangleOptions,
 }
 
 #[cfg(feature = "atlas")]
@@ -429,11 +426,8 @@ impl CoverDepth {
         Ok(CoverDepth {
             cov: Coverage::new(p),
             basis,
-            z,
-            zlo,
-            zhi,
+            depth: DepthPlane::new(z, zlo, zhi, opts),
             area2,
-            opts: *opts,
         })
     }
 
@@ -444,13 +438,7 @@ impl CoverDepth {
 
     /// The depth plane and test of the triangle.
     pub(crate) fn depth_plane(&self) -> DepthPlane {
-        DepthPlane {
-            z: self.z,
-            zlo: self.zlo,
-            zhi: self.zhi,
-            func: self.opts.depth_func,
-            write: self.opts.depth_write,
-        }
+        self.depth
     }
 
     /// The edge functions: `[E_i(0, 0), dE_i/dx, dE_i/dy]` per vertex `i`, and whether every
@@ -596,16 +584,23 @@ pub(crate) struct DepthPlane {
     pub(crate) write: bool,
 }
 
+impl DepthPlane {
+    /// The depth plane `z` with its clamp range and the test and write of `opts`.
+    fn new(z: Plane, zlo: i64, zhi: i64, opts: &TriangleOptions) -> DepthPlane {
+        DepthPlane {
+            z,
+            zlo,
+            zhi,
+            func: opts.depth_func,
+            write: opts.depth_write,
+        }
+    }
+}
+
 impl TriangleSetup {
     /// The depth plane and test.
     pub(crate) fn depth_plane(&self) -> DepthPlane {
-        DepthPlane {
-            z: self.z,
-            zlo: self.zlo,
-            zhi: self.zhi,
-            func: self.opts.depth_func,
-            write: self.opts.depth_write,
-        }
+        DepthPlane::new(self.z, self.zlo, self.zhi, &self.opts)
     }
 
     /// Whether [`TriangleSetup::new`] (and so every draw call) rejects the triangle, and why,

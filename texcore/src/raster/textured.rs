@@ -196,7 +196,8 @@ impl Rasterizer {
         // The rounded depth at a covered pixel centre is within one unit of `[zlo, zhi]` (the
         // exact value is a convex combination of the vertex depths, the plane's rounding is far
         // below half a unit), so its `i32` truncation is the value itself and the clamp in
-        // `i32` is the clamp in `i64`.
+        // `i32` is the clamp in `i64` (`max` then `min`, as the depth stage does: `clamp` would
+        // carry a panic branch for `zlo > zhi`, which the set-up never gives).
         let (zlo, zhi) = (plane.zlo as i32, plane.zhi as i32);
         let dz = plane.z.dx;
         let f = tex.frac();
@@ -243,6 +244,8 @@ impl Rasterizer {
         });
     }
 
+    /// [`Rasterizer::draw_textured`] through the general rasterizer (its segments, nearest
+    /// look-ups along each).
     fn draw_textured_general(
         &mut self,
         v: &[ScreenVertex; 3],

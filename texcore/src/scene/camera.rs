@@ -270,7 +270,7 @@ pub struct View {
     screen: [ClipPlane; 6],
     /// Perspective depth factor `round(65535 f 2^16 / (f - n))`.
     depth_scale: i64,
-    /// Screen margins in pixels (`width / 2 + 1`, `height / 2 + 1`).
+    /// Screen margins in pixels (`width / 2 + 1`, `height / 2 + 1`: 1 to 32 768).
     margin: [i64; 2],
 }
 
@@ -467,57 +467,41 @@ impl View {
             s |= 2;
         }
         let mut g = s;
-        // Bits for "a > m" and "-a > m" on x (4, 8) and y (16, 32).
-        let side = |a: i128, m: i128, bit: u8| -> u8 {
-            (if a > m { bit } else { 0 }) | (if a.wrapping_neg() > m { bit << 1 } else { 0 })
-        };
+        // Bits for "a > m" and "-a > m" on x (4, 8) and y (16, 32): `side_bits`.
+        let [mx, my] = self.margin;
         match self.proj {
             ViewProj::Perspective { k } => {
                 // The same tests in i64 when every operand is small: |x|, |y|, |k| < 2^31 make
-                // |k x|, |k y| < 2^62; 0 <= z < 2^31 and margins below 2^16 make
+                // |k x|, |k y| < 2^62; 0 <= z < 2^31 and the margins (at most 32 768) make
                 // m 2^16 z < 2^63; and the guard's 2^40 z exceeds |k x| once z >= 2^22, so
                 // its bits are clear there (below, 2^40 z < 2^62). Exact: the comparisons of
                 // the same values.
                 const L: i64 = 1 << 31;
                 let small = |a: i64| a > -L && a < L;
-                let [mx, my] = self.margin;
-                if small(x)
-                    && small(y)
-                    && small(k)
-                    && (0..L).contains(&z)
-                    && mx < 1 << 16
-                    && my < 1 << 16
-                    && mx >= 0
-                    && my >= 0
-                {
+                if small(x) && small(y) && small(k) && (0..L).contains(&z) {
                     let (kx, ky) = (x * k, y * k);
-                    let side64 = |a: i64, m: i64, bit: u8| -> u8 {
-                        (if a > m { bit } else { 0 }) | (if -a > m { bit << 1 } else { 0 })
-                    };
-                    s |= side64(kx, (z * mx) << 16, 4) | side64(ky, (z * my) << 16, 16);
+                    s |= side_bits(kx, (z * mx) << 16, 4) | side_bits(ky, (z * my) << 16, 16);
                     if z < 1 << 22 {
                         let gz = z << 40;
-                        g |= side64(kx, gz, 4) | side64(ky, gz, 16);
+                        g |= side_bits(kx, gz, 4) | side_bits(ky, gz, 16);
                     }
                     return (s, g);
                 }
                 // Plane d = -k x + (m 2^16) z: outside iff k x > m 2^16 z.
                 let (kx, ky) = (mul_wide(x, k), mul_wide(y, k));
-                let [mx, my] = self.margin;
                 let (sx, sy) = (mul_wide(z, mx) << 16, mul_wide(z, my) << 16);
                 let gz = (z as i128) << 40; // GUARD_PIXELS 2^16 z
-                s |= side(kx, sx, 4) | side(ky, sy, 16);
-                g |= side(kx, gz, 4) | side(ky, gz, 16);
+                s |= side_bits(kx, sx, 4) | side_bits(ky, sy, 16);
+                g |= side_bits(kx, gz, 4) | side_bits(ky, gz, 16);
             }
             ViewProj::Orthographic { hh } => {
                 // Plane d = -h x + 2 m hh: outside iff h x > 2 m hh.
                 let h = self.height as i64;
                 let (hx, hy) = (mul_wide(x, h), mul_wide(y, h));
-                let [mx, my] = self.margin;
                 let hh2 = 2 * hh as i128;
-                s |= side(hx, hh2 * mx as i128, 4) | side(hy, hh2 * my as i128, 16);
+                s |= side_bits(hx, hh2 * mx as i128, 4) | side_bits(hy, hh2 * my as i128, 16);
                 let gc = hh2 * GUARD_PIXELS as i128;
-                g |= side(hx, gc, 4) | side(hy, gc, 16);
+                g |= side_bits(hx, gc, 4) | side_bits(hy, gc, 16);
             }
         }
         (s, g)
@@ -532,6 +516,13 @@ impl View {
         }
         poly
     }
+}
+
+/// `bit` if `a > m`, `bit << 1` if `-a > m` (both, neither): the two planes of a pair. `-a`
+/// does not overflow for the outcodes' products (below `2^62` in `i64`, `2^126` in `i128`).
+#[inline(always)]
+fn side_bits<T: Copy + PartialOrd + core::ops::Neg<Output = T>>(a: T, m: T, bit: u8) -> u8 {
+    (if a > m { bit } else { 0 }) | (if -a > m { bit << 1 } else { 0 })
 }
 
 /// `a b` exactly, with a 64-bit multiplication when both are below `2^31` in magnitude.
