@@ -20,6 +20,7 @@
 //! ([`crate::peer_jobs::BAND`], the bound test `tests/tests/peers_qemu.rs`).
 
 use fastnoise_lite::{FastNoiseLite, FractalType, NoiseType};
+use texcore::format::TexValue;
 use texcore::hash::HashKind;
 use texcore::span::{EvalMode, EvalOptions, SpanEvaluator};
 use texcore::texture::workload::peers::{self, Workload};
@@ -123,6 +124,11 @@ fn fold_line(acc: u32, line: &[u32]) -> u32 {
         .fold(acc, |a, &w| fold(a, w))
 }
 
+/// [`fold_line`] of a line of values (their raw bits).
+fn fold_values(acc: u32, line: &[TexValue]) -> u32 {
+    line.iter().fold(acc, |a, &v| fold(a, v.to_bits() as u32))
+}
+
 /// Runs `imp` on the first `rows` rows of workload `w` (lattice hash `hash` for texcore) into
 /// `line` (at least 256 words), folding each row; `rows = 0` builds the model or generator and
 /// stops (the `/setup` job). Returns the checksum, or 0 when the row does not exist in this build.
@@ -169,9 +175,11 @@ pub fn run(w: Workload, imp: Implementation, hash: HashKind, rows: u16, line: &m
                     ..Default::default()
                 },
             );
+            // The values' own line (32-bit words as the other rows'), folded as they are.
+            let mut values = [TexValue::ZERO; peers::SIZE as usize];
             for y in 0..rows {
-                peers::value_row(&mut ev, w, y, line);
-                acc = fold_line(acc, line);
+                peers::value_row(&mut ev, w, y, &mut values);
+                acc = fold_values(acc, &values);
             }
         }
     }

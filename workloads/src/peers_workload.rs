@@ -5,8 +5,9 @@
 //!
 //! A 256 x 256 plane, pixel `(x, y)` at `s = (x / 32, y / 32, 0.37)` (8 octave-0 cells across
 //! the image), `f = sum_{i < octaves} 2^-i n(2^i s)`, evaluated through
-//! [`SpanEvaluator::eval_chunks`] as a values-only user would, every sample stored to a row
-//! buffer (`f` raw; with gradients [`peers::grad_word`]). Each finished row is folded into an
+//! [`SpanEvaluator::eval_values`] as a values-only user would (with gradients
+//! [`SpanEvaluator::eval_chunks`]), every sample stored to a row buffer (`f`; with gradients
+//! [`peers::grad_word`]). Each finished row is folded into an
 //! FNV-1a checksum.
 //!
 //! Every workload `run(hash, work)` first builds its model; with `work == false` it stops there
@@ -23,11 +24,12 @@
 //! | `smooth-1oct` | value noise, smooth fade | 1 | `Fd` | no | whole rows |
 //! | `perlin-1oct` | Perlin gradient noise, quintic fade | 1 | `Fd` | no | whole rows |
 
+use texcore::format::TexValue;
 use texcore::hash::HashKind;
 use texcore::span::{EvalMode, EvalOptions, SpanEvaluator};
 use texcore::texture::workload::peers::{self, Workload};
 
-use crate::job::{fold_line, FNV_OFFSET};
+use crate::job::{fold, FNV_OFFSET};
 
 /// One workload of the peers' plane in the job suite.
 #[derive(Clone, Copy, Debug)]
@@ -70,14 +72,14 @@ fn plane(
     w: Workload,
     work: bool,
 ) -> u32 {
-    let mut line = [0u32; peers::SIZE as usize];
+    let mut line = [TexValue::ZERO; peers::SIZE as usize];
     let mut acc = FNV_OFFSET;
     for y in 0..peers::SIZE {
         if work {
             peers::value_row(ev, w, y, &mut line);
         }
         let row = core::hint::black_box(&line);
-        acc = fold_line(acc, row);
+        acc = row.iter().fold(acc, |a, v| fold(a, v.to_bits() as u32));
     }
     acc
 }

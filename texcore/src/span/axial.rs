@@ -277,12 +277,12 @@ impl<'m, const T: usize> EvalCore<'m, T> {
     /// kept), cell events found by counting down per term as in [`Self::run_axial`]. The samples
     /// and counters are the merged loop's per-pixel path's.
     #[inline(never)]
-    pub(super) fn run_axial_direct(
+    pub(super) fn run_axial_direct<O: super::lanes::LaneOut>(
         &mut self,
         len: u16,
         setup: &Setup<T>,
         strategies: &[Strategy; T],
-        sink: &mut ChunkSink<'_, '_>,
+        sink: &mut O,
     ) {
         let m = self.model;
         let fv = m.noise_frac_bits();
@@ -332,12 +332,13 @@ impl<'m, const T: usize> EvalCore<'m, T> {
             let mut left = seg as usize;
             let mut j = i;
             while left > 0 {
-                let n = left.min(sink.room()).min(SAMPLE_CHUNK);
-                let at = sink.chunk.len;
-                let (Some(out), Some(acc)) = (sink.chunk.f.get_mut(at..at + n), acc.get_mut(..n))
-                else {
+                let n = left.min(sink.room(1)).min(SAMPLE_CHUNK);
+                let (Some((out, _)), Some(acc)) = (sink.slots(n), acc.get_mut(..n)) else {
                     break;
                 };
+                if n == 0 {
+                    break;
+                }
                 // Each term's values over the run (its fraction steps by `d` inside the cell).
                 for (lane, t) in lanes.iter().enumerate() {
                     let fk0 = t.u0.wrapping_add(t.d.wrapping_mul(j as i32)) & 0xFFFF;
@@ -440,6 +441,26 @@ mod tests {
         (out, *ev.stats(), ev.core.axial_spans)
     }
 
+    /// [`SpanEvaluator::eval_values`] of `span` into a slice `extra` values longer than the span
+    /// (filled with a marker), in the fast or the size-lean shape: the values, the counters and
+    /// the axial spans; the marker past the span is checked untouched.
+    fn values<const T: usize>(
+        m: &TextureModel<T>,
+        opts: EvalOptions,
+        span: &Span,
+        lean: bool,
+    ) -> (Vec<TexValue>, SpanStats, u64) {
+        let mut ev = SpanEvaluator::new(m, opts);
+        ev.core.lean = lean;
+        let marker = TexValue::from_bits(0x5A5A_5A5A);
+        let mut out = std::vec![marker; usize::from(span.len) + 3];
+        let info = ev.eval_values(span, &mut out);
+        assert_eq!(info.extra_width48, ev.extra_width48(span));
+        assert_eq!(out.split_off(usize::from(span.len)), [marker; 3]);
+        assert_eq!(ev.options(), opts, "the options are restored");
+        (out, *ev.stats(), ev.core.axial_spans)
+    }
+
     proptest::proptest! {
         #![proptest_config(proptest::prelude::ProptestConfig::with_cases(160))]
         /// Unrotated octaves on a span along one lattice axis (the axial kernel): the samples are
@@ -521,6 +542,18 @@ mod tests {
                 go(&m, opts_g(mode, g), &span, false).0.iter().map(|s| s.f).collect()
             };
             proptest::prop_assert_eq!(f_of(false), f_of(true));
+            // `eval_values` writes the same values in both shapes and every mode, counts what
+            // `eval` without gradients counts, and takes the lane kernel where `eval` does.
+            for m_ in [mode, EvalMode::Direct] {
+                let (plain, plain_st, plain_axial) = go(&m, opts_g(m_, false), &span, false);
+                let plain: Vec<TexValue> = plain.iter().map(|s| s.f).collect();
+                for lean in [false, true] {
+                    let (v, st, ax) = values(&m, opts(m_), &span, lean);
+                    proptest::prop_assert_eq!(&v, &plain);
+                    proptest::prop_assert_eq!(st, plain_st);
+                    proptest::prop_assert_eq!(ax, if lean { 0 } else { plain_axial });
+                }
+            }
             // `Fd` on a span the merged loop takes is the axial kernel's.
             let resolved = (step >> zoom).unsigned_abs() < NYQUIST_STEP as u32;
             if mode == EvalMode::Fd && len > 0 && FD && !clamp && quadric == 0 && resolved {

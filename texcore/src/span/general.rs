@@ -5,16 +5,14 @@
 use super::*;
 
 impl<'m, const T: usize> EvalCore<'m, T> {
-    /// The evaluation loop. `choose(term setup, is_cubic)` picks each term's strategy.
-    pub(super) fn run<D>(
+    /// The evaluation loop, with each term's strategy (`strategies`, from `EvalCore::strategies`).
+    pub(super) fn run(
         &mut self,
         len: u16,
         setup: &Setup<T>,
-        choose: D,
+        mut strategies: [Strategy; T],
         sink: &mut ChunkSink<'_, '_>,
-    ) where
-        D: Fn(&TermSetup, bool) -> Strategy,
-    {
+    ) {
         let m = self.model;
         let fv = m.noise_frac_bits();
         let vb = m.precision().value_bits();
@@ -24,17 +22,6 @@ impl<'m, const T: usize> EvalCore<'m, T> {
         // A model holds at most T terms; `min` lets the compiler see it (no bounds checks).
         let n = terms.len().min(T);
 
-        let mut strategies = [Strategy::Off; T];
-        for ((st, ts), term) in strategies.iter_mut().zip(setup.terms.iter()).zip(terms) {
-            if ts.active {
-                *st = choose(ts, term.basis.is_cubic());
-                // Without the general loop's forward differencing, turbulent cubic terms are
-                // evaluated per pixel, which the merged loop does (identical samples).
-                if !GENERAL_FD && *st == Strategy::Fd && term.turbulence {
-                    *st = Strategy::Direct;
-                }
-            }
-        }
         // Without forward differencing every term is `Direct` or `Cached`: the general loop. The
         // size-lean shape leaves the merged loop out when the general loop forward-differences.
         if FD && !(GENERAL_FD && self.lean()) && self.run_merged(len, setup, &strategies, sink) {

@@ -130,10 +130,11 @@ fn walk_acc<const ADD: bool>(acc: &mut [i64], v: &mut i64, s: i64) {
 }
 
 /// `run` pixels of a lane from `(v, s)` written as samples (`ADD`: plus the accumulators, which
-/// are zeroed as they are read): `f = (q + (N >> fv)) >> 32`, `q` the quadric (`NOQ`: zero,
-/// `f = (N >> 32) >> fv`; `AFFINE`: a constant step).
+/// are zeroed as they are read when `CLEAR`; without `ADD` the accumulators are not read):
+/// `f = (q + (N >> fv)) >> 32`, `q` the quadric (`NOQ`: zero, `f = (N >> 32) >> fv`; `AFFINE`:
+/// a constant step).
 #[inline(always)]
-fn walk_out<const ADD: bool, const NOQ: bool, const AFFINE: bool>(
+fn walk_out<const ADD: bool, const CLEAR: bool, const NOQ: bool, const AFFINE: bool>(
     out: &mut [TexValue],
     acc: &mut [i64],
     fvs: u32,
@@ -143,11 +144,20 @@ fn walk_out<const ADD: bool, const NOQ: bool, const AFFINE: bool>(
 ) {
     let mut x = *v;
     let [mut qq, mut dq, ddq] = *q;
-    for (o, a) in out.iter_mut().zip(acc.iter_mut()) {
-        let n = if ADD { a.wrapping_add(x) } else { x };
-        if ADD {
-            *a = 0;
-        }
+    let mut acc = acc.iter_mut();
+    for o in out.iter_mut() {
+        let n = if ADD {
+            let Some(a) = acc.next() else {
+                break;
+            };
+            let n = a.wrapping_add(x);
+            if CLEAR {
+                *a = 0;
+            }
+            n
+        } else {
+            x
+        };
         let f = if NOQ {
             ((n >> 32) as i32) >> fvs
         } else {
@@ -165,10 +175,12 @@ fn walk_out<const ADD: bool, const NOQ: bool, const AFFINE: bool>(
     *q = [qq, dq, ddq];
 }
 
-/// One lane's `run` pixels in its role (`quad`: zero quadric, affine, curved).
+/// One lane's `run` pixels in its role (`quad`: zero quadric, affine, curved; `clear`: the last
+/// lane zeroes the accumulators it reads).
 #[allow(clippy::too_many_arguments)]
 #[inline(always)]
 fn walk(
+    clear: bool,
     role: Role,
     quad: u8,
     acc: &mut [i64],
@@ -181,12 +193,96 @@ fn walk(
     match (role, quad) {
         (Role::First, _) => walk_acc::<false>(acc, v, s),
         (Role::Add, _) => walk_acc::<true>(acc, v, s),
-        (Role::Only, 0) => walk_out::<false, true, true>(out, acc, fvs, v, s, q),
-        (Role::Only, 1) => walk_out::<false, false, true>(out, acc, fvs, v, s, q),
-        (Role::Only, _) => walk_out::<false, false, false>(out, acc, fvs, v, s, q),
-        (Role::Last, 0) => walk_out::<true, true, true>(out, acc, fvs, v, s, q),
-        (Role::Last, 1) => walk_out::<true, false, true>(out, acc, fvs, v, s, q),
-        (Role::Last, _) => walk_out::<true, false, false>(out, acc, fvs, v, s, q),
+        (Role::Only, 0) => walk_out::<false, false, true, true>(out, acc, fvs, v, s, q),
+        (Role::Only, 1) => walk_out::<false, false, false, true>(out, acc, fvs, v, s, q),
+        (Role::Only, _) => walk_out::<false, false, false, false>(out, acc, fvs, v, s, q),
+        (Role::Last, 0) if clear => walk_out::<true, true, true, true>(out, acc, fvs, v, s, q),
+        (Role::Last, 1) if clear => walk_out::<true, true, false, true>(out, acc, fvs, v, s, q),
+        (Role::Last, _) if clear => walk_out::<true, true, false, false>(out, acc, fvs, v, s, q),
+        (Role::Last, 0) => walk_out::<true, false, true, true>(out, acc, fvs, v, s, q),
+        (Role::Last, 1) => walk_out::<true, false, false, true>(out, acc, fvs, v, s, q),
+        (Role::Last, _) => walk_out::<true, false, false, false>(out, acc, fvs, v, s, q),
+    }
+}
+
+/// Where the lane kernel writes: slots for the samples' `f` and for the accumulators of a
+/// span of several lanes, filled a run of slots at a time.
+pub(super) trait LaneOut {
+    /// The last lane zeroes the accumulators it reads (they are a chunk's gradient slots, which
+    /// must read zero without gradients).
+    const CLEAR: bool;
+    /// Free slots for a span of `lanes` lanes (at least 1 while the output has room).
+    fn room(&self, lanes: usize) -> usize;
+    /// The next `n <= room(lanes)` slots of `f` and of the accumulators (the accumulators are
+    /// only read for a span of several lanes); `None` when there are none.
+    fn slots(&mut self, n: usize) -> Option<(&mut [TexValue], &mut [i64])>;
+    /// Marks `n` slots as filled.
+    fn advance(&mut self, n: usize);
+}
+
+impl LaneOut for ChunkSink<'_, '_> {
+    const CLEAR: bool = true;
+
+    #[inline(always)]
+    fn room(&self, _: usize) -> usize {
+        ChunkSink::room(self)
+    }
+
+    #[inline(always)]
+    fn slots(&mut self, n: usize) -> Option<(&mut [TexValue], &mut [i64])> {
+        let c = &mut *self.chunk;
+        let at = c.len;
+        Some((c.f.get_mut(at..at + n)?, c.gx.get_mut(at..at + n)?))
+    }
+
+    #[inline(always)]
+    fn advance(&mut self, n: usize) {
+        ChunkSink::advance(self, n)
+    }
+}
+
+/// Accumulators of [`ValuesOut`] for a span longer than [`SAMPLE_CHUNK`]: a span of several
+/// lanes is walked in runs of this many pixels.
+pub(super) const VALUE_RUN: usize = 64;
+
+/// The caller's slice of values ([`SpanEvaluator::eval_values`]): a span of one lane is written
+/// in one run, a span of several in runs as long as the accumulators it is given.
+pub(super) struct ValuesOut<'o> {
+    out: &'o mut [TexValue],
+    at: usize,
+    acc: &'o mut [i64],
+}
+
+impl<'o> ValuesOut<'o> {
+    /// Slots `out`, from its start, with accumulators `acc` (empty for a span of one lane).
+    pub(super) fn new(out: &'o mut [TexValue], acc: &'o mut [i64]) -> ValuesOut<'o> {
+        ValuesOut { out, at: 0, acc }
+    }
+}
+
+impl LaneOut for ValuesOut<'_> {
+    const CLEAR: bool = false;
+
+    #[inline(always)]
+    fn room(&self, lanes: usize) -> usize {
+        let left = self.out.len().saturating_sub(self.at);
+        if lanes > 1 {
+            left.min(self.acc.len())
+        } else {
+            left
+        }
+    }
+
+    #[inline(always)]
+    fn slots(&mut self, n: usize) -> Option<(&mut [TexValue], &mut [i64])> {
+        let at = self.at;
+        let acc = self.acc.get_mut(..n.min(self.acc.len()))?;
+        Some((self.out.get_mut(at..at + n)?, acc))
+    }
+
+    #[inline(always)]
+    fn advance(&mut self, n: usize) {
+        self.at += n;
     }
 }
 
@@ -194,12 +290,12 @@ impl<'m, const T: usize> EvalCore<'m, T> {
     /// The axial kernel without gradients, lane by lane (see the module documentation); the
     /// span must have been accepted by `merged_takes` and `axial_takes`.
     #[inline(never)]
-    pub(super) fn run_lanes(
+    pub(super) fn run_lanes<O: LaneOut>(
         &mut self,
         len: u16,
         setup: &Setup<T>,
         strategies: &[Strategy; T],
-        sink: &mut ChunkSink<'_, '_>,
+        sink: &mut O,
     ) {
         let m = self.model;
         let fv = m.noise_frac_bits();
@@ -257,14 +353,15 @@ impl<'m, const T: usize> EvalCore<'m, T> {
 
         let mut i = 0u32;
         while i < len {
-            let n = ((len - i) as usize).min(sink.room());
-            let at = sink.chunk.len;
-            // The accumulators are the chunk's gradient slots, zero without gradients: they are
+            let n = ((len - i) as usize).min(sink.room(nl));
+            // A chunk's accumulators are its gradient slots, zero without gradients: they are
             // zeroed again as they are read, before the chunk is handed over.
-            let c = &mut sink.chunk;
-            let (Some(out), Some(acc)) = (c.f.get_mut(at..at + n), c.gx.get_mut(at..at + n)) else {
+            let Some((out, acc)) = sink.slots(n) else {
                 break;
             };
+            if n == 0 {
+                break;
+            }
             for (li, t) in lanes.iter_mut().enumerate() {
                 let role = match (li == 0, li + 1 == nl) {
                     (true, true) => Role::Only,
@@ -275,8 +372,9 @@ impl<'m, const T: usize> EvalCore<'m, T> {
                 let mut j = 0usize;
                 loop {
                     let run = (n - j).min(t.left as usize);
-                    if let (Some(a), Some(o)) = (acc.get_mut(j..j + run), out.get_mut(j..j + run)) {
-                        walk(role, quad, a, o, fvs, &mut t.v, t.s, &mut q);
+                    if let Some(o) = out.get_mut(j..j + run) {
+                        let a = acc.get_mut(j..j + run).unwrap_or_default();
+                        walk(O::CLEAR, role, quad, a, o, fvs, &mut t.v, t.s, &mut q);
                     }
                     j += run;
                     t.left -= run as u32;

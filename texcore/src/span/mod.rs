@@ -717,6 +717,30 @@ impl<'m, const T: usize> SpanEvaluator<'m, T> {
         sink.finish();
         info
     }
+    /// Evaluates the values `f` of `span` into `out`, pixel `i` into `out[i]`: the `f` of the
+    /// samples of [`SpanEvaluator::eval`], bit for bit, without their gradients (whatever
+    /// [`EvalOptions::gradients`] says) and without handing samples over. The shortest way to a
+    /// row of values: the forward-differenced single-axis spans (a row across an axis-aligned
+    /// plane) are written straight into `out`.
+    ///
+    /// Writes `min(span.len, out.len())` values (a shorter `out` takes the start of the span,
+    /// and the counters count what was evaluated); the rest of `out` is left as it is. Returns
+    /// the span's facts.
+    pub fn eval_values(&mut self, span: &Span, out: &mut [TexValue]) -> SpanInfo {
+        let n = usize::from(span.len).min(out.len());
+        let span = Span {
+            len: n as u16,
+            ..*span
+        };
+        let Some(out) = out.get_mut(..n) else {
+            return SpanInfo::default();
+        };
+        let grads = self.core.opts.gradients;
+        self.core.opts.gradients = false;
+        let info = self.core.eval_values(&span, out);
+        self.core.opts.gradients = grads;
+        info
+    }
 }
 
 impl<'m, const T: usize> EvalCore<'m, T> {
@@ -731,6 +755,48 @@ impl<'m, const T: usize> EvalCore<'m, T> {
             #[cfg(test)]
             axial_spans: 0,
         }
+    }
+
+    /// [`SpanEvaluator::eval_values`] (gradients off, `out` exactly `span.len` long): the lane
+    /// kernel straight into `out` where it takes the span, otherwise the chunks' `f` copied.
+    fn eval_values(&mut self, span: &Span, out: &mut [TexValue]) -> SpanInfo {
+        // Only the forward-differencing modes can take the lane kernel (fast shape only).
+        #[cfg(not(texcore_lean))]
+        if FD && !self.lean() && !self.multipass() {
+            let mut setup = Setup::empty();
+            let info = self.begin(span, &mut setup);
+            if span.len == 0 {
+                return info;
+            }
+            let strategies = self.strategies(span.len, &setup);
+            let merged = self.merged_takes(u32::from(span.len), &setup, &strategies);
+            if merged && self.axial_takes(&setup, &strategies) {
+                // Accumulators only for several lanes, no longer than the span needs.
+                let lanes = strategies.iter().filter(|s| **s != Strategy::Off).count();
+                let len = span.len;
+                if lanes <= 1 {
+                    let mut values = lanes::ValuesOut::new(out, &mut []);
+                    self.run_lanes(len, &setup, &strategies, &mut values);
+                } else if len <= SAMPLE_CHUNK as u16 {
+                    let mut acc = [0i64; SAMPLE_CHUNK];
+                    let mut values = lanes::ValuesOut::new(out, &mut acc);
+                    self.run_lanes(len, &setup, &strategies, &mut values);
+                } else {
+                    let mut acc = [0i64; lanes::VALUE_RUN];
+                    let mut values = lanes::ValuesOut::new(out, &mut acc);
+                    self.run_lanes(len, &setup, &strategies, &mut values);
+                }
+            } else if merged && self.axial_direct_takes(&setup, &strategies) {
+                let mut values = lanes::ValuesOut::new(out, &mut []);
+                self.run_axial_direct(span.len, &setup, &strategies, &mut values);
+            } else {
+                copy_values(out, |sink| self.run(span.len, &setup, strategies, sink));
+            }
+            return info;
+        }
+        let mut info = SpanInfo::default();
+        copy_values(out, |sink| info = self.eval_inner(span, sink));
+        info
     }
 
     /// Whether the merged loop takes its size-lean shape ([`LEAN`]; tests choose either).
@@ -804,31 +870,44 @@ impl<'m, const T: usize> EvalCore<'m, T> {
         out.extra_width48 = band_terms(m, span, self.opts.band(), each_term(&mut each));
     }
 
-    /// The evaluation proper.
-    fn eval_inner(&mut self, span: &Span, sink: &mut ChunkSink<'_, '_>) -> SpanInfo {
-        let mut setup = Setup::empty();
-        self.setup(span, &mut setup);
-        sink.chunk.extra_width48 = setup.extra_width48;
+    /// Whether the mode is the multipass evaluator (which has its own loop).
+    #[cfg(not(texcore_lean))]
+    #[inline(always)]
+    fn multipass(&self) -> bool {
+        #[cfg(feature = "multipass")]
+        return matches!(self.opts.mode, EvalMode::Multipass(_));
+        #[cfg(not(feature = "multipass"))]
+        false
+    }
+
+    /// The span's set-up into `setup` (empty, as [`Setup::empty`]) and its counters: what every
+    /// evaluation of a span starts with.
+    #[cfg_attr(not(texcore_lean), inline(always))]
+    fn begin(&mut self, span: &Span, setup: &mut Setup<T>) -> SpanInfo {
+        self.setup(span, setup);
         self.stats.spans += 1;
         self.stats.pixels += u64::from(span.len);
-        let info = SpanInfo {
+        SpanInfo {
             extra_width48: setup.extra_width48,
-        };
-        // An empty span sets nothing up (in either loop).
-        if span.len == 0 {
-            return info;
         }
-        #[cfg(feature = "multipass")]
-        if let EvalMode::Multipass(cfg) = self.opts.mode {
-            let (m, o, st) = (self.model, self.opts, &mut self.stats);
-            crate::multipass::eval_span(m, o, cfg, &setup, span.len, st, &mut |s| sink.push(s));
-            return info;
-        }
+    }
+
+    /// The plan: each term's strategy for a span of `len` pixels, decided once per span from the
+    /// mode (`Off` for the terms the set-up culled).
+    #[cfg_attr(not(texcore_lean), inline(always))]
+    fn strategies(&self, len: u16, setup: &Setup<T>) -> [Strategy; T] {
         let mode = compiled_mode(self.opts.mode);
-        self.run(
-            span.len,
-            &setup,
-            |ts: &TermSetup, cubic: bool| match mode {
+        let mut out = [Strategy::Off; T];
+        for ((st, ts), term) in out
+            .iter_mut()
+            .zip(setup.terms.iter())
+            .zip(self.model.terms())
+        {
+            if !ts.active {
+                continue;
+            }
+            let cubic = term.basis.is_cubic();
+            *st = match mode {
                 EvalMode::Direct => Strategy::Direct,
                 EvalMode::Fd => {
                     if cubic {
@@ -841,7 +920,7 @@ impl<'m, const T: usize> EvalCore<'m, T> {
                     if ts.du.iter().any(|d| d.unsigned_abs() > NYQUIST_STEP as u32) {
                         Strategy::Direct
                     } else if cubic {
-                        if fd_pays(span.len, ts.du) {
+                        if fd_pays(len, ts.du) {
                             Strategy::Fd
                         } else {
                             Strategy::Direct
@@ -866,11 +945,53 @@ impl<'m, const T: usize> EvalCore<'m, T> {
                 }
                 #[cfg(feature = "multipass")]
                 EvalMode::Multipass(_) => Strategy::Direct,
-            },
-            sink,
-        );
+            };
+            // Without the general loop's forward differencing, turbulent cubic terms are
+            // evaluated per pixel, which the merged loop does (identical samples).
+            if !GENERAL_FD && *st == Strategy::Fd && term.turbulence {
+                *st = Strategy::Direct;
+            }
+        }
+        out
+    }
+
+    /// The evaluation proper.
+    fn eval_inner(&mut self, span: &Span, sink: &mut ChunkSink<'_, '_>) -> SpanInfo {
+        let mut setup = Setup::empty();
+        let info = self.begin(span, &mut setup);
+        sink.chunk.extra_width48 = setup.extra_width48;
+        // An empty span sets nothing up (in either loop).
+        if span.len == 0 {
+            return info;
+        }
+        #[cfg(feature = "multipass")]
+        if let EvalMode::Multipass(cfg) = self.opts.mode {
+            let (m, o, st) = (self.model, self.opts, &mut self.stats);
+            crate::multipass::eval_span(m, o, cfg, &setup, span.len, st, &mut |s| sink.push(s));
+            return info;
+        }
+        let strategies = self.strategies(span.len, &setup);
+        self.run(span.len, &setup, strategies, sink);
         info
     }
+}
+
+/// Runs `eval` with a chunk sink that copies each chunk's `f` into `out`, in order.
+fn copy_values(out: &mut [TexValue], eval: impl FnOnce(&mut ChunkSink<'_, '_>)) {
+    let mut chunk = SampleChunk::new();
+    let mut at = 0usize;
+    let mut copy = |c: &SampleChunk| {
+        if let Some(dst) = out.get_mut(at..at + c.len()) {
+            dst.copy_from_slice(c.f());
+        }
+        at += c.len();
+    };
+    let mut sink = ChunkSink {
+        chunk: &mut chunk,
+        out: &mut copy,
+    };
+    eval(&mut sink);
+    sink.finish();
 }
 
 /// Amplitude used for the corner values and the sign applied afterwards (turbulence).

@@ -7,7 +7,8 @@
 //! (8 octave-0 cells across the image; [`R_BITS`] is `0.37` rounded to 16.16, `0.3699951..`, so
 //! that `R_BITS / 65536` is exact in `f32` and the float peers sample the very same points).
 //! Rows are evaluated as whole-row spans (or spans of 16 pixels for the `-span16` workloads) and
-//! every sample is stored into a line buffer of 32-bit words (`value_row`, `marble_row`).
+//! every sample is stored into a line buffer of 32-bit words (`value_row`: [`TexValue`]s,
+//! `marble_row`: `u32`s).
 //!
 //! | workload | texcore | stored word |
 //! |---|---|---|
@@ -23,7 +24,7 @@
 //!
 //! The noise models have no quadric term (`f` is the noise sum alone).
 
-use crate::format::{Amplitude, MatrixEntry, TexPoint};
+use crate::format::{Amplitude, MatrixEntry, TexPoint, TexValue};
 use crate::hash::HashKind;
 use crate::model::{Octaves, TextureModel};
 use crate::noise::NoiseBasis;
@@ -212,40 +213,38 @@ pub fn grad_word(s: &Sample) -> u32 {
         ^ ((gy >> 32) as u32).rotate_left(24)
 }
 
-/// Row `y` of noise workload `w` into `line` (its first [`SIZE`] words), span by span
-/// ([`Workload::span_len`]): `f` raw, or [`grad_word`] when `w` has gradients. `ev` must have
+/// Row `y` of noise workload `w` into `line` (its first [`SIZE`] values), span by span
+/// ([`Workload::span_len`]): `f` through [`SpanEvaluator::eval_values`], or, when `w` has
+/// gradients, [`grad_word`] as raw bits through [`SpanEvaluator::eval_chunks`]. `ev` must have
 /// been built for `w`'s model with `gradients = w.gradients()`.
 #[inline(always)]
 pub fn value_row<const T: usize>(
     ev: &mut SpanEvaluator<'_, T>,
     w: Workload,
     y: u16,
-    line: &mut [u32],
+    line: &mut [TexValue],
 ) {
     let len = w.span_len();
     let Some(line) = line.get_mut(..usize::from(SIZE)) else {
         return;
     };
+    let gradients = w.gradients();
     let mut x0 = 0;
-    while x0 < SIZE {
-        // The chunks of each span copied into the row at their own offsets (the values-only
-        // consumer's path reads each chunk's `f` slice: no `Sample` built a pixel).
-        let mut x = usize::from(x0);
-        let gradients = w.gradients();
-        ev.eval_chunks(&span(y, x0, len), &mut |c: &SampleChunk| {
-            if let Some(dst) = line.get_mut(x..x + c.len()) {
-                if gradients {
+    for chunk in line.chunks_mut(usize::from(len)) {
+        let span = span(y, x0, len);
+        if gradients {
+            let mut x = 0;
+            ev.eval_chunks(&span, &mut |c: &SampleChunk| {
+                if let Some(dst) = chunk.get_mut(x..x + c.len()) {
                     for (d, s) in dst.iter_mut().zip(c.iter()) {
-                        *d = grad_word(&s);
-                    }
-                } else {
-                    for (d, v) in dst.iter_mut().zip(c.f()) {
-                        *d = v.to_bits() as u32;
+                        *d = TexValue::from_bits(grad_word(&s) as i32);
                     }
                 }
-            }
-            x += c.len();
-        });
+                x += c.len();
+            });
+        } else {
+            ev.eval_values(&span, chunk);
+        }
         x0 += len;
     }
 }
@@ -305,7 +304,7 @@ mod tests {
             };
             let mut fd = SpanEvaluator::new(&m, opts(EvalMode::Fd));
             let mut direct = SpanEvaluator::new(&m, opts(EvalMode::Direct));
-            let (mut a, mut b) = ([0u32; 256], [0u32; 256]);
+            let (mut a, mut b) = ([TexValue::ZERO; 256], [TexValue::ZERO; 256]);
             for y in [0, 77] {
                 value_row(&mut fd, w, y, &mut a);
                 value_row(&mut direct, w, y, &mut b);
@@ -319,9 +318,7 @@ mod tests {
                         s.f.to_bits() as u32
                     }
                 });
-                if !w.gradients() {
-                    assert_eq!(a[40], one, "{w:?}");
-                }
+                assert_eq!(a[40].to_bits() as u32, one, "{w:?}");
             }
         }
     }
