@@ -94,9 +94,6 @@ impl<'m, const T: usize> EvalCore<'m, T> {
         let fv = m.noise_frac_bits();
         let vb = m.precision().value_bits();
         let grads = GRADIENTS && self.opts.gradients;
-        if !grads {
-            return self.run_lanes(len, setup, strategies, sink);
-        }
         let len = u32::from(len);
         let qc = setup.quad.c;
         let affine = qc[2] == 0 && setup.gqx[1] == 0 && setup.gqy[1] == 0;
@@ -277,12 +274,12 @@ impl<'m, const T: usize> EvalCore<'m, T> {
     /// kept), cell events found by counting down per term as in [`Self::run_axial`]. The samples
     /// and counters are the merged loop's per-pixel path's.
     #[inline(never)]
-    pub(super) fn run_axial_direct<O: super::lanes::LaneOut>(
+    pub(super) fn run_axial_direct(
         &mut self,
         len: u16,
         setup: &Setup<T>,
         strategies: &[Strategy; T],
-        sink: &mut O,
+        sink: &mut super::lanes::LaneOut<'_, '_, '_>,
     ) {
         let m = self.model;
         let fv = m.noise_frac_bits();

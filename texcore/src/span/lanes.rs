@@ -205,39 +205,54 @@ fn walk(
     }
 }
 
-/// Where the lane kernel writes: slots for the samples' `f` and for the accumulators of a
-/// span of several lanes, filled a run of slots at a time.
-pub(super) trait LaneOut {
-    /// The last lane zeroes the accumulators it reads (they are a chunk's gradient slots, which
-    /// must read zero without gradients).
-    const CLEAR: bool;
-    /// Free slots for a span of `lanes` lanes (at least 1 while the output has room).
-    fn room(&self, lanes: usize) -> usize;
-    /// The next `n <= room(lanes)` slots of `f` and of the accumulators (the accumulators are
-    /// only read for a span of several lanes); `None` when there are none.
-    fn slots(&mut self, n: usize) -> Option<(&mut [TexValue], &mut [i64])>;
-    /// Marks `n` slots as filled.
-    fn advance(&mut self, n: usize);
+/// Where the lane kernel and the per-pixel axial kernel write: a chunk handed to a consumer
+/// when full, or the caller's slice of values; filled a run of slots at a time. One type (not a
+/// trait): the kernels are large, and are compiled once for both.
+pub(super) enum LaneOut<'a, 'o, 'c> {
+    /// A chunk of samples; the accumulators are its gradient slots, zero without gradients,
+    /// which the last lane zeroes again as it reads them.
+    Chunk(&'a mut ChunkSink<'o, 'c>),
+    /// The caller's slice of values.
+    Values(ValuesOut<'a>),
 }
 
-impl LaneOut for ChunkSink<'_, '_> {
-    const CLEAR: bool = true;
-
+impl LaneOut<'_, '_, '_> {
+    /// Whether the last lane zeroes the accumulators it reads.
     #[inline(always)]
-    fn room(&self, _: usize) -> usize {
-        ChunkSink::room(self)
+    fn clears(&self) -> bool {
+        matches!(self, LaneOut::Chunk(_))
     }
 
+    /// Free slots for a span of `lanes` lanes (at least 1 while the output has room).
     #[inline(always)]
-    fn slots(&mut self, n: usize) -> Option<(&mut [TexValue], &mut [i64])> {
-        let c = &mut *self.chunk;
-        let at = c.len;
-        Some((c.f.get_mut(at..at + n)?, c.gx.get_mut(at..at + n)?))
+    pub(super) fn room(&self, lanes: usize) -> usize {
+        match self {
+            LaneOut::Chunk(c) => c.room(),
+            LaneOut::Values(v) => v.room(lanes),
+        }
     }
 
+    /// The next `n <= room(lanes)` slots of `f` and of the accumulators (the accumulators are
+    /// only read for a span of several lanes); `None` when there are none.
     #[inline(always)]
-    fn advance(&mut self, n: usize) {
-        ChunkSink::advance(self, n)
+    pub(super) fn slots(&mut self, n: usize) -> Option<(&mut [TexValue], &mut [i64])> {
+        match self {
+            LaneOut::Chunk(c) => {
+                let c = &mut *c.chunk;
+                let at = c.len;
+                Some((c.f.get_mut(at..at + n)?, c.gx.get_mut(at..at + n)?))
+            }
+            LaneOut::Values(v) => v.slots(n),
+        }
+    }
+
+    /// Marks `n` slots as filled.
+    #[inline(always)]
+    pub(super) fn advance(&mut self, n: usize) {
+        match self {
+            LaneOut::Chunk(c) => c.advance(n),
+            LaneOut::Values(v) => v.at += n,
+        }
     }
 }
 
@@ -260,9 +275,7 @@ impl<'o> ValuesOut<'o> {
     }
 }
 
-impl LaneOut for ValuesOut<'_> {
-    const CLEAR: bool = false;
-
+impl ValuesOut<'_> {
     #[inline(always)]
     fn room(&self, lanes: usize) -> usize {
         let left = self.out.len().saturating_sub(self.at);
@@ -279,23 +292,18 @@ impl LaneOut for ValuesOut<'_> {
         let acc = self.acc.get_mut(..n.min(self.acc.len()))?;
         Some((self.out.get_mut(at..at + n)?, acc))
     }
-
-    #[inline(always)]
-    fn advance(&mut self, n: usize) {
-        self.at += n;
-    }
 }
 
 impl<'m, const T: usize> EvalCore<'m, T> {
     /// The axial kernel without gradients, lane by lane (see the module documentation); the
     /// span must have been accepted by `merged_takes` and `axial_takes`.
     #[inline(never)]
-    pub(super) fn run_lanes<O: LaneOut>(
+    pub(super) fn run_lanes(
         &mut self,
         len: u16,
         setup: &Setup<T>,
         strategies: &[Strategy; T],
-        sink: &mut O,
+        sink: &mut LaneOut<'_, '_, '_>,
     ) {
         let m = self.model;
         let fv = m.noise_frac_bits();
@@ -350,8 +358,30 @@ impl<'m, const T: usize> EvalCore<'m, T> {
         }
         let nl = lanes.len();
         let mut setups = nl as u64;
+        let clear = sink.clears();
 
         let mut i = 0u32;
+        // One lane, no quadric, room for the whole span (the caller's slice of values): one walk
+        // a cell, straight into the output.
+        if let ([t], 0, true) = (lanes.as_mut_slice(), quad, sink.room(1) >= len as usize) {
+            if let Some((out, _)) = sink.slots(len as usize) {
+                let mut j = 0usize;
+                let mut rest = out;
+                loop {
+                    let (r, tail) = rest.split_at_mut((t.left as usize).min(rest.len()));
+                    walk_out::<false, false, true, true>(r, &mut [], fvs, &mut t.v, t.s, &mut q);
+                    j += r.len();
+                    if tail.is_empty() {
+                        break;
+                    }
+                    rest = tail;
+                    t.event(j as u32, fv, vb);
+                    setups += 1;
+                }
+                sink.advance(len as usize);
+                i = len;
+            }
+        }
         while i < len {
             let n = ((len - i) as usize).min(sink.room(nl));
             // A chunk's accumulators are its gradient slots, zero without gradients: they are
@@ -374,7 +404,7 @@ impl<'m, const T: usize> EvalCore<'m, T> {
                     let run = (n - j).min(t.left as usize);
                     if let Some(o) = out.get_mut(j..j + run) {
                         let a = acc.get_mut(j..j + run).unwrap_or_default();
-                        walk(O::CLEAR, role, quad, a, o, fvs, &mut t.v, t.s, &mut q);
+                        walk(clear, role, quad, a, o, fvs, &mut t.v, t.s, &mut q);
                     }
                     j += run;
                     t.left -= run as u32;

@@ -64,12 +64,18 @@ impl<'m, const T: usize> EvalCore<'m, T> {
         }
         #[cfg(not(texcore_lean))]
         if !lean && self.axial_takes(setup, strategies) {
-            self.run_axial(len as u16, setup, strategies, sink);
+            if grads {
+                self.run_axial(len as u16, setup, strategies, sink);
+            } else {
+                let mut out = lanes::LaneOut::Chunk(sink);
+                self.run_lanes(len as u16, setup, strategies, &mut out);
+            }
             return true;
         }
         #[cfg(not(texcore_lean))]
         if !lean && self.axial_direct_takes(setup, strategies) {
-            self.run_axial_direct(len as u16, setup, strategies, sink);
+            let mut out = lanes::LaneOut::Chunk(sink);
+            self.run_axial_direct(len as u16, setup, strategies, &mut out);
             return true;
         }
         let mut n_fd = 0usize;

@@ -775,19 +775,19 @@ impl<'m, const T: usize> EvalCore<'m, T> {
                 let lanes = strategies.iter().filter(|s| **s != Strategy::Off).count();
                 let len = span.len;
                 if lanes <= 1 {
-                    let mut values = lanes::ValuesOut::new(out, &mut []);
+                    let mut values = lanes::LaneOut::Values(lanes::ValuesOut::new(out, &mut []));
                     self.run_lanes(len, &setup, &strategies, &mut values);
                 } else if len <= SAMPLE_CHUNK as u16 {
                     let mut acc = [0i64; SAMPLE_CHUNK];
-                    let mut values = lanes::ValuesOut::new(out, &mut acc);
+                    let mut values = lanes::LaneOut::Values(lanes::ValuesOut::new(out, &mut acc));
                     self.run_lanes(len, &setup, &strategies, &mut values);
                 } else {
                     let mut acc = [0i64; lanes::VALUE_RUN];
-                    let mut values = lanes::ValuesOut::new(out, &mut acc);
+                    let mut values = lanes::LaneOut::Values(lanes::ValuesOut::new(out, &mut acc));
                     self.run_lanes(len, &setup, &strategies, &mut values);
                 }
             } else if merged && self.axial_direct_takes(&setup, &strategies) {
-                let mut values = lanes::ValuesOut::new(out, &mut []);
+                let mut values = lanes::LaneOut::Values(lanes::ValuesOut::new(out, &mut []));
                 self.run_axial_direct(span.len, &setup, &strategies, &mut values);
             } else {
                 copy_values(out, |sink| self.run(span.len, &setup, strategies, sink));
