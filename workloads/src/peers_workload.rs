@@ -26,7 +26,7 @@
 
 use texcore::format::TexValue;
 use texcore::hash::HashKind;
-use texcore::span::{EvalMode, EvalOptions, SpanEvaluator};
+use texcore::span::{EvalMode, EvalOptions, FaceCache, SpanEvaluator};
 use texcore::texture::workload::peers::{self, Workload};
 
 use crate::job::{fold, FNV_OFFSET};
@@ -73,10 +73,11 @@ fn plane(
     work: bool,
 ) -> u32 {
     let mut line = [TexValue::ZERO; peers::SIZE as usize];
+    let mut faces = FaceCache::new();
     let mut acc = FNV_OFFSET;
     for y in 0..peers::SIZE {
         if work {
-            peers::value_row(ev, w, y, &mut line);
+            peers::value_row(ev, w, y, &mut line, &mut faces);
         }
         let row = core::hint::black_box(&line);
         acc = row.iter().fold(acc, |a, v| fold(a, v.to_bits() as u32));

@@ -559,6 +559,90 @@ mod tests {
         }
     }
 
+    proptest::proptest! {
+        #![proptest_config(proptest::prelude::ProptestConfig::with_cases(48))]
+        /// Rows of an axis-aligned plane through face caches of several sizes (one of them
+        /// shared with a second model, evaluated row by row in between) give the values of
+        /// `eval_values` without a cache, and `Direct`'s: whatever the rows step along (the
+        /// cached blend's axis or the other one), the start, the zoom and the octaves.
+        #[test]
+        fn face_caches_change_no_value(
+            s0 in proptest::array::uniform3(-4_000_000i32..4_000_000),
+            step in 1i32..40_000,
+            row in -9_000i32..9_000,
+            axis in 0usize..3,
+            across in 1usize..3,
+            octaves in 1u8..6,
+            zoom in 0u32..3,
+            len in 1u16..300,
+            clamp: bool,
+        ) {
+            let wrap = if clamp { TableWrap::Clamp } else { TableWrap::Mod };
+            let model = |amp: f64, hash| {
+                let mut m: TextureModel<8> = TextureModel::new(Quadric::ZERO, wrap);
+                m.push_octaves(&Octaves {
+                    count: octaves,
+                    base: Affine3::scale(MatrixEntry::from_num(1u32 << zoom)),
+                    amplitude: Amplitude::from_num(amp),
+                    rotate: false,
+                    basis: NoiseBasis::trilinear(hash),
+                    turbulence: false,
+                })
+                .unwrap();
+                m
+            };
+            let (m1, m2) = (model(0.6, HashKind::Integer), model(-0.35, HashKind::default()));
+            let other = (axis + across) % 3;
+            let mut ds = [0; 3];
+            ds[axis] = step >> (2 * zoom) | 1;
+            let mut dy = [0; 3];
+            dy[other] = row;
+            let span = |y: i32| Span {
+                s0: TexPoint::from_bits(
+                    s0[0].wrapping_add(dy[0].wrapping_mul(y)),
+                    s0[1].wrapping_add(dy[1].wrapping_mul(y)),
+                    s0[2].wrapping_add(dy[2].wrapping_mul(y)),
+                ),
+                ds: TexPoint::from_bits(ds[0], ds[1], ds[2]),
+                dsdy: TexPoint::from_bits(dy[0], dy[1], dy[2]),
+                len,
+            };
+            let opts = |mode| EvalOptions { mode, gradients: false, cull: true, ..Default::default() };
+            let mut c1 = FaceCache::<1>::new();
+            let mut c4 = FaceCache::<4>::new();
+            let mut c64 = FaceCache::<64>::new();
+            let mut c256 = FaceCache::<256>::new();
+            let mut evs: std::vec::Vec<_> =
+                (0..5).map(|_| SpanEvaluator::new(&m1, opts(EvalMode::Fd))).collect();
+            let mut other_ev = SpanEvaluator::new(&m2, opts(EvalMode::Fd));
+            let mut direct = SpanEvaluator::new(&m1, opts(EvalMode::Direct));
+            let n = usize::from(len);
+            for y in 0..12 {
+                let sp = span(y);
+                let mut want = std::vec![TexValue::ZERO; n];
+                direct.eval_values(&sp, &mut want);
+                let mut got = std::vec![std::vec![TexValue::ZERO; n]; 5];
+                evs[0].eval_values(&sp, &mut got[0]);
+                evs[1].eval_values_cached(&sp, &mut got[1], &mut c1);
+                evs[2].eval_values_cached(&sp, &mut got[2], &mut c4);
+                evs[3].eval_values_cached(&sp, &mut got[3], &mut c64);
+                evs[4].eval_values_cached(&sp, &mut got[4], &mut c256);
+                for (i, g) in got.iter().enumerate() {
+                    proptest::prop_assert_eq!(g, &want, "evaluator {} row {}", i, y);
+                }
+                // The second model through the same 64-entry cache.
+                let mut a = std::vec![TexValue::ZERO; n];
+                let mut b = std::vec![TexValue::ZERO; n];
+                other_ev.eval_values_cached(&sp, &mut a, &mut c64);
+                SpanEvaluator::new(&m2, opts(EvalMode::Direct)).eval_values(&sp, &mut b);
+                proptest::prop_assert_eq!(a, b, "second model row {}", y);
+            }
+            for ev in &evs[1..] {
+                proptest::prop_assert_eq!(ev.stats(), evs[0].stats());
+            }
+        }
+    }
+
     #[test]
     fn peers_plane_rows_take_the_axial_kernel() {
         use crate::texture::workload::peers;

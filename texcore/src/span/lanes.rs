@@ -18,6 +18,7 @@
 //! merged loop's, and so are the counters (tested against `Direct`, the merged loop of the
 //! size-lean shape and the axial kernel with gradients).
 
+use super::face_cache::{cached_phi, FaceEntry, FaceKey};
 use super::*;
 
 /// One term of the lane kernel.
@@ -40,12 +41,15 @@ struct ValueLane {
     phi: [i64; 2],
     hash: HashKind,
     amp: i32,
+    /// The constant part of the face cache's keys.
+    key: FaceKey,
 }
 
 /// The blend `Phi` of face `b` of `cell` for a lane moving along `k` (constant fractions `frac`
-/// on the two other axes).
+/// on the two other axes). Out of line: a span's lanes blend faces at five places (two at the
+/// start, three kinds of cell event), and with a face cache most blends are read back.
 #[allow(clippy::too_many_arguments)]
-#[inline(always)]
+#[inline(never)]
 fn face_phi(
     k: usize,
     hash: HashKind,
@@ -61,6 +65,28 @@ fn face_phi(
     face(&w, k, frac, [0; 3], false).phi()
 }
 
+/// [`face_phi`] through the face cache `faces` when it has entries ([`cached_phi`]: the same
+/// value).
+#[allow(clippy::too_many_arguments)]
+#[inline(always)]
+fn lane_phi(
+    faces: &mut [FaceEntry],
+    key: &FaceKey,
+    k: usize,
+    hash: HashKind,
+    cell: [u16; 3],
+    frac: [u32; 3],
+    b: usize,
+    amp: i32,
+    fv: u32,
+    vb: u32,
+) -> i64 {
+    match cached_phi(faces, key, k, hash, cell, b, amp, fv, vb) {
+        Some(phi) => phi,
+        None => face_phi(k, hash, cell, frac, b, amp, fv, vb),
+    }
+}
+
 /// The cell polynomial at its local pixel 0 and its step from the face blends (`axis::poly`'s
 /// `g[0]` and `g[1]`), `fk` the fraction along the moving axis, `d` its step.
 #[inline(always)]
@@ -74,15 +100,16 @@ fn value_and_step(phi: [i64; 2], fk: u32, d: i32) -> (i64, i64) {
 }
 
 impl ValueLane {
-    /// The blend of face `b` of the current cell.
+    /// The blend of face `b` of the current cell (through `faces` when it has entries).
     #[inline(always)]
-    fn blend(&self, b: usize, fv: u32, vb: u32) -> i64 {
-        face_phi(self.k, self.hash, self.cell, self.frac, b, self.amp, fv, vb)
+    fn blend(&self, b: usize, fv: u32, vb: u32, faces: &mut [FaceEntry]) -> i64 {
+        let (k, h, c, f, a) = (self.k, self.hash, self.cell, self.frac, self.amp);
+        lane_phi(faces, &self.key, k, h, c, f, b, a, fv, vb)
     }
 
     /// The cell event at span pixel `i`: into the next cell along `k` (the shared face kept).
     #[inline(always)]
-    fn event(&mut self, i: u32, fv: u32, vb: u32) {
+    fn event(&mut self, i: u32, fv: u32, vb: u32, faces: &mut [FaceEntry]) {
         let k = self.k.min(2);
         let uk = self.u0.wrapping_add(self.d.wrapping_mul(i as i32));
         let cell = (uk >> 16) as u16;
@@ -96,9 +123,9 @@ impl ValueLane {
             *f = fk;
         }
         self.phi = match step {
-            1 => [self.phi[1], self.blend(1, fv, vb)],
-            0xFFFF => [self.blend(0, fv, vb), self.phi[0]],
-            _ => [self.blend(0, fv, vb), self.blend(1, fv, vb)],
+            1 => [self.phi[1], self.blend(1, fv, vb, faces)],
+            0xFFFF => [self.blend(0, fv, vb, faces), self.phi[0]],
+            _ => [self.blend(0, fv, vb, faces), self.blend(1, fv, vb, faces)],
         };
         (self.v, self.s) = value_and_step(self.phi, fk, self.d);
         self.left = pixels_in_cell_axis(fk, self.d);
@@ -304,6 +331,7 @@ impl<'m, const T: usize> EvalCore<'m, T> {
         setup: &Setup<T>,
         strategies: &[Strategy; T],
         sink: &mut LaneOut<'_, '_, '_>,
+        faces: &mut [FaceEntry],
     ) {
         let m = self.model;
         let fv = m.noise_frac_bits();
@@ -324,6 +352,15 @@ impl<'m, const T: usize> EvalCore<'m, T> {
         };
 
         let mut lanes: heapless::Vec<ValueLane, T> = heapless::Vec::new();
+        // The face cache's shares: in proportion to the terms' steps ([`FaceKey::share`]).
+        let steps: u64 = strategies
+            .iter()
+            .zip(setup.terms.iter())
+            .filter(|(st, _)| **st != Strategy::Off)
+            .filter_map(|(_, ts)| single_axis(ts.du).map(|k| ts.du[k.min(2)]))
+            .map(|d| u64::from(d.unsigned_abs()))
+            .sum();
+        let mut base = 0usize;
         for ((term, st), ts) in m.terms().iter().zip(strategies).zip(setup.terms.iter()) {
             if *st == Strategy::Off {
                 continue;
@@ -335,9 +372,12 @@ impl<'m, const T: usize> EvalCore<'m, T> {
             let (cell, frac) = split(ts.u0);
             let d = ts.du[k];
             let (hash, amp) = (term.basis.hash, ts.amp);
+            let share = FaceKey::share(faces.len(), d.unsigned_abs(), steps);
+            let key = FaceKey::new(base, share, k, hash, cell, frac, amp, fv, vb);
+            base = base.wrapping_add(share);
             let phi = [
-                face_phi(k, hash, cell, frac, 0, amp, fv, vb),
-                face_phi(k, hash, cell, frac, 1, amp, fv, vb),
+                lane_phi(faces, &key, k, hash, cell, frac, 0, amp, fv, vb),
+                lane_phi(faces, &key, k, hash, cell, frac, 1, amp, fv, vb),
             ];
             let (v, s) = value_and_step(phi, frac[k], d);
             let lane = ValueLane {
@@ -352,6 +392,7 @@ impl<'m, const T: usize> EvalCore<'m, T> {
                 phi,
                 hash,
                 amp,
+                key,
             };
             // At most T terms: never full.
             let _ = lanes.push(lane);
@@ -375,7 +416,7 @@ impl<'m, const T: usize> EvalCore<'m, T> {
                         break;
                     }
                     rest = tail;
-                    t.event(j as u32, fv, vb);
+                    t.event(j as u32, fv, vb, faces);
                     setups += 1;
                 }
                 sink.advance(len as usize);
@@ -409,7 +450,7 @@ impl<'m, const T: usize> EvalCore<'m, T> {
                     j += run;
                     t.left -= run as u32;
                     if t.left == 0 && i + (j as u32) < len {
-                        t.event(i + j as u32, fv, vb);
+                        t.event(i + j as u32, fv, vb, faces);
                         setups += 1;
                     }
                     if j >= n {

@@ -68,7 +68,7 @@ impl<'m, const T: usize> EvalCore<'m, T> {
                 self.run_axial(len as u16, setup, strategies, sink);
             } else {
                 let mut out = lanes::LaneOut::Chunk(sink);
-                self.run_lanes(len as u16, setup, strategies, &mut out);
+                self.run_lanes(len as u16, setup, strategies, &mut out, &mut []);
             }
             return true;
         }

@@ -84,12 +84,15 @@ mod axial;
 mod axis;
 mod cubic;
 mod direct;
+mod face_cache;
 mod general;
 #[cfg(not(texcore_lean))]
 mod lanes;
 mod merged;
 mod passes;
 mod quad;
+
+pub use face_cache::FaceCache;
 
 use axis::*;
 use cubic::*;
@@ -727,6 +730,30 @@ impl<'m, const T: usize> SpanEvaluator<'m, T> {
     /// and the counters count what was evaluated); the rest of `out` is left as it is. Returns
     /// the span's facts.
     pub fn eval_values(&mut self, span: &Span, out: &mut [TexValue]) -> SpanInfo {
+        self.values_through(span, out, &mut [])
+    }
+
+    /// [`SpanEvaluator::eval_values`] with the face blends of single-axis trilinear terms kept
+    /// in `cache` across calls ([`FaceCache`]): the same values, bit for bit; the rows of an
+    /// axis-aligned plane after the first read the faces they share with the rows before
+    /// instead of hashing and blending them again. Spans the lane kernel does not take (and the
+    /// size-lean code shape) do not use the cache.
+    pub fn eval_values_cached<const N: usize>(
+        &mut self,
+        span: &Span,
+        out: &mut [TexValue],
+        cache: &mut FaceCache<N>,
+    ) -> SpanInfo {
+        self.values_through(span, out, cache.entries())
+    }
+
+    /// [`SpanEvaluator::eval_values`] through the face cache entries `faces` (none: no cache).
+    fn values_through(
+        &mut self,
+        span: &Span,
+        out: &mut [TexValue],
+        faces: &mut [face_cache::FaceEntry],
+    ) -> SpanInfo {
         let n = usize::from(span.len).min(out.len());
         let span = Span {
             len: n as u16,
@@ -737,7 +764,7 @@ impl<'m, const T: usize> SpanEvaluator<'m, T> {
         };
         let grads = self.core.opts.gradients;
         self.core.opts.gradients = false;
-        let info = self.core.eval_values(&span, out);
+        let info = self.core.eval_values(&span, out, faces);
         self.core.opts.gradients = grads;
         info
     }
@@ -759,7 +786,13 @@ impl<'m, const T: usize> EvalCore<'m, T> {
 
     /// [`SpanEvaluator::eval_values`] (gradients off, `out` exactly `span.len` long): the lane
     /// kernel straight into `out` where it takes the span, otherwise the chunks' `f` copied.
-    fn eval_values(&mut self, span: &Span, out: &mut [TexValue]) -> SpanInfo {
+    #[cfg_attr(texcore_lean, allow(unused_variables))]
+    fn eval_values(
+        &mut self,
+        span: &Span,
+        out: &mut [TexValue],
+        faces: &mut [face_cache::FaceEntry],
+    ) -> SpanInfo {
         // Only the forward-differencing modes can take the lane kernel (fast shape only).
         #[cfg(not(texcore_lean))]
         if FD && !self.lean() && !self.multipass() {
@@ -776,15 +809,15 @@ impl<'m, const T: usize> EvalCore<'m, T> {
                 let len = span.len;
                 if lanes <= 1 {
                     let mut values = lanes::LaneOut::Values(lanes::ValuesOut::new(out, &mut []));
-                    self.run_lanes(len, &setup, &strategies, &mut values);
+                    self.run_lanes(len, &setup, &strategies, &mut values, faces);
                 } else if len <= SAMPLE_CHUNK as u16 {
                     let mut acc = [0i64; SAMPLE_CHUNK];
                     let mut values = lanes::LaneOut::Values(lanes::ValuesOut::new(out, &mut acc));
-                    self.run_lanes(len, &setup, &strategies, &mut values);
+                    self.run_lanes(len, &setup, &strategies, &mut values, faces);
                 } else {
                     let mut acc = [0i64; lanes::VALUE_RUN];
                     let mut values = lanes::LaneOut::Values(lanes::ValuesOut::new(out, &mut acc));
-                    self.run_lanes(len, &setup, &strategies, &mut values);
+                    self.run_lanes(len, &setup, &strategies, &mut values, faces);
                 }
             } else if merged && self.axial_direct_takes(&setup, &strategies) {
                 let mut values = lanes::LaneOut::Values(lanes::ValuesOut::new(out, &mut []));

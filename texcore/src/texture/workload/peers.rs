@@ -29,7 +29,7 @@ use crate::hash::HashKind;
 use crate::model::{Octaves, TextureModel};
 use crate::noise::NoiseBasis;
 use crate::quadric::Quadric;
-use crate::span::{Sample, SampleChunk, Span, SpanEvaluator};
+use crate::span::{FaceCache, Sample, SampleChunk, Span, SpanEvaluator};
 use crate::table::TableWrap;
 use crate::transform::Affine3;
 
@@ -213,8 +213,13 @@ pub fn grad_word(s: &Sample) -> u32 {
         ^ ((gy >> 32) as u32).rotate_left(24)
 }
 
+/// Entries of the face cache of the value rows ([`value_row`]): every face a row of the
+/// 4-octave workloads crosses (124).
+pub const FACES: usize = 128;
+
 /// Row `y` of noise workload `w` into `line` (its first [`SIZE`] values), span by span
-/// ([`Workload::span_len`]): `f` through [`SpanEvaluator::eval_values`], or, when `w` has
+/// ([`Workload::span_len`]): `f` through [`SpanEvaluator::eval_values_cached`] with `faces`
+/// kept across the rows, or, when `w` has
 /// gradients, [`grad_word`] as raw bits through [`SpanEvaluator::eval_chunks`]. `ev` must have
 /// been built for `w`'s model with `gradients = w.gradients()`.
 #[inline(always)]
@@ -223,6 +228,7 @@ pub fn value_row<const T: usize>(
     w: Workload,
     y: u16,
     line: &mut [TexValue],
+    faces: &mut FaceCache<FACES>,
 ) {
     let len = w.span_len();
     let Some(line) = line.get_mut(..usize::from(SIZE)) else {
@@ -243,7 +249,7 @@ pub fn value_row<const T: usize>(
                 x += c.len();
             });
         } else {
-            ev.eval_values(&span, chunk);
+            ev.eval_values_cached(&span, chunk, faces);
         }
         x0 += len;
     }
@@ -305,9 +311,10 @@ mod tests {
             let mut fd = SpanEvaluator::new(&m, opts(EvalMode::Fd));
             let mut direct = SpanEvaluator::new(&m, opts(EvalMode::Direct));
             let (mut a, mut b) = ([TexValue::ZERO; 256], [TexValue::ZERO; 256]);
-            for y in [0, 77] {
-                value_row(&mut fd, w, y, &mut a);
-                value_row(&mut direct, w, y, &mut b);
+            let (mut fa, mut fb) = (FaceCache::new(), FaceCache::new());
+            for y in [0, 1, 2, 77, 78] {
+                value_row(&mut fd, w, y, &mut a, &mut fa);
+                value_row(&mut direct, w, y, &mut b, &mut fb);
                 assert_eq!(a, b, "{w:?} row {y}");
                 // Pixel 40 alone.
                 let mut one = 0;
