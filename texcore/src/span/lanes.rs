@@ -345,7 +345,8 @@ impl<'m, const T: usize> EvalCore<'m, T> {
             qc[2].wrapping_mul(2) as i64,
         ];
         // 0: zero quadric, 1: affine, 2: curved.
-        let quad = match (q == [0; 3], qc[2] == 0) {
+        // Word by word (an array comparison is a library call on the devices).
+        let quad = match ((q[0] | q[1] | q[2]) == 0, qc[2] == 0) {
             (true, _) => 0u8,
             (false, true) => 1,
             (false, false) => 2,
