@@ -94,6 +94,11 @@ impl<'m, const T: usize> EvalCore<'m, T> {
         let fv = m.noise_frac_bits();
         let vb = m.precision().value_bits();
         let grads = GRADIENTS && self.opts.gradients;
+        // Without gradients, the lane kernel. (The early return also tells the compiler that
+        // the rest of the function has gradients: the merged kernel's branches on them fold.)
+        if !grads {
+            return;
+        }
         let len = u32::from(len);
         let qc = setup.quad.c;
         let affine = qc[2] == 0 && setup.gqx[1] == 0 && setup.gqy[1] == 0;

@@ -322,6 +322,33 @@ impl ValuesOut<'_> {
 }
 
 impl<'m, const T: usize> EvalCore<'m, T> {
+    /// [`Self::run_lanes`] into a chunk sink, without a face cache. Out of line, so that the
+    /// merged loop's code around the call stays as it is without the kernel's output type.
+    #[inline(never)]
+    pub(super) fn run_lanes_into(
+        &mut self,
+        len: u16,
+        setup: &Setup<T>,
+        strategies: &[Strategy; T],
+        sink: &mut ChunkSink<'_, '_>,
+    ) {
+        self.run_lanes(len, setup, strategies, &mut LaneOut::Chunk(sink), &mut []);
+    }
+
+    /// [`Self::run_axial_direct`] into a chunk sink (out of line, as [`Self::run_lanes_into`]).
+    #[inline(never)]
+    pub(super) fn run_axial_direct_into(
+        &mut self,
+        len: u16,
+        setup: &Setup<T>,
+        strategies: &[Strategy; T],
+        sink: &mut ChunkSink<'_, '_>,
+    ) {
+        self.run_axial_direct(len, setup, strategies, &mut LaneOut::Chunk(sink));
+    }
+}
+
+impl<'m, const T: usize> EvalCore<'m, T> {
     /// The axial kernel without gradients, lane by lane (see the module documentation); the
     /// span must have been accepted by `merged_takes` and `axial_takes`.
     #[inline(never)]

@@ -67,15 +67,13 @@ impl<'m, const T: usize> EvalCore<'m, T> {
             if grads {
                 self.run_axial(len as u16, setup, strategies, sink);
             } else {
-                let mut out = lanes::LaneOut::Chunk(sink);
-                self.run_lanes(len as u16, setup, strategies, &mut out, &mut []);
+                self.run_lanes_into(len as u16, setup, strategies, sink);
             }
             return true;
         }
         #[cfg(not(texcore_lean))]
         if !lean && self.axial_direct_takes(setup, strategies) {
-            let mut out = lanes::LaneOut::Chunk(sink);
-            self.run_axial_direct(len as u16, setup, strategies, &mut out);
+            self.run_axial_direct_into(len as u16, setup, strategies, sink);
             return true;
         }
         let mut n_fd = 0usize;

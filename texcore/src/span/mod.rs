@@ -738,6 +738,56 @@ impl<'m, const T: usize> SpanEvaluator<'m, T> {
     /// axis-aligned plane after the first read the faces they share with the rows before
     /// instead of hashing and blending them again. Spans the lane kernel does not take (and the
     /// size-lean code shape) do not use the cache.
+    ///
+    /// A 64 x 64 field of four octaves of value noise, row by row (8 lattice cells across):
+    ///
+    /// ```
+    /// use texcore::format::{Amplitude, MatrixEntry, TexPoint, TexValue};
+    /// use texcore::hash::HashKind;
+    /// use texcore::model::{Octaves, TextureModel};
+    /// use texcore::noise::NoiseBasis;
+    /// use texcore::quadric::Quadric;
+    /// use texcore::span::{EvalMode, EvalOptions, FaceCache, Span, SpanEvaluator};
+    /// use texcore::table::TableWrap;
+    /// use texcore::transform::Affine3;
+    ///
+    /// let mut model: TextureModel<4> = TextureModel::new(Quadric::ZERO, TableWrap::Mod);
+    /// model.push_octaves(&Octaves {
+    ///     count: 4,
+    ///     base: Affine3::scale(MatrixEntry::ONE),
+    ///     amplitude: Amplitude::ONE,
+    ///     rotate: false,
+    ///     basis: NoiseBasis::trilinear(HashKind::Integer),
+    ///     turbulence: false,
+    /// })?;
+    /// let opts = EvalOptions { mode: EvalMode::Fd, gradients: false, ..Default::default() };
+    /// let mut ev = SpanEvaluator::new(&model, opts);
+    /// let mut faces = FaceCache::<128>::new();
+    /// let mut field = [[TexValue::ZERO; 64]; 64];
+    /// for (y, row) in field.iter_mut().enumerate() {
+    ///     let span = Span {
+    ///         s0: TexPoint::from_f64(0.0, y as f64 / 8.0, 0.5),
+    ///         ds: TexPoint::from_f64(1.0 / 8.0, 0.0, 0.0),
+    ///         dsdy: TexPoint::from_f64(0.0, 1.0 / 8.0, 0.0),
+    ///         len: 64,
+    ///     };
+    ///     ev.eval_values_cached(&span, row, &mut faces);
+    /// }
+    /// // The same values as without the cache, and as per-pixel evaluation.
+    /// let mut direct = SpanEvaluator::new(&model, EvalOptions { mode: EvalMode::Direct, ..opts });
+    /// let mut row = [TexValue::ZERO; 64];
+    /// direct.eval_values(
+    ///     &Span {
+    ///         s0: TexPoint::from_f64(0.0, 5.0 / 8.0, 0.5),
+    ///         ds: TexPoint::from_f64(1.0 / 8.0, 0.0, 0.0),
+    ///         dsdy: TexPoint::from_f64(0.0, 1.0 / 8.0, 0.0),
+    ///         len: 64,
+    ///     },
+    ///     &mut row,
+    /// );
+    /// assert_eq!(row, field[5]);
+    /// # Ok::<(), texcore::model::ModelError>(())
+    /// ```
     pub fn eval_values_cached<const N: usize>(
         &mut self,
         span: &Span,
