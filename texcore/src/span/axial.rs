@@ -79,8 +79,9 @@ impl<'m, const T: usize> EvalCore<'m, T> {
         any
     }
 
-    /// The axial kernel over a span of `len` pixels (see the module documentation); the span
-    /// must have been accepted by `merged_takes` and [`Self::axial_takes`].
+    /// The axial kernel over a span of `len` pixels with gradients (see the module
+    /// documentation; without gradients the lane kernel takes the span); the span must have
+    /// been accepted by `merged_takes` and [`Self::axial_takes`].
     #[inline(never)]
     pub(super) fn run_axial(
         &mut self,
@@ -94,8 +95,9 @@ impl<'m, const T: usize> EvalCore<'m, T> {
         let fv = m.noise_frac_bits();
         let vb = m.precision().value_bits();
         let grads = GRADIENTS && self.opts.gradients;
-        // Without gradients, the lane kernel. (The early return also tells the compiler that
-        // the rest of the function has gradients: the merged kernel's branches on them fold.)
+        // Never taken: `run_merged` sends the spans without gradients to the lane kernel. The
+        // early return tells the compiler that the rest of the function has gradients, so the
+        // kernel's branches on them fold.
         if !grads {
             return;
         }
