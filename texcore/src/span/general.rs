@@ -5,14 +5,9 @@
 use super::*;
 
 impl<'m, const T: usize> EvalCore<'m, T> {
-    /// The evaluation loop, with each term's strategy (`strategies`, from `EvalCore::strategies`).
-    pub(super) fn run(
-        &mut self,
-        len: u16,
-        setup: &Setup<T>,
-        mut strategies: [Strategy; T],
-        sink: &mut ChunkSink<'_, '_>,
-    ) {
+    /// The evaluation loop, each term's strategy from the mode (`strategy`).
+    pub(super) fn run(&mut self, len: u16, setup: &Setup<T>, sink: &mut ChunkSink<'_, '_>) {
+        let mode = compiled_mode(self.opts.mode);
         let m = self.model;
         let fv = m.noise_frac_bits();
         let vb = m.precision().value_bits();
@@ -22,6 +17,18 @@ impl<'m, const T: usize> EvalCore<'m, T> {
         // A model holds at most T terms; `min` lets the compiler see it (no bounds checks).
         let n = terms.len().min(T);
 
+        // The plan (as `plan`, written out: the size-lean shape's code is smaller so).
+        let mut strategies = [Strategy::Off; T];
+        for ((st, ts), term) in strategies.iter_mut().zip(setup.terms.iter()).zip(terms) {
+            if ts.active {
+                *st = strategy(mode, ts, term.basis.is_cubic(), len);
+                // Without the general loop's forward differencing, turbulent cubic terms are
+                // evaluated per pixel, which the merged loop does (identical samples).
+                if !GENERAL_FD && *st == Strategy::Fd && term.turbulence {
+                    *st = Strategy::Direct;
+                }
+            }
+        }
         // Without forward differencing every term is `Direct` or `Cached`: the general loop. The
         // size-lean shape leaves the merged loop out when the general loop forward-differences.
         if FD && !(GENERAL_FD && self.lean()) && self.run_merged(len, setup, &strategies, sink) {

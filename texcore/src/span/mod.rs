@@ -847,11 +847,18 @@ impl<'m, const T: usize> EvalCore<'m, T> {
         #[cfg(not(texcore_lean))]
         if FD && !self.lean() && !self.multipass() {
             let mut setup = Setup::empty();
-            let info = self.begin(span, &mut setup);
+            self.setup(span, &mut setup);
+            self.stats.spans += 1;
+            self.stats.pixels += u64::from(span.len);
+            let info = SpanInfo {
+                extra_width48: setup.extra_width48,
+            };
             if span.len == 0 {
                 return info;
             }
-            let strategies = self.strategies(span.len, &setup);
+            let (mode, len) = (compiled_mode(self.opts.mode), span.len);
+            let choose = |ts: &TermSetup, cubic| strategy(mode, ts, cubic, len);
+            let strategies = plan(&setup, self.model.terms(), choose);
             let merged = self.merged_takes(u32::from(span.len), &setup, &strategies);
             if merged && self.axial_takes(&setup, &strategies) {
                 // Accumulators only for several lanes, no longer than the span needs.
@@ -873,7 +880,7 @@ impl<'m, const T: usize> EvalCore<'m, T> {
                 let mut values = lanes::LaneOut::Values(lanes::ValuesOut::new(out, &mut []));
                 self.run_axial_direct(span.len, &setup, &strategies, &mut values);
             } else {
-                copy_values(out, |sink| self.run(span.len, &setup, strategies, sink));
+                copy_values(out, |sink| self.run(len, &setup, sink));
             }
             return info;
         }
@@ -963,86 +970,16 @@ impl<'m, const T: usize> EvalCore<'m, T> {
         false
     }
 
-    /// The span's set-up into `setup` (empty, as [`Setup::empty`]) and its counters: what every
-    /// evaluation of a span starts with.
-    #[cfg_attr(not(texcore_lean), inline(always))]
-    fn begin(&mut self, span: &Span, setup: &mut Setup<T>) -> SpanInfo {
-        self.setup(span, setup);
-        self.stats.spans += 1;
-        self.stats.pixels += u64::from(span.len);
-        SpanInfo {
-            extra_width48: setup.extra_width48,
-        }
-    }
-
-    /// The plan: each term's strategy for a span of `len` pixels, decided once per span from the
-    /// mode (`Off` for the terms the set-up culled).
-    #[cfg_attr(not(texcore_lean), inline(always))]
-    fn strategies(&self, len: u16, setup: &Setup<T>) -> [Strategy; T] {
-        let mode = compiled_mode(self.opts.mode);
-        let mut out = [Strategy::Off; T];
-        for ((st, ts), term) in out
-            .iter_mut()
-            .zip(setup.terms.iter())
-            .zip(self.model.terms())
-        {
-            if !ts.active {
-                continue;
-            }
-            let cubic = term.basis.is_cubic();
-            *st = match mode {
-                EvalMode::Direct => Strategy::Direct,
-                EvalMode::Fd => {
-                    if cubic {
-                        Strategy::Fd
-                    } else {
-                        Strategy::Cached
-                    }
-                }
-                EvalMode::Auto => {
-                    if ts.du.iter().any(|d| d.unsigned_abs() > NYQUIST_STEP as u32) {
-                        Strategy::Direct
-                    } else if cubic {
-                        if fd_pays(len, ts.du) {
-                            Strategy::Fd
-                        } else {
-                            Strategy::Direct
-                        }
-                    } else {
-                        Strategy::Cached
-                    }
-                }
-                EvalMode::Fd32 => {
-                    if cubic {
-                        Strategy::Fd32
-                    } else {
-                        Strategy::Cached
-                    }
-                }
-                EvalMode::Reanchored => {
-                    if cubic {
-                        Strategy::Fd
-                    } else {
-                        Strategy::Hermite
-                    }
-                }
-                #[cfg(feature = "multipass")]
-                EvalMode::Multipass(_) => Strategy::Direct,
-            };
-            // Without the general loop's forward differencing, turbulent cubic terms are
-            // evaluated per pixel, which the merged loop does (identical samples).
-            if !GENERAL_FD && *st == Strategy::Fd && term.turbulence {
-                *st = Strategy::Direct;
-            }
-        }
-        out
-    }
-
     /// The evaluation proper.
     fn eval_inner(&mut self, span: &Span, sink: &mut ChunkSink<'_, '_>) -> SpanInfo {
         let mut setup = Setup::empty();
-        let info = self.begin(span, &mut setup);
+        self.setup(span, &mut setup);
         sink.chunk.extra_width48 = setup.extra_width48;
+        self.stats.spans += 1;
+        self.stats.pixels += u64::from(span.len);
+        let info = SpanInfo {
+            extra_width48: setup.extra_width48,
+        };
         // An empty span sets nothing up (in either loop).
         if span.len == 0 {
             return info;
@@ -1053,9 +990,76 @@ impl<'m, const T: usize> EvalCore<'m, T> {
             crate::multipass::eval_span(m, o, cfg, &setup, span.len, st, &mut |s| sink.push(s));
             return info;
         }
-        let strategies = self.strategies(span.len, &setup);
-        self.run(span.len, &setup, strategies, sink);
+        self.run(span.len, &setup, sink);
         info
+    }
+}
+
+/// The plan: each term's strategy for a span, decided once per span by `choose(term set-up,
+/// is_cubic)` (`Off` for the terms the set-up culled), as the general loop makes it.
+#[cfg(not(texcore_lean))]
+#[inline(always)]
+fn plan<const T: usize>(
+    setup: &Setup<T>,
+    terms: &[NoiseTerm],
+    choose: impl Fn(&TermSetup, bool) -> Strategy,
+) -> [Strategy; T] {
+    let mut strategies = [Strategy::Off; T];
+    for ((st, ts), term) in strategies.iter_mut().zip(setup.terms.iter()).zip(terms) {
+        if ts.active {
+            *st = choose(ts, term.basis.is_cubic());
+            // Without the general loop's forward differencing, turbulent cubic terms are
+            // evaluated per pixel, which the merged loop does (identical samples).
+            if !GENERAL_FD && *st == Strategy::Fd && term.turbulence {
+                *st = Strategy::Direct;
+            }
+        }
+    }
+    strategies
+}
+
+/// The strategy of an active term (`cubic`: a trilinear basis) with set-up `ts` in a span of
+/// `len` pixels under `mode` (as compiled, [`compiled_mode`]).
+#[inline(always)]
+fn strategy(mode: EvalMode, ts: &TermSetup, cubic: bool, len: u16) -> Strategy {
+    match mode {
+        EvalMode::Direct => Strategy::Direct,
+        EvalMode::Fd => {
+            if cubic {
+                Strategy::Fd
+            } else {
+                Strategy::Cached
+            }
+        }
+        EvalMode::Auto => {
+            if ts.du.iter().any(|d| d.unsigned_abs() > NYQUIST_STEP as u32) {
+                Strategy::Direct
+            } else if cubic {
+                if fd_pays(len, ts.du) {
+                    Strategy::Fd
+                } else {
+                    Strategy::Direct
+                }
+            } else {
+                Strategy::Cached
+            }
+        }
+        EvalMode::Fd32 => {
+            if cubic {
+                Strategy::Fd32
+            } else {
+                Strategy::Cached
+            }
+        }
+        EvalMode::Reanchored => {
+            if cubic {
+                Strategy::Fd
+            } else {
+                Strategy::Hermite
+            }
+        }
+        #[cfg(feature = "multipass")]
+        EvalMode::Multipass(_) => Strategy::Direct,
     }
 }
 
