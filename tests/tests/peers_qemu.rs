@@ -20,18 +20,18 @@ use host_sim::report::peers;
 /// `(workload, implementation, Cortex-M4F, rv32imc)`: the most instructions per sample each
 /// texcore row may cost on one 8-row band of the peer plane.
 const BOUNDS: &[(&str, &str, f64, f64)] = &[
-    ("value-1oct", "texcore-fd", 87.0, 105.0),   // 78.4 / 94.9
-    ("value-1oct", "texcore-auto", 87.0, 105.0), // 78.5 / 95.0
-    ("value-1oct", "texcore-direct", 289.0, 356.0), // 262.1 / 323.0
-    ("value-4oct", "texcore-fd", 543.0, 720.0),  // 493.0 / 653.7
-    ("value-4oct", "texcore-auto", 543.0, 720.0), // 493.5 / 654.1
-    ("value-4oct", "texcore-direct", 829.0, 969.0), // 752.9 / 880.1
-    ("value-4oct-grad", "texcore-fd", 732.0, 946.0), // 665.2 / 859.5
-    ("value-4oct-grad", "texcore-auto", 733.0, 946.0), // 665.7 / 860.0
-    ("value-4oct-grad", "texcore-direct", 1297.0, 1904.0), // 1179.1 / 1730.5
-    ("value-4oct-span16", "texcore-fd", 652.0, 879.0), // 592.1 / 798.6
-    ("value-4oct-span16", "texcore-auto", 661.0, 887.0), // 600.0 / 805.9
-    ("value-4oct-span16", "texcore-direct", 1067.0, 1265.0), // 969.7 / 1149.2
+    ("value-1oct", "texcore-fd", 16.0, 23.0),     // 13.8 / 20.8
+    ("value-1oct", "texcore-auto", 16.0, 23.0),   // 13.9 / 20.9
+    ("value-1oct", "texcore-direct", 43.0, 53.0), // 38.8 / 47.8
+    ("value-4oct", "texcore-fd", 169.0, 212.0),   // 153.1 / 192.1
+    ("value-4oct", "texcore-auto", 170.0, 212.0), // 153.8 / 192.6
+    ("value-4oct", "texcore-direct", 267.0, 342.0), // 242.6 / 310.1
+    ("value-4oct-grad", "texcore-fd", 318.0, 390.0), // 289.0 / 354.5
+    ("value-4oct-grad", "texcore-auto", 319.0, 391.0), // 289.6 / 355.0
+    ("value-4oct-grad", "texcore-direct", 1297.0, 1904.0), // 1193.7 / 1735.3
+    ("value-4oct-span16", "texcore-fd", 357.0, 416.0), // 324.3 / 377.8
+    ("value-4oct-span16", "texcore-auto", 368.0, 425.0), // 334.3 / 385.8
+    ("value-4oct-span16", "texcore-direct", 433.0, 533.0), // 393.0 / 484.4
     ("marble-csat-rgb565", "texcore-fd", 928.0, 1146.0), // 843.0 / 1041.6
     ("marble-csat-rgb565", "texcore-auto", 928.0, 1147.0), // 843.5 / 1042.1
     ("marble-csat-rgb565", "texcore-direct", 1493.0, 2104.0), // 1356.8 / 1912.6
@@ -43,15 +43,15 @@ const BOUNDS: &[(&str, &str, f64, f64)] = &[
         1782.0,
         2507.0,
     ), // 1619.8 / 2278.3
-    ("smooth-1oct", "texcore-fd", 413.0, 538.0), // 375.4 / 488.7
-    ("smooth-1oct", "texcore-auto", 414.0, 538.0), // 375.5 / 488.8
-    ("smooth-1oct", "texcore-direct", 639.0, 850.0), // 580.2 / 772.7
-    ("perlin-1oct", "texcore-fd", 693.0, 1121.0), // 629.7 / 1018.3
-    ("perlin-1oct", "texcore-auto", 693.0, 1121.0), // 629.8 / 1018.4
-    ("perlin-1oct", "texcore-direct", 1065.0, 1490.0), // 968.2 / 1353.9
-    ("perlin-4oct", "texcore-fd", 2585.0, 4298.0), // 2349.3 / 3906.4
-    ("perlin-4oct", "texcore-auto", 2585.0, 4298.0), // 2349.7 / 3906.7
-    ("perlin-4oct", "texcore-direct", 3875.0, 5562.0), // 3522.0 / 5055.8
+    ("smooth-1oct", "texcore-fd", 406.0, 512.0),  // 368.9 / 464.6
+    ("smooth-1oct", "texcore-auto", 407.0, 512.0), // 369.1 / 464.7
+    ("smooth-1oct", "texcore-direct", 628.0, 817.0), // 570.2 / 741.9
+    ("perlin-1oct", "texcore-fd", 686.0, 1094.0), // 623.2 / 994.3
+    ("perlin-1oct", "texcore-auto", 686.0, 1094.0), // 623.4 / 994.4
+    ("perlin-1oct", "texcore-direct", 1055.0, 1456.0), // 958.2 / 1323.2
+    ("perlin-4oct", "texcore-fd", 2584.0, 4256.0), // 2349.0 / 3869.0
+    ("perlin-4oct", "texcore-auto", 2585.0, 4257.0), // 2349.8 / 3869.6
+    ("perlin-4oct", "texcore-direct", 3853.0, 5497.0), // 3502.6 / 4996.5
 ];
 
 fn bound(workload: &str, implementation: &str, target: DeviceTarget) -> Option<f64> {
