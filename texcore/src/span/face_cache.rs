@@ -1,4 +1,4 @@
-//! Face blends kept across spans: [`FaceCache`], for [`SpanEvaluator::eval_values_cached`].
+//! Face blends kept across spans: [`FaceCache`], for [`SpanEvaluator::eval_values_cached`](crate::span::SpanEvaluator::eval_values_cached).
 //!
 //! A single-axis trilinear term (a row across an axis-aligned plane, the lane kernel) blends
 //! the four hashed corners of each cell face it crosses (`axis::face`): `Phi = lerp_c(lerp_a)`,
@@ -51,9 +51,9 @@ impl FaceEntry {
 /// Face blends of single-axis trilinear terms kept across spans (see the module
 /// documentation): `N` entries of 32 bytes, `N` a power of two (checked at compile time).
 ///
-/// Give one to [`SpanEvaluator::eval_values_cached`] for the rows of a plane: from the second
+/// Give one to [`SpanEvaluator::eval_values_cached`](crate::span::SpanEvaluator::eval_values_cached) for the rows of a plane: from the second
 /// row on, every face the rows share is read back instead of hashed and blended again. The
-/// values are those of [`SpanEvaluator::eval_values`], bit for bit, whatever the cache holds.
+/// values are those of [`SpanEvaluator::eval_values`](crate::span::SpanEvaluator::eval_values), bit for bit, whatever the cache holds.
 /// Size it to the faces one row crosses (for `k` octaves of `2^i c` cells across a row about
 /// `c 2^k` entries; 128 covers four octaves of 8 cells).
 #[derive(Clone, Debug)]

@@ -287,7 +287,7 @@ impl LaneOut<'_, '_, '_> {
 /// lanes is walked in runs of this many pixels.
 pub(super) const VALUE_RUN: usize = 64;
 
-/// The caller's slice of values ([`SpanEvaluator::eval_values`]): a span of one lane is written
+/// The caller's slice of values ([`SpanEvaluator::eval_values`](crate::span::SpanEvaluator::eval_values)): a span of one lane is written
 /// in one run, a span of several in runs as long as the accumulators it is given.
 pub(super) struct ValuesOut<'o> {
     out: &'o mut [TexValue],
