@@ -40,7 +40,7 @@ where_panics() {
     cargo build -q --release -p firmware --target "$t" >/dev/null 2>&1 || return
     "$objdump" -d -l --no-show-raw-insn -C "${CARGO_TARGET_DIR:-target}/$t/release/firmware" |
         awk '/^; \// { src = ($2 ~ /(texcore|firmware)\/src\//) ? $2 : src }
-             /(core::panicking::|slice_index_fail|panic_bounds_check)/ && /[ \t](bl|blx|b|b\.w|beq|bne|bhs|blo|bhi|bls|jal|j|call|tail)[ \t]/ && src != "" { print "    " src }' |
+             /(core::panicking::|slice_index_fail|panic_bounds_check|len_mismatch_fail)/ && /[ \t](bl|blx|b|b\.w|beq|bne|bhs|blo|bhi|bls|jal|j|call|tail)[ \t]/ && src != "" { print "    " src }' |
         sort -u
 }
 

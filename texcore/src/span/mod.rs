@@ -1069,7 +1069,10 @@ fn copy_values(out: &mut [TexValue], eval: impl FnOnce(&mut ChunkSink<'_, '_>)) 
     let mut at = 0usize;
     let mut copy = |c: &SampleChunk| {
         if let Some(dst) = out.get_mut(at..at + c.len()) {
-            dst.copy_from_slice(c.f());
+            // Element by element: `copy_from_slice` keeps a length-mismatch panic.
+            for (d, v) in dst.iter_mut().zip(c.f()) {
+                *d = *v;
+            }
         }
         at += c.len();
     };
