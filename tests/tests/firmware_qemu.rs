@@ -564,7 +564,7 @@ fn atlas_bake_bound(target: DeviceTarget) -> u64 {
 fn peers_bound(target: DeviceTarget, workload: &str) -> u64 {
     // (Cortex-M4F, rv32imc); measured in the job-suite firmware (thirteenth round, values
     // straight into the row and the face cache) at 13.1 / 20.0, 152.3 / 190.7, 288.9 / 354.5,
-    // 321.8 / 375.2, 38.6 / 47.8, 368.6 / 464.6 and 622.9 / 994.3 (the 4-octave rows with
+    // 321.8 / 375.2, 38.6 / 47.8, 366.1 / 462.8 and 620.4 / 992.5 (the 4-octave rows with
     // gradients were 297.2 / 353.3 in the ninth round, their bound is kept).
     let (m4f, rv) = match workload {
         "value-1oct" => (15, 22),
