@@ -57,7 +57,7 @@ pub(super) fn face_bits(
 
 /// The two axes other than `k`, in ascending order.
 #[cfg_attr(not(texcore_lean), inline(always))]
-fn others(k: usize) -> (usize, usize) {
+pub(super) fn others(k: usize) -> (usize, usize) {
     let k = k.min(2); // always 0..=2: lets the compiler drop the bounds checks
     match k {
         0 => (1, 2),

@@ -28,7 +28,7 @@
 //!   time); no allocation, never panics.
 
 #[cfg(not(texcore_lean))]
-use super::axis::face_bits;
+use super::axis::{face_bits, others};
 #[cfg(not(texcore_lean))]
 use crate::hash::HashKind;
 
@@ -96,17 +96,6 @@ impl<const N: usize> FaceCache<N> {
 impl<const N: usize> Default for FaceCache<N> {
     fn default() -> Self {
         Self::new()
-    }
-}
-
-/// The two axes other than `k`, in ascending order.
-#[cfg(not(texcore_lean))]
-#[inline(always)]
-fn others(k: usize) -> (usize, usize) {
-    match k {
-        0 => (1, 2),
-        1 => (0, 2),
-        _ => (0, 1),
     }
 }
 

@@ -847,12 +847,7 @@ impl<'m, const T: usize> EvalCore<'m, T> {
         #[cfg(not(texcore_lean))]
         if FD && !self.lean() && !self.multipass() {
             let mut setup = Setup::empty();
-            self.setup(span, &mut setup);
-            self.stats.spans += 1;
-            self.stats.pixels += u64::from(span.len);
-            let info = SpanInfo {
-                extra_width48: setup.extra_width48,
-            };
+            let info = self.begin(span, &mut setup);
             if span.len == 0 {
                 return info;
             }
@@ -861,20 +856,19 @@ impl<'m, const T: usize> EvalCore<'m, T> {
             let strategies = plan(&setup, self.model.terms(), choose);
             let merged = self.merged_takes(u32::from(span.len), &setup, &strategies);
             if merged && self.axial_takes(&setup, &strategies) {
-                // Accumulators only for several lanes, no longer than the span needs.
+                // Accumulators only for several lanes, no longer than the span needs (each
+                // array is cleared only on its own branch).
                 let lanes = strategies.iter().filter(|s| **s != Strategy::Off).count();
-                let len = span.len;
+                let mut go = |acc: &mut [i64]| {
+                    let mut values = lanes::LaneOut::Values(lanes::ValuesOut::new(out, acc));
+                    self.run_lanes(len, &setup, &strategies, &mut values, faces);
+                };
                 if lanes <= 1 {
-                    let mut values = lanes::LaneOut::Values(lanes::ValuesOut::new(out, &mut []));
-                    self.run_lanes(len, &setup, &strategies, &mut values, faces);
+                    go(&mut []);
                 } else if len <= SAMPLE_CHUNK as u16 {
-                    let mut acc = [0i64; SAMPLE_CHUNK];
-                    let mut values = lanes::LaneOut::Values(lanes::ValuesOut::new(out, &mut acc));
-                    self.run_lanes(len, &setup, &strategies, &mut values, faces);
+                    go(&mut [0i64; SAMPLE_CHUNK]);
                 } else {
-                    let mut acc = [0i64; lanes::VALUE_RUN];
-                    let mut values = lanes::LaneOut::Values(lanes::ValuesOut::new(out, &mut acc));
-                    self.run_lanes(len, &setup, &strategies, &mut values, faces);
+                    go(&mut [0i64; lanes::VALUE_RUN]);
                 }
             } else if merged && self.axial_direct_takes(&setup, &strategies) {
                 let mut values = lanes::LaneOut::Values(lanes::ValuesOut::new(out, &mut []));
@@ -970,16 +964,23 @@ impl<'m, const T: usize> EvalCore<'m, T> {
         false
     }
 
+    /// The span's set-up into `setup` (empty, as [`Setup::empty`]) and its counters, and the
+    /// span's facts: what every evaluation of a span starts with.
+    #[inline(always)]
+    fn begin(&mut self, span: &Span, setup: &mut Setup<T>) -> SpanInfo {
+        self.setup(span, setup);
+        self.stats.spans += 1;
+        self.stats.pixels += u64::from(span.len);
+        SpanInfo {
+            extra_width48: setup.extra_width48,
+        }
+    }
+
     /// The evaluation proper.
     fn eval_inner(&mut self, span: &Span, sink: &mut ChunkSink<'_, '_>) -> SpanInfo {
         let mut setup = Setup::empty();
-        self.setup(span, &mut setup);
+        let info = self.begin(span, &mut setup);
         sink.chunk.extra_width48 = setup.extra_width48;
-        self.stats.spans += 1;
-        self.stats.pixels += u64::from(span.len);
-        let info = SpanInfo {
-            extra_width48: setup.extra_width48,
-        };
         // An empty span sets nothing up (in either loop).
         if span.len == 0 {
             return info;
