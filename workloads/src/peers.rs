@@ -22,7 +22,7 @@
 use fastnoise_lite::{FastNoiseLite, FractalType, NoiseType};
 use texcore::format::TexValue;
 use texcore::hash::HashKind;
-use texcore::span::{EvalMode, EvalOptions, FaceCache, SpanEvaluator};
+use texcore::span::{EvalMode, EvalOptions, SpanEvaluator};
 use texcore::texture::workload::peers::{self, Workload};
 
 pub use crate::job::{fold, FNV_OFFSET};
@@ -177,11 +177,9 @@ pub fn run(w: Workload, imp: Implementation, hash: HashKind, rows: u16, line: &m
             );
             // The values' own line (32-bit words as the other rows'), folded as they are.
             let mut values = [TexValue::ZERO; peers::SIZE as usize];
-            let mut faces = FaceCache::new();
-            for y in 0..rows {
-                peers::value_row(&mut ev, w, y, &mut values, &mut faces);
-                acc = fold_values(acc, &values);
-            }
+            peers::value_plane(&mut ev, w, rows, &mut values, |_, row| {
+                acc = fold_values(acc, row);
+            });
         }
     }
     acc

@@ -1,6 +1,6 @@
 //! The job suite's rows of the peers' plane (`peers:<workload>` in `texsim report cycles`): the
 //! workloads of `texcore::texture::workload::peers` evaluated by its own row kernel
-//! ([`peers::value_row`]), the very code of `texsim report peers`' `texcore-fd` and
+//! ([`peers::value_plane`]), the very code of `texsim report peers`' `texcore-fd` and
 //! `texcore-direct` rows ([`crate::peers`]), so that both reports measure one thing.
 //!
 //! A 256 x 256 plane, pixel `(x, y)` at `s = (x / 32, y / 32, 0.37)` (8 octave-0 cells across
@@ -26,7 +26,7 @@
 
 use texcore::format::TexValue;
 use texcore::hash::HashKind;
-use texcore::span::{EvalMode, EvalOptions, FaceCache, SpanEvaluator};
+use texcore::span::{EvalMode, EvalOptions, SpanEvaluator};
 use texcore::texture::workload::peers::{self, Workload};
 
 use crate::job::{fold, FNV_OFFSET};
@@ -65,7 +65,7 @@ impl PeerWorkload {
     }
 }
 
-/// Every row of the plane through [`peers::value_row`] (`work == false`: zero rows), each folded.
+/// Every row of the plane through [`peers::value_plane`] (`work == false`: zero rows), each folded.
 #[inline(never)]
 fn plane(
     ev: &mut SpanEvaluator<'_, { texcore::texture::workload::TERMS }>,
@@ -73,14 +73,17 @@ fn plane(
     work: bool,
 ) -> u32 {
     let mut line = [TexValue::ZERO; peers::SIZE as usize];
-    let mut faces = FaceCache::new();
     let mut acc = FNV_OFFSET;
-    for y in 0..peers::SIZE {
-        if work {
-            peers::value_row(ev, w, y, &mut line, &mut faces);
-        }
-        let row = core::hint::black_box(&line);
+    let mut fold_row = |row: &[TexValue]| {
+        let row = core::hint::black_box(row);
         acc = row.iter().fold(acc, |a, v| fold(a, v.to_bits() as u32));
+    };
+    if work {
+        peers::value_plane(ev, w, peers::SIZE, &mut line, |_, row| fold_row(row));
+    } else {
+        for _ in 0..peers::SIZE {
+            fold_row(&line);
+        }
     }
     acc
 }

@@ -161,7 +161,7 @@ fn walk_acc<const ADD: bool>(acc: &mut [i64], v: &mut i64, s: i64) {
 /// `f = (q + (N >> fv)) >> 32`, `q` the quadric (`NOQ`: zero, `f = (N >> 32) >> fv`; `AFFINE`:
 /// a constant step).
 #[inline(always)]
-fn walk_out<const ADD: bool, const CLEAR: bool, const NOQ: bool, const AFFINE: bool>(
+pub(super) fn walk_out<const ADD: bool, const CLEAR: bool, const NOQ: bool, const AFFINE: bool>(
     out: &mut [TexValue],
     acc: &mut [i64],
     fvs: u32,

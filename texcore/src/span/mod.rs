@@ -91,8 +91,10 @@ mod lanes;
 mod merged;
 mod passes;
 mod quad;
+mod rows;
 
 pub use face_cache::FaceCache;
+pub use rows::{PlaneRows, RowCache};
 
 use axis::*;
 use cubic::*;
@@ -638,6 +640,9 @@ struct EvalCore<'m, const T: usize> {
     /// Tests only: spans the axial kernel evaluated.
     #[cfg(test)]
     axial_spans: u64,
+    /// Tests only: rows the row schedule evaluated (`rows`).
+    #[cfg(test)]
+    row_spans: u64,
 }
 
 impl<'m, const T: usize> SpanEvaluator<'m, T> {
@@ -831,6 +836,8 @@ impl<'m, const T: usize> EvalCore<'m, T> {
             lean: LEAN,
             #[cfg(test)]
             axial_spans: 0,
+            #[cfg(test)]
+            row_spans: 0,
         }
     }
 
@@ -851,36 +858,59 @@ impl<'m, const T: usize> EvalCore<'m, T> {
             if span.len == 0 {
                 return info;
             }
-            let (mode, len) = (compiled_mode(self.opts.mode), span.len);
-            let choose = |ts: &TermSetup, cubic| strategy(mode, ts, cubic, len);
-            let strategies = plan(&setup, self.model.terms(), choose);
-            let merged = self.merged_takes(u32::from(span.len), &setup, &strategies);
-            if merged && self.axial_takes(&setup, &strategies) {
-                // Accumulators only for several lanes, no longer than the span needs (each
-                // array is cleared only on its own branch).
-                let lanes = strategies.iter().filter(|s| **s != Strategy::Off).count();
-                let mut go = |acc: &mut [i64]| {
-                    let mut values = lanes::LaneOut::Values(lanes::ValuesOut::new(out, acc));
-                    self.run_lanes(len, &setup, &strategies, &mut values, faces);
-                };
-                if lanes <= 1 {
-                    go(&mut []);
-                } else if len <= SAMPLE_CHUNK as u16 {
-                    go(&mut [0i64; SAMPLE_CHUNK]);
-                } else {
-                    go(&mut [0i64; lanes::VALUE_RUN]);
-                }
-            } else if merged && self.axial_direct_takes(&setup, &strategies) {
-                let mut values = lanes::LaneOut::Values(lanes::ValuesOut::new(out, &mut []));
-                self.run_axial_direct(span.len, &setup, &strategies, &mut values);
-            } else {
-                copy_values(out, |sink| self.run(len, &setup, sink));
-            }
+            let strategies = self.plan_span(span.len, &setup);
+            self.values_planned(span.len, &setup, &strategies, out, faces);
             return info;
         }
         let mut info = SpanInfo::default();
         copy_values(out, |sink| info = self.eval_inner(span, sink));
         info
+    }
+
+    /// The plan of a span of `len` pixels with set-up `setup` under the evaluator's mode.
+    #[cfg(not(texcore_lean))]
+    #[inline(always)]
+    fn plan_span(&self, len: u16, setup: &Setup<T>) -> [Strategy; T] {
+        let mode = compiled_mode(self.opts.mode);
+        let choose = |ts: &TermSetup, cubic| strategy(mode, ts, cubic, len);
+        plan(setup, self.model.terms(), choose)
+    }
+
+    /// The values of a span of `len` pixels (`out` exactly that long, gradients off) that has
+    /// been set up and planned: the lane kernel straight into `out` where it takes the span,
+    /// otherwise the chunks' `f` copied (fast shape only).
+    #[cfg(not(texcore_lean))]
+    #[inline(always)]
+    fn values_planned(
+        &mut self,
+        len: u16,
+        setup: &Setup<T>,
+        strategies: &[Strategy; T],
+        out: &mut [TexValue],
+        faces: &mut [face_cache::FaceEntry],
+    ) {
+        let merged = self.merged_takes(u32::from(len), setup, strategies);
+        if merged && self.axial_takes(setup, strategies) {
+            // Accumulators only for several lanes, no longer than the span needs (each array
+            // is cleared only on its own branch).
+            let lanes = strategies.iter().filter(|s| **s != Strategy::Off).count();
+            let mut go = |acc: &mut [i64]| {
+                let mut values = lanes::LaneOut::Values(lanes::ValuesOut::new(out, acc));
+                self.run_lanes(len, setup, strategies, &mut values, faces);
+            };
+            if lanes <= 1 {
+                go(&mut []);
+            } else if len <= SAMPLE_CHUNK as u16 {
+                go(&mut [0i64; SAMPLE_CHUNK]);
+            } else {
+                go(&mut [0i64; lanes::VALUE_RUN]);
+            }
+        } else if merged && self.axial_direct_takes(setup, strategies) {
+            let mut values = lanes::LaneOut::Values(lanes::ValuesOut::new(out, &mut []));
+            self.run_axial_direct(len, setup, strategies, &mut values);
+        } else {
+            copy_values(out, |sink| self.run(len, setup, sink));
+        }
     }
 
     /// Whether the merged loop takes its size-lean shape ([`LEAN`]; tests choose either).

@@ -29,7 +29,7 @@ use crate::hash::HashKind;
 use crate::model::{Octaves, TextureModel};
 use crate::noise::NoiseBasis;
 use crate::quadric::Quadric;
-use crate::span::{FaceCache, Sample, SampleChunk, Span, SpanEvaluator};
+use crate::span::{FaceCache, RowCache, Sample, SampleChunk, Span, SpanEvaluator};
 use crate::table::TableWrap;
 use crate::transform::Affine3;
 
@@ -217,6 +217,42 @@ pub fn grad_word(s: &Sample) -> u32 {
 /// 4-octave workloads crosses (124).
 pub const FACES: usize = 128;
 
+/// Entries of the row schedule of the whole-row value workloads ([`value_plane`]): every cell a
+/// row of the 4-octave workloads crosses, plus one a term (124).
+pub const ROW_EVENTS: usize = 128;
+
+/// Rows `0..rows` of noise workload `w`, each into `line` (its first [`SIZE`] values) and then
+/// handed to `each(y, line)`: the whole-row workloads without gradients through
+/// [`SpanEvaluator::rows`] (their schedule kept across rows in a [`RowCache`] of
+/// [`ROW_EVENTS`] entries), the others row by row through [`value_row`] with a face cache kept
+/// across rows. `ev` must have been built for `w`'s model with `gradients = w.gradients()`.
+#[inline(always)]
+pub fn value_plane<const T: usize>(
+    ev: &mut SpanEvaluator<'_, T>,
+    w: Workload,
+    rows: u16,
+    line: &mut [TexValue],
+    mut each: impl FnMut(u16, &[TexValue]),
+) {
+    if !w.gradients() && w.span_len() == SIZE {
+        let Some(line) = line.get_mut(..usize::from(SIZE)) else {
+            return;
+        };
+        let mut cache = RowCache::<ROW_EVENTS>::new();
+        let mut plane = ev.rows(&span(0, 0, SIZE), &mut cache);
+        for y in 0..rows {
+            plane.next_values(line);
+            each(y, line);
+        }
+    } else {
+        let mut faces = FaceCache::new();
+        for y in 0..rows {
+            value_row(ev, w, y, line, &mut faces);
+            each(y, line);
+        }
+    }
+}
+
 /// Row `y` of noise workload `w` into `line` (its first [`SIZE`] values), span by span
 /// ([`Workload::span_len`]): `f` through [`SpanEvaluator::eval_values_cached`] with `faces`
 /// kept across the rows, or, when `w` has
@@ -292,6 +328,39 @@ mod tests {
         assert_eq!(s.s0.to_bits(), [16 * 2048, 3 * 2048, R_BITS]);
         // R_BITS / 65536 is 0.37 to 5e-6 and exact in f32.
         assert!((f64::from(R_BITS) / 65536.0 - 0.37).abs() < 5e-6);
+    }
+
+    #[test]
+    fn planes_are_their_rows() {
+        use crate::span::{EvalMode, EvalOptions};
+        for w in Workload::ALL {
+            let Some(m) = model(w, HashKind::Integer) else {
+                continue;
+            };
+            let opts = EvalOptions {
+                mode: EvalMode::Fd,
+                gradients: w.gradients(),
+                cull: true,
+                ..Default::default()
+            };
+            let mut ev = SpanEvaluator::new(&m, opts);
+            let mut direct = SpanEvaluator::new(
+                &m,
+                EvalOptions {
+                    mode: EvalMode::Direct,
+                    ..opts
+                },
+            );
+            let (mut line, mut want) = ([TexValue::ZERO; 256], [TexValue::ZERO; 256]);
+            let mut faces = FaceCache::new();
+            let mut seen = 0;
+            value_plane(&mut ev, w, 40, &mut line, |y, got| {
+                value_row(&mut direct, w, y, &mut want, &mut faces);
+                assert_eq!(got, &want[..], "{w:?} row {y}");
+                seen += 1;
+            });
+            assert_eq!(seen, 40);
+        }
     }
 
     #[test]

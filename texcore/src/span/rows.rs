@@ -1,0 +1,788 @@
+//! The rows of a plane: [`PlaneRows`] evaluates row after row of a plane (each row a span, the
+//! next one `dsdy` further), keeping each row's cell schedule and the cells' polynomials as
+//! functions of the row across rows.
+//!
+//! On an axis-aligned plane (the lane kernel's spans, `lanes`: every term trilinear, forward
+//! differenced, stepping along one lattice axis `k` along the row) whose rows step along at
+//! most one other axis `m` and not along `k`, every row crosses the same cells along `k` at the
+//! same pixels: the *schedule* (which term enters a new cell at which pixel) is the same for
+//! every row. Inside a cell a term is linear, `v(j) = g0 + g1 j` (`axis::poly`), and the face
+//! blends are `Phi = A + B f_m` in the ring of 64-bit integers, `f_m` the fraction along `m` (the
+//! face cache's identity, `face_cache`), so `g0` and `g1` are `A + B f_m` too, with `A` and `B`
+//! fixed while the term stays in the same cells along the two other axes. A row's samples are
+//! then one merged value `V` and slope `S` (the sum of the terms' `v` and `g1`) stepped a pixel
+//! at a time, and at each entry of the schedule `V` and `S` change by the entering cell's start
+//! less the leaving cell's end, itself `A + B f_m` ([`RowEvent`]): two multiplications an event,
+//! no hashing, no blending, no division. A term's `A` and `B` are made again only when the rows
+//! reach its next cell along `m` (once every `1 / dsdy_m` rows).
+//!
+//! # Guarantees
+//!
+//! - **Exact**: every sample is the one [`SpanEvaluator::eval_values`] gives for the row's span,
+//!   bit for bit (the same ring identities; the unit tests compare them row by row with the lane
+//!   kernel and with `Direct`, on random planes, cache sizes and models), and so are the
+//!   counters.
+//! - Any plane and model is accepted: a row the schedule does not serve (a model or plane the
+//!   lane kernel does not take, a rotated plane, a schedule longer than the cache, the size-lean
+//!   code shape, a build without forward differencing) is evaluated by
+//!   [`SpanEvaluator::eval_values`]. Each row is set up as a span of its own and checked against
+//!   the schedule, so nothing about the plane is assumed.
+//! - Capacity in the type: [`RowCache<N>`] holds `N` schedule entries of 40 bytes, given by the
+//!   caller; no allocation, never panics.
+
+use super::*;
+
+/// One entry of a row schedule: at pixel `at`, term `lane` enters a new cell, and the row's
+/// value and slope change by `dv[0] + dv[1] f_m` and `ds[0] + ds[1] f_m` (`f_m` that term's
+/// fraction along its row axis in the current row). The first entry of each term (at pixel 0)
+/// is its first cell's start.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub(super) struct RowEvent {
+    at: u16,
+    /// Pixels from `at` to the next entry (to the end of the row for the last).
+    run: u16,
+    lane: u16,
+    dv: [i64; 2],
+    ds: [i64; 2],
+}
+
+/// The schedule entries of [`PlaneRows`]: `N` entries of 40 bytes, given by the caller so that
+/// a device keeps them where it wants (see the module documentation of `texcore::span::rows`).
+///
+/// Size it to the cells one row crosses, over all terms: a term of `c` cells across the row
+/// needs `c + 1` entries (four octaves of 8, 16, 32 and 64 cells: 124).
+#[derive(Clone, Debug)]
+pub struct RowCache<const N: usize> {
+    events: [RowEvent; N],
+}
+
+impl<const N: usize> RowCache<N> {
+    /// An empty cache.
+    pub const fn new() -> Self {
+        RowCache {
+            events: [RowEvent {
+                at: 0,
+                run: 0,
+                lane: 0,
+                dv: [0; 2],
+                ds: [0; 2],
+            }; N],
+        }
+    }
+
+    /// Number of entries.
+    pub const fn capacity(&self) -> usize {
+        N
+    }
+}
+
+impl<const N: usize> Default for RowCache<N> {
+    fn default() -> Self {
+        Self::new()
+    }
+}
+
+/// One term of a row schedule: what the schedule and the term's `A`, `B` were made for.
+#[derive(Clone, Copy, Debug)]
+struct RowLane {
+    /// The term's index in the model.
+    term: usize,
+    /// The axis along the row, the row axis and the fixed axis.
+    k: usize,
+    m: usize,
+    o: usize,
+    /// The lattice step along the row and the coordinate along `k` at pixel 0.
+    du: [i32; 3],
+    u0k: i32,
+    /// The cells along `m` and `o`, the fraction along `o` and the amplitude the term's entries
+    /// were made for (`made`: they are).
+    cm: u16,
+    co: u16,
+    fo: u32,
+    amp: i32,
+    made: bool,
+}
+
+/// The rows of a plane, evaluated one after the other with their schedule kept (see the module
+/// documentation): made by [`SpanEvaluator::rows`].
+///
+/// A 64 x 64 field of four octaves of value noise:
+///
+/// ```
+/// use texcore::format::{Amplitude, MatrixEntry, TexPoint, TexValue};
+/// use texcore::hash::HashKind;
+/// use texcore::model::{Octaves, TextureModel};
+/// use texcore::noise::NoiseBasis;
+/// use texcore::quadric::Quadric;
+/// use texcore::span::{EvalMode, EvalOptions, RowCache, Span, SpanEvaluator};
+/// use texcore::table::TableWrap;
+/// use texcore::transform::Affine3;
+///
+/// let mut model: TextureModel<4> = TextureModel::new(Quadric::ZERO, TableWrap::Mod);
+/// model.push_octaves(&Octaves {
+///     count: 4,
+///     base: Affine3::scale(MatrixEntry::ONE),
+///     amplitude: Amplitude::ONE,
+///     rotate: false,
+///     basis: NoiseBasis::trilinear(HashKind::Integer),
+///     turbulence: false,
+/// })?;
+/// let opts = EvalOptions { mode: EvalMode::Fd, gradients: false, ..Default::default() };
+/// let first = Span {
+///     s0: TexPoint::from_f64(0.0, 0.0, 0.5),
+///     ds: TexPoint::from_f64(1.0 / 8.0, 0.0, 0.0),
+///     dsdy: TexPoint::from_f64(0.0, 1.0 / 8.0, 0.0),
+///     len: 64,
+/// };
+/// let mut ev = SpanEvaluator::new(&model, opts);
+/// let mut cache = RowCache::<64>::new();
+/// let mut field = [[TexValue::ZERO; 64]; 64];
+/// let mut rows = ev.rows(&first, &mut cache);
+/// for row in field.iter_mut() {
+///     rows.next_values(row);
+/// }
+/// // Row 5 is the span five rows down, as any evaluation of it gives.
+/// let mut direct = SpanEvaluator::new(&model, EvalOptions { mode: EvalMode::Direct, ..opts });
+/// let mut row = [TexValue::ZERO; 64];
+/// let s0 = TexPoint::from_f64(0.0, 5.0 / 8.0, 0.5);
+/// direct.eval_values(&Span { s0, ..first }, &mut row);
+/// assert_eq!(row, field[5]);
+/// # Ok::<(), texcore::model::ModelError>(())
+/// ```
+#[derive(Debug)]
+pub struct PlaneRows<'e, 'm, 'c, const T: usize> {
+    ev: &'e mut SpanEvaluator<'m, T>,
+    events: &'c mut [RowEvent],
+    state: RowsState<T>,
+    span: Span,
+}
+
+/// The schedule's description: its entries in use, its length and terms.
+#[derive(Debug)]
+struct RowsState<const T: usize> {
+    used: usize,
+    len: u16,
+    lanes: heapless::Vec<RowLane, T>,
+}
+
+impl<'m, const T: usize> SpanEvaluator<'m, T> {
+    /// The rows of a plane from `first` (each next row's span is the last one's with `s0`
+    /// advanced by `dsdy`, wrapping), evaluated through `cache` (see [`PlaneRows`]): the same
+    /// values as [`SpanEvaluator::eval_values`] of each row's span, bit for bit.
+    pub fn rows<'e, 'c, const N: usize>(
+        &'e mut self,
+        first: &Span,
+        cache: &'c mut RowCache<N>,
+    ) -> PlaneRows<'e, 'm, 'c, T> {
+        PlaneRows {
+            ev: self,
+            events: &mut cache.events,
+            state: RowsState {
+                used: 0,
+                len: 0,
+                lanes: heapless::Vec::new(),
+            },
+            span: *first,
+        }
+    }
+}
+
+impl<const T: usize> PlaneRows<'_, '_, '_, T> {
+    /// The span of the next row.
+    pub fn span(&self) -> &Span {
+        &self.span
+    }
+
+    /// The evaluator's counters so far.
+    pub fn stats(&self) -> &SpanStats {
+        self.ev.stats()
+    }
+
+    /// Evaluates the next row into `out` (as [`SpanEvaluator::eval_values`]: its first
+    /// `min(len, out.len())` values) and moves to the row after it. Returns the row's facts.
+    pub fn next_values(&mut self, out: &mut [TexValue]) -> SpanInfo {
+        let span = self.span;
+        let b = span.s0.to_bits();
+        let d = span.dsdy.to_bits();
+        self.span.s0 = TexPoint::from_bits(
+            b[0].wrapping_add(d[0]),
+            b[1].wrapping_add(d[1]),
+            b[2].wrapping_add(d[2]),
+        );
+        let n = usize::from(span.len).min(out.len());
+        let span = Span {
+            len: n as u16,
+            ..span
+        };
+        let Some(out) = out.get_mut(..n) else {
+            return SpanInfo::default();
+        };
+        let core = &mut self.ev.core;
+        let grads = core.opts.gradients;
+        core.opts.gradients = false;
+        let info = core.eval_row(&span, out, &mut self.state, self.events);
+        core.opts.gradients = grads;
+        info
+    }
+}
+
+impl<'m, const T: usize> EvalCore<'m, T> {
+    /// A row of [`PlaneRows`] (gradients off, `out` exactly `span.len` long): through the
+    /// schedule `state` / `events` where it serves the row, otherwise as
+    /// [`SpanEvaluator::eval_values`].
+    #[cfg_attr(texcore_lean, allow(unused_variables))]
+    fn eval_row(
+        &mut self,
+        span: &Span,
+        out: &mut [TexValue],
+        state: &mut RowsState<T>,
+        events: &mut [RowEvent],
+    ) -> SpanInfo {
+        #[cfg(not(texcore_lean))]
+        if FD && !self.lean() && !self.multipass() {
+            let mut setup = Setup::empty();
+            let info = self.begin(span, &mut setup);
+            if span.len == 0 {
+                return info;
+            }
+            let strategies = self.plan_span(span.len, &setup);
+            if !self.row_schedule(span, &setup, &strategies, state, events) {
+                state.used = 0;
+                self.values_planned(span.len, &setup, &strategies, out, &mut []);
+                return info;
+            }
+            self.run_row(span.len, &setup, state, events, out);
+            return info;
+        }
+        self.eval_values(span, out, &mut [])
+    }
+
+    /// Makes `state` and `events` serve the row `span` (set up as `setup`, planned as
+    /// `strategies`): keeps the schedule when the row's terms cross the same cells along their
+    /// row axis at the same pixels, remakes it otherwise, and remakes the entries of each term
+    /// whose cells along the two other axes (or fixed fraction, or amplitude) changed. `false`
+    /// when the schedule cannot serve the row (a span the lane kernel does not take, a term whose
+    /// rows step along its row axis or along both other axes, too many entries).
+    #[cfg(not(texcore_lean))]
+    fn row_schedule(
+        &mut self,
+        span: &Span,
+        setup: &Setup<T>,
+        strategies: &[Strategy; T],
+        state: &mut RowsState<T>,
+        events: &mut [RowEvent],
+    ) -> bool {
+        let len = span.len;
+        if !(self.merged_takes(u32::from(len), setup, strategies)
+            && self.axial_takes(setup, strategies))
+        {
+            return false;
+        }
+        // The same terms, axes, steps and starts along the row: the same schedule.
+        let mut same = state.used != 0 && state.len == len;
+        let mut n = 0usize;
+        for (i, (st, ts)) in strategies.iter().zip(setup.terms.iter()).enumerate() {
+            if *st == Strategy::Off {
+                continue;
+            }
+            let Some(k) = single_axis(ts.du) else {
+                return false;
+            };
+            same &= state
+                .lanes
+                .get(n)
+                .is_some_and(|l| l.term == i && l.du == ts.du && l.u0k == ts.u0[k.min(2)]);
+            n += 1;
+        }
+        same &= state.lanes.len() == n;
+        if !same {
+            state.used = 0;
+            state.lanes.clear();
+            for (i, (st, ts)) in strategies.iter().zip(setup.terms.iter()).enumerate() {
+                if *st == Strategy::Off {
+                    continue;
+                }
+                let Some(k) = single_axis(ts.du) else {
+                    return false;
+                };
+                let k = k.min(2);
+                let (a, c) = others(k);
+                // The row axis: the other axis the rows step along (either when neither).
+                let (m, o) = match (ts.dy[k] != 0, ts.dy[a] != 0, ts.dy[c] != 0) {
+                    (false, _, false) => (a, c),
+                    (false, false, true) => (c, a),
+                    _ => return false,
+                };
+                let lane = RowLane {
+                    term: i,
+                    k,
+                    m,
+                    o,
+                    du: ts.du,
+                    u0k: ts.u0[k],
+                    cm: 0,
+                    co: 0,
+                    fo: 0,
+                    amp: 0,
+                    made: false,
+                };
+                // At most T terms: never full.
+                let _ = state.lanes.push(lane);
+            }
+            let Some(used) = schedule(len, &state.lanes, events) else {
+                return false;
+            };
+            state.used = used;
+            state.len = len;
+        }
+        // Each term's entries, for the cells of this row along the other axes.
+        let m = self.model;
+        let (fv, vb) = (m.noise_frac_bits(), m.precision().value_bits());
+        let used = state.used;
+        for (li, lane) in state.lanes.iter_mut().enumerate() {
+            let (Some(ts), Some(term)) = (setup.terms.get(lane.term), m.terms().get(lane.term))
+            else {
+                return false;
+            };
+            let (cell, frac) = split(ts.u0);
+            let (cm, co, fo) = (cell[lane.m], cell[lane.o], frac[lane.o]);
+            if lane.made && lane.cm == cm && lane.co == co && lane.fo == fo && lane.amp == ts.amp {
+                continue;
+            }
+            (lane.cm, lane.co, lane.fo, lane.amp) = (cm, co, fo, ts.amp);
+            let events = events.get_mut(..used).unwrap_or_default();
+            lane_entries(li, lane, term.basis.hash, fv, vb, events);
+            lane.made = true;
+        }
+        true
+    }
+
+    /// The samples of a row that `state` / `events` serve (`row_schedule`), and its counters.
+    #[cfg(not(texcore_lean))]
+    fn run_row(
+        &mut self,
+        len: u16,
+        setup: &Setup<T>,
+        state: &RowsState<T>,
+        events: &[RowEvent],
+        out: &mut [TexValue],
+    ) {
+        let fvs = self.model.noise_frac_bits() & 31;
+        // Each term's fraction along its row axis in this row.
+        let mut fm = [0i64; T];
+        for (f, lane) in fm.iter_mut().zip(state.lanes.iter()) {
+            if let Some(ts) = setup.terms.get(lane.term) {
+                *f = i64::from(split(ts.u0).1[lane.m.min(2)]);
+            }
+        }
+        let qc = setup.quad.c;
+        let mut q = [
+            qc[0] as i64,
+            qc[1].wrapping_add(qc[2]) as i64,
+            qc[2].wrapping_mul(2) as i64,
+        ];
+        let quad = match ((q[0] | q[1] | q[2]) == 0, qc[2] == 0) {
+            (true, _) => 0u8,
+            (false, true) => 1,
+            (false, false) => 2,
+        };
+        let events = events.get(..state.used).unwrap_or_default();
+        match quad {
+            0 => row_walk::<true, true, T>(events, &fm, fvs, out, &mut q),
+            1 => row_walk::<false, true, T>(events, &fm, fvs, out, &mut q),
+            _ => row_walk::<false, false, T>(events, &fm, fvs, out, &mut q),
+        }
+        let len = usize::from(len);
+        let px = len as u64;
+        let st = &mut self.stats;
+        st.cell_setups += events.len() as u64;
+        st.noise_evaluations += px * state.lanes.len() as u64;
+        st.fd_pixels += px;
+        #[cfg(test)]
+        {
+            self.row_spans += 1;
+        }
+    }
+}
+
+/// The samples of a row from its schedule's `events` (each term's `f_m` in `fm`): at each
+/// entry the merged value and slope change, then the entry's `run` pixels are written
+/// (`lanes::walk_out`, the lane kernel's pixel loop, with the quadric `q`: `NOQ` zero, `AFFINE`
+/// a constant step).
+#[cfg(not(texcore_lean))]
+#[inline(always)]
+fn row_walk<const NOQ: bool, const AFFINE: bool, const T: usize>(
+    events: &[RowEvent],
+    fm: &[i64; T],
+    fvs: u32,
+    out: &mut [TexValue],
+    q: &mut [i64; 3],
+) {
+    let (mut v, mut s) = (0i64, 0i64);
+    let mut rest = out;
+    for e in events {
+        let f = fm.get(usize::from(e.lane)).copied().unwrap_or(0);
+        v = wadd(v, wadd(e.dv[0], wmul(e.dv[1], f)));
+        s = wadd(s, wadd(e.ds[0], wmul(e.ds[1], f)));
+        let n = usize::from(e.run).min(rest.len());
+        let (run, tail) = core::mem::take(&mut rest).split_at_mut(n);
+        lanes::walk_out::<false, false, NOQ, AFFINE>(run, &mut [], fvs, &mut v, s, q);
+        rest = tail;
+    }
+}
+
+/// The pixels (and terms) of a row's schedule for `lanes` over `len` pixels, in order of pixel,
+/// into `events` (their values left to `lane_entries`): the number of entries, `None` when
+/// they do not fit.
+#[cfg(not(texcore_lean))]
+fn schedule<const T: usize>(
+    len: u16,
+    lanes: &heapless::Vec<RowLane, T>,
+    events: &mut [RowEvent],
+) -> Option<usize> {
+    // Each term's next cell entry (pixel 0 first).
+    let mut next = [0u32; T];
+    let len = u32::from(len);
+    let mut used = 0usize;
+    loop {
+        let mut best: Option<(usize, u32)> = None;
+        for (li, p) in next.iter().enumerate().take(lanes.len()) {
+            if *p < len && best.is_none_or(|(_, b)| *p < b) {
+                best = Some((li, *p));
+            }
+        }
+        let Some((li, p)) = best else {
+            if let Some(last) = used.checked_sub(1).and_then(|i| events.get_mut(i)) {
+                last.run = (len - u32::from(last.at)) as u16;
+            }
+            return Some(used);
+        };
+        if let Some(last) = used.checked_sub(1).and_then(|i| events.get_mut(i)) {
+            last.run = (p - u32::from(last.at)) as u16;
+        }
+        let e = events.get_mut(used)?;
+        *e = RowEvent {
+            at: p as u16,
+            lane: li as u16,
+            ..RowEvent::default()
+        };
+        used += 1;
+        let (Some(lane), Some(n)) = (lanes.get(li), next.get_mut(li)) else {
+            return None;
+        };
+        let k = lane.k.min(2);
+        let d = lane.du[k];
+        let uk = lane.u0k.wrapping_add(d.wrapping_mul(p as i32));
+        *n = p.saturating_add(pixels_in_cell_axis((uk & 0xFFFF) as u32, d));
+    }
+}
+
+/// `A` and `B` of a face blend `Phi = A + B f_m` (face `b` of `cell` for a term along `k`, row
+/// axis `m`, fixed fraction `fo` along `o`): `Phi` at `f_m = 0` and its change at `f_m = 1`,
+/// `Phi` being affine in `f_m` in the ring (the face cache's identity).
+#[cfg(not(texcore_lean))]
+#[allow(clippy::too_many_arguments)]
+fn face_ab(lane: &RowLane, hash: HashKind, cell: [u16; 3], b: usize, fv: u32, vb: u32) -> [i64; 2] {
+    let k = lane.k.min(2);
+    let w = face_bits(k, hash, cell, b, lane.amp, fv, vb);
+    let mut frac = [0u32; 3];
+    if let Some(f) = frac.get_mut(lane.o) {
+        *f = lane.fo;
+    }
+    let p0 = face(&w, k, frac, [0; 3], false).phi();
+    if let Some(f) = frac.get_mut(lane.m) {
+        *f = 1;
+    }
+    let p1 = face(&w, k, frac, [0; 3], false).phi();
+    [p0, wsub(p1, p0)]
+}
+
+/// A term's previous cell in [`lane_entries`]: its coordinate along `k`, its faces' and its
+/// start's and slope's `A`, `B`, and its first pixel.
+#[cfg(not(texcore_lean))]
+#[derive(Clone, Copy)]
+struct PrevCell {
+    ck: u16,
+    faces: [[i64; 2]; 2],
+    g: [[i64; 2]; 2],
+    at: u16,
+}
+
+/// The entries of term `li` (`lane`) of a schedule: each of its cells' start and slope,
+/// `g0 = Phi_0 2^16 + (Phi_1 - Phi_0) f_k` and `g1 = (Phi_1 - Phi_0) d` (`axis::poly`), as
+/// `A + B f_m`, less the previous cell's end `g0 + g1 n` and slope.
+#[cfg(not(texcore_lean))]
+fn lane_entries(
+    li: usize,
+    lane: &RowLane,
+    hash: HashKind,
+    fv: u32,
+    vb: u32,
+    events: &mut [RowEvent],
+) {
+    let k = lane.k.min(2);
+    let d = lane.du[k];
+    let mut cell = [0u16; 3];
+    if let Some(c) = cell.get_mut(lane.m) {
+        *c = lane.cm;
+    }
+    if let Some(c) = cell.get_mut(lane.o) {
+        *c = lane.co;
+    }
+    // The previous cell: its coordinate along k, faces, start (g0, g1 as A, B) and pixel.
+    let mut prev: Option<PrevCell> = None;
+    for e in events.iter_mut().filter(|e| usize::from(e.lane) == li) {
+        let uk = lane.u0k.wrapping_add(d.wrapping_mul(i32::from(e.at)));
+        let ck = (uk >> 16) as u16;
+        let fk = i64::from(uk & 0xFFFF);
+        if let Some(c) = cell.get_mut(k) {
+            *c = ck;
+        }
+        let blend = |b: usize| face_ab(lane, hash, cell, b, fv, vb);
+        let faces = match prev {
+            Some(p) if ck.wrapping_sub(p.ck) == 1 => [p.faces[1], blend(1)],
+            Some(p) if ck.wrapping_sub(p.ck) == 0xFFFF => [blend(0), p.faces[0]],
+            _ => [blend(0), blend(1)],
+        };
+        let [f0, f1] = faces;
+        let dphi = [wsub(f1[0], f0[0]), wsub(f1[1], f0[1])];
+        let g0 = [
+            wadd(f0[0] << 16, wmul(dphi[0], fk)),
+            wadd(f0[1] << 16, wmul(dphi[1], fk)),
+        ];
+        let g1 = [wmul(dphi[0], i64::from(d)), wmul(dphi[1], i64::from(d))];
+        (e.dv, e.ds) = match prev {
+            None => (g0, g1),
+            Some(PrevCell {
+                g: [p0, p1], at, ..
+            }) => {
+                let n = i64::from(e.at.wrapping_sub(at));
+                let end = [wadd(p0[0], wmul(p1[0], n)), wadd(p0[1], wmul(p1[1], n))];
+                (
+                    [wsub(g0[0], end[0]), wsub(g0[1], end[1])],
+                    [wsub(g1[0], p1[0]), wsub(g1[1], p1[1])],
+                )
+            }
+        };
+        prev = Some(PrevCell {
+            ck,
+            faces,
+            g: [g0, g1],
+            at: e.at,
+        });
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::format::{Amplitude, MatrixEntry, QuadricCoeff};
+    use crate::model::Octaves;
+    use crate::noise::NoiseBasis;
+    use crate::quadric::Quadric;
+    use crate::transform::Affine3;
+
+    /// A model of `octaves` unrotated trilinear octaves (zoom `2^zoom`) with quadric kind
+    /// `quadric` (zero, affine, curved).
+    fn model(octaves: u8, zoom: u32, quadric: u32, clamp: bool, hash: HashKind) -> TextureModel<8> {
+        let q = match quadric {
+            0 => Quadric::ZERO,
+            1 => Quadric::linear(
+                QuadricCoeff::ONE,
+                QuadricCoeff::ZERO,
+                QuadricCoeff::from_num(0.5),
+                QuadricCoeff::ZERO,
+            ),
+            _ => Quadric::from_f64([0.7, 0.1, 0.0, -0.2, 0.3, 0.0, 0.05, 1.1, 0.25, 0.4]).unwrap(),
+        };
+        let wrap = if clamp {
+            TableWrap::Clamp
+        } else {
+            TableWrap::Mod
+        };
+        let mut m: TextureModel<8> = TextureModel::new(q, wrap);
+        m.push_octaves(&Octaves {
+            count: octaves,
+            base: Affine3::scale(MatrixEntry::from_num(1u32 << zoom)),
+            amplitude: Amplitude::from_num(0.6),
+            rotate: false,
+            basis: NoiseBasis::trilinear(hash),
+            turbulence: false,
+        })
+        .unwrap();
+        m
+    }
+
+    /// Row `y` of the plane `first` (`s0 + y dsdy`, wrapping).
+    fn row(first: &Span, y: i32) -> Span {
+        let b = first.s0.to_bits();
+        let d = first.dsdy.to_bits();
+        Span {
+            s0: TexPoint::from_bits(
+                b[0].wrapping_add(d[0].wrapping_mul(y)),
+                b[1].wrapping_add(d[1].wrapping_mul(y)),
+                b[2].wrapping_add(d[2].wrapping_mul(y)),
+            ),
+            ..*first
+        }
+    }
+
+    /// `rows` rows of `first` through a [`RowCache<N>`] and through `eval_values` (and `Direct`
+    /// every third row), compared row by row, and the counters; returns the rows the schedule
+    /// served.
+    fn compare<const N: usize>(
+        m: &TextureModel<8>,
+        opts: EvalOptions,
+        first: &Span,
+        rows: i32,
+        out_len: usize,
+    ) -> Result<u64, proptest::test_runner::TestCaseError> {
+        let mut cache = RowCache::<N>::new();
+        let mut ev = SpanEvaluator::new(m, opts);
+        let mut plain = SpanEvaluator::new(m, opts);
+        let mut direct = SpanEvaluator::new(
+            m,
+            EvalOptions {
+                mode: EvalMode::Direct,
+                ..opts
+            },
+        );
+        let marker = TexValue::from_bits(0x5A5A_5A5A);
+        let n = usize::from(first.len).min(out_len);
+        let mut pr = ev.rows(first, &mut cache);
+        for y in 0..rows {
+            let sp = row(first, y);
+            proptest::prop_assert_eq!(pr.span(), &sp);
+            let mut got = std::vec![marker; out_len + 2];
+            let info = pr.next_values(&mut got[..out_len]);
+            let mut want = std::vec![marker; out_len + 2];
+            let want_info = plain.eval_values(&sp, &mut want[..out_len]);
+            proptest::prop_assert_eq!(&got, &want, "row {}", y);
+            proptest::prop_assert_eq!(info, want_info);
+            proptest::prop_assert_eq!(&got[n..], &std::vec![marker; out_len + 2 - n][..]);
+            if y % 3 == 0 {
+                let mut d = std::vec![marker; out_len + 2];
+                direct.eval_values(&sp, &mut d[..out_len]);
+                proptest::prop_assert_eq!(&got, &d, "row {} against Direct", y);
+            }
+            proptest::prop_assert_eq!(pr.stats(), plain.stats(), "row {}", y);
+        }
+        drop(pr);
+        proptest::prop_assert_eq!(ev.options(), opts, "the options are restored");
+        Ok(ev.core.row_spans)
+    }
+
+    proptest::proptest! {
+        #![proptest_config(proptest::prelude::ProptestConfig::with_cases(96))]
+        /// The rows of a plane through the schedule are `eval_values`' and `Direct`'s, with the
+        /// same counters, for any start, step along any axis (short and long cells), row step
+        /// (along another axis, none, along the row's own axis or along two axes: the last two
+        /// never served by the schedule), length, output length, quadric, `mod` and `clamp`,
+        /// mode, gradients asked for or not, octaves and zoom; and the schedule serves every
+        /// row of an axis-aligned plane the lane kernel takes when the cache holds it.
+        #[test]
+        fn rows_are_eval_values(
+            s0 in proptest::array::uniform3(-4_000_000i32..4_000_000),
+            step in -90_000i32..90_000,
+            axis in 0usize..3,
+            across in 0usize..4,
+            dyv in -30_000i32..30_000,
+            len in 0u16..300,
+            short in 0usize..3,
+            clamp: bool,
+            quadric in 0u32..3,
+            gradients: bool,
+            octaves in 1u8..6,
+            zoom in 0u32..3,
+            mode in 0usize..3,
+            hash: bool,
+        ) {
+            let hash = if hash { HashKind::Integer } else { HashKind::default() };
+            let m = model(octaves, zoom, quadric, clamp, hash);
+            let mut ds = [0; 3];
+            ds[axis] = (step >> (2 * zoom)) | 1;
+            let mut dy = [0; 3];
+            match across {
+                // None, another axis, the row's own axis, two axes.
+                0 => {}
+                1 => dy[(axis + 1) % 3] = dyv,
+                2 => dy[axis] = dyv | 1,
+                _ => {
+                    dy[(axis + 1) % 3] = dyv | 1;
+                    dy[(axis + 2) % 3] = 77;
+                }
+            }
+            let first = Span {
+                s0: TexPoint::from_bits(s0[0], s0[1], s0[2]),
+                ds: TexPoint::from_bits(ds[0], ds[1], ds[2]),
+                dsdy: TexPoint::from_bits(dy[0], dy[1], dy[2]),
+                len,
+            };
+            let mode = [EvalMode::Fd, EvalMode::Auto, EvalMode::Direct][mode];
+            let opts = EvalOptions { mode, gradients, cull: true, ..Default::default() };
+            let out_len = match short {
+                0 => usize::from(len),
+                1 => usize::from(len) / 2,
+                _ => usize::from(len) + 5,
+            };
+            let served = compare::<256>(&m, opts, &first, 10, out_len)?;
+            let small = compare::<3>(&m, opts, &first, 4, out_len)?;
+            // The schedule serves an axis-aligned plane of resolved cells (`Fd`) that the lane
+            // kernel takes, whatever the octaves (at most 5 x ~150 entries of 256 here would
+            // not always fit: only when it does).
+            let resolved = (ds[axis] << zoom).unsigned_abs() < NYQUIST_STEP as u32;
+            let n = usize::from(len).min(out_len);
+            let cells: u64 = (0..octaves)
+                .map(|i| 2 + ((n as u64 * u64::from(ds[axis].unsigned_abs())) << (zoom + u32::from(i))) / 65536)
+                .sum();
+            if FD && mode == EvalMode::Fd && n > 0 && across < 2 && !clamp && resolved && cells <= 256 {
+                proptest::prop_assert_eq!(served, 10);
+            }
+            if across >= 2 {
+                proptest::prop_assert_eq!(served, 0);
+                proptest::prop_assert_eq!(small, 0);
+            }
+        }
+    }
+
+    #[test]
+    fn peers_plane_rows_take_the_schedule() {
+        use crate::texture::workload::peers;
+        for w in [peers::Workload::Value1, peers::Workload::Value4] {
+            let m = peers::model(w, HashKind::Integer).unwrap();
+            let opts = EvalOptions {
+                mode: EvalMode::Fd,
+                gradients: false,
+                cull: true,
+                ..Default::default()
+            };
+            let first = peers::span(0, 0, peers::SIZE);
+            let mut cache = RowCache::<128>::new();
+            let mut ev = SpanEvaluator::new(&m, opts);
+            let mut direct = SpanEvaluator::new(
+                &m,
+                EvalOptions {
+                    mode: EvalMode::Direct,
+                    ..opts
+                },
+            );
+            let mut rows = ev.rows(&first, &mut cache);
+            let mut line = [TexValue::ZERO; 256];
+            let mut want = [TexValue::ZERO; 256];
+            for y in 0..70 {
+                rows.next_values(&mut line);
+                direct.eval_values(&peers::span(y, 0, peers::SIZE), &mut want);
+                assert_eq!(line, want, "{w:?} row {y}");
+            }
+            drop(rows);
+            assert_eq!(ev.core.row_spans, if FD { 70 } else { 0 }, "{w:?}");
+        }
+    }
+
+    #[test]
+    fn cache_capacity() {
+        assert_eq!(RowCache::<7>::new().capacity(), 7);
+        assert_eq!(RowCache::<0>::default().capacity(), 0);
+        assert_eq!(core::mem::size_of::<RowEvent>(), 40);
+    }
+}
