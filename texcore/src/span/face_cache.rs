@@ -103,7 +103,7 @@ impl<const N: usize> Default for FaceCache<N> {
 /// `A` and `B` of the blend of the scaled face corners `w` (order `ca | cc << 1`) at fraction
 /// `fc` along the face's higher other axis (see the module documentation).
 #[inline(always)]
-fn blend_ab(w: &[i32; 4], fc: u32) -> (i64, i64) {
+pub(super) fn blend_ab(w: &[i32; 4], fc: u32) -> (i64, i64) {
     let fc = i64::from(fc);
     let d01 = i64::from(w[1].wrapping_sub(w[0]));
     let d23 = i64::from(w[3].wrapping_sub(w[2]));

@@ -30,6 +30,7 @@
 //! - Capacity in the type: [`RowCache<N>`] holds `N` schedule entries of 40 bytes, given by the
 //!   caller; no allocation, never panics.
 
+use super::face_cache::blend_ab;
 use super::*;
 
 /// One entry of a row schedule: at pixel `at`, term `lane` enters a new cell, and the row's
@@ -478,23 +479,28 @@ fn schedule<const T: usize>(
 }
 
 /// `A` and `B` of a face blend `Phi = A + B f_m` (face `b` of `cell` for a term along `k`, row
-/// axis `m`, fixed fraction `fo` along `o`): `Phi` at `f_m = 0` and its change at `f_m = 1`,
-/// `Phi` being affine in `f_m` in the ring (the face cache's identity).
+/// axis `m`, fixed fraction `fo` along `o`), `Phi` being affine in `f_m` in the ring: with `a <
+/// c` the two other axes and `t_j = (w_2j << 16) + (w_2j+1 - w_2j) f_a` (`axis::face`),
+/// `Phi = (t_0 << 16) + (t_1 - t_0) f_c`, so for `m = c`: `A = t_0 << 16`, `B = t_1 - t_0`; for
+/// `m = a` the face cache's `A` and `B` (`face_cache::blend_ab`). Tested against the blend.
 #[cfg(not(texcore_lean))]
-#[allow(clippy::too_many_arguments)]
+#[inline(always)]
 fn face_ab(lane: &RowLane, hash: HashKind, cell: [u16; 3], b: usize, fv: u32, vb: u32) -> [i64; 2] {
     let k = lane.k.min(2);
     let w = face_bits(k, hash, cell, b, lane.amp, fv, vb);
-    let mut frac = [0u32; 3];
-    if let Some(f) = frac.get_mut(lane.o) {
-        *f = lane.fo;
+    if lane.m < lane.o {
+        let (a, b) = blend_ab(&w, lane.fo);
+        return [a, b];
     }
-    let p0 = face(&w, k, frac, [0; 3], false).phi();
-    if let Some(f) = frac.get_mut(lane.m) {
-        *f = 1;
-    }
-    let p1 = face(&w, k, frac, [0; 3], false).phi();
-    [p0, wsub(p1, p0)]
+    let fa = i64::from(lane.fo);
+    let lerp = |v0: i32, v1: i32| {
+        wadd(
+            i64::from(v0) << 16,
+            wmul(i64::from(v1.wrapping_sub(v0)), fa),
+        )
+    };
+    let (t0, t1) = (lerp(w[0], w[1]), lerp(w[2], w[3]));
+    [t0 << 16, wsub(t1, t0)]
 }
 
 /// A term's previous cell in [`lane_entries`]: its coordinate along `k`, its faces' and its
@@ -776,6 +782,51 @@ mod tests {
             }
             drop(rows);
             assert_eq!(ev.core.row_spans, if FD { 70 } else { 0 }, "{w:?}");
+        }
+    }
+
+    #[test]
+    fn face_ab_is_the_blend() {
+        let mut x = 0x9E37_79B9_7F4A_7C15u64;
+        let mut next = || {
+            x ^= x << 13;
+            x ^= x >> 7;
+            x ^= x << 17;
+            x
+        };
+        for _ in 0..3000 {
+            let k = (next() % 3) as usize;
+            let (a, c) = others(k);
+            let (m, o) = if next() & 1 == 0 { (a, c) } else { (c, a) };
+            let fo = (next() & 0xFFFF) as u32;
+            let fm = (next() & 0xFFFF) as u32;
+            let lane = RowLane {
+                term: 0,
+                k,
+                m,
+                o,
+                du: [0; 3],
+                u0k: 0,
+                cm: 0,
+                co: 0,
+                fo,
+                amp: (next() as i32) >> 14,
+                made: true,
+            };
+            let cell = [next() as u16, next() as u16, next() as u16];
+            let hash = if next() & 1 == 0 {
+                HashKind::Integer
+            } else {
+                HashKind::default()
+            };
+            let b = (next() & 1) as usize;
+            let [fa_, fb_] = face_ab(&lane, hash, cell, b, 8, 16);
+            let w = face_bits(k, hash, cell, b, lane.amp, 8, 16);
+            let mut frac = [0u32; 3];
+            frac[o] = fo;
+            frac[m] = fm;
+            let want = face(&w, k, frac, [0; 3], false).phi();
+            assert_eq!(wadd(fa_, wmul(fb_, i64::from(fm))), want, "k {k} m {m}");
         }
     }
 
