@@ -80,6 +80,13 @@ impl Face {
     pub(super) fn phi(&self) -> i64 {
         self.phi
     }
+
+    /// The blend's derivative across the span (`h`).
+    #[cfg(not(texcore_lean))]
+    #[inline(always)]
+    pub(super) fn h(&self) -> i64 {
+        self.h
+    }
 }
 
 /// The four corners of the face `c_k = b` of the cell corners `v` (corner order

@@ -48,6 +48,7 @@ pub(super) fn dot(v: &[i64; 4], w: &[i128; 4]) -> i128 {
 }
 
 /// The quadric (48 fraction bits) and its two screen derivatives along a span, stepped in i64.
+#[derive(Clone, Copy)]
 pub(super) struct QuadStep {
     pub(super) q: i64,
     pub(super) dq: i64,

@@ -27,7 +27,7 @@
 //!   code shape, a build without forward differencing) is evaluated by
 //!   [`SpanEvaluator::eval_values`]. Each row is set up as a span of its own and checked against
 //!   the schedule, so nothing about the plane is assumed.
-//! - Capacity in the type: [`RowCache<N>`] holds `N` schedule entries of 40 bytes, given by the
+//! - Capacity in the type: [`RowCache<N>`] holds `N` schedule entries of 56 bytes, given by the
 //!   caller; no allocation, never panics.
 
 use super::face_cache::blend_ab;
@@ -45,9 +45,12 @@ pub(super) struct RowEvent {
     lane: u16,
     dv: [i64; 2],
     ds: [i64; 2],
+    /// The change of the derivative across the rows and of its slope (constants: with the rows
+    /// stepping along `m` only, a face's derivative across them does not depend on `f_m`).
+    dg: [i64; 2],
 }
 
-/// The schedule entries of [`PlaneRows`]: `N` entries of 40 bytes, given by the caller so that
+/// The schedule entries of [`PlaneRows`]: `N` entries of 56 bytes, given by the caller so that
 /// a device keeps them where it wants (see the module documentation of `texcore::span::rows`).
 ///
 /// Size it to the cells one row crosses, over all terms: a term of `c` cells across the row
@@ -67,6 +70,7 @@ impl<const N: usize> RowCache<N> {
                 lane: 0,
                 dv: [0; 2],
                 ds: [0; 2],
+                dg: [0; 2],
             }; N],
         }
     }
@@ -95,6 +99,8 @@ struct RowLane {
     /// The lattice step along the row and the coordinate along `k` at pixel 0.
     du: [i32; 3],
     u0k: i32,
+    /// The lattice step to the next row (the derivative across the rows).
+    dy: [i32; 3],
     /// The cells along `m` and `o`, the fraction along `o` and the amplitude the term's entries
     /// were made for (`made`: they are).
     cm: u16,
@@ -163,6 +169,8 @@ pub struct PlaneRows<'e, 'm, 'c, const T: usize> {
 struct RowsState<const T: usize> {
     used: usize,
     len: u16,
+    /// The entries have their derivative parts (`RowEvent::dg`).
+    grads: bool,
     lanes: heapless::Vec<RowLane, T>,
 }
 
@@ -181,6 +189,7 @@ impl<'m, const T: usize> SpanEvaluator<'m, T> {
             state: RowsState {
                 used: 0,
                 len: 0,
+                grads: false,
                 lanes: heapless::Vec::new(),
             },
             span: *first,
@@ -199,9 +208,8 @@ impl<const T: usize> PlaneRows<'_, '_, '_, T> {
         self.ev.stats()
     }
 
-    /// Evaluates the next row into `out` (as [`SpanEvaluator::eval_values`]: its first
-    /// `min(len, out.len())` values) and moves to the row after it. Returns the row's facts.
-    pub fn next_values(&mut self, out: &mut [TexValue]) -> SpanInfo {
+    /// The span of the next row, and moves to the row after it.
+    fn advance(&mut self) -> Span {
         let span = self.span;
         let b = span.s0.to_bits();
         let d = span.dsdy.to_bits();
@@ -210,6 +218,42 @@ impl<const T: usize> PlaneRows<'_, '_, '_, T> {
             b[1].wrapping_add(d[1]),
             b[2].wrapping_add(d[2]),
         );
+        span
+    }
+
+    /// Evaluates the next row with its gradients when the evaluator's options ask for them (as
+    /// [`SpanEvaluator::eval_chunks`]: the samples handed to `out` in chunks of at most
+    /// [`SAMPLE_CHUNK`]) and moves to the row after it. Returns the row's facts.
+    #[inline(never)]
+    pub fn next_chunks(&mut self, out: &mut dyn FnMut(&SampleChunk)) -> SpanInfo {
+        let span = self.advance();
+        let mut chunk = SampleChunk::new();
+        let mut sink = ChunkSink {
+            chunk: &mut chunk,
+            out,
+        };
+        let info = self
+            .ev
+            .core
+            .eval_row_chunks(&span, &mut sink, &mut self.state, self.events);
+        sink.finish();
+        info
+    }
+
+    /// [`PlaneRows::next_chunks`] sample by sample: `emit` is called once per pixel in order.
+    #[inline]
+    pub fn next<F: FnMut(Sample)>(&mut self, mut emit: F) -> SpanInfo {
+        self.next_chunks(&mut |chunk: &SampleChunk| {
+            for s in chunk.iter() {
+                emit(s);
+            }
+        })
+    }
+
+    /// Evaluates the next row into `out` (as [`SpanEvaluator::eval_values`]: its first
+    /// `min(len, out.len())` values) and moves to the row after it. Returns the row's facts.
+    pub fn next_values(&mut self, out: &mut [TexValue]) -> SpanInfo {
+        let span = self.advance();
         let n = usize::from(span.len).min(out.len());
         let span = Span {
             len: n as u16,
@@ -258,6 +302,37 @@ impl<'m, const T: usize> EvalCore<'m, T> {
         self.eval_values(span, out, &mut [])
     }
 
+    /// A row of [`PlaneRows::next_chunks`]: through the schedule `state` / `events` where it
+    /// serves the row, otherwise as [`SpanEvaluator::eval_chunks`].
+    fn eval_row_chunks(
+        &mut self,
+        span: &Span,
+        sink: &mut ChunkSink<'_, '_>,
+        state: &mut RowsState<T>,
+        events: &mut [RowEvent],
+    ) -> SpanInfo {
+        #[cfg(not(texcore_lean))]
+        if FD && !self.lean() && !self.multipass() {
+            let mut setup = Setup::empty();
+            let info = self.begin(span, &mut setup);
+            sink.chunk.extra_width48 = setup.extra_width48;
+            if span.len == 0 {
+                return info;
+            }
+            let strategies = self.plan_span(span.len, &setup);
+            if !self.row_schedule(span, &setup, &strategies, state, events) {
+                state.used = 0;
+                self.run(span.len, &setup, sink);
+                return info;
+            }
+            self.run_row_chunks(span.len, &setup, state, events, sink);
+            return info;
+        }
+        #[cfg(texcore_lean)]
+        let _ = (state, events);
+        self.eval_inner(span, sink)
+    }
+
     /// Makes `state` and `events` serve the row `span` (set up as `setup`, planned as
     /// `strategies`): keeps the schedule when the row's terms cross the same cells along their
     /// row axis at the same pixels, remakes it otherwise, and remakes the entries of each term
@@ -279,6 +354,7 @@ impl<'m, const T: usize> EvalCore<'m, T> {
         {
             return false;
         }
+        let grads = GRADIENTS && self.opts.gradients;
         // The same terms, axes, steps and starts along the row: the same schedule.
         let mut same = state.used != 0 && state.len == len;
         let mut n = 0usize;
@@ -289,10 +365,13 @@ impl<'m, const T: usize> EvalCore<'m, T> {
             let Some(k) = single_axis(ts.du) else {
                 return false;
             };
-            same &= state
-                .lanes
-                .get(n)
-                .is_some_and(|l| l.term == i && l.du == ts.du && l.u0k == ts.u0[k.min(2)]);
+            // Every term's gradient, or the general loop's.
+            if grads && !ts.gradient {
+                return false;
+            }
+            same &= state.lanes.get(n).is_some_and(|l| {
+                l.term == i && l.du == ts.du && l.dy == ts.dy && l.u0k == ts.u0[k.min(2)]
+            });
             n += 1;
         }
         same &= state.lanes.len() == n;
@@ -321,6 +400,7 @@ impl<'m, const T: usize> EvalCore<'m, T> {
                     o,
                     du: ts.du,
                     u0k: ts.u0[k],
+                    dy: ts.dy,
                     cm: 0,
                     co: 0,
                     fo: 0,
@@ -335,7 +415,16 @@ impl<'m, const T: usize> EvalCore<'m, T> {
             };
             state.used = used;
             state.len = len;
+            state.grads = grads;
         }
+        // Entries made without their derivative parts are made again for a row that needs them.
+        if grads && !state.grads {
+            for lane in state.lanes.iter_mut() {
+                lane.made = false;
+            }
+            state.grads = true;
+        }
+        let grads = state.grads;
         // Each term's entries, for the cells of this row along the other axes.
         let m = self.model;
         let (fv, vb) = (m.noise_frac_bits(), m.precision().value_bits());
@@ -352,7 +441,12 @@ impl<'m, const T: usize> EvalCore<'m, T> {
             }
             (lane.cm, lane.co, lane.fo, lane.amp) = (cm, co, fo, ts.amp);
             let events = events.get_mut(..used).unwrap_or_default();
-            lane_entries(li, lane, term.basis.hash, fv, vb, events);
+            let hash = term.basis.hash;
+            if GRADIENTS && grads {
+                lane_entries::<true>(li, lane, hash, fv, vb, events);
+            } else {
+                lane_entries::<false>(li, lane, hash, fv, vb, events);
+            }
             lane.made = true;
         }
         true
@@ -402,6 +496,144 @@ impl<'m, const T: usize> EvalCore<'m, T> {
         #[cfg(test)]
         {
             self.row_spans += 1;
+        }
+    }
+
+    /// The samples of a row that `state` / `events` serve (`row_schedule`) into `sink`, with
+    /// their gradients when the options ask for them (`row_schedule` made the entries' parts),
+    /// and its counters.
+    #[cfg(not(texcore_lean))]
+    fn run_row_chunks(
+        &mut self,
+        len: u16,
+        setup: &Setup<T>,
+        state: &RowsState<T>,
+        events: &[RowEvent],
+        sink: &mut ChunkSink<'_, '_>,
+    ) {
+        let grads = GRADIENTS && self.opts.gradients;
+        let fvs = self.model.noise_frac_bits() & 31;
+        let mut fm = [0i64; T];
+        for (f, lane) in fm.iter_mut().zip(state.lanes.iter()) {
+            if let Some(ts) = setup.terms.get(lane.term) {
+                *f = i64::from(split(ts.u0).1[lane.m.min(2)]);
+            }
+        }
+        let qc = setup.quad.c;
+        let mut quad = QuadStep {
+            q: qc[0] as i64,
+            dq: qc[1].wrapping_add(qc[2]) as i64,
+            ddq: qc[2].wrapping_mul(2) as i64,
+            gx: setup.gqx[0] as i64,
+            dgx: setup.gqx[1] as i64,
+            gy: setup.gqy[0] as i64,
+            dgy: setup.gqy[1] as i64,
+        };
+        let q = &quad;
+        let noq = (q.q | q.dq | q.ddq | q.gx | q.dgx | q.gy | q.dgy) == 0;
+        let affine = (q.ddq | q.dgx | q.dgy) == 0;
+        let events = events.get(..state.used).unwrap_or_default();
+        let fm = &fm;
+        let qs = &mut quad;
+        match (grads, noq, affine) {
+            (true, true, _) => row_chunks::<true, true, true, T>(events, fm, fvs, sink, qs),
+            (true, false, true) => row_chunks::<true, false, true, T>(events, fm, fvs, sink, qs),
+            (true, false, false) => row_chunks::<true, false, false, T>(events, fm, fvs, sink, qs),
+            (false, true, _) => row_chunks::<false, true, true, T>(events, fm, fvs, sink, qs),
+            (false, false, _) => row_chunks::<false, false, false, T>(events, fm, fvs, sink, qs),
+        }
+        let px = u64::from(len);
+        let lanes = state.lanes.len() as u64;
+        let st = &mut self.stats;
+        st.cell_setups += events.len() as u64;
+        st.noise_evaluations += px * lanes;
+        if grads {
+            st.gradient_evaluations += px * (1 + lanes);
+        }
+        st.fd_pixels += px;
+        #[cfg(test)]
+        {
+            self.row_spans += 1;
+        }
+    }
+}
+
+/// The samples of a row from its schedule's `events` into `sink` (as [`row_walk`]; `GRADS`:
+/// with the derivatives, `gx = q_x + (S >> fv)` the merged slope, `gy = q_y + (G >> fv)` the
+/// merged derivative across the rows, as the axial kernel's passes write them; without, the
+/// chunk's gradient slots are left zero).
+#[cfg(not(texcore_lean))]
+#[inline(always)]
+fn row_chunks<const GRADS: bool, const NOQ: bool, const AFFINE: bool, const T: usize>(
+    events: &[RowEvent],
+    fm: &[i64; T],
+    fvs: u32,
+    sink: &mut ChunkSink<'_, '_>,
+    q: &mut QuadStep,
+) {
+    let (mut v, mut s, mut g, mut gs) = (0i64, 0i64, 0i64, 0i64);
+    for e in events {
+        let f = fm.get(usize::from(e.lane)).copied().unwrap_or(0);
+        v = wadd(v, wadd(e.dv[0], wmul(e.dv[1], f)));
+        s = wadd(s, wadd(e.ds[0], wmul(e.ds[1], f)));
+        if GRADS {
+            g = wadd(g, e.dg[0]);
+            gs = wadd(gs, e.dg[1]);
+        }
+        let mut left = usize::from(e.run);
+        while left > 0 {
+            let n = left.min(sink.room());
+            let c = &mut *sink.chunk;
+            let at = c.len;
+            if let Some(fo) = c.f.get_mut(at..at + n) {
+                let mut qq = *q;
+                for o in fo.iter_mut() {
+                    *o = TexValue::from_bits(if NOQ {
+                        (v >> (fvs + 32)) as i32
+                    } else {
+                        (qq.q.wrapping_add(v >> fvs) >> 32) as i32
+                    });
+                    v = v.wrapping_add(s);
+                    if !NOQ {
+                        qq.q = qq.q.wrapping_add(qq.dq);
+                        if !AFFINE {
+                            qq.dq = qq.dq.wrapping_add(qq.ddq);
+                        }
+                    }
+                }
+                if GRADS {
+                    if let (Some(ox), Some(oy)) =
+                        (c.gx.get_mut(at..at + n), c.gy.get_mut(at..at + n))
+                    {
+                        let sx = s >> fvs;
+                        let mut qx = q.gx;
+                        for o in ox.iter_mut() {
+                            *o = if NOQ { sx } else { qx.wrapping_add(sx) };
+                            if !AFFINE {
+                                qx = qx.wrapping_add(q.dgx);
+                            }
+                        }
+                        let mut qy = q.gy;
+                        for o in oy.iter_mut() {
+                            *o = if NOQ {
+                                g >> fvs
+                            } else {
+                                qy.wrapping_add(g >> fvs)
+                            };
+                            g = g.wrapping_add(gs);
+                            if !AFFINE {
+                                qy = qy.wrapping_add(q.dgy);
+                            }
+                        }
+                        q.gx = qx;
+                        q.gy = qy;
+                    }
+                }
+                q.q = qq.q;
+                q.dq = qq.dq;
+            }
+            sink.advance(n);
+            left -= n;
         }
     }
 }
@@ -482,15 +714,35 @@ fn schedule<const T: usize>(
 /// axis `m`, fixed fraction `fo` along `o`), `Phi` being affine in `f_m` in the ring: with `a <
 /// c` the two other axes and `t_j = (w_2j << 16) + (w_2j+1 - w_2j) f_a` (`axis::face`),
 /// `Phi = (t_0 << 16) + (t_1 - t_0) f_c`, so for `m = c`: `A = t_0 << 16`, `B = t_1 - t_0`; for
-/// `m = a` the face cache's `A` and `B` (`face_cache::blend_ab`). Tested against the blend.
+/// `m = a` the face cache's `A` and `B` (`face_cache::blend_ab`). With `grads`, third, the
+/// face's derivative across the rows `H` (`axis::face`'s `h` for the lattice step `dy` to the
+/// next row, which steps along `m` alone: `H` does not depend on `f_m`); otherwise 0. Tested
+/// against the blend.
 #[cfg(not(texcore_lean))]
 #[inline(always)]
-fn face_ab(lane: &RowLane, hash: HashKind, cell: [u16; 3], b: usize, fv: u32, vb: u32) -> [i64; 2] {
+fn face_ab(
+    lane: &RowLane,
+    hash: HashKind,
+    cell: [u16; 3],
+    b: usize,
+    fv: u32,
+    vb: u32,
+    grads: bool,
+) -> [i64; 3] {
     let k = lane.k.min(2);
     let w = face_bits(k, hash, cell, b, lane.amp, fv, vb);
+    let h = if GRADIENTS && grads {
+        let mut frac = [0u32; 3];
+        if let Some(f) = frac.get_mut(lane.o) {
+            *f = lane.fo;
+        }
+        face(&w, k, frac, lane.dy, true).h()
+    } else {
+        0
+    };
     if lane.m < lane.o {
         let (a, b) = blend_ab(&w, lane.fo);
-        return [a, b];
+        return [a, b, h];
     }
     let fa = i64::from(lane.fo);
     let lerp = |v0: i32, v1: i32| {
@@ -500,17 +752,19 @@ fn face_ab(lane: &RowLane, hash: HashKind, cell: [u16; 3], b: usize, fv: u32, vb
         )
     };
     let (t0, t1) = (lerp(w[0], w[1]), lerp(w[2], w[3]));
-    [t0 << 16, wsub(t1, t0)]
+    [t0 << 16, wsub(t1, t0), h]
 }
 
-/// A term's previous cell in [`lane_entries`]: its coordinate along `k`, its faces' and its
-/// start's and slope's `A`, `B`, and its first pixel.
+/// A term's previous cell in [`lane_entries`]: its coordinate along `k`, its faces' `A`, `B`
+/// and `H`, its start's and slope's `A`, `B`, its derivative across the rows and that
+/// derivative's slope, and its first pixel.
 #[cfg(not(texcore_lean))]
 #[derive(Clone, Copy)]
 struct PrevCell {
     ck: u16,
-    faces: [[i64; 2]; 2],
+    faces: [[i64; 3]; 2],
     g: [[i64; 2]; 2],
+    h: [i64; 2],
     at: u16,
 }
 
@@ -518,7 +772,7 @@ struct PrevCell {
 /// `g0 = Phi_0 2^16 + (Phi_1 - Phi_0) f_k` and `g1 = (Phi_1 - Phi_0) d` (`axis::poly`), as
 /// `A + B f_m`, less the previous cell's end `g0 + g1 n` and slope.
 #[cfg(not(texcore_lean))]
-fn lane_entries(
+fn lane_entries<const GRADS: bool>(
     li: usize,
     lane: &RowLane,
     hash: HashKind,
@@ -544,7 +798,7 @@ fn lane_entries(
         if let Some(c) = cell.get_mut(k) {
             *c = ck;
         }
-        let blend = |b: usize| face_ab(lane, hash, cell, b, fv, vb);
+        let blend = |b: usize| face_ab(lane, hash, cell, b, fv, vb, GRADS);
         let faces = match prev {
             Some(p) if ck.wrapping_sub(p.ck) == 1 => [p.faces[1], blend(1)],
             Some(p) if ck.wrapping_sub(p.ck) == 0xFFFF => [blend(0), p.faces[0]],
@@ -557,16 +811,31 @@ fn lane_entries(
             wadd(f0[1] << 16, wmul(dphi[1], fk)),
         ];
         let g1 = [wmul(dphi[0], i64::from(d)), wmul(dphi[1], i64::from(d))];
-        (e.dv, e.ds) = match prev {
-            None => (g0, g1),
+        // The derivative across the rows (`axis::poly`'s `h`, `e_k = 0`).
+        let h = if GRADS {
+            let dh = wsub(f1[2], f0[2]);
+            [wadd(f0[2] << 16, wmul(dh, fk)), wmul(dh, i64::from(d))]
+        } else {
+            [0; 2]
+        };
+        (e.dv, e.ds, e.dg) = match prev {
+            None => (g0, g1, h),
             Some(PrevCell {
-                g: [p0, p1], at, ..
+                g: [p0, p1],
+                h: ph,
+                at,
+                ..
             }) => {
                 let n = i64::from(e.at.wrapping_sub(at));
                 let end = [wadd(p0[0], wmul(p1[0], n)), wadd(p0[1], wmul(p1[1], n))];
                 (
                     [wsub(g0[0], end[0]), wsub(g0[1], end[1])],
                     [wsub(g1[0], p1[0]), wsub(g1[1], p1[1])],
+                    if GRADS {
+                        [wsub(h[0], wadd(ph[0], wmul(ph[1], n))), wsub(h[1], ph[1])]
+                    } else {
+                        [0; 2]
+                    },
                 )
             }
         };
@@ -574,6 +843,7 @@ fn lane_entries(
             ck,
             faces,
             g: [g0, g1],
+            h,
             at: e.at,
         });
     }
@@ -581,6 +851,8 @@ fn lane_entries(
 
 #[cfg(test)]
 mod tests {
+    use std::vec::Vec;
+
     use super::*;
     use crate::format::{Amplitude, MatrixEntry, QuadricCoeff};
     use crate::model::Octaves;
@@ -634,15 +906,16 @@ mod tests {
     }
 
     /// `rows` rows of `first` through a [`RowCache<N>`] and through `eval_values` (and `Direct`
-    /// every third row), compared row by row, and the counters; returns the rows the schedule
-    /// served.
+    /// every third row), compared row by row, and the counters; then the samples through
+    /// [`PlaneRows::next`] and [`SpanEvaluator::eval`] (a values row every fourth); returns the
+    /// rows the schedule served in each pass.
     fn compare<const N: usize>(
         m: &TextureModel<8>,
         opts: EvalOptions,
         first: &Span,
         rows: i32,
         out_len: usize,
-    ) -> Result<u64, proptest::test_runner::TestCaseError> {
+    ) -> Result<(u64, u64), proptest::test_runner::TestCaseError> {
         let mut cache = RowCache::<N>::new();
         let mut ev = SpanEvaluator::new(m, opts);
         let mut plain = SpanEvaluator::new(m, opts);
@@ -675,7 +948,34 @@ mod tests {
         }
         drop(pr);
         proptest::prop_assert_eq!(ev.options(), opts, "the options are restored");
-        Ok(ev.core.row_spans)
+        // The samples, gradients included when asked for, through `next` and `eval`.
+        let mut cache = RowCache::<N>::new();
+        let mut ev2 = SpanEvaluator::new(m, opts);
+        let mut plain = SpanEvaluator::new(m, opts);
+        let mut pr = ev2.rows(first, &mut cache);
+        let mut y = 0;
+        while y < rows {
+            let sp = row(first, y);
+            proptest::prop_assert_eq!(pr.span(), &sp);
+            let mut got = Vec::new();
+            let info = pr.next(|s| got.push(s));
+            let mut want = Vec::new();
+            let want_info = plain.eval(&sp, |s| want.push(s));
+            proptest::prop_assert_eq!(&got, &want, "samples, row {}", y);
+            proptest::prop_assert_eq!(info, want_info);
+            proptest::prop_assert_eq!(pr.stats(), plain.stats(), "row {}", y);
+            y += 1;
+            if y % 4 == 2 {
+                // A values row in between (the entries are kept or made again as needed).
+                let mut a = std::vec![TexValue::ZERO; usize::from(first.len)];
+                let mut b = a.clone();
+                pr.next_values(&mut a);
+                plain.eval_values(&row(first, y), &mut b);
+                proptest::prop_assert_eq!(a, b, "values row {}", y);
+                y += 1;
+            }
+        }
+        Ok((ev.core.row_spans, ev2.core.row_spans))
     }
 
     proptest::proptest! {
@@ -741,12 +1041,19 @@ mod tests {
             let cells: u64 = (0..octaves)
                 .map(|i| 2 + ((n as u64 * u64::from(ds[axis].unsigned_abs())) << (zoom + u32::from(i))) / 65536)
                 .sum();
+            // With gradients every term's gradient is needed: its steps within half a cell.
+            let top = zoom + u32::from(octaves) - 1;
+            let reach = |d: i32| (i64::from(d).abs() << top) <= i64::from(NYQUIST_STEP);
+            let gradients_served = !(GRADIENTS && gradients) || (reach(ds[axis]) && reach(dyv));
             if FD && mode == EvalMode::Fd && n > 0 && across < 2 && !clamp && resolved && cells <= 256 {
-                proptest::prop_assert_eq!(served, 10);
+                proptest::prop_assert_eq!(served.0, 10);
+                if gradients_served && n == usize::from(len) {
+                    proptest::prop_assert!(served.1 >= 10, "{:?}", served);
+                }
             }
             if across >= 2 {
-                proptest::prop_assert_eq!(served, 0);
-                proptest::prop_assert_eq!(small, 0);
+                proptest::prop_assert_eq!(served, (0, 0));
+                proptest::prop_assert_eq!(small, (0, 0));
             }
         }
     }
@@ -807,6 +1114,11 @@ mod tests {
                 o,
                 du: [0; 3],
                 u0k: 0,
+                dy: {
+                    let mut dy = [0; 3];
+                    dy[m] = (next() as i32) >> 15;
+                    dy
+                },
                 cm: 0,
                 co: 0,
                 fo,
@@ -820,13 +1132,21 @@ mod tests {
                 HashKind::default()
             };
             let b = (next() & 1) as usize;
-            let [fa_, fb_] = face_ab(&lane, hash, cell, b, 8, 16);
+            let [fa_, fb_, h] = face_ab(&lane, hash, cell, b, 8, 16, true);
             let w = face_bits(k, hash, cell, b, lane.amp, 8, 16);
             let mut frac = [0u32; 3];
             frac[o] = fo;
             frac[m] = fm;
-            let want = face(&w, k, frac, [0; 3], false).phi();
-            assert_eq!(wadd(fa_, wmul(fb_, i64::from(fm))), want, "k {k} m {m}");
+            frac[k] = (next() & 0xFFFF) as u32;
+            let want = face(&w, k, frac, lane.dy, true);
+            assert_eq!(
+                wadd(fa_, wmul(fb_, i64::from(fm))),
+                want.phi(),
+                "k {k} m {m}"
+            );
+            if GRADIENTS {
+                assert_eq!(h, want.h(), "k {k} m {m}");
+            }
         }
     }
 
@@ -834,6 +1154,6 @@ mod tests {
     fn cache_capacity() {
         assert_eq!(RowCache::<7>::new().capacity(), 7);
         assert_eq!(RowCache::<0>::default().capacity(), 0);
-        assert_eq!(core::mem::size_of::<RowEvent>(), 40);
+        assert_eq!(core::mem::size_of::<RowEvent>(), 56);
     }
 }

@@ -222,10 +222,10 @@ pub const FACES: usize = 128;
 pub const ROW_EVENTS: usize = 128;
 
 /// Rows `0..rows` of noise workload `w`, each into `line` (its first [`SIZE`] values) and then
-/// handed to `each(y, line)`: the whole-row workloads without gradients through
-/// [`SpanEvaluator::rows`] (their schedule kept across rows in a [`RowCache`] of
-/// [`ROW_EVENTS`] entries), the others row by row through [`value_row`] with a face cache kept
-/// across rows. `ev` must have been built for `w`'s model with `gradients = w.gradients()`.
+/// handed to `each(y, line)`: the whole-row workloads through [`SpanEvaluator::rows`] (their
+/// schedule kept across rows in a [`RowCache`] of [`ROW_EVENTS`] entries; values, or
+/// [`grad_word`]s of the samples with gradients), the 16-pixel-span ones row by row through
+/// [`value_row`] with a face cache kept across rows. `ev` must have been built for `w`'s model with `gradients = w.gradients()`.
 #[inline(always)]
 pub fn value_plane<const T: usize>(
     ev: &mut SpanEvaluator<'_, T>,
@@ -234,14 +234,26 @@ pub fn value_plane<const T: usize>(
     line: &mut [TexValue],
     mut each: impl FnMut(u16, &[TexValue]),
 ) {
-    if !w.gradients() && w.span_len() == SIZE {
+    if w.span_len() == SIZE {
         let Some(line) = line.get_mut(..usize::from(SIZE)) else {
             return;
         };
         let mut cache = RowCache::<ROW_EVENTS>::new();
         let mut plane = ev.rows(&span(0, 0, SIZE), &mut cache);
         for y in 0..rows {
-            plane.next_values(line);
+            if w.gradients() {
+                let mut x = 0;
+                plane.next_chunks(&mut |c: &SampleChunk| {
+                    if let Some(dst) = line.get_mut(x..x + c.len()) {
+                        for (d, s) in dst.iter_mut().zip(c.iter()) {
+                            *d = TexValue::from_bits(grad_word(&s) as i32);
+                        }
+                    }
+                    x += c.len();
+                });
+            } else {
+                plane.next_values(line);
+            }
             each(y, line);
         }
     } else {
