@@ -5,7 +5,7 @@
 //! - `thumbv7em-none-eabihf`: Cortex-M4F, QEMU machine `mps2-an386`, `cortex-m-rt`, memory map
 //!   `memory.x` at the repository root (512 KiB flash at 0, 128 KiB RAM at 0x2000_0000).
 //! - `riscv32imc-unknown-none-elf`: RISC-V soft-core class (no FPU, table-free code only), QEMU
-//!   `virt -bios none`, `riscv-rt`, memory map `firmware/memory-riscv.x` (576 KiB + 128 KiB in
+//!   `virt -bios none`, `riscv-rt`, memory map `firmware/memory-riscv.x` (640 KiB + 128 KiB in
 //!   the DRAM window at 0x8000_0000).
 //!
 //! On the host this crate's program only delegates: `cargo run -p firmware` builds the firmware

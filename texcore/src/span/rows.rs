@@ -56,11 +56,12 @@ pub(super) struct RowEvent {
 /// Size it to the cells one row crosses, over all terms: a term of `c` cells across the row
 /// needs `c + 1` entries (four octaves of 8, 16, 32 and 64 cells: 124).
 #[derive(Clone, Debug)]
-pub struct RowCache<const N: usize> {
+pub struct RowCache<const N: usize, const W: usize = 0> {
     events: [RowEvent; N],
+    weights: [u32; W],
 }
 
-impl<const N: usize> RowCache<N> {
+impl<const N: usize, const W: usize> RowCache<N, W> {
     /// An empty cache.
     pub const fn new() -> Self {
         RowCache {
@@ -72,6 +73,7 @@ impl<const N: usize> RowCache<N> {
                 ds: [0; 2],
                 dg: [0; 2],
             }; N],
+            weights: [0; W],
         }
     }
 
@@ -79,9 +81,15 @@ impl<const N: usize> RowCache<N> {
     pub const fn capacity(&self) -> usize {
         N
     }
+
+    /// Number of pixel weights (rows of up to `W` pixels of one smooth-fade term keep their
+    /// fades in them).
+    pub const fn weight_capacity(&self) -> usize {
+        W
+    }
 }
 
-impl<const N: usize> Default for RowCache<N> {
+impl<const N: usize, const W: usize> Default for RowCache<N, W> {
     fn default() -> Self {
         Self::new()
     }
@@ -108,6 +116,13 @@ struct RowLane {
     fo: u32,
     amp: i32,
     made: bool,
+    /// The weight along `o`: `fo`, or its smooth fade.
+    wo: u32,
+    /// The basis has the smooth fade (`3u^2 - 2u^3`): the cell is not linear in the pixel.
+    smooth: bool,
+    /// The term is forward differenced (`Fd`, `Fd32`; otherwise `Cached`): counted in
+    /// `SpanStats::fd_pixels`.
+    fd: bool,
 }
 
 /// The rows of a plane, evaluated one after the other with their schedule kept (see the module
@@ -160,6 +175,7 @@ struct RowLane {
 pub struct PlaneRows<'e, 'm, 'c, const T: usize> {
     ev: &'e mut SpanEvaluator<'m, T>,
     events: &'c mut [RowEvent],
+    weights: &'c mut [u32],
     state: RowsState<T>,
     span: Span,
 }
@@ -171,6 +187,8 @@ struct RowsState<const T: usize> {
     len: u16,
     /// The entries have their derivative parts (`RowEvent::dg`).
     grads: bool,
+    /// The pixels whose fades the weights hold (a row of one smooth-fade term; 0: none).
+    weights: usize,
     lanes: heapless::Vec<RowLane, T>,
 }
 
@@ -178,18 +196,20 @@ impl<'m, const T: usize> SpanEvaluator<'m, T> {
     /// The rows of a plane from `first` (each next row's span is the last one's with `s0`
     /// advanced by `dsdy`, wrapping), evaluated through `cache` (see [`PlaneRows`]): the same
     /// values as [`SpanEvaluator::eval_values`] of each row's span, bit for bit.
-    pub fn rows<'e, 'c, const N: usize>(
+    pub fn rows<'e, 'c, const N: usize, const W: usize>(
         &'e mut self,
         first: &Span,
-        cache: &'c mut RowCache<N>,
+        cache: &'c mut RowCache<N, W>,
     ) -> PlaneRows<'e, 'm, 'c, T> {
         PlaneRows {
             ev: self,
             events: &mut cache.events,
+            weights: &mut cache.weights,
             state: RowsState {
                 used: 0,
                 len: 0,
                 grads: false,
+                weights: 0,
                 lanes: heapless::Vec::new(),
             },
             span: *first,
@@ -265,7 +285,7 @@ impl<const T: usize> PlaneRows<'_, '_, '_, T> {
         let core = &mut self.ev.core;
         let grads = core.opts.gradients;
         core.opts.gradients = false;
-        let info = core.eval_row(&span, out, &mut self.state, self.events);
+        let info = core.eval_row(&span, out, &mut self.state, self.events, self.weights);
         core.opts.gradients = grads;
         info
     }
@@ -282,6 +302,7 @@ impl<'m, const T: usize> EvalCore<'m, T> {
         out: &mut [TexValue],
         state: &mut RowsState<T>,
         events: &mut [RowEvent],
+        weights: &mut [u32],
     ) -> SpanInfo {
         #[cfg(not(texcore_lean))]
         if FD && !self.lean() && !self.multipass() {
@@ -291,14 +312,16 @@ impl<'m, const T: usize> EvalCore<'m, T> {
                 return info;
             }
             let strategies = self.plan_span(span.len, &setup);
-            if !self.row_schedule(span, &setup, &strategies, state, events) {
+            if !self.row_schedule(span, &setup, &strategies, state, events, true) {
                 state.used = 0;
                 self.values_planned(span.len, &setup, &strategies, out, &mut []);
                 return info;
             }
-            self.run_row(span.len, &setup, state, events, out);
+            self.run_row(span.len, &setup, state, events, weights, out);
             return info;
         }
+        #[cfg(texcore_lean)]
+        let _ = weights;
         self.eval_values(span, out, &mut [])
     }
 
@@ -320,7 +343,7 @@ impl<'m, const T: usize> EvalCore<'m, T> {
                 return info;
             }
             let strategies = self.plan_span(span.len, &setup);
-            if !self.row_schedule(span, &setup, &strategies, state, events) {
+            if !self.row_schedule(span, &setup, &strategies, state, events, false) {
                 state.used = 0;
                 self.run(span.len, &setup, sink);
                 return info;
@@ -333,6 +356,40 @@ impl<'m, const T: usize> EvalCore<'m, T> {
         self.eval_inner(span, sink)
     }
 
+    /// Whether the row schedule can serve a span of `len` pixels set up as `setup` with
+    /// `strategies`: every active term a non-turbulent value-noise term stepping along one
+    /// lattice axis, forward differenced exactly (`Fd`, `Fd32` of a trilinear term: the merged
+    /// loop's) or, with `smooth` and the smooth fade, cached (`Cached`: per pixel, exact); with a
+    /// `clamp` table (or gradients) the quadric's sums in range (`merged_takes`'s `fits`).
+    #[cfg(not(texcore_lean))]
+    fn rows_take(
+        &self,
+        len: u16,
+        setup: &Setup<T>,
+        strategies: &[Strategy; T],
+        smooth: bool,
+    ) -> bool {
+        let m = self.model;
+        let mut any = false;
+        for ((term, st), ts) in m.terms().iter().zip(strategies).zip(setup.terms.iter()) {
+            let b = &term.basis;
+            let taken = match st {
+                Strategy::Off => continue,
+                Strategy::Fd | Strategy::Fd32 => b.is_cubic(),
+                Strategy::Cached => smooth && is_smooth_value(b),
+                _ => false,
+            };
+            if !taken || term.turbulence || single_axis(ts.du).is_none() {
+                return false;
+            }
+            any = true;
+        }
+        let grads = GRADIENTS && self.opts.gradients;
+        let len = u32::from(len);
+        any && (m.wrap() != TableWrap::Clamp || fits(&setup.quad.c, len))
+            && (!grads || (fits(&setup.gqx, len) && fits(&setup.gqy, len)))
+    }
+
     /// Makes `state` and `events` serve the row `span` (set up as `setup`, planned as
     /// `strategies`): keeps the schedule when the row's terms cross the same cells along their
     /// row axis at the same pixels, remakes it otherwise, and remakes the entries of each term
@@ -340,6 +397,7 @@ impl<'m, const T: usize> EvalCore<'m, T> {
     /// when the schedule cannot serve the row (a span the lane kernel does not take, a term whose
     /// rows step along its row axis or along both other axes, too many entries).
     #[cfg(not(texcore_lean))]
+    #[allow(clippy::too_many_arguments)]
     fn row_schedule(
         &mut self,
         span: &Span,
@@ -347,14 +405,13 @@ impl<'m, const T: usize> EvalCore<'m, T> {
         strategies: &[Strategy; T],
         state: &mut RowsState<T>,
         events: &mut [RowEvent],
+        smooth_ok: bool,
     ) -> bool {
         let len = span.len;
-        if !(self.merged_takes(u32::from(len), setup, strategies)
-            && self.axial_takes(setup, strategies))
-        {
+        let grads = GRADIENTS && self.opts.gradients;
+        if !self.rows_take(len, setup, strategies, smooth_ok && !grads) {
             return false;
         }
-        let grads = GRADIENTS && self.opts.gradients;
         // The same terms, axes, steps and starts along the row: the same schedule.
         let mut same = state.used != 0 && state.len == len;
         let mut n = 0usize;
@@ -378,6 +435,7 @@ impl<'m, const T: usize> EvalCore<'m, T> {
         if !same {
             state.used = 0;
             state.lanes.clear();
+            let model_terms = self.model.terms();
             for (i, (st, ts)) in strategies.iter().zip(setup.terms.iter()).enumerate() {
                 if *st == Strategy::Off {
                     continue;
@@ -406,6 +464,11 @@ impl<'m, const T: usize> EvalCore<'m, T> {
                     fo: 0,
                     amp: 0,
                     made: false,
+                    wo: 0,
+                    smooth: model_terms
+                        .get(i)
+                        .is_some_and(|t| is_smooth_value(&t.basis)),
+                    fd: matches!(st, Strategy::Fd | Strategy::Fd32),
                 };
                 // At most T terms: never full.
                 let _ = state.lanes.push(lane);
@@ -416,6 +479,7 @@ impl<'m, const T: usize> EvalCore<'m, T> {
             state.used = used;
             state.len = len;
             state.grads = grads;
+            state.weights = 0;
         }
         // Entries made without their derivative parts are made again for a row that needs them.
         if grads && !state.grads {
@@ -440,9 +504,12 @@ impl<'m, const T: usize> EvalCore<'m, T> {
                 continue;
             }
             (lane.cm, lane.co, lane.fo, lane.amp) = (cm, co, fo, ts.amp);
+            lane.wo = weight(lane.smooth, fo);
             let events = events.get_mut(..used).unwrap_or_default();
             let hash = term.basis.hash;
-            if GRADIENTS && grads {
+            if lane.smooth {
+                smooth_entries(li, lane, hash, fv, vb, events);
+            } else if GRADIENTS && grads {
                 lane_entries::<true>(li, lane, hash, fv, vb, events);
             } else {
                 lane_entries::<false>(li, lane, hash, fv, vb, events);
@@ -458,17 +525,20 @@ impl<'m, const T: usize> EvalCore<'m, T> {
         &mut self,
         len: u16,
         setup: &Setup<T>,
-        state: &RowsState<T>,
+        state: &mut RowsState<T>,
         events: &[RowEvent],
+        weights: &mut [u32],
         out: &mut [TexValue],
     ) {
         let fvs = self.model.noise_frac_bits() & 31;
         // Each term's fraction along its row axis in this row.
         let mut fm = [0i64; T];
+        let mut smooth = false;
         for (f, lane) in fm.iter_mut().zip(state.lanes.iter()) {
             if let Some(ts) = setup.terms.get(lane.term) {
-                *f = i64::from(split(ts.u0).1[lane.m.min(2)]);
+                *f = i64::from(weight(lane.smooth, split(ts.u0).1[lane.m.min(2)]));
             }
+            smooth |= lane.smooth;
         }
         let qc = setup.quad.c;
         let mut q = [
@@ -482,17 +552,41 @@ impl<'m, const T: usize> EvalCore<'m, T> {
             (false, false) => 2,
         };
         let events = events.get(..state.used).unwrap_or_default();
-        match quad {
-            0 => row_walk::<true, true, T>(events, &fm, fvs, out, &mut q),
-            1 => row_walk::<false, true, T>(events, &fm, fvs, out, &mut q),
-            _ => row_walk::<false, false, T>(events, &fm, fvs, out, &mut q),
+        if smooth {
+            // One smooth term: its fades along the row (the same in every row the schedule
+            // serves) kept in the weights when they hold the row.
+            let n = usize::from(len);
+            let table = match (state.lanes.first(), weights.get_mut(..n)) {
+                (Some(lane), Some(w)) if state.lanes.len() == 1 => {
+                    if state.weights != n {
+                        let d = lane.du[lane.k.min(2)];
+                        let mut u = lane.u0k;
+                        for x in w.iter_mut() {
+                            *x = smooth_fade(u as u32) as u32;
+                            u = u.wrapping_add(d);
+                        }
+                        state.weights = n;
+                    }
+                    Some(&*w)
+                }
+                _ => None,
+            };
+            smooth_walk(events, &state.lanes, &fm, fvs, out, &mut q, table);
+        } else {
+            match quad {
+                0 => row_walk::<true, true, T>(events, &fm, fvs, out, &mut q),
+                1 => row_walk::<false, true, T>(events, &fm, fvs, out, &mut q),
+                _ => row_walk::<false, false, T>(events, &fm, fvs, out, &mut q),
+            }
         }
         let len = usize::from(len);
         let px = len as u64;
         let st = &mut self.stats;
         st.cell_setups += events.len() as u64;
         st.noise_evaluations += px * state.lanes.len() as u64;
-        st.fd_pixels += px;
+        if state.lanes.iter().any(|l| l.fd) {
+            st.fd_pixels += px;
+        }
         #[cfg(test)]
         {
             self.row_spans += 1;
@@ -531,16 +625,15 @@ impl<'m, const T: usize> EvalCore<'m, T> {
         };
         let q = &quad;
         let noq = (q.q | q.dq | q.ddq | q.gx | q.dgx | q.gy | q.dgy) == 0;
-        let affine = (q.ddq | q.dgx | q.dgy) == 0;
         let events = events.get(..state.used).unwrap_or_default();
         let fm = &fm;
         let qs = &mut quad;
-        match (grads, noq, affine) {
-            (true, true, _) => row_chunks::<true, true, true, T>(events, fm, fvs, sink, qs),
-            (true, false, true) => row_chunks::<true, false, true, T>(events, fm, fvs, sink, qs),
-            (true, false, false) => row_chunks::<true, false, false, T>(events, fm, fvs, sink, qs),
-            (false, true, _) => row_chunks::<false, true, true, T>(events, fm, fvs, sink, qs),
-            (false, false, _) => row_chunks::<false, false, false, T>(events, fm, fvs, sink, qs),
+        // A quadric is stepped as curved (an affine one adds zeros: one code shape fewer).
+        match (grads, noq) {
+            (true, true) => row_chunks::<true, true, true, T>(events, fm, fvs, sink, qs),
+            (true, false) => row_chunks::<true, false, false, T>(events, fm, fvs, sink, qs),
+            (false, true) => row_chunks::<false, true, true, T>(events, fm, fvs, sink, qs),
+            (false, false) => row_chunks::<false, false, false, T>(events, fm, fvs, sink, qs),
         }
         let px = u64::from(len);
         let lanes = state.lanes.len() as u64;
@@ -710,6 +803,191 @@ fn schedule<const T: usize>(
     }
 }
 
+/// Whether `b` is value noise with the smooth fade (the row schedule's non-linear cells).
+#[cfg(not(texcore_lean))]
+#[inline(always)]
+fn is_smooth_value(b: &crate::noise::NoiseBasis) -> bool {
+    #[cfg(feature = "smooth-fade")]
+    return b.kind == crate::noise::BasisKind::Value && b.fade == crate::noise::Fade::Smooth;
+    #[cfg(not(feature = "smooth-fade"))]
+    {
+        let _ = b;
+        false
+    }
+}
+
+/// The interpolation weight of fraction `f` (raw 0.16): `f`, or its smooth fade.
+#[cfg(not(texcore_lean))]
+#[inline(always)]
+fn weight(smooth: bool, f: u32) -> u32 {
+    #[cfg(feature = "smooth-fade")]
+    if smooth {
+        return crate::noise::Fade::Smooth.apply(f) as u32;
+    }
+    let _ = smooth;
+    f
+}
+
+/// The smooth fade of fraction `a` (raw 0.16) in 32-bit words: `Fade::apply`'s
+/// `(3 a^2 2^16 - 2 a^3 + 2^31) >> 32` as `(a^2 (3 2^16 - 2 a) + 2^31) >> 32`, one 32 x 32-bit
+/// product (`a^2 < 2^32`, `3 2^16 - 2 a < 2^18`).
+#[cfg(not(texcore_lean))]
+#[inline(always)]
+fn smooth_fade(a: u32) -> i64 {
+    let a = a & 0xFFFF;
+    let p = u64::from(a * a) * u64::from(0x30000 - 2 * a);
+    ((p + (1 << 31)) >> 32) as i64
+}
+
+/// The entries of a smooth-fade term `li` (`lane`): a cell's value at pixel `j` is
+/// `G + D w(j)`, `G = Phi_0 2^16` and `D = Phi_1 - Phi_0` constants of the cell (as `A + B w_m`),
+/// `w(j)` the fade of the fraction along `k`; each entry holds the change of `G` (`dv`) and of
+/// `D` (`ds`) from the term's previous cell.
+#[cfg(not(texcore_lean))]
+fn smooth_entries(
+    li: usize,
+    lane: &RowLane,
+    hash: HashKind,
+    fv: u32,
+    vb: u32,
+    events: &mut [RowEvent],
+) {
+    let k = lane.k.min(2);
+    let d = lane.du[k];
+    let mut cell = [0u16; 3];
+    if let Some(c) = cell.get_mut(lane.m) {
+        *c = lane.cm;
+    }
+    if let Some(c) = cell.get_mut(lane.o) {
+        *c = lane.co;
+    }
+    // The previous cell: its coordinate along k, faces, `G` and `D`.
+    let mut prev: Option<PrevCell> = None;
+    for e in events.iter_mut().filter(|e| usize::from(e.lane) == li) {
+        let uk = lane.u0k.wrapping_add(d.wrapping_mul(i32::from(e.at)));
+        let ck = (uk >> 16) as u16;
+        if let Some(c) = cell.get_mut(k) {
+            *c = ck;
+        }
+        let blend = |b: usize| face_ab(lane, hash, cell, b, fv, vb, false);
+        let faces = match prev {
+            Some(p) if ck.wrapping_sub(p.ck) == 1 => [p.faces[1], blend(1)],
+            Some(p) if ck.wrapping_sub(p.ck) == 0xFFFF => [blend(0), p.faces[0]],
+            _ => [blend(0), blend(1)],
+        };
+        let [f0, f1] = faces;
+        let g = [f0[0] << 16, f0[1] << 16];
+        let dd = [wsub(f1[0], f0[0]), wsub(f1[1], f0[1])];
+        (e.dv, e.ds) = match prev {
+            None => (g, dd),
+            Some(PrevCell { g: [pg, pd], .. }) => (
+                [wsub(g[0], pg[0]), wsub(g[1], pg[1])],
+                [wsub(dd[0], pd[0]), wsub(dd[1], pd[1])],
+            ),
+        };
+        e.dg = [0; 2];
+        prev = Some(PrevCell {
+            ck,
+            faces,
+            g: [g, dd],
+            h: [0; 2],
+            at: e.at,
+        });
+    }
+}
+
+/// The samples of a row with smooth-fade terms (as [`row_walk`]): the linear terms' merged
+/// value and slope, plus each smooth term's `D w(j)`, `w(j)` the fade of its fraction along `k`
+/// ([`smooth_fade`]), the lattice coordinate stepped a pixel at a time; a row of one smooth term
+/// without quadric reads its fades from `table` when it holds them.
+#[cfg(not(texcore_lean))]
+#[allow(clippy::too_many_arguments)]
+fn smooth_walk<const T: usize>(
+    events: &[RowEvent],
+    lanes: &heapless::Vec<RowLane, T>,
+    wm: &[i64; T],
+    fvs: u32,
+    out: &mut [TexValue],
+    q: &mut [i64; 3],
+    table: Option<&[u32]>,
+) {
+    let (mut v, mut s) = (0i64, 0i64);
+    let mut table = table.unwrap_or_default();
+    // Each smooth term's `D` and lattice coordinate along `k` (its step: `du[k]`).
+    let mut dd = [0i64; T];
+    let mut uk = [0i32; T];
+    for (u, lane) in uk.iter_mut().zip(lanes.iter()) {
+        *u = lane.u0k;
+    }
+    let one = lanes.len() == 1;
+    let mut rest = out;
+    for e in events {
+        let li = usize::from(e.lane);
+        let (Some(lane), Some(&f)) = (lanes.get(li), wm.get(li)) else {
+            continue;
+        };
+        v = wadd(v, wadd(e.dv[0], wmul(e.dv[1], f)));
+        if lane.smooth {
+            if let Some(d) = dd.get_mut(li) {
+                *d = wadd(*d, wadd(e.ds[0], wmul(e.ds[1], f)));
+            }
+        } else {
+            s = wadd(s, wadd(e.ds[0], wmul(e.ds[1], f)));
+        }
+        let n = usize::from(e.run).min(rest.len());
+        let (run, tail) = core::mem::take(&mut rest).split_at_mut(n);
+        rest = tail;
+        let [mut qq, mut dq, ddq] = *q;
+        if let (Some(&d), Some(u), Some(lane), true) =
+            (dd.first(), uk.first_mut(), lanes.first(), one)
+        {
+            // One smooth term: its value alone.
+            let step = lane.du[lane.k.min(2)];
+            let mut x = *u;
+            let (ws, tail) = table.split_at(n.min(table.len()));
+            table = tail;
+            if ws.len() == n && (qq | dq | ddq) == 0 {
+                // The fades from the table.
+                for (o, w) in run.iter_mut().zip(ws) {
+                    let n = wadd(v, wmul(d, i64::from(*w)));
+                    *o = TexValue::from_bits(((n >> 32) as i32) >> fvs);
+                }
+                x = x.wrapping_add(step.wrapping_mul(n as i32));
+            } else if (qq | dq | ddq) == 0 {
+                for o in run.iter_mut() {
+                    let n = wadd(v, wmul(d, smooth_fade(x as u32)));
+                    *o = TexValue::from_bits(((n >> 32) as i32) >> fvs);
+                    x = x.wrapping_add(step);
+                }
+            } else {
+                for o in run.iter_mut() {
+                    let n = wadd(v, wmul(d, smooth_fade(x as u32)));
+                    *o = TexValue::from_bits((wadd(qq, n >> fvs) >> 32) as i32);
+                    x = x.wrapping_add(step);
+                    qq = wadd(qq, dq);
+                    dq = wadd(dq, ddq);
+                }
+            }
+            *u = x;
+        } else {
+            for o in run.iter_mut() {
+                let mut n = v;
+                for ((lane, d), u) in lanes.iter().zip(dd.iter()).zip(uk.iter_mut()) {
+                    if lane.smooth {
+                        n = wadd(n, wmul(*d, smooth_fade(*u as u32)));
+                        *u = u.wrapping_add(lane.du[lane.k.min(2)]);
+                    }
+                }
+                *o = TexValue::from_bits((wadd(qq, n >> fvs) >> 32) as i32);
+                v = wadd(v, s);
+                qq = wadd(qq, dq);
+                dq = wadd(dq, ddq);
+            }
+        }
+        *q = [qq, dq, ddq];
+    }
+}
+
 /// `A` and `B` of a face blend `Phi = A + B f_m` (face `b` of `cell` for a term along `k`, row
 /// axis `m`, fixed fraction `fo` along `o`), `Phi` being affine in `f_m` in the ring: with `a <
 /// c` the two other axes and `t_j = (w_2j << 16) + (w_2j+1 - w_2j) f_a` (`axis::face`),
@@ -734,17 +1012,17 @@ fn face_ab(
     let h = if GRADIENTS && grads {
         let mut frac = [0u32; 3];
         if let Some(f) = frac.get_mut(lane.o) {
-            *f = lane.fo;
+            *f = lane.wo;
         }
         face(&w, k, frac, lane.dy, true).h()
     } else {
         0
     };
     if lane.m < lane.o {
-        let (a, b) = blend_ab(&w, lane.fo);
+        let (a, b) = blend_ab(&w, lane.wo);
         return [a, b, h];
     }
-    let fa = i64::from(lane.fo);
+    let fa = i64::from(lane.wo);
     let lerp = |v0: i32, v1: i32| {
         wadd(
             i64::from(v0) << 16,
@@ -862,7 +1140,14 @@ mod tests {
 
     /// A model of `octaves` unrotated trilinear octaves (zoom `2^zoom`) with quadric kind
     /// `quadric` (zero, affine, curved).
-    fn model(octaves: u8, zoom: u32, quadric: u32, clamp: bool, hash: HashKind) -> TextureModel<8> {
+    fn model(
+        octaves: u8,
+        zoom: u32,
+        quadric: u32,
+        clamp: bool,
+        hash: HashKind,
+        smooth: bool,
+    ) -> TextureModel<8> {
         let q = match quadric {
             0 => Quadric::ZERO,
             1 => Quadric::linear(
@@ -884,11 +1169,27 @@ mod tests {
             base: Affine3::scale(MatrixEntry::from_num(1u32 << zoom)),
             amplitude: Amplitude::from_num(0.6),
             rotate: false,
-            basis: NoiseBasis::trilinear(hash),
+            basis: if smooth {
+                smooth_basis(hash)
+            } else {
+                NoiseBasis::trilinear(hash)
+            },
             turbulence: false,
         })
         .unwrap();
         m
+    }
+
+    /// Value noise with the smooth fade (trilinear without the feature).
+    fn smooth_basis(hash: HashKind) -> NoiseBasis {
+        #[cfg(feature = "smooth-fade")]
+        return NoiseBasis {
+            kind: crate::noise::BasisKind::Value,
+            fade: crate::noise::Fade::Smooth,
+            hash,
+        };
+        #[cfg(not(feature = "smooth-fade"))]
+        NoiseBasis::trilinear(hash)
     }
 
     /// Row `y` of the plane `first` (`s0 + y dsdy`, wrapping).
@@ -909,14 +1210,14 @@ mod tests {
     /// every third row), compared row by row, and the counters; then the samples through
     /// [`PlaneRows::next`] and [`SpanEvaluator::eval`] (a values row every fourth); returns the
     /// rows the schedule served in each pass.
-    fn compare<const N: usize>(
+    fn compare<const N: usize, const W: usize>(
         m: &TextureModel<8>,
         opts: EvalOptions,
         first: &Span,
         rows: i32,
         out_len: usize,
     ) -> Result<(u64, u64), proptest::test_runner::TestCaseError> {
-        let mut cache = RowCache::<N>::new();
+        let mut cache = RowCache::<N, W>::new();
         let mut ev = SpanEvaluator::new(m, opts);
         let mut plain = SpanEvaluator::new(m, opts);
         let mut direct = SpanEvaluator::new(
@@ -949,7 +1250,7 @@ mod tests {
         drop(pr);
         proptest::prop_assert_eq!(ev.options(), opts, "the options are restored");
         // The samples, gradients included when asked for, through `next` and `eval`.
-        let mut cache = RowCache::<N>::new();
+        let mut cache = RowCache::<N, W>::new();
         let mut ev2 = SpanEvaluator::new(m, opts);
         let mut plain = SpanEvaluator::new(m, opts);
         let mut pr = ev2.rows(first, &mut cache);
@@ -984,8 +1285,10 @@ mod tests {
         /// same counters, for any start, step along any axis (short and long cells), row step
         /// (along another axis, none, along the row's own axis or along two axes: the last two
         /// never served by the schedule), length, output length, quadric, `mod` and `clamp`,
-        /// mode, gradients asked for or not, octaves and zoom; and the schedule serves every
-        /// row of an axis-aligned plane the lane kernel takes when the cache holds it.
+        /// mode, gradients asked for or not, octaves, zoom, the linear and the smooth fade; and
+        /// the schedule serves every row of an axis-aligned plane of resolved cells when the
+        /// cache holds it (with gradients, every row of linear-fade terms whose gradients are
+        /// all needed).
         #[test]
         fn rows_are_eval_values(
             s0 in proptest::array::uniform3(-4_000_000i32..4_000_000),
@@ -1002,9 +1305,11 @@ mod tests {
             zoom in 0u32..3,
             mode in 0usize..3,
             hash: bool,
+            smooth: bool,
         ) {
             let hash = if hash { HashKind::Integer } else { HashKind::default() };
-            let m = model(octaves, zoom, quadric, clamp, hash);
+            let m = model(octaves, zoom, quadric, clamp, hash, smooth);
+            let smooth = smooth && cfg!(feature = "smooth-fade");
             let mut ds = [0; 3];
             ds[axis] = (step >> (2 * zoom)) | 1;
             let mut dy = [0; 3];
@@ -1031,8 +1336,10 @@ mod tests {
                 1 => usize::from(len) / 2,
                 _ => usize::from(len) + 5,
             };
-            let served = compare::<256>(&m, opts, &first, 10, out_len)?;
-            let small = compare::<3>(&m, opts, &first, 4, out_len)?;
+            let served = compare::<256, 300>(&m, opts, &first, 10, out_len)?;
+            let small = compare::<3, 0>(&m, opts, &first, 4, out_len)?;
+            // Fewer weights than pixels: the fades computed as the row goes.
+            compare::<256, 40>(&m, opts, &first, 3, out_len)?;
             // The schedule serves an axis-aligned plane of resolved cells (`Fd`) that the lane
             // kernel takes, whatever the octaves (at most 5 x ~150 entries of 256 here would
             // not always fit: only when it does).
@@ -1047,7 +1354,7 @@ mod tests {
             let gradients_served = !(GRADIENTS && gradients) || (reach(ds[axis]) && reach(dyv));
             if FD && mode == EvalMode::Fd && n > 0 && across < 2 && !clamp && resolved && cells <= 256 {
                 proptest::prop_assert_eq!(served.0, 10);
-                if gradients_served && n == usize::from(len) {
+                if gradients_served && n == usize::from(len) && !smooth {
                     proptest::prop_assert!(served.1 >= 10, "{:?}", served);
                 }
             }
@@ -1061,8 +1368,14 @@ mod tests {
     #[test]
     fn peers_plane_rows_take_the_schedule() {
         use crate::texture::workload::peers;
-        for w in [peers::Workload::Value1, peers::Workload::Value4] {
-            let m = peers::model(w, HashKind::Integer).unwrap();
+        for w in [
+            peers::Workload::Value1,
+            peers::Workload::Value4,
+            peers::Workload::Smooth1,
+        ] {
+            let Some(m) = peers::model(w, HashKind::Integer) else {
+                continue;
+            };
             let opts = EvalOptions {
                 mode: EvalMode::Fd,
                 gradients: false,
@@ -1124,6 +1437,9 @@ mod tests {
                 fo,
                 amp: (next() as i32) >> 14,
                 made: true,
+                wo: fo,
+                smooth: false,
+                fd: true,
             };
             let cell = [next() as u16, next() as u16, next() as u16];
             let hash = if next() & 1 == 0 {
@@ -1151,8 +1467,20 @@ mod tests {
     }
 
     #[test]
+    #[cfg(feature = "smooth-fade")]
+    fn smooth_fade_is_the_fade() {
+        for a in 0..=0xFFFFu32 {
+            let want = crate::noise::Fade::Smooth.apply(a);
+            assert_eq!(smooth_fade(a), want, "{a}");
+            assert_eq!(smooth_fade(a | 0x7_0000), want, "{a}");
+            assert_eq!(weight(true, a), want as u32);
+        }
+    }
+
+    #[test]
     fn cache_capacity() {
         assert_eq!(RowCache::<7>::new().capacity(), 7);
+        assert_eq!(RowCache::<7, 9>::new().weight_capacity(), 9);
         assert_eq!(RowCache::<0>::default().capacity(), 0);
         assert_eq!(core::mem::size_of::<RowEvent>(), 56);
     }
