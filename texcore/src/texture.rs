@@ -23,6 +23,9 @@ use crate::span::{
     EvalMode, EvalOptions, SampleChunk, Span, SpanEvaluator, SpanStats, SAMPLE_CHUNK,
 };
 
+mod rows;
+pub use rows::TextureRows;
+
 /// What computes `f`.
 #[derive(Clone, Debug, PartialEq, Eq)]
 pub enum Shader<const T: usize> {
@@ -228,12 +231,7 @@ impl<const T: usize, const N: usize> TextureEvaluator<'_, T, N> {
                 // chunk, then its colours with the filter chosen once. Each chunk carries its
                 // span's culled width (the span's set-up computed it once).
                 e.eval_chunks(span, &mut |c: &SampleChunk| {
-                    let extra = c.extra_width48();
-                    let mut w = [FilterWidth::ZERO; SAMPLE_CHUNK];
-                    for ((w, &gx), &gy) in w.iter_mut().zip(c.gx()).zip(c.gy()) {
-                        *w = widths.width_with(gx, gy, extra);
-                    }
-                    stage.shade_each(c.f(), &w, &mut emit);
+                    shade_chunk(stage, &mut widths, c, &mut emit);
                 });
             }
             #[cfg(feature = "perturb")]
@@ -245,6 +243,23 @@ impl<const T: usize, const N: usize> TextureEvaluator<'_, T, N> {
             }
         }
     }
+}
+
+/// The colours of a chunk of samples with gradients: each pixel's filter width (the chunk's
+/// culled width in quadrature), then the colours with the filter chosen once.
+#[inline(always)]
+fn shade_chunk<const N: usize, F: FnMut(Rgba8888)>(
+    stage: &ColorStage<N>,
+    widths: &mut WidthStream,
+    c: &SampleChunk,
+    emit: &mut F,
+) {
+    let extra = c.extra_width48();
+    let mut w = [FilterWidth::ZERO; SAMPLE_CHUNK];
+    for ((w, &gx), &gy) in w.iter_mut().zip(c.gx()).zip(c.gy()) {
+        *w = widths.width_with(gx, gy, extra);
+    }
+    stage.shade_each(c.f(), &w, emit);
 }
 
 #[cfg(test)]

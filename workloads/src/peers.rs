@@ -156,10 +156,9 @@ pub fn run(w: Workload, imp: Implementation, hash: HashKind, rows: u16, line: &m
             tex.set_mode(mode);
             let tex = core::hint::black_box(&tex);
             let mut ev = tex.evaluator();
-            for y in 0..rows {
-                peers::marble_row(&mut ev, w, y, line);
-                acc = fold_line(acc, line);
-            }
+            peers::marble_plane(&mut ev, w, rows, line, |_, row| {
+                acc = fold_line(acc, row);
+            });
         }
         Some(mode) => {
             let Some(model) = peers::model(w, hash) else {

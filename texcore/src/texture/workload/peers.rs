@@ -304,6 +304,42 @@ pub fn value_row<const T: usize>(
     }
 }
 
+/// Rows `0..rows` of the marble workload `w`, each into `line` (each pixel's colour as RGB565,
+/// zero-extended) and then handed to `each(y, line)`: the whole-row workload through
+/// [`super::super::TextureEvaluator::rows`] (the span evaluator's row schedule in a
+/// [`RowCache`] of [`ROW_EVENTS`] entries), the 16-pixel-span one row by row ([`marble_row`]).
+#[cfg(feature = "csat")]
+#[inline(always)]
+pub fn marble_plane<const T: usize, const N: usize>(
+    ev: &mut super::super::TextureEvaluator<'_, T, N>,
+    w: Workload,
+    rows: u16,
+    line: &mut [u32],
+    mut each: impl FnMut(u16, &[u32]),
+) {
+    if w.span_len() == SIZE {
+        let Some(line) = line.get_mut(..usize::from(SIZE)) else {
+            return;
+        };
+        let mut cache = RowCache::<ROW_EVENTS>::new();
+        let mut plane = ev.rows(&span(0, 0, SIZE), &mut cache);
+        for y in 0..rows {
+            let mut px = line.iter_mut();
+            plane.next_shade(|c| {
+                if let Some(p) = px.next() {
+                    *p = u32::from(c.to_rgb565().to_bits());
+                }
+            });
+            each(y, line);
+        }
+    } else {
+        for y in 0..rows {
+            marble_row(ev, w, y, line);
+            each(y, line);
+        }
+    }
+}
+
 /// Row `y` of the marble workload `w` into `line`: each pixel's colour as RGB565 (zero-extended).
 #[cfg(feature = "csat")]
 #[inline(always)]
@@ -369,6 +405,27 @@ mod tests {
             let mut seen = 0;
             value_plane(&mut ev, w, 40, &mut line, |y, got| {
                 value_row(&mut direct, w, y, &mut want, &mut faces);
+                assert_eq!(got, &want[..], "{w:?} row {y}");
+                seen += 1;
+            });
+            assert_eq!(seen, 40);
+        }
+    }
+
+    #[test]
+    #[cfg(feature = "csat")]
+    fn marble_planes_are_their_rows() {
+        for w in [Workload::MarbleCsat, Workload::MarbleCsatSpan16] {
+            let Some(tex) =
+                super::super::marble_csat(HashKind::Integer, crate::span::EvalMode::Auto)
+            else {
+                continue;
+            };
+            let (mut ev, mut plain) = (tex.evaluator(), tex.evaluator());
+            let (mut line, mut want) = ([0u32; 256], [0u32; 256]);
+            let mut seen = 0;
+            marble_plane(&mut ev, w, 40, &mut line, |y, got| {
+                marble_row(&mut plain, w, y, &mut want);
                 assert_eq!(got, &want[..], "{w:?} row {y}");
                 seen += 1;
             });
