@@ -562,18 +562,17 @@ fn atlas_bake_bound(target: DeviceTarget) -> u64 {
 /// round). About 10% above what was measured when the bounds were set; lower them when the span
 /// evaluator gets faster.
 fn peers_bound(target: DeviceTarget, workload: &str) -> u64 {
-    // (Cortex-M4F, rv32imc); measured in the job-suite firmware (thirteenth round, values
-    // straight into the row and the face cache) at 13.1 / 20.0, 152.3 / 190.7, 288.9 / 354.5,
-    // 321.8 / 375.2, 38.6 / 47.8, 366.1 / 462.8 and 620.4 / 992.5 (the 4-octave rows with
-    // gradients were 297.2 / 353.3 in the ninth round, their bound is kept).
+    // (Cortex-M4F, rv32imc); measured in the job-suite firmware (fourteenth round, the row
+    // schedule of `texcore::span::PlaneRows` for the whole-row workloads) at 11.5 / 17.5,
+    // 70.1 / 77.5, 137.0 / 153.0, 323.3 / 378.7, 39.2 / 48.3, 18.7 / 24.4 and 621.0 / 993.0.
     let (m4f, rv) = match workload {
-        "value-1oct" => (15, 22),
-        "value-4oct" => (168, 210),
-        "value-4oct-grad" => (327, 389),
-        "value-4oct-span16" => (355, 413),
-        "value-1oct-direct" => (43, 53),
-        "smooth-1oct" => (406, 512),
-        "perlin-1oct" => (686, 1094),
+        "value-1oct" => (13, 20),
+        "value-4oct" => (78, 86),
+        "value-4oct-grad" => (151, 169),
+        "value-4oct-span16" => (356, 417),
+        "value-1oct-direct" => (44, 54),
+        "smooth-1oct" => (21, 27),
+        "perlin-1oct" => (684, 1093),
         other => panic!("no bound for peers workload {other}"),
     };
     match target {

@@ -68,7 +68,18 @@
 //!   chunk of samples (no merged state, no segment loop);
 //! - `direct`: trilinear terms evaluated per pixel inside the merged loop (one cell set-up per
 //!   cell, then the cell's monomial form, or the face blends of a single-axis term);
+//! - `face_cache` (fast shape only): [`FaceCache`], face blends kept across spans;
+//! - `rows` (fast shape only; a row at a time otherwise): [`PlaneRows`], the rows of a plane
+//!   with their cell schedule kept across rows (values, gradients, the smooth fade);
 //! - `quad`: the quadric along the span.
+//!
+//! # Planes
+//!
+//! A caller filling a plane (a background, a framebuffer, an atlas) row after row should use
+//! [`SpanEvaluator::rows`]: on an axis-aligned plane every row crosses the same cells at the
+//! same pixels, and [`PlaneRows`] keeps that schedule and each cell's start and slope as
+//! functions of the row, so a row costs one multiplication pair per cell it crosses and an
+//! addition a pixel; any other plane is evaluated span by span, with the same values.
 
 use crate::bandlimit::{build_spread_width48, term_band, BandLimit};
 use crate::format::{TexPoint, TexValue};
