@@ -365,19 +365,8 @@ impl<'m, const T: usize> EvalCore<'m, T> {
         let fvs = fv & 31;
         let vb = m.precision().value_bits();
         let len = u32::from(len);
-        let qc = setup.quad.c;
-        let mut q = [
-            qc[0] as i64,
-            qc[1].wrapping_add(qc[2]) as i64,
-            qc[2].wrapping_mul(2) as i64,
-        ];
         // 0: zero quadric, 1: affine, 2: curved.
-        // Word by word (an array comparison is a library call on the devices).
-        let quad = match ((q[0] | q[1] | q[2]) == 0, qc[2] == 0) {
-            (true, _) => 0u8,
-            (false, true) => 1,
-            (false, false) => 2,
-        };
+        let (mut q, quad) = QuadStep::value_kind(setup);
 
         let mut lanes: heapless::Vec<ValueLane, T> = heapless::Vec::new();
         // The face cache's shares: in proportion to the terms' steps ([`FaceKey::share`]).

@@ -88,15 +88,7 @@ impl<'m, const T: usize> EvalCore<'m, T> {
         let qc = setup.quad.c;
         // An affine quadric along the span (linear `q`, constant gradients) skips three additions.
         let affine = qc[2] == 0 && setup.gqx[1] == 0 && setup.gqy[1] == 0;
-        let mut quad = QuadStep {
-            q: qc[0] as i64,
-            dq: qc[1].wrapping_add(qc[2]) as i64,
-            ddq: qc[2].wrapping_mul(2) as i64,
-            gx: setup.gqx[0] as i64,
-            dgx: setup.gqx[1] as i64,
-            gy: setup.gqy[0] as i64,
-            dgy: setup.gqy[1] as i64,
-        };
+        let mut quad = QuadStep::new(setup);
 
         // Merged terms: their polynomials, entry pixel and exit pixel.
         // (Vectors, not arrays: nothing is written for the slots a span does not use.)

@@ -865,17 +865,33 @@ impl<'m, const T: usize> EvalCore<'m, T> {
         #[cfg(not(texcore_lean))]
         if FD && !self.lean() && !self.multipass() {
             let mut setup = Setup::empty();
-            let info = self.begin(span, &mut setup);
-            if span.len == 0 {
-                return info;
-            }
-            let strategies = self.plan_span(span.len, &setup);
+            let (info, Some(strategies)) = self.begin_planned(span, &mut setup) else {
+                return SpanInfo {
+                    extra_width48: setup.extra_width48,
+                };
+            };
             self.values_planned(span.len, &setup, &strategies, out, faces);
             return info;
         }
         let mut info = SpanInfo::default();
         copy_values(out, |sink| info = self.eval_inner(span, sink));
         info
+    }
+
+    /// The span's set-up into `setup` (empty), its counters and facts ([`Self::begin`]), and its
+    /// plan ([`Self::plan_span`]; `None` for an empty span, which sets nothing up).
+    #[cfg(not(texcore_lean))]
+    #[inline(always)]
+    fn begin_planned(
+        &mut self,
+        span: &Span,
+        setup: &mut Setup<T>,
+    ) -> (SpanInfo, Option<[Strategy; T]>) {
+        let info = self.begin(span, setup);
+        if span.len == 0 {
+            return (info, None);
+        }
+        (info, Some(self.plan_span(span.len, setup)))
     }
 
     /// The plan of a span of `len` pixels with set-up `setup` under the evaluator's mode.

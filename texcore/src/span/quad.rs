@@ -59,6 +59,43 @@ pub(super) struct QuadStep {
     pub(super) dgy: i64,
 }
 
+impl QuadStep {
+    /// The quadric of a span's set-up at its pixel 0: value, first and second forward
+    /// differences, gradients and their steps (wrapped to `i64`).
+    #[inline(always)]
+    pub(super) fn new<const T: usize>(setup: &super::Setup<T>) -> QuadStep {
+        let qc = setup.quad.c;
+        QuadStep {
+            q: qc[0] as i64,
+            dq: qc[1].wrapping_add(qc[2]) as i64,
+            ddq: qc[2].wrapping_mul(2) as i64,
+            gx: setup.gqx[0] as i64,
+            dgx: setup.gqx[1] as i64,
+            gy: setup.gqy[0] as i64,
+            dgy: setup.gqy[1] as i64,
+        }
+    }
+
+    /// The value's three words and the quadric's kind along the span: 0 zero, 1 affine, 2
+    /// curved (word by word: an array comparison is a library call on the devices).
+    #[cfg(not(texcore_lean))]
+    #[inline(always)]
+    pub(super) fn value_kind<const T: usize>(setup: &super::Setup<T>) -> ([i64; 3], u8) {
+        let qc = setup.quad.c;
+        let q = [
+            qc[0] as i64,
+            qc[1].wrapping_add(qc[2]) as i64,
+            qc[2].wrapping_mul(2) as i64,
+        ];
+        let kind = match ((q[0] | q[1] | q[2]) == 0, qc[2] == 0) {
+            (true, _) => 0u8,
+            (false, true) => 1,
+            (false, false) => 2,
+        };
+        (q, kind)
+    }
+}
+
 /// Whether the polynomial `sum_m c_m i^m` (degree <= 2) provably stays below 2^62 in magnitude for
 /// `i` in `0..len` (`len <= 65535`), then its wrapping i64 forward differences are exact values
 /// and adding a value below 2^62 cannot overflow. Conservative and cheap (no wide

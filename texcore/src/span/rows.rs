@@ -310,11 +310,11 @@ impl<'m, const T: usize> EvalCore<'m, T> {
         #[cfg(not(texcore_lean))]
         if FD && !self.lean() && !self.multipass() {
             let mut setup = Setup::empty();
-            let info = self.begin(span, &mut setup);
-            if span.len == 0 {
-                return info;
-            }
-            let strategies = self.plan_span(span.len, &setup);
+            let (info, Some(strategies)) = self.begin_planned(span, &mut setup) else {
+                return SpanInfo {
+                    extra_width48: setup.extra_width48,
+                };
+            };
             if !self.row_schedule(span, &setup, &strategies, state, events, true) {
                 state.used = 0;
                 self.values_planned(span.len, &setup, &strategies, out, &mut []);
@@ -340,12 +340,11 @@ impl<'m, const T: usize> EvalCore<'m, T> {
         #[cfg(not(texcore_lean))]
         if FD && !self.lean() && !self.multipass() {
             let mut setup = Setup::empty();
-            let info = self.begin(span, &mut setup);
+            let planned = self.begin_planned(span, &mut setup);
             sink.chunk.extra_width48 = setup.extra_width48;
-            if span.len == 0 {
-                return info;
-            }
-            let strategies = self.plan_span(span.len, &setup);
+            let (info, Some(strategies)) = planned else {
+                return planned.0;
+            };
             if !self.row_schedule(span, &setup, &strategies, state, events, false) {
                 state.used = 0;
                 self.run(span.len, &setup, sink);
@@ -546,17 +545,7 @@ impl<'m, const T: usize> EvalCore<'m, T> {
             }
             smooth |= lane.smooth;
         }
-        let qc = setup.quad.c;
-        let mut q = [
-            qc[0] as i64,
-            qc[1].wrapping_add(qc[2]) as i64,
-            qc[2].wrapping_mul(2) as i64,
-        ];
-        let quad = match ((q[0] | q[1] | q[2]) == 0, qc[2] == 0) {
-            (true, _) => 0u8,
-            (false, true) => 1,
-            (false, false) => 2,
-        };
+        let (mut q, quad) = QuadStep::value_kind(setup);
         let events = events.get(..state.used).unwrap_or_default();
         if smooth {
             // One smooth term: its fades along the row (the same in every row the schedule
@@ -619,16 +608,7 @@ impl<'m, const T: usize> EvalCore<'m, T> {
                 *f = i64::from(split(ts.u0).1[lane.m.min(2)]);
             }
         }
-        let qc = setup.quad.c;
-        let mut quad = QuadStep {
-            q: qc[0] as i64,
-            dq: qc[1].wrapping_add(qc[2]) as i64,
-            ddq: qc[2].wrapping_mul(2) as i64,
-            gx: setup.gqx[0] as i64,
-            dgx: setup.gqx[1] as i64,
-            gy: setup.gqy[0] as i64,
-            dgy: setup.gqy[1] as i64,
-        };
+        let mut quad = QuadStep::new(setup);
         let q = &quad;
         let noq = (q.q | q.dq | q.ddq | q.gx | q.dgx | q.gy | q.dgy) == 0;
         let events = events.get(..state.used).unwrap_or_default();
@@ -845,63 +825,6 @@ fn smooth_fade(a: u32) -> i64 {
     ((p + (1 << 31)) >> 32) as i64
 }
 
-/// The entries of a smooth-fade term `li` (`lane`): a cell's value at pixel `j` is
-/// `G + D w(j)`, `G = Phi_0 2^16` and `D = Phi_1 - Phi_0` constants of the cell (as `A + B w_m`),
-/// `w(j)` the fade of the fraction along `k`; each entry holds the change of `G` (`dv`) and of
-/// `D` (`ds`) from the term's previous cell.
-#[cfg(not(texcore_lean))]
-fn smooth_entries(
-    li: usize,
-    lane: &RowLane,
-    hash: HashKind,
-    fv: u32,
-    vb: u32,
-    events: &mut [RowEvent],
-) {
-    let k = lane.k.min(2);
-    let d = lane.du[k];
-    let mut cell = [0u16; 3];
-    if let Some(c) = cell.get_mut(lane.m) {
-        *c = lane.cm;
-    }
-    if let Some(c) = cell.get_mut(lane.o) {
-        *c = lane.co;
-    }
-    // The previous cell: its coordinate along k, faces, `G` and `D`.
-    let mut prev: Option<PrevCell> = None;
-    for e in events.iter_mut().filter(|e| usize::from(e.lane) == li) {
-        let uk = lane.u0k.wrapping_add(d.wrapping_mul(i32::from(e.at)));
-        let ck = (uk >> 16) as u16;
-        if let Some(c) = cell.get_mut(k) {
-            *c = ck;
-        }
-        let blend = |b: usize| face_ab(lane, hash, cell, b, fv, vb, false);
-        let faces = match prev {
-            Some(p) if ck.wrapping_sub(p.ck) == 1 => [p.faces[1], blend(1)],
-            Some(p) if ck.wrapping_sub(p.ck) == 0xFFFF => [blend(0), p.faces[0]],
-            _ => [blend(0), blend(1)],
-        };
-        let [f0, f1] = faces;
-        let g = [f0[0] << 16, f0[1] << 16];
-        let dd = [wsub(f1[0], f0[0]), wsub(f1[1], f0[1])];
-        (e.dv, e.ds) = match prev {
-            None => (g, dd),
-            Some(PrevCell { g: [pg, pd], .. }) => (
-                [wsub(g[0], pg[0]), wsub(g[1], pg[1])],
-                [wsub(dd[0], pd[0]), wsub(dd[1], pd[1])],
-            ),
-        };
-        e.dg = [0; 2];
-        prev = Some(PrevCell {
-            ck,
-            faces,
-            g: [g, dd],
-            h: [0; 2],
-            at: e.at,
-        });
-    }
-}
-
 /// The samples of a row with smooth-fade terms (as [`row_walk`]): the linear terms' merged
 /// value and slope, plus each smooth term's `D w(j)`, `w(j)` the fade of its fraction along `k`
 /// ([`smooth_fade`]), the lattice coordinate stepped a pixel at a time; a row of one smooth term
@@ -1039,30 +962,19 @@ fn face_ab(
     [t0 << 16, wsub(t1, t0), h]
 }
 
-/// A term's previous cell in [`lane_entries`]: its coordinate along `k`, its faces' `A`, `B`
-/// and `H`, its start's and slope's `A`, `B`, its derivative across the rows and that
-/// derivative's slope, and its first pixel.
+/// Calls `each(entry, faces, f_k)` for every entry of term `li` (`lane`) of a schedule, in
+/// order: the faces of the cell it enters (`A`, `B` and, with `GRADS`, `H`: [`face_ab`]; the face
+/// shared with the previous cell kept) and its fraction along `k`.
 #[cfg(not(texcore_lean))]
-#[derive(Clone, Copy)]
-struct PrevCell {
-    ck: u16,
-    faces: [[i64; 3]; 2],
-    g: [[i64; 2]; 2],
-    h: [i64; 2],
-    at: u16,
-}
-
-/// The entries of term `li` (`lane`) of a schedule: each of its cells' start and slope,
-/// `g0 = Phi_0 2^16 + (Phi_1 - Phi_0) f_k` and `g1 = (Phi_1 - Phi_0) d` (`axis::poly`), as
-/// `A + B f_m`, less the previous cell's end `g0 + g1 n` and slope.
-#[cfg(not(texcore_lean))]
-fn lane_entries<const GRADS: bool>(
+#[inline(always)]
+fn for_each_cell<const GRADS: bool>(
     li: usize,
     lane: &RowLane,
     hash: HashKind,
     fv: u32,
     vb: u32,
     events: &mut [RowEvent],
+    mut each: impl FnMut(&mut RowEvent, [[i64; 3]; 2], i64),
 ) {
     let k = lane.k.min(2);
     let d = lane.du[k];
@@ -1073,43 +985,58 @@ fn lane_entries<const GRADS: bool>(
     if let Some(c) = cell.get_mut(lane.o) {
         *c = lane.co;
     }
-    // The previous cell: its coordinate along k, faces, start (g0, g1 as A, B) and pixel.
-    let mut prev: Option<PrevCell> = None;
+    // The previous cell's coordinate along k and its faces.
+    let mut prev: Option<(u16, [[i64; 3]; 2])> = None;
     for e in events.iter_mut().filter(|e| usize::from(e.lane) == li) {
         let uk = lane.u0k.wrapping_add(d.wrapping_mul(i32::from(e.at)));
         let ck = (uk >> 16) as u16;
-        let fk = i64::from(uk & 0xFFFF);
         if let Some(c) = cell.get_mut(k) {
             *c = ck;
         }
         let blend = |b: usize| face_ab(lane, hash, cell, b, fv, vb, GRADS);
         let faces = match prev {
-            Some(p) if ck.wrapping_sub(p.ck) == 1 => [p.faces[1], blend(1)],
-            Some(p) if ck.wrapping_sub(p.ck) == 0xFFFF => [blend(0), p.faces[0]],
+            Some((pk, f)) if ck.wrapping_sub(pk) == 1 => [f[1], blend(1)],
+            Some((pk, f)) if ck.wrapping_sub(pk) == 0xFFFF => [blend(0), f[0]],
             _ => [blend(0), blend(1)],
         };
-        let [f0, f1] = faces;
+        each(e, faces, i64::from(uk & 0xFFFF));
+        prev = Some((ck, faces));
+    }
+}
+
+/// The entries of term `li` (`lane`) of a schedule: each of its cells' start and slope,
+/// `g0 = Phi_0 2^16 + (Phi_1 - Phi_0) f_k` and `g1 = (Phi_1 - Phi_0) d` (`axis::poly`), as
+/// `A + B f_m`, less the previous cell's end `g0 + g1 n` and slope; with `GRADS` the same for
+/// the derivative across the rows.
+#[cfg(not(texcore_lean))]
+fn lane_entries<const GRADS: bool>(
+    li: usize,
+    lane: &RowLane,
+    hash: HashKind,
+    fv: u32,
+    vb: u32,
+    events: &mut [RowEvent],
+) {
+    let d = i64::from(lane.du[lane.k.min(2)]);
+    // The previous cell's start and slope (`A`, `B` each), derivative and its slope, pixel.
+    let mut prev: Option<([[i64; 2]; 2], [i64; 2], u16)> = None;
+    for_each_cell::<GRADS>(li, lane, hash, fv, vb, events, |e, [f0, f1], fk| {
         let dphi = [wsub(f1[0], f0[0]), wsub(f1[1], f0[1])];
         let g0 = [
             wadd(f0[0] << 16, wmul(dphi[0], fk)),
             wadd(f0[1] << 16, wmul(dphi[1], fk)),
         ];
-        let g1 = [wmul(dphi[0], i64::from(d)), wmul(dphi[1], i64::from(d))];
+        let g1 = [wmul(dphi[0], d), wmul(dphi[1], d)];
         // The derivative across the rows (`axis::poly`'s `h`, `e_k = 0`).
         let h = if GRADS {
             let dh = wsub(f1[2], f0[2]);
-            [wadd(f0[2] << 16, wmul(dh, fk)), wmul(dh, i64::from(d))]
+            [wadd(f0[2] << 16, wmul(dh, fk)), wmul(dh, d)]
         } else {
             [0; 2]
         };
         (e.dv, e.ds, e.dg) = match prev {
             None => (g0, g1, h),
-            Some(PrevCell {
-                g: [p0, p1],
-                h: ph,
-                at,
-                ..
-            }) => {
+            Some(([p0, p1], ph, at)) => {
                 let n = i64::from(e.at.wrapping_sub(at));
                 let end = [wadd(p0[0], wmul(p1[0], n)), wadd(p0[1], wmul(p1[1], n))];
                 (
@@ -1123,14 +1050,38 @@ fn lane_entries<const GRADS: bool>(
                 )
             }
         };
-        prev = Some(PrevCell {
-            ck,
-            faces,
-            g: [g0, g1],
-            h,
-            at: e.at,
-        });
-    }
+        prev = Some(([g0, g1], h, e.at));
+    });
+}
+
+/// The entries of a smooth-fade term `li` (`lane`): a cell's value at pixel `j` is
+/// `G + D w(j)`, `G = Phi_0 2^16` and `D = Phi_1 - Phi_0` constants of the cell (as `A + B w_m`),
+/// `w(j)` the fade of the fraction along `k`; each entry holds the change of `G` (`dv`) and of
+/// `D` (`ds`) from the term's previous cell.
+#[cfg(not(texcore_lean))]
+fn smooth_entries(
+    li: usize,
+    lane: &RowLane,
+    hash: HashKind,
+    fv: u32,
+    vb: u32,
+    events: &mut [RowEvent],
+) {
+    // The previous cell's `G` and `D`.
+    let mut prev: Option<[[i64; 2]; 2]> = None;
+    for_each_cell::<false>(li, lane, hash, fv, vb, events, |e, [f0, f1], _| {
+        let g = [f0[0] << 16, f0[1] << 16];
+        let dd = [wsub(f1[0], f0[0]), wsub(f1[1], f0[1])];
+        (e.dv, e.ds) = match prev {
+            None => (g, dd),
+            Some([pg, pd]) => (
+                [wsub(g[0], pg[0]), wsub(g[1], pg[1])],
+                [wsub(dd[0], pd[0]), wsub(dd[1], pd[1])],
+            ),
+        };
+        e.dg = [0; 2];
+        prev = Some([g, dd]);
+    });
 }
 
 #[cfg(test)]
