@@ -504,7 +504,8 @@ impl<'m, const T: usize> EvalCore<'m, T> {
                 return false;
             };
             let (cell, frac) = split(ts.u0);
-            let (cm, co, fo) = (cell[lane.m], cell[lane.o], frac[lane.o]);
+            let (mi, oi) = (lane.m.min(2), lane.o.min(2)); // always 0..=2: no bounds checks
+            let (cm, co, fo) = (cell[mi], cell[oi], frac[oi]);
             if lane.made && lane.cm == cm && lane.co == co && lane.fo == fo && lane.amp == ts.amp {
                 continue;
             }
