@@ -1325,6 +1325,64 @@ mod tests {
         }
     }
 
+    /// Hard cases: coordinates at the ends of the 16.16 range whose rows and spans wrap, a
+    /// 4000-pixel span (thousands of entries), steps of a whole cell a pixel and of one raw
+    /// unit, negative steps; every row the span path's, through caches large and too small.
+    #[test]
+    fn extreme_planes_are_exact() {
+        // (s0, ds, dsdy, len), raw.
+        type Case = ([i32; 3], [i32; 3], [i32; 3], u16);
+        let cases: [Case; 5] = [
+            (
+                [i32::MAX - 9_000, i32::MIN + 5, -7],
+                [4099, 0, 0],
+                [0, 30_000, 0],
+                4000,
+            ),
+            (
+                [i32::MIN + 1, 123, i32::MAX - 77],
+                [0, 0, -65_536],
+                [70_000, 0, 0],
+                300,
+            ),
+            ([5, -5, 0], [1, 0, 0], [0, 0, 1], 2000),
+            (
+                [-1_000_000, 2_000_000, -3],
+                [0, -32_768, 0],
+                [0, 0, -1],
+                1000,
+            ),
+            (
+                [i32::MAX, i32::MAX, i32::MAX],
+                [65_535, 0, 0],
+                [0, i32::MIN, 0],
+                64,
+            ),
+        ];
+        for (octaves, smooth) in [(1, false), (4, false), (1, true), (3, true)] {
+            let m = model(octaves, 0, 1, false, HashKind::Integer, smooth);
+            for gradients in [false, true] {
+                let opts = EvalOptions {
+                    mode: EvalMode::Fd,
+                    gradients,
+                    cull: true,
+                    ..Default::default()
+                };
+                for &(s0, ds, dy, len) in &cases {
+                    let first = Span {
+                        s0: TexPoint::from_bits(s0[0], s0[1], s0[2]),
+                        ds: TexPoint::from_bits(ds[0], ds[1], ds[2]),
+                        dsdy: TexPoint::from_bits(dy[0], dy[1], dy[2]),
+                        len,
+                    };
+                    let n = usize::from(len);
+                    compare::<4096, 4096>(&m, opts, &first, 5, n).unwrap();
+                    compare::<16, 0>(&m, opts, &first, 3, n).unwrap();
+                }
+            }
+        }
+    }
+
     #[test]
     fn peers_plane_rows_take_the_schedule() {
         use crate::texture::workload::peers;
