@@ -563,8 +563,8 @@ fn atlas_bake_bound(target: DeviceTarget) -> u64 {
 /// evaluator gets faster.
 fn peers_bound(target: DeviceTarget, workload: &str) -> u64 {
     // (Cortex-M4F, rv32imc); measured in the job-suite firmware (fourteenth round, the row
-    // schedule of `texcore::span::PlaneRows` for the whole-row workloads) at 11.5 / 17.5,
-    // 70.1 / 77.5, 137.0 / 153.0, 323.3 / 378.7, 39.2 / 48.3, 18.7 / 24.4 and 621.0 / 993.0.
+    // schedule of `texcore::span::PlaneRows` for the whole-row workloads) at 11.7 / 17.5,
+    // 71.3 / 78.0, 137.1 / 152.4, 324.9 / 378.8, 39.2 / 48.4, 18.0 / 24.5 and 621.1 / 993.1.
     let (m4f, rv) = match workload {
         "value-1oct" => (13, 20),
         "value-4oct" => (78, 86),
