@@ -127,6 +127,24 @@ pub struct Span {
     pub len: u16,
 }
 
+impl Span {
+    /// The span one row below: `s0` advanced by `dsdy` (the raw 16.16 bits, wrapping), the steps
+    /// and the length kept ([`PlaneRows`] and the texture's rows step so).
+    #[cfg_attr(texcore_lean, allow(dead_code))]
+    pub(crate) fn next_row(&self) -> Span {
+        let b = self.s0.to_bits();
+        let d = self.dsdy.to_bits();
+        Span {
+            s0: TexPoint::from_bits(
+                b[0].wrapping_add(d[0]),
+                b[1].wrapping_add(d[1]),
+                b[2].wrapping_add(d[2]),
+            ),
+            ..*self
+        }
+    }
+}
+
 /// How a span is evaluated; every mode gives identical samples.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]
 #[cfg_attr(feature = "defmt", derive(defmt::Format))]
@@ -865,10 +883,9 @@ impl<'m, const T: usize> EvalCore<'m, T> {
         #[cfg(not(texcore_lean))]
         if FD && !self.lean() && !self.multipass() {
             let mut setup = Setup::empty();
-            let (info, Some(strategies)) = self.begin_planned(span, &mut setup) else {
-                return SpanInfo {
-                    extra_width48: setup.extra_width48,
-                };
+            let (info, strategies) = self.begin_planned(span, &mut setup);
+            let Some(strategies) = strategies else {
+                return info;
             };
             self.values_planned(span.len, &setup, &strategies, out, faces);
             return info;

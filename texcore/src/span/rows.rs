@@ -234,13 +234,7 @@ impl<const T: usize> PlaneRows<'_, '_, '_, T> {
     /// The span of the next row, and moves to the row after it.
     fn advance(&mut self) -> Span {
         let span = self.span;
-        let b = span.s0.to_bits();
-        let d = span.dsdy.to_bits();
-        self.span.s0 = TexPoint::from_bits(
-            b[0].wrapping_add(d[0]),
-            b[1].wrapping_add(d[1]),
-            b[2].wrapping_add(d[2]),
-        );
+        self.span = span.next_row();
         span
     }
 
@@ -310,10 +304,9 @@ impl<'m, const T: usize> EvalCore<'m, T> {
         #[cfg(not(texcore_lean))]
         if FD && !self.lean() && !self.multipass() {
             let mut setup = Setup::empty();
-            let (info, Some(strategies)) = self.begin_planned(span, &mut setup) else {
-                return SpanInfo {
-                    extra_width48: setup.extra_width48,
-                };
+            let (info, strategies) = self.begin_planned(span, &mut setup);
+            let Some(strategies) = strategies else {
+                return info;
             };
             if !self.row_schedule(span, &setup, &strategies, state, events, true) {
                 state.used = 0;
@@ -340,10 +333,10 @@ impl<'m, const T: usize> EvalCore<'m, T> {
         #[cfg(not(texcore_lean))]
         if FD && !self.lean() && !self.multipass() {
             let mut setup = Setup::empty();
-            let planned = self.begin_planned(span, &mut setup);
-            sink.chunk.extra_width48 = setup.extra_width48;
-            let (info, Some(strategies)) = planned else {
-                return planned.0;
+            let (info, strategies) = self.begin_planned(span, &mut setup);
+            sink.chunk.extra_width48 = info.extra_width48;
+            let Some(strategies) = strategies else {
+                return info;
             };
             if !self.row_schedule(span, &setup, &strategies, state, events, false) {
                 state.used = 0;
@@ -414,9 +407,10 @@ impl<'m, const T: usize> EvalCore<'m, T> {
         if !self.rows_take(len, setup, strategies, smooth_ok && !grads) {
             return false;
         }
-        // The same terms, axes, steps and starts along the row: the same schedule.
-        let mut same = state.used != 0 && state.len == len;
-        let mut n = 0usize;
+        // The row's terms: the same terms, axes, steps and starts along the row as the
+        // schedule's make the same schedule.
+        let mut fresh: heapless::Vec<RowLane, T> = heapless::Vec::new();
+        let model_terms = self.model.terms();
         for (i, (st, ts)) in strategies.iter().zip(setup.terms.iter()).enumerate() {
             if *st == Strategy::Off {
                 continue;
@@ -428,56 +422,47 @@ impl<'m, const T: usize> EvalCore<'m, T> {
             if grads && !ts.gradient {
                 return false;
             }
-            // Word by word (an array comparison is a library call on the devices).
-            let eq3 =
-                |a: [i32; 3], b: [i32; 3]| ((a[0] ^ b[0]) | (a[1] ^ b[1]) | (a[2] ^ b[2])) == 0;
-            same &= state.lanes.get(n).is_some_and(|l| {
-                l.term == i && eq3(l.du, ts.du) && eq3(l.dy, ts.dy) && l.u0k == ts.u0[k.min(2)]
-            });
-            n += 1;
+            let k = k.min(2);
+            let (a, c) = others(k);
+            // The row axis: the other axis the rows step along (either when neither).
+            let (m, o) = match (ts.dy[k] != 0, ts.dy[a] != 0, ts.dy[c] != 0) {
+                (false, _, false) => (a, c),
+                (false, false, true) => (c, a),
+                _ => return false,
+            };
+            let lane = RowLane {
+                term: i,
+                k,
+                m,
+                o,
+                du: ts.du,
+                u0k: ts.u0[k],
+                dy: ts.dy,
+                cm: 0,
+                co: 0,
+                fo: 0,
+                amp: 0,
+                made: false,
+                wo: 0,
+                smooth: model_terms
+                    .get(i)
+                    .is_some_and(|t| is_smooth_value(&t.basis)),
+                fd: matches!(st, Strategy::Fd | Strategy::Fd32),
+            };
+            // At most T terms: never full.
+            let _ = fresh.push(lane);
         }
-        same &= state.lanes.len() == n;
+        // Word by word (an array comparison is a library call on the devices).
+        let eq3 = |a: [i32; 3], b: [i32; 3]| ((a[0] ^ b[0]) | (a[1] ^ b[1]) | (a[2] ^ b[2])) == 0;
+        let same = state.used != 0
+            && state.len == len
+            && state.lanes.len() == fresh.len()
+            && state.lanes.iter().zip(fresh.iter()).all(|(l, f)| {
+                l.term == f.term && eq3(l.du, f.du) && eq3(l.dy, f.dy) && l.u0k == f.u0k
+            });
         if !same {
             state.used = 0;
-            state.lanes.clear();
-            let model_terms = self.model.terms();
-            for (i, (st, ts)) in strategies.iter().zip(setup.terms.iter()).enumerate() {
-                if *st == Strategy::Off {
-                    continue;
-                }
-                let Some(k) = single_axis(ts.du) else {
-                    return false;
-                };
-                let k = k.min(2);
-                let (a, c) = others(k);
-                // The row axis: the other axis the rows step along (either when neither).
-                let (m, o) = match (ts.dy[k] != 0, ts.dy[a] != 0, ts.dy[c] != 0) {
-                    (false, _, false) => (a, c),
-                    (false, false, true) => (c, a),
-                    _ => return false,
-                };
-                let lane = RowLane {
-                    term: i,
-                    k,
-                    m,
-                    o,
-                    du: ts.du,
-                    u0k: ts.u0[k],
-                    dy: ts.dy,
-                    cm: 0,
-                    co: 0,
-                    fo: 0,
-                    amp: 0,
-                    made: false,
-                    wo: 0,
-                    smooth: model_terms
-                        .get(i)
-                        .is_some_and(|t| is_smooth_value(&t.basis)),
-                    fd: matches!(st, Strategy::Fd | Strategy::Fd32),
-                };
-                // At most T terms: never full.
-                let _ = state.lanes.push(lane);
-            }
+            state.lanes = fresh;
             let Some(used) = schedule(len, &state.lanes, events) else {
                 return false;
             };
@@ -537,15 +522,7 @@ impl<'m, const T: usize> EvalCore<'m, T> {
         out: &mut [TexValue],
     ) {
         let fvs = self.model.noise_frac_bits() & 31;
-        // Each term's fraction along its row axis in this row.
-        let mut fm = [0i64; T];
-        let mut smooth = false;
-        for (f, lane) in fm.iter_mut().zip(state.lanes.iter()) {
-            if let Some(ts) = setup.terms.get(lane.term) {
-                *f = i64::from(weight(lane.smooth, split(ts.u0).1[lane.m.min(2)]));
-            }
-            smooth |= lane.smooth;
-        }
+        let (fm, smooth) = row_weights(setup, state);
         let (mut q, quad) = QuadStep::value_kind(setup);
         let events = events.get(..state.used).unwrap_or_default();
         if smooth {
@@ -575,11 +552,22 @@ impl<'m, const T: usize> EvalCore<'m, T> {
                 _ => row_walk::<false, false, T>(events, &fm, fvs, out, &mut q),
             }
         }
-        let len = usize::from(len);
-        let px = len as u64;
+        self.count_row(len, state, false);
+    }
+
+    /// The counters of a row that the schedule `state` served (`grads`: with its gradients), as
+    /// the span path counts them: a cell set-up an entry, a sample a term a pixel, the pixels of
+    /// forward-differenced terms.
+    #[cfg(not(texcore_lean))]
+    fn count_row(&mut self, len: u16, state: &RowsState<T>, grads: bool) {
+        let px = u64::from(len);
+        let lanes = state.lanes.len() as u64;
         let st = &mut self.stats;
-        st.cell_setups += events.len() as u64;
-        st.noise_evaluations += px * state.lanes.len() as u64;
+        st.cell_setups += state.used as u64;
+        st.noise_evaluations += px * lanes;
+        if grads {
+            st.gradient_evaluations += px * (1 + lanes);
+        }
         if state.lanes.iter().any(|l| l.fd) {
             st.fd_pixels += px;
         }
@@ -603,12 +591,7 @@ impl<'m, const T: usize> EvalCore<'m, T> {
     ) {
         let grads = GRADIENTS && self.opts.gradients;
         let fvs = self.model.noise_frac_bits() & 31;
-        let mut fm = [0i64; T];
-        for (f, lane) in fm.iter_mut().zip(state.lanes.iter()) {
-            if let Some(ts) = setup.terms.get(lane.term) {
-                *f = i64::from(split(ts.u0).1[lane.m.min(2)]);
-            }
-        }
+        let (fm, _) = row_weights(setup, state);
         let mut quad = QuadStep::new(setup);
         let q = &quad;
         let noq = (q.q | q.dq | q.ddq | q.gx | q.dgx | q.gy | q.dgy) == 0;
@@ -622,20 +605,24 @@ impl<'m, const T: usize> EvalCore<'m, T> {
             (false, true) => row_chunks::<false, true, true, T>(events, fm, fvs, sink, qs),
             (false, false) => row_chunks::<false, false, false, T>(events, fm, fvs, sink, qs),
         }
-        let px = u64::from(len);
-        let lanes = state.lanes.len() as u64;
-        let st = &mut self.stats;
-        st.cell_setups += events.len() as u64;
-        st.noise_evaluations += px * lanes;
-        if grads {
-            st.gradient_evaluations += px * (1 + lanes);
-        }
-        st.fd_pixels += px;
-        #[cfg(test)]
-        {
-            self.row_spans += 1;
-        }
+        self.count_row(len, state, grads);
     }
+}
+
+/// Each term's weight along its row axis `m` in the row set up as `setup` (the fraction, or
+/// its smooth fade): what the entries' `A + B w_m` take; and whether a term has the smooth fade.
+#[cfg(not(texcore_lean))]
+#[inline(always)]
+fn row_weights<const T: usize>(setup: &Setup<T>, state: &RowsState<T>) -> ([i64; T], bool) {
+    let mut wm = [0i64; T];
+    let mut smooth = false;
+    for (w, lane) in wm.iter_mut().zip(state.lanes.iter()) {
+        if let Some(ts) = setup.terms.get(lane.term) {
+            *w = i64::from(weight(lane.smooth, split(ts.u0).1[lane.m.min(2)]));
+        }
+        smooth |= lane.smooth;
+    }
+    (wm, smooth)
 }
 
 /// The samples of a row from its schedule's `events` into `sink` (as [`row_walk`]; `GRADS`:

@@ -85,7 +85,7 @@ impl<const T: usize, const N: usize> TextureRows<'_, '_, '_, T, N> {
                 #[cfg(feature = "perturb")]
                 Source::Spans(e, span) => {
                     e.eval(span, f);
-                    *span = next_span(span);
+                    *span = span.next_row();
                 }
             }
             return;
@@ -104,24 +104,9 @@ impl<const T: usize, const N: usize> TextureRows<'_, '_, '_, T, N> {
                 e.eval(span, |s| {
                     emit(stage.shade(s.f, widths.width_with(s.gx, s.gy, extra)));
                 });
-                *span = next_span(span);
+                *span = span.next_row();
             }
         }
-    }
-}
-
-/// `span` one row further (`s0 + dsdy`, wrapping), as [`PlaneRows`] steps.
-#[cfg(feature = "perturb")]
-fn next_span(span: &Span) -> Span {
-    let b = span.s0.to_bits();
-    let d = span.dsdy.to_bits();
-    Span {
-        s0: crate::format::TexPoint::from_bits(
-            b[0].wrapping_add(d[0]),
-            b[1].wrapping_add(d[1]),
-            b[2].wrapping_add(d[2]),
-        ),
-        ..*span
     }
 }
 

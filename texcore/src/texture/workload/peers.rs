@@ -213,6 +213,17 @@ pub fn grad_word(s: &Sample) -> u32 {
         ^ ((gy >> 32) as u32).rotate_left(24)
 }
 
+/// The [`grad_word`]s of chunk `c` stored into `line` from `*x` on, and `*x` past them.
+#[inline(always)]
+fn store_grad_words(line: &mut [TexValue], x: &mut usize, c: &SampleChunk) {
+    if let Some(dst) = line.get_mut(*x..*x + c.len()) {
+        for (d, s) in dst.iter_mut().zip(c.iter()) {
+            *d = TexValue::from_bits(grad_word(&s) as i32);
+        }
+    }
+    *x += c.len();
+}
+
 /// Entries of the face cache of the value rows ([`value_row`]): every face a row of the
 /// 4-octave workloads crosses (124).
 pub const FACES: usize = 128;
@@ -224,9 +235,9 @@ pub const ROW_EVENTS: usize = 128;
 /// Rows `0..rows` of noise workload `w`, each into `line` (its first [`SIZE`] values) and then
 /// handed to `each(y, line)`: the whole-row workloads through [`SpanEvaluator::rows`] (their
 /// schedule kept across rows in a [`RowCache`] of [`ROW_EVENTS`] entries and [`SIZE`] weights
-/// for the smooth fade; values, or
-/// [`grad_word`]s of the samples with gradients), the 16-pixel-span ones row by row through
-/// [`value_row`] with a face cache kept across rows. `ev` must have been built for `w`'s model with `gradients = w.gradients()`.
+/// for the smooth fade; values, or [`grad_word`]s of the samples with gradients), the
+/// 16-pixel-span ones row by row through [`value_row`] with a face cache kept across rows.
+/// `ev` must have been built for `w`'s model with `gradients = w.gradients()`.
 #[inline(always)]
 pub fn value_plane<const T: usize>(
     ev: &mut SpanEvaluator<'_, T>,
@@ -244,14 +255,7 @@ pub fn value_plane<const T: usize>(
         for y in 0..rows {
             if w.gradients() {
                 let mut x = 0;
-                plane.next_chunks(&mut |c: &SampleChunk| {
-                    if let Some(dst) = line.get_mut(x..x + c.len()) {
-                        for (d, s) in dst.iter_mut().zip(c.iter()) {
-                            *d = TexValue::from_bits(grad_word(&s) as i32);
-                        }
-                    }
-                    x += c.len();
-                });
+                plane.next_chunks(&mut |c: &SampleChunk| store_grad_words(line, &mut x, c));
             } else {
                 plane.next_values(line);
             }
@@ -290,12 +294,7 @@ pub fn value_row<const T: usize>(
         if gradients {
             let mut x = 0;
             ev.eval_chunks(&span, &mut |c: &SampleChunk| {
-                if let Some(dst) = chunk.get_mut(x..x + c.len()) {
-                    for (d, s) in dst.iter_mut().zip(c.iter()) {
-                        *d = TexValue::from_bits(grad_word(&s) as i32);
-                    }
-                }
-                x += c.len();
+                store_grad_words(chunk, &mut x, c)
             });
         } else {
             ev.eval_values_cached(&span, chunk, faces);
