@@ -563,8 +563,8 @@ fn atlas_bake_bound(target: DeviceTarget) -> u64 {
 /// evaluator gets faster.
 fn peers_bound(target: DeviceTarget, workload: &str) -> u64 {
     // (Cortex-M4F, rv32imc); measured in the job-suite firmware (fourteenth round, the row
-    // schedule of `texcore::span::PlaneRows` for the whole-row workloads) at 11.7 / 17.5,
-    // 71.3 / 78.0, 137.1 / 152.4, 324.9 / 378.8, 39.2 / 48.4, 18.0 / 24.5 and 621.1 / 993.1.
+    // schedule of `texcore::span::PlaneRows` for the whole-row workloads) at 11.6 / 18.2,
+    // 70.4 / 79.4, 134.4 / 155.0, 325.8 / 379.7, 39.2 / 48.4, 17.7 / 25.5 and 621.1 / 993.1.
     let (m4f, rv) = match workload {
         "value-1oct" => (13, 20),
         "value-4oct" => (78, 86),
