@@ -11,7 +11,7 @@
 //! whole plane's (docs/peers.md) where every row is evaluated alike; the whole-row workloads
 //! keep their row schedule across rows (`texcore::span::PlaneRows`), whose cells along the rows
 //! are made once per cell band, so in a band of 8 rows they cost more a sample than over the
-//! plane (`value-4oct` 83.8 against 71.2 on the M4F). The fastnoise-lite rows are checked for
+//! plane (`value-4oct` 83.5 against 71.6 on the M4F). The fastnoise-lite rows are checked for
 //! their checksums only.
 //!
 //! When QEMU is not installed the test fails if `CI` is set, and otherwise prints a skip message
