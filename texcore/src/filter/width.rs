@@ -367,6 +367,22 @@ mod tests {
     }
 
     #[test]
+    fn isqrt32_from_at_square_boundaries() {
+        // Every root's first and last value (r^2 and r^2 + 2r), from guesses at, next to and far
+        // from the root: the loop stops exactly at the boundaries.
+        for r in (1u32..=0xFFFF).step_by(7).chain([1, 2, 3, 0xFFFE, 0xFFFF]) {
+            let lo = r * r;
+            let hi = lo + (2 * r).min(u32::MAX - lo);
+            for v in [lo, hi, lo - 1] {
+                let want = isqrt(u64::from(v)) as u32;
+                for g in [r - 1, r, r + 1, r + 2, r / 2, 1, 0xFFFF] {
+                    assert_eq!(isqrt32_from(v, g), want, "{v} from {g}");
+                }
+            }
+        }
+    }
+
+    #[test]
     fn isqrt32_from_guesses() {
         for v in (0..=u32::MAX)
             .step_by(65_521)

@@ -141,8 +141,17 @@ pub const fn round_shift_128(v: i128, k: u32) -> i128 {
     (v >> k) + (((v & ((half << 1) - 1)) >= half) as i128)
 }
 
-/// `floor(sqrt(v))`, exact, by the bit-by-bit (digit) method.
+/// `floor(sqrt(v))`, exact: values below `2^64` by [`isqrt_u64`], larger ones by the bit-by-bit
+/// (digit) method in `u128`.
 pub const fn isqrt_u128(v: u128) -> u128 {
+    if v >> 64 == 0 {
+        return isqrt_u64(v as u64) as u128;
+    }
+    isqrt_u128_digits(v)
+}
+
+/// `floor(sqrt(v))` by the bit-by-bit (digit) method in `u128` (64 steps at most).
+const fn isqrt_u128_digits(v: u128) -> u128 {
     let mut rem = v;
     let mut root: u128 = 0;
     // Highest power of four <= v.
@@ -162,9 +171,40 @@ pub const fn isqrt_u128(v: u128) -> u128 {
     root
 }
 
-/// `floor(sqrt(v))` for `u64`.
+/// `floor(sqrt(v))` for `u64`, exact ([`isqrt_u64_scaled`] with no extra digits).
 pub const fn isqrt_u64(v: u64) -> u64 {
-    isqrt_u128(v as u128) as u64
+    isqrt_u64_scaled(v, 0)
+}
+
+/// `floor(sqrt(v * 4^k))`, exact, for `k <= 29` (the root is then below `2^61`).
+///
+/// The root of `v`'s top 32 bits comes from Newton's iteration on the 32-bit divide
+/// ([`crate::filter::width::isqrt32`], exact); the digit method then appends `v`'s remaining
+/// base-4 digits and `k` zero digits, one root bit each. Its invariant `rem <= 2 root` keeps
+/// every step in `u64` (`4 rem + 3 < 2^64` while the root is below `2^61`). At most 16 + `k`
+/// steps of `u64` arithmetic, against 64 steps of `u128` for the digit method alone.
+pub const fn isqrt_u64_scaled(v: u64, k: u32) -> u64 {
+    let k = if k > 29 { 29 } else { k };
+    let bits = 64 - v.leading_zeros();
+    // An even number of low bits, so that `v >> low` is below 2^32.
+    let low = if bits > 32 { (bits - 31) & !1 } else { 0 };
+    let top = (v >> low) as u32;
+    let mut root = crate::filter::width::isqrt32(top) as u64;
+    let mut rem = top as u64 - root * root;
+    let mut i = low / 2 + k;
+    while i > 0 {
+        i -= 1;
+        // Digit i of v * 4^k: zero below 4^k.
+        let d = if i < k { 0 } else { (v >> (2 * (i - k))) & 3 };
+        rem = (rem << 2) | d;
+        let trial = (root << 2) | 1;
+        root <<= 1;
+        if rem >= trial {
+            rem -= trial;
+            root |= 1;
+        }
+    }
+    root
 }
 
 // ---------------------------------------------------------------------------------------------
@@ -439,8 +479,8 @@ impl Vec3 {
             (0, bits - 30)
         };
         let s = [(c[0] << l) >> r, (c[1] << l) >> r, (c[2] << l) >> r];
-        let sum = (s[0] * s[0] + s[1] * s[1] + s[2] * s[2]) as u128; // <= 3 * 2^60
-        let len = isqrt_u128(sum << 32) as i128; // >= 2^44 > 0
+        let sum = (s[0] * s[0] + s[1] * s[1] + s[2] * s[2]) as u64; // <= 3 * 2^60
+        let len = isqrt_u64_scaled(sum, 16) as i64; // isqrt(sum * 2^32): 2^44 <= len < 2^47
         Some(Vec3::new(
             unit_component(s[0], len),
             unit_component(s[1], len),
@@ -455,9 +495,15 @@ const fn det2(a: i32, b: i32, c: i32, d: i32) -> i32 {
     sat_i32(sat_i64(round_shift_128(v, 16)))
 }
 
-/// `round(v 2^32 / len)` with `|v| <= 2^30 <= len 2^-14`: a component in `[-ONE, ONE]`.
-const fn unit_component(v: i64, len: i128) -> i32 {
-    div_round_128((v as i128) << 32, len) as i32
+/// `round(v 2^32 / len)` (half up, as [`div_round`]) with `|v| <= 2^30` and
+/// `2^44 <= len < 2^47`: a component in `[-ONE, ONE]`. In `i64`: for `d > 0`,
+/// `floor((2n + d) / 2d) = floor((n + floor(d / 2)) / d)` (for odd `d` the extra half never
+/// reaches the next multiple of `d`), and `n + floor(d / 2) <= 2^62 + 2^46` fits.
+const fn unit_component(v: i64, len: i64) -> i32 {
+    match ((v << 32) + (len >> 1)).checked_div_euclid(len) {
+        Some(q) => q as i32,
+        None => 0,
+    }
 }
 
 const fn max3(a: u64, b: u64, c: u64) -> u64 {
@@ -479,6 +525,8 @@ pub const fn mul_q16(a: i32, b: i32) -> i32 {
 #[allow(clippy::needless_range_loop)]
 mod tests {
     use super::*;
+    use proptest::prelude::*;
+    use std::vec::Vec;
 
     fn q30(v: i32) -> f64 {
         v as f64 / (1u64 << 30) as f64
@@ -530,6 +578,99 @@ mod tests {
         let r = isqrt_u128(u128::MAX);
         assert_eq!(r, u64::MAX as u128);
         assert_eq!(isqrt_u128(0), 0);
+    }
+
+    /// `normalized` as first written: the `u128` digit root and the `i128` rounding division.
+    fn normalized_reference(v: Vec3) -> Option<Vec3> {
+        let c = [v.x as i64, v.y as i64, v.z as i64];
+        let m = c.iter().map(|c| c.unsigned_abs()).max().unwrap();
+        if m == 0 {
+            return None;
+        }
+        let bits = 64 - m.leading_zeros();
+        let (l, r) = if bits <= 30 {
+            (30 - bits, 0)
+        } else {
+            (0, bits - 30)
+        };
+        let s = c.map(|c| (c << l) >> r);
+        let sum = s.iter().map(|&s| (s * s) as u128).sum::<u128>();
+        let len = isqrt_u128_digits(sum << 32) as i128;
+        let [x, y, z] = s.map(|s| div_round_128((s as i128) << 32, len) as i32);
+        Some(Vec3::new(x, y, z))
+    }
+
+    #[test]
+    fn isqrt_fast_paths_are_the_digit_method() {
+        let mut x = 0x9E37_79B9_7F4A_7C15u64;
+        let mut vals: Vec<u64> = (0..64)
+            .flat_map(|b| {
+                let p = 1u64 << b;
+                [p, p - 1, p + 1, p.wrapping_mul(3) / 2]
+            })
+            .collect();
+        for r in [1u64, 2, 3, 65535, 65536, 65537, (1 << 32) - 1, 1 << 31] {
+            vals.extend([r * r, r * r - 1, r * r + 2 * r, r * r + 2 * r + 1]);
+        }
+        for _ in 0..20_000 {
+            x ^= x << 13;
+            x ^= x >> 7;
+            x ^= x << 17;
+            vals.push(x >> (x % 64));
+        }
+        vals.push(u64::MAX);
+        for v in vals {
+            assert_eq!(
+                u128::from(isqrt_u64(v)),
+                isqrt_u128_digits(u128::from(v)),
+                "{v}"
+            );
+            for k in [1, 8, 16] {
+                let big = u128::from(v) << (2 * k);
+                if big >> 122 == 0 {
+                    assert_eq!(
+                        u128::from(isqrt_u64_scaled(v, k)),
+                        isqrt_u128_digits(big),
+                        "{v} * 4^{k}"
+                    );
+                }
+            }
+        }
+        assert_eq!(isqrt_u128(u128::MAX), isqrt_u128_digits(u128::MAX));
+    }
+
+    proptest! {
+        #[test]
+        fn normalized_is_the_reference(x in any::<i32>(), y in any::<i32>(), z in any::<i32>(),
+                                       shift in 0u32..31) {
+            for v in [Vec3::new(x, y, z), Vec3::new(x >> shift, y >> shift, z >> shift)] {
+                prop_assert_eq!(v.normalized(), normalized_reference(v));
+            }
+        }
+    }
+
+    #[test]
+    fn normalized_extremes_are_the_reference() {
+        let e = [
+            0,
+            1,
+            -1,
+            2,
+            i32::MAX,
+            i32::MIN,
+            1 << 29,
+            -(1 << 29),
+            (1 << 30) - 1,
+            46341,
+        ];
+        for &x in &e {
+            for &y in &e {
+                for &z in &e {
+                    let v = Vec3::new(x, y, z);
+                    assert_eq!(v.normalized(), normalized_reference(v), "{v:?}");
+                }
+            }
+        }
     }
 
     #[test]
