@@ -610,7 +610,9 @@ mod tests {
             })
             .collect();
         for r in [1u64, 2, 3, 65535, 65536, 65537, (1 << 32) - 1, 1 << 31] {
-            vals.extend([r * r, r * r - 1, r * r + 2 * r, r * r + 2 * r + 1]);
+            // (r + 1)^2 overflows u64 for the last root below 2^32.
+            vals.extend([r * r, r * r - 1, r * r + 2 * r]);
+            vals.extend((r + 1).checked_mul(r + 1));
         }
         for _ in 0..20_000 {
             x ^= x << 13;
