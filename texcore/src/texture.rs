@@ -270,7 +270,7 @@ mod tests {
     use super::*;
     use crate::format::TexPoint;
     use crate::hash::HashKind;
-    use crate::table::{TableLookup, TableWrap};
+    use crate::table::TableLookup;
 
     /// The marble preset's colour table with filter `aa`.
     fn stage(aa: Antialias) -> ColorStage<256> {
@@ -314,7 +314,7 @@ mod tests {
             crate::presets::mn_marble(HashKind::Integer),
             crate::presets::mn_wood(HashKind::Integer),
         ] {
-            let m = PerturbedMaterial::<8>::new(&p, TableWrap::Mod).unwrap();
+            let m = PerturbedMaterial::<8>::new(&p, crate::table::TableWrap::Mod).unwrap();
             shaders.push(Shader::Perturbed(m));
         }
         let filters = [
