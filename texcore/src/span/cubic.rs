@@ -1,5 +1,8 @@
 //! Cubic stepping: the exact polynomial of a trilinear term inside one cell (symbolic
-//! expansion of the lerp levels) and its forward-difference states.
+//! expansion of the lerp levels) and its forward-difference states: exact in 64 bits (`Cubic`,
+//! wrapping: the true values fit `i64`), their top 32 bits (`Cubic32`, the approximate
+//! [`EvalMode::Fd32`]) and the cubic Hermite segments of the approximate
+//! [`EvalMode::Reanchored`] (`hermite_setup`).
 
 use super::*;
 
@@ -223,4 +226,111 @@ impl Cubic {
 #[inline]
 pub(super) fn cubic_setup(v: &[i32; 8], frac: [u32; 3], ts: &TermSetup, grads: bool) -> Cubic {
     fd_start(&cubic_poly(v, frac, ts.du, ts.dy, grads), grads)
+}
+
+/// Forward-difference state of a cubic term inside one cell (exact, 64-bit).
+#[derive(Clone, Copy, Debug, Default)]
+pub(super) struct Cubic {
+    pub(super) p: [i64; 4],
+    pub(super) gx: [i64; 3],
+    pub(super) gy: [i64; 3],
+}
+
+/// Forward-difference state with 32-bit accumulators (the exact state's top 32 bits at the anchor).
+#[cfg(feature = "fd32")]
+#[derive(Clone, Copy, Debug, Default)]
+pub(super) struct Cubic32 {
+    pub(super) p: [i32; 4],
+    pub(super) gx: [i32; 3],
+    pub(super) gy: [i32; 3],
+}
+
+/// The top 32 bits (floor) of an exact forward-difference state.
+#[cfg(feature = "fd32")]
+pub(super) fn narrow(c: &Cubic) -> Cubic32 {
+    let h = |x: i64| (x >> 32) as i32;
+    Cubic32 {
+        p: [h(c.p[0]), h(c.p[1]), h(c.p[2]), h(c.p[3])],
+        gx: [h(c.gx[0]), h(c.gx[1]), h(c.gx[2])],
+        gy: [h(c.gy[0]), h(c.gy[1]), h(c.gy[2])],
+    }
+}
+
+/// Division of an i128 by a positive divisor, rounded to nearest (ties away from zero), saturated.
+#[cfg(texcore_hermite)]
+pub(super) fn div_round(x: i128, d: i128) -> i64 {
+    // `(x + d/2) / d` for x >= 0 and `(x - d/2) / d` (truncating) for x < 0, i.e. the rounded
+    // magnitude with x's sign; the division is the crate's shared one (code size).
+    let (q, _) = crate::wide::div_rem_euclid_i128(x.unsigned_abs() as i128 + d / 2, d);
+    sat_i64(if x < 0 { q.wrapping_neg() } else { q })
+}
+
+/// Cubic Hermite segment over pixels `0..l` through the exact values and derivatives at pixels
+/// `0` and `l - 1` (both inside the current cell), as a forward-difference state: the value is
+/// cubic, the x-gradient its derivative, the y-gradient linear between the anchors (`gy[2] = 0`).
+#[cfg(texcore_hermite)]
+#[allow(clippy::too_many_arguments)]
+pub(super) fn hermite_setup(
+    term: &NoiseTerm,
+    data: &CellData,
+    u: [i32; 3],
+    ts: &TermSetup,
+    l: u32,
+    amp: i32,
+    fv: u32,
+    grads: bool,
+) -> Cubic {
+    let (_, f0) = split(u);
+    let b = &term.basis;
+    let p0 = b.sample(data, f0, amp, fv);
+    let g0 = b.derivative(data, f0, ts.du, amp, fv);
+    let y0 = if grads {
+        b.derivative(data, f0, ts.dy, amp, fv)
+    } else {
+        0
+    };
+    if l <= 1 {
+        return Cubic {
+            p: [p0, 0, 0, 0],
+            gx: [g0, 0, 0],
+            gy: [y0, 0, 0],
+        };
+    }
+    let mm = l - 1;
+    let (_, fm) = split([
+        u[0].wrapping_add(ts.du[0].wrapping_mul(mm as i32)),
+        u[1].wrapping_add(ts.du[1].wrapping_mul(mm as i32)),
+        u[2].wrapping_add(ts.du[2].wrapping_mul(mm as i32)),
+    ]);
+    let pm = b.sample(data, fm, amp, fv);
+    let gm = b.derivative(data, fm, ts.du, amp, fv);
+    let ym = if grads {
+        b.derivative(data, fm, ts.dy, amp, fv)
+    } else {
+        0
+    };
+    let m = i128::from(mm);
+    let (p0w, pmw, g0w, gmw) = (
+        i128::from(p0),
+        i128::from(pm),
+        i128::from(g0),
+        i128::from(gm),
+    );
+    let c2 = div_round(3 * (pmw - p0w) - (2 * g0w + gmw) * m, m * m);
+    let c3 = div_round(2 * (p0w - pmw) + (g0w + gmw) * m, m * m * m);
+    let c1 = g0;
+    Cubic {
+        p: [
+            p0,
+            c1.wrapping_add(c2).wrapping_add(c3),
+            c2.wrapping_mul(2).wrapping_add(c3.wrapping_mul(6)),
+            c3.wrapping_mul(6),
+        ],
+        gx: [
+            g0,
+            c2.wrapping_mul(2).wrapping_add(c3.wrapping_mul(3)),
+            c3.wrapping_mul(6),
+        ],
+        gy: [y0, div_round(i128::from(ym) - i128::from(y0), m), 0],
+    }
 }

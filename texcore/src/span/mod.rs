@@ -46,11 +46,13 @@
 //!
 //! # Structure
 //!
-//! - this module: the public types, the per-span set-up (`EvalCore::setup`: per-term
-//!   lattice start and steps; **the per-span
-//!   band-limiting decision** is made there, per term, from `lattice_steps` and
-//!   [`crate::bandlimit::term_band`]) and the plan
-//!   (`EvalCore::eval_inner`: one strategy per term, decided once per span);
+//! - this module: the public types, the evaluator and its entry points (`EvalCore::eval_inner`,
+//!   `EvalCore::eval_values`);
+//! - `setup`: the per-span set-up (`EvalCore::setup`: per-term lattice start and steps, **the
+//!   per-span band-limiting decision**, made there per term from `lattice_steps` and
+//!   [`crate::bandlimit::term_band`], and the quadric along the span);
+//! - `plan`: one strategy per term, decided once per span from the mode as compiled in;
+//! - `chunk`: [`SampleChunk`], how samples are handed over;
 //! - `merged`: the merged forward-difference loop (every forward-differenced term trilinear and
 //!   not turbulent), its cell events and the segment loop;
 //! - `general`: the general loop, one strategy per term;
@@ -58,7 +60,8 @@
 //!   segment (linear or cubic merged state, zero or affine or curved quadric, gradients on or
 //!   off); **the per-sample gradient output** is written by `passes::grad_pass` (the merged
 //!   path) and at the end of the general loop's pixel;
-//! - `cubic`: the exact cell polynomial of a trilinear term and its forward-difference states;
+//! - `cubic`: the exact cell polynomial of a trilinear term and its forward-difference states
+//!   (exact, 32-bit, Hermite segments);
 //! - `axis`: the cell set-up of terms whose lattice step has one nonzero axis (a linear cell
 //!   polynomial from two face blends, the shared face kept from the previous cell);
 //! - `axial` (fast shape only): the kernel of spans whose terms are all single-axis trilinear
@@ -93,6 +96,7 @@ use crate::table::TableWrap;
 #[cfg(not(texcore_lean))]
 mod axial;
 mod axis;
+mod chunk;
 mod cubic;
 mod direct;
 mod face_cache;
@@ -101,17 +105,26 @@ mod general;
 mod lanes;
 mod merged;
 mod passes;
+mod plan;
 mod quad;
 mod rows;
+mod setup;
 
+pub use chunk::{SampleChunk, SAMPLE_CHUNK};
 pub use face_cache::FaceCache;
+pub use plan::AUTO_FD_PIXELS;
+pub(crate) use plan::GRADIENTS;
 pub use rows::{PlaneRows, RowCache};
+pub(crate) use setup::{Setup, TermSetup};
 
 use axis::*;
+use chunk::*;
 use cubic::*;
 use direct::*;
 use passes::*;
+use plan::*;
 use quad::*;
+use setup::*;
 
 /// A span of pixels: `s(i) = s0 + i ds`, with the second screen direction `dsdy` for the filter
 /// width (zero if unknown).
@@ -282,154 +295,12 @@ impl SpanStats {
     }
 }
 
-/// Samples handed over per call by [`SpanEvaluator::eval_chunks`].
-pub const SAMPLE_CHUNK: usize = 16;
-
-/// Up to [`SAMPLE_CHUNK`] consecutive samples of a span, stored by component (`f`, `gx`, `gy`
-/// arrays), as [`SpanEvaluator::eval_chunks`] hands them over. The forward-differencing fast path
-/// fills each component in its own pass over the chunk, so the state of each pass fits a 32-bit
-/// core's registers. The gradient arrays hold zeros when gradients are off.
-#[derive(Clone, Debug)]
-pub struct SampleChunk {
-    f: [TexValue; SAMPLE_CHUNK],
-    gx: [i64; SAMPLE_CHUNK],
-    gy: [i64; SAMPLE_CHUNK],
-    /// Samples held, `<= SAMPLE_CHUNK`.
-    len: usize,
-    /// The span's [`SpanInfo::extra_width48`].
-    extra_width48: i64,
-}
-
-impl SampleChunk {
-    const fn new() -> Self {
-        SampleChunk {
-            f: [TexValue::ZERO; SAMPLE_CHUNK],
-            gx: [0; SAMPLE_CHUNK],
-            gy: [0; SAMPLE_CHUNK],
-            len: 0,
-            extra_width48: 0,
-        }
-    }
-
-    /// The extra filter width of the chunk's span from octaves culled past the Nyquist limit
-    /// ([`SpanInfo::extra_width48`]; the same for every chunk of a span), known before the first
-    /// chunk is handed over, so a consumer need not ask [`SpanEvaluator::extra_width48`] first.
-    pub const fn extra_width48(&self) -> i64 {
-        self.extra_width48
-    }
-
-    /// Number of samples.
-    pub const fn len(&self) -> usize {
-        self.len
-    }
-
-    /// Whether the chunk holds no sample.
-    pub const fn is_empty(&self) -> bool {
-        self.len == 0
-    }
-
-    /// `f` of each sample.
-    pub fn f(&self) -> &[TexValue] {
-        self.f.get(..self.len).unwrap_or(&[])
-    }
-
-    /// `gx` of each sample.
-    pub fn gx(&self) -> &[i64] {
-        self.gx.get(..self.len).unwrap_or(&[])
-    }
-
-    /// `gy` of each sample.
-    pub fn gy(&self) -> &[i64] {
-        self.gy.get(..self.len).unwrap_or(&[])
-    }
-
-    /// The samples in order.
-    pub fn iter(&self) -> impl Iterator<Item = Sample> + '_ {
-        self.f()
-            .iter()
-            .zip(self.gx())
-            .zip(self.gy())
-            .map(|((&f, &gx), &gy)| Sample { f, gx, gy })
-    }
-}
-
-/// A chunk being filled and the consumer it goes to when full (and at the end of the span).
-struct ChunkSink<'o, 'c> {
-    chunk: &'o mut SampleChunk,
-    out: &'o mut (dyn FnMut(&SampleChunk) + 'c),
-}
-
-impl ChunkSink<'_, '_> {
-    /// Appends one sample.
-    #[cfg_attr(not(texcore_lean), inline(always))]
-    fn push(&mut self, s: Sample) {
-        let c = &mut self.chunk;
-        let i = c.len;
-        if let (Some(f), Some(gx), Some(gy)) = (c.f.get_mut(i), c.gx.get_mut(i), c.gy.get_mut(i)) {
-            *f = s.f;
-            *gx = s.gx;
-            *gy = s.gy;
-        }
-        self.advance(1);
-    }
-
-    /// Free slots before the chunk is handed over (at least 1).
-    #[cfg_attr(not(texcore_lean), inline(always))]
-    fn room(&self) -> usize {
-        SAMPLE_CHUNK - self.chunk.len
-    }
-
-    /// Marks `k <= room()` more slots as filled, handing the chunk over when it is full.
-    #[cfg_attr(not(texcore_lean), inline(always))]
-    fn advance(&mut self, k: usize) {
-        self.chunk.len += k;
-        if self.chunk.len >= SAMPLE_CHUNK {
-            self.chunk.len = SAMPLE_CHUNK;
-            (self.out)(self.chunk);
-            self.chunk.len = 0;
-        }
-    }
-
-    /// Hands over what is left.
-    fn finish(&mut self) {
-        if self.chunk.len > 0 {
-            (self.out)(self.chunk);
-            self.chunk.len = 0;
-        }
-    }
-}
-
 /// Shortest segment (pixels between two cell events) that the merged loop evaluates in component
 /// passes; shorter ones take one fused per-pixel pass (each pass has a fixed start-up cost).
 const PASS_MIN: u32 = 4;
 
 /// Half a cell per pixel (raw 16.16): the Nyquist limit of a lattice noise.
 pub const NYQUIST_STEP: i32 = 1 << 15;
-
-/// A term's span set-up (read by the multipass evaluator too).
-#[derive(Clone, Copy, Debug, Default)]
-pub(crate) struct TermSetup {
-    /// Lattice point of pixel 0 (rounded to the model's coordinate precision).
-    pub(crate) u0: [i32; 3],
-    /// Lattice step along the span (rounded as `u0`).
-    pub(crate) du: [i32; 3],
-    /// Lattice step to the next row (unrounded).
-    pub(crate) dy: [i32; 3],
-    /// Evaluate the value.
-    pub(crate) active: bool,
-    /// Evaluate the gradient (false past one cell a pixel: the term's spread goes to
-    /// `extra_width48`, [`crate::bandlimit`]).
-    pub(crate) gradient: bool,
-    /// The amplitude of this span (raw 16.16): the term's own, or faded
-    /// ([`crate::bandlimit::term_band`]).
-    pub(crate) amp: i32,
-}
-
-#[cfg_attr(not(texcore_lean), inline(always))]
-fn exact(p: TexPoint) -> [i64; 3] {
-    let b = p.to_bits();
-    [i64::from(b[0]), i64::from(b[1]), i64::from(b[2])]
-}
 
 #[cfg_attr(not(texcore_lean), inline(always))]
 fn sat_i64(x: i128) -> i64 {
@@ -464,150 +335,6 @@ fn pixels_in_cell(frac: [u32; 3], d: [i32; 3]) -> u32 {
     pixels_in_cell_axis(frac[0], d[0])
         .min(pixels_in_cell_axis(frac[1], d[1]))
         .min(pixels_in_cell_axis(frac[2], d[2]))
-}
-
-/// Break-even of [`EvalMode::Auto`] in pixels a cell set-up: forward differencing a trilinear
-/// term costs a cell set-up (corner hashing, the cubic and its forward differences, the exit
-/// pixel, and at the exit the subtraction of its state) per cell it visits, and little per
-/// pixel; per-pixel evaluation costs a cheaper cell set-up (corner hashing, the monomial form)
-/// per cell and the polynomial per pixel. Forward differencing pays when a span gives each of
-/// its cell set-ups more than this many pixels (measured on the devices, `docs/performance.md`).
-pub const AUTO_FD_PIXELS: u32 = 2;
-
-/// Whether forward differencing a trilinear term with lattice step `du` pays over a span of
-/// `len` pixels: the span visits about `1 + len sum|du| / 2^16` cells, and forward differencing
-/// pays when that leaves more than [`AUTO_FD_PIXELS`] pixels to each.
-#[cfg_attr(not(texcore_lean), inline(always))]
-fn fd_pays(len: u16, du: [i32; 3]) -> bool {
-    let sum: u64 = du.iter().map(|d| u64::from(d.unsigned_abs())).sum();
-    let len = u64::from(len);
-    // len / (1 + len sum / 2^16) > P  <=>  2^16 len > P (2^16 + len sum)
-    (len << 16) > u64::from(AUTO_FD_PIXELS) * ((1 << 16) + len * sum)
-}
-
-/// The per-span part of the model evaluation shared by every mode (multipass included).
-pub(crate) struct Setup<const T: usize> {
-    /// One per model term, in order (inactive where culled).
-    pub(crate) terms: heapless::Vec<TermSetup, T>,
-    /// The quadric along the span (48 fraction bits).
-    pub(crate) quad: QuadraticSpan,
-    /// The quadric's x-gradient along the span: `gqx[0] + i gqx[1]` (zero without gradients).
-    pub(crate) gqx: [i128; 2],
-    /// The quadric's y-gradient along the span, as `gqx`.
-    pub(crate) gqy: [i128; 2],
-    extra_width48: i64,
-}
-
-impl<const T: usize> Setup<T> {
-    /// No terms, a zero quadric (built in place: the term slots stay unwritten).
-    #[cfg_attr(not(texcore_lean), inline(always))]
-    fn empty() -> Self {
-        Setup {
-            terms: heapless::Vec::new(),
-            quad: QuadraticSpan { c: [0; 3] },
-            gqx: [0; 2],
-            gqy: [0; 2],
-            extra_width48: 0,
-        }
-    }
-}
-
-/// Forward-difference state of a cubic term inside one cell (exact, 64-bit).
-#[derive(Clone, Copy, Debug, Default)]
-struct Cubic {
-    p: [i64; 4],
-    gx: [i64; 3],
-    gy: [i64; 3],
-}
-
-/// Forward-difference state with 32-bit accumulators (the exact state's top 32 bits at the anchor).
-#[cfg(feature = "fd32")]
-#[derive(Clone, Copy, Debug, Default)]
-struct Cubic32 {
-    p: [i32; 4],
-    gx: [i32; 3],
-    gy: [i32; 3],
-}
-
-/// How one term is evaluated along the current span.
-///
-/// Which strategies the general loop ([`SpanEvaluator::run`]) carries depends on the features:
-/// `Direct` always; `Fd` (for terms the merged fast path does not take) with `turbulence-fd`;
-/// `Cached` with a basis that is not a cubic (`smooth-fade`, `gradient-noise`, `mnoise`); `Fd32`
-/// with `fd32`; `Hermite` with `reanchor` and a basis that is not a cubic. A strategy that is
-/// not compiled in is never chosen (see [`SpanEvaluator::eval_inner`] and
-/// [`SpanEvaluator::run`]).
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-enum Strategy {
-    Off,
-    /// Per-pixel hashing and interpolation.
-    Direct,
-    /// Cached cell, per-pixel interpolation (exact).
-    #[cfg_attr(
-        not(any(
-            feature = "smooth-fade",
-            feature = "gradient-noise",
-            feature = "mnoise"
-        )),
-        allow(dead_code)
-    )]
-    Cached,
-    /// Exact 64-bit forward differencing of the cubic.
-    Fd,
-    /// 32-bit forward differencing, re-anchored every [`FD32_ANCHOR`] pixels.
-    #[cfg_attr(not(feature = "fd32"), allow(dead_code))]
-    Fd32,
-    /// Cubic Hermite segments of at most [`HERMITE_SEGMENT`] pixels (approximate).
-    #[cfg_attr(not(texcore_hermite), allow(dead_code))]
-    Hermite,
-}
-
-/// Whether the general loop forward-differences cubic terms itself (`Strategy::Fd`); without it
-/// they are evaluated per pixel there (identical samples) and turbulent cubic terms go through
-/// the merged loop's per-pixel path.
-const GENERAL_FD: bool = cfg!(feature = "turbulence-fd");
-
-/// Whether forward differencing is compiled in (crate feature `fd`); without it every mode
-/// evaluates per pixel (see [`compiled_mode`]).
-const FD: bool = cfg!(feature = "fd");
-
-/// Whether the filter-width gradients are compiled in (crate feature `gradients`, enabled by the
-/// colour-table filters); without it [`EvalOptions::gradients`] has no effect and every gradient
-/// is zero.
-pub(crate) const GRADIENTS: bool = cfg!(feature = "gradients");
-
-/// The size-lean code shape (built at `opt-level = "s"` or `"z"`, `cfg(texcore_lean)`): the
-/// merged loop runs one pixel loop that tests the span's shape (gradients, affine quadric) per
-/// pixel, instead of its eight specialisations and the component passes over long cells; with
-/// [`GENERAL_FD`] the merged loop is not used at all (the general loop forward-differences every
-/// term). The samples are identical (unit tests compare both shapes in every build).
-const LEAN: bool = cfg!(texcore_lean);
-
-/// Whether any strategy of the general loop keeps per-term state across pixels (cell caches,
-/// forward differences, segments); without one it only evaluates per pixel.
-const GENERAL_ANCHORS: bool = cfg!(any(
-    feature = "turbulence-fd",
-    feature = "fd32",
-    feature = "smooth-fade",
-    feature = "gradient-noise",
-    feature = "mnoise"
-));
-
-/// The evaluation mode actually run for `mode`: a mode whose code is not compiled in is
-/// [`EvalMode::Fd`] (see the variants' documentation), and without the crate feature `fd` every
-/// mode is [`EvalMode::Direct`].
-#[cfg_attr(not(texcore_lean), inline(always))]
-const fn compiled_mode(mode: EvalMode) -> EvalMode {
-    if !FD {
-        return EvalMode::Direct;
-    }
-    match mode {
-        #[cfg(not(feature = "fd32"))]
-        EvalMode::Fd32 => EvalMode::Fd,
-        #[cfg(not(texcore_hermite))]
-        EvalMode::Reanchored => EvalMode::Fd,
-        m => m,
-    }
 }
 
 /// Re-anchoring interval of [`EvalMode::Fd32`], in pixels.
@@ -895,31 +622,6 @@ impl<'m, const T: usize> EvalCore<'m, T> {
         info
     }
 
-    /// The span's set-up into `setup` (empty), its counters and facts ([`Self::begin`]), and its
-    /// plan ([`Self::plan_span`]; `None` for an empty span, which sets nothing up).
-    #[cfg(not(texcore_lean))]
-    #[inline(always)]
-    fn begin_planned(
-        &mut self,
-        span: &Span,
-        setup: &mut Setup<T>,
-    ) -> (SpanInfo, Option<[Strategy; T]>) {
-        let info = self.begin(span, setup);
-        if span.len == 0 {
-            return (info, None);
-        }
-        (info, Some(self.plan_span(span.len, setup)))
-    }
-
-    /// The plan of a span of `len` pixels with set-up `setup` under the evaluator's mode.
-    #[cfg(not(texcore_lean))]
-    #[inline(always)]
-    fn plan_span(&self, len: u16, setup: &Setup<T>) -> [Strategy; T] {
-        let mode = compiled_mode(self.opts.mode);
-        let choose = |ts: &TermSetup, cubic| strategy(mode, ts, cubic, len);
-        plan(setup, self.model.terms(), choose)
-    }
-
     /// The values of a span of `len` pixels (`out` exactly that long, gradients off) that has
     /// been set up and planned: the lane kernel straight into `out` where it takes the span,
     /// otherwise the chunks' `f` copied (fast shape only).
@@ -966,68 +668,6 @@ impl<'m, const T: usize> EvalCore<'m, T> {
         LEAN
     }
 
-    /// Fills `out` (empty, as [`Setup::empty`]) for `span`; in place, as the set-up is large.
-    fn setup(&mut self, span: &Span, out: &mut Setup<T>) {
-        let m = self.model;
-        let s0 = exact(span.s0);
-        let ds = exact(span.ds);
-        let dy = exact(span.dsdy);
-        // The quadric along the span from two matrix-vector products, `Q x` and `Q d` (entries
-        // 32 x 32 -> 64-bit, zero entries skipped), and five dot products: the same values mod
-        // 2^128 as `Quadric::along` / `derivative_along` (`x^T Q d = d^T Q x`).
-        let grads = GRADIENTS && self.opts.gradients;
-        if self.qmask != 0 {
-            let qm = quadric_matrix(m.quadric());
-            let xh = [s0[0], s0[1], s0[2], 1 << 16];
-            let dh = [ds[0], ds[1], ds[2], 0];
-            let qx = mat_vec(&qm, self.qmask, &xh);
-            let qd = mat_vec(&qm, self.qmask, &dh);
-            let c1 = dot(&dh, &qx).wrapping_mul(2);
-            let c2 = dot(&dh, &qd);
-            out.quad = QuadraticSpan {
-                c: [dot(&xh, &qx), c1, c2],
-            };
-            if grads {
-                let yh = [dy[0], dy[1], dy[2], 0];
-                out.gqx = [c1, c2.wrapping_mul(2)];
-                out.gqy = [dot(&yh, &qx).wrapping_mul(2), dot(&yh, &qd).wrapping_mul(2)];
-            }
-        }
-        // A vector, not an array: nothing is written for the slots past the model's terms.
-        let terms = &mut out.terms;
-        let stats = &mut self.stats;
-        // Coordinate precision (`docs/model.md` 3.2): `U0` and `DU` rounded to `F` fraction bits,
-        // so `u(i) = U0 + i DU` stays linear in `i`; band-limiting uses the unrounded step.
-        let cb = m.precision().coord_bits();
-        let mut each =
-            |term: &NoiseTerm, du: &[i32; 3], dyl: &[i32; 3], band: Option<(i32, bool)>| {
-                let Some((amp, gradient)) = band else {
-                    stats.culled_octaves += 1;
-                    // At most T terms: never full.
-                    let _ = terms.push(TermSetup::default());
-                    return;
-                };
-                if amp != term.amplitude.to_bits() {
-                    stats.faded_octaves += 1;
-                }
-                let mut u0 = term.transform.apply_point(span.s0);
-                let mut du = *du;
-                if cb < 16 {
-                    u0 = u0.map(|c| quantize_coord(c, cb));
-                    du = du.map(|c| quantize_coord(c, cb));
-                }
-                let _ = terms.push(TermSetup {
-                    u0,
-                    du,
-                    dy: *dyl,
-                    active: true,
-                    gradient: grads && gradient,
-                    amp,
-                });
-            };
-        out.extra_width48 = band_terms(m, span, self.opts.band(), each_term(&mut each));
-    }
-
     /// Whether the mode is the multipass evaluator (which has its own loop).
     #[cfg(not(texcore_lean))]
     #[inline(always)]
@@ -1070,95 +710,6 @@ impl<'m, const T: usize> EvalCore<'m, T> {
     }
 }
 
-/// The plan: each term's strategy for a span, decided once per span by `choose(term set-up,
-/// is_cubic)` (`Off` for the terms the set-up culled), as the general loop makes it.
-#[cfg(not(texcore_lean))]
-#[inline(always)]
-fn plan<const T: usize>(
-    setup: &Setup<T>,
-    terms: &[NoiseTerm],
-    choose: impl Fn(&TermSetup, bool) -> Strategy,
-) -> [Strategy; T] {
-    let mut strategies = [Strategy::Off; T];
-    for ((st, ts), term) in strategies.iter_mut().zip(setup.terms.iter()).zip(terms) {
-        if ts.active {
-            *st = choose(ts, term.basis.is_cubic());
-            // Without the general loop's forward differencing, turbulent cubic terms are
-            // evaluated per pixel, which the merged loop does (identical samples).
-            if !GENERAL_FD && *st == Strategy::Fd && term.turbulence {
-                *st = Strategy::Direct;
-            }
-        }
-    }
-    strategies
-}
-
-/// The strategy of an active term (`cubic`: a trilinear basis) with set-up `ts` in a span of
-/// `len` pixels under `mode` (as compiled, [`compiled_mode`]).
-#[inline(always)]
-fn strategy(mode: EvalMode, ts: &TermSetup, cubic: bool, len: u16) -> Strategy {
-    match mode {
-        EvalMode::Direct => Strategy::Direct,
-        EvalMode::Fd => {
-            if cubic {
-                Strategy::Fd
-            } else {
-                Strategy::Cached
-            }
-        }
-        EvalMode::Auto => {
-            if ts.du.iter().any(|d| d.unsigned_abs() > NYQUIST_STEP as u32) {
-                Strategy::Direct
-            } else if cubic {
-                if fd_pays(len, ts.du) {
-                    Strategy::Fd
-                } else {
-                    Strategy::Direct
-                }
-            } else {
-                Strategy::Cached
-            }
-        }
-        EvalMode::Fd32 => {
-            if cubic {
-                Strategy::Fd32
-            } else {
-                Strategy::Cached
-            }
-        }
-        EvalMode::Reanchored => {
-            if cubic {
-                Strategy::Fd
-            } else {
-                Strategy::Hermite
-            }
-        }
-        #[cfg(feature = "multipass")]
-        EvalMode::Multipass(_) => Strategy::Direct,
-    }
-}
-
-/// Runs `eval` with a chunk sink that copies each chunk's `f` into `out`, in order.
-fn copy_values(out: &mut [TexValue], eval: impl FnOnce(&mut ChunkSink<'_, '_>)) {
-    let mut chunk = SampleChunk::new();
-    let mut at = 0usize;
-    let mut copy = |c: &SampleChunk| {
-        if let Some(dst) = out.get_mut(at..at + c.len()) {
-            // Element by element: `copy_from_slice` keeps a length-mismatch panic.
-            for (d, v) in dst.iter_mut().zip(c.f()) {
-                *d = *v;
-            }
-        }
-        at += c.len();
-    };
-    let mut sink = ChunkSink {
-        chunk: &mut chunk,
-        out: &mut copy,
-    };
-    eval(&mut sink);
-    sink.finish();
-}
-
 /// Amplitude used for the corner values and the sign applied afterwards (turbulence).
 #[cfg_attr(not(texcore_lean), inline(always))]
 fn amp_and_sign(term: &NoiseTerm, ts: &TermSetup) -> (i32, bool) {
@@ -1168,163 +719,6 @@ fn amp_and_sign(term: &NoiseTerm, ts: &TermSetup) -> (i32, bool) {
     } else {
         (a, false)
     }
-}
-
-/// The top 32 bits (floor) of an exact forward-difference state.
-#[cfg(feature = "fd32")]
-fn narrow(c: &Cubic) -> Cubic32 {
-    let h = |x: i64| (x >> 32) as i32;
-    Cubic32 {
-        p: [h(c.p[0]), h(c.p[1]), h(c.p[2]), h(c.p[3])],
-        gx: [h(c.gx[0]), h(c.gx[1]), h(c.gx[2])],
-        gy: [h(c.gy[0]), h(c.gy[1]), h(c.gy[2])],
-    }
-}
-
-/// Division of an i128 by a positive divisor, rounded to nearest (ties away from zero), saturated.
-#[cfg(texcore_hermite)]
-fn div_round(x: i128, d: i128) -> i64 {
-    // `(x + d/2) / d` for x >= 0 and `(x - d/2) / d` (truncating) for x < 0, i.e. the rounded
-    // magnitude with x's sign; the division is the crate's shared one (code size).
-    let (q, _) = crate::wide::div_rem_euclid_i128(x.unsigned_abs() as i128 + d / 2, d);
-    sat_i64(if x < 0 { q.wrapping_neg() } else { q })
-}
-
-/// Cubic Hermite segment over pixels `0..l` through the exact values and derivatives at pixels
-/// `0` and `l - 1` (both inside the current cell), as a forward-difference state: the value is
-/// cubic, the x-gradient its derivative, the y-gradient linear between the anchors (`gy[2] = 0`).
-#[cfg(texcore_hermite)]
-#[allow(clippy::too_many_arguments)]
-fn hermite_setup(
-    term: &NoiseTerm,
-    data: &CellData,
-    u: [i32; 3],
-    ts: &TermSetup,
-    l: u32,
-    amp: i32,
-    fv: u32,
-    grads: bool,
-) -> Cubic {
-    let (_, f0) = split(u);
-    let b = &term.basis;
-    let p0 = b.sample(data, f0, amp, fv);
-    let g0 = b.derivative(data, f0, ts.du, amp, fv);
-    let y0 = if grads {
-        b.derivative(data, f0, ts.dy, amp, fv)
-    } else {
-        0
-    };
-    if l <= 1 {
-        return Cubic {
-            p: [p0, 0, 0, 0],
-            gx: [g0, 0, 0],
-            gy: [y0, 0, 0],
-        };
-    }
-    let mm = l - 1;
-    let (_, fm) = split([
-        u[0].wrapping_add(ts.du[0].wrapping_mul(mm as i32)),
-        u[1].wrapping_add(ts.du[1].wrapping_mul(mm as i32)),
-        u[2].wrapping_add(ts.du[2].wrapping_mul(mm as i32)),
-    ]);
-    let pm = b.sample(data, fm, amp, fv);
-    let gm = b.derivative(data, fm, ts.du, amp, fv);
-    let ym = if grads {
-        b.derivative(data, fm, ts.dy, amp, fv)
-    } else {
-        0
-    };
-    let m = i128::from(mm);
-    let (p0w, pmw, g0w, gmw) = (
-        i128::from(p0),
-        i128::from(pm),
-        i128::from(g0),
-        i128::from(gm),
-    );
-    let c2 = div_round(3 * (pmw - p0w) - (2 * g0w + gmw) * m, m * m);
-    let c3 = div_round(2 * (p0w - pmw) + (g0w + gmw) * m, m * m * m);
-    let c1 = g0;
-    Cubic {
-        p: [
-            p0,
-            c1.wrapping_add(c2).wrapping_add(c3),
-            c2.wrapping_mul(2).wrapping_add(c3.wrapping_mul(6)),
-            c3.wrapping_mul(6),
-        ],
-        gx: [
-            g0,
-            c2.wrapping_mul(2).wrapping_add(c3.wrapping_mul(3)),
-            c3.wrapping_mul(6),
-        ],
-        gy: [y0, div_round(i128::from(ym) - i128::from(y0), m), 0],
-    }
-}
-
-/// The per-term band-limiting of `span` ([`crate::bandlimit::term_band`]), the one loop behind
-/// the span set-up, [`SpanEvaluator::extra_width48`] and the multipass evaluator (which takes the
-/// span set-up), band-limited by `rule` (`None`: the unfaded contract): calls
-/// `each(term, du, dy, band)` for every term of `model` in order, with the
-/// term's unrounded lattice steps along and across the span and `band` its amplitude for the
-/// span and whether its gradient widens the filter ([`crate::bandlimit::TermBand`]; `None`:
-/// culled), and returns the span's extra filter width ([`SpanInfo::extra_width48`]) from the
-/// summed variances (the callback does not see them: builds without filter widths drop them).
-///
-/// In the size-lean shape with filter widths (feature `gradients`, where both callers are
-/// linked) the callers hand `each` over as an [`EachTerm`] trait object: one out-of-line copy.
-/// Elsewhere it is inlined with `each` (the fast shape; the lean builds without filter widths,
-/// whose only caller is the span set-up and which drop the variances).
-#[cfg_attr(not(all(texcore_lean, feature = "gradients")), inline(always))]
-fn band_terms<const T: usize, F>(
-    model: &TextureModel<T>,
-    span: &Span,
-    rule: Option<&BandLimit>,
-    each: &mut F,
-) -> i64
-where
-    F: FnMut(&NoiseTerm, &[i32; 3], &[i32; 3], Option<(i32, bool)>) + ?Sized,
-{
-    let mut variance: u64 = 0;
-    for term in model.terms().iter().take(T) {
-        let (du, dy) = lattice_steps(term, span);
-        let band = term_band(term, du, dy, rule);
-        // Summed only where filter widths exist (`build_spread_width48`).
-        if cfg!(feature = "gradients") {
-            variance = variance.saturating_add(band.variance);
-        }
-        each(
-            term,
-            &du,
-            &dy,
-            band.active.then_some((band.amplitude, band.gradient)),
-        );
-    }
-    build_spread_width48(variance)
-}
-
-/// The callback of [`band_terms`] as a trait object (the size-lean shape with filter widths).
-#[cfg(all(texcore_lean, feature = "gradients"))]
-type EachTerm<'a> = dyn FnMut(&NoiseTerm, &[i32; 3], &[i32; 3], Option<(i32, bool)>) + 'a;
-
-/// A callback as [`band_terms`] takes it: a trait object in the size-lean shape with filter
-/// widths (one copy of the loop for every caller), itself elsewhere (inlined with the loop).
-#[cfg(all(texcore_lean, feature = "gradients"))]
-fn each_term<'a>(each: &'a mut EachTerm<'a>) -> &'a mut EachTerm<'a> {
-    each
-}
-
-/// See the size-lean version.
-#[cfg(not(all(texcore_lean, feature = "gradients")))]
-#[inline(always)]
-fn each_term<F>(each: &mut F) -> &mut F {
-    each
-}
-
-/// A term's lattice steps along the span and across it (raw 16.16 cells a pixel).
-#[inline]
-fn lattice_steps(term: &NoiseTerm, span: &Span) -> ([i32; 3], [i32; 3]) {
-    let du = term.transform.apply_vector(span.ds);
-    let dy = term.transform.apply_vector(span.dsdy);
-    (du, dy)
 }
 
 /// Value and gradients of one term at a fraction of its cached cell.
@@ -1390,7 +784,7 @@ mod tests {
     use crate::quadric::Quadric;
     use crate::transform::Affine3;
 
-    fn marble() -> TextureModel<8> {
+    pub(super) fn marble() -> TextureModel<8> {
         TextureModel::new(
             Quadric::linear(
                 QuadricCoeff::ZERO,
