@@ -1,0 +1,261 @@
+//! The row kernels: a row's samples from its schedule (the merged value and slope stepped a
+//! pixel at a time, changed at each event by `A + B w_m`), and the smooth fade's rows (the
+//! fade weight per row, the non-linear cells walked per pixel).
+//!
+//! Guarantees: the samples are the lane kernel's, bit for bit (wrapping sums in the ring of
+//! 64-bit integers, as the module `rows` states); nothing here panics.
+
+use super::*;
+
+/// Each term's weight along its row axis `m` in the row set up as `setup` (the fraction, or
+/// its smooth fade): what the entries' `A + B w_m` take; and whether a term has the smooth fade.
+#[cfg(not(texcore_lean))]
+#[inline(always)]
+pub(super) fn row_weights<const T: usize>(
+    setup: &Setup<T>,
+    state: &RowsState<T>,
+) -> ([i64; T], bool) {
+    let mut wm = [0i64; T];
+    let mut smooth = false;
+    for (w, lane) in wm.iter_mut().zip(state.lanes.iter()) {
+        if let Some(ts) = setup.terms.get(lane.term) {
+            *w = i64::from(weight(lane.smooth, split(ts.u0).1[lane.m.min(2)]));
+        }
+        smooth |= lane.smooth;
+    }
+    (wm, smooth)
+}
+
+/// The samples of a row from its schedule's `events` into `sink` (as [`row_walk`]; `GRADS`:
+/// with the derivatives, `gx = q_x + (S >> fv)` the merged slope, `gy = q_y + (G >> fv)` the
+/// merged derivative across the rows, as the axial kernel's passes write them; without, the
+/// chunk's gradient slots are left zero).
+#[cfg(not(texcore_lean))]
+#[inline(always)]
+pub(super) fn row_chunks<const GRADS: bool, const NOQ: bool, const AFFINE: bool, const T: usize>(
+    events: &[RowEvent],
+    fm: &[i64; T],
+    fvs: u32,
+    sink: &mut ChunkSink<'_, '_>,
+    q: &mut QuadStep,
+) {
+    let (mut v, mut s, mut g, mut gs) = (0i64, 0i64, 0i64, 0i64);
+    for e in events {
+        let f = fm.get(usize::from(e.lane)).copied().unwrap_or(0);
+        v = wadd(v, wadd(e.dv[0], wmul(e.dv[1], f)));
+        s = wadd(s, wadd(e.ds[0], wmul(e.ds[1], f)));
+        if GRADS {
+            g = wadd(g, e.dg[0]);
+            gs = wadd(gs, e.dg[1]);
+        }
+        let mut left = usize::from(e.run);
+        while left > 0 {
+            let n = left.min(sink.room());
+            let c = &mut *sink.chunk;
+            let at = c.len;
+            if let Some(fo) = c.f.get_mut(at..at + n) {
+                let mut qq = *q;
+                for o in fo.iter_mut() {
+                    *o = TexValue::from_bits(if NOQ {
+                        (v >> (fvs + 32)) as i32
+                    } else {
+                        (qq.q.wrapping_add(v >> fvs) >> 32) as i32
+                    });
+                    v = v.wrapping_add(s);
+                    if !NOQ {
+                        qq.q = qq.q.wrapping_add(qq.dq);
+                        if !AFFINE {
+                            qq.dq = qq.dq.wrapping_add(qq.ddq);
+                        }
+                    }
+                }
+                if GRADS {
+                    if let (Some(ox), Some(oy)) =
+                        (c.gx.get_mut(at..at + n), c.gy.get_mut(at..at + n))
+                    {
+                        let sx = s >> fvs;
+                        let mut qx = q.gx;
+                        for o in ox.iter_mut() {
+                            *o = if NOQ { sx } else { qx.wrapping_add(sx) };
+                            if !AFFINE {
+                                qx = qx.wrapping_add(q.dgx);
+                            }
+                        }
+                        let mut qy = q.gy;
+                        for o in oy.iter_mut() {
+                            *o = if NOQ {
+                                g >> fvs
+                            } else {
+                                qy.wrapping_add(g >> fvs)
+                            };
+                            g = g.wrapping_add(gs);
+                            if !AFFINE {
+                                qy = qy.wrapping_add(q.dgy);
+                            }
+                        }
+                        q.gx = qx;
+                        q.gy = qy;
+                    }
+                }
+                q.q = qq.q;
+                q.dq = qq.dq;
+            }
+            sink.advance(n);
+            left -= n;
+        }
+    }
+}
+
+/// The samples of a row from its schedule's `events` (each term's `f_m` in `fm`): at each
+/// entry the merged value and slope change, then the entry's `run` pixels are written
+/// (`lanes::walk_out`, the lane kernel's pixel loop, with the quadric `q`: `NOQ` zero, `AFFINE`
+/// a constant step).
+#[cfg(not(texcore_lean))]
+#[inline(always)]
+pub(super) fn row_walk<const NOQ: bool, const AFFINE: bool, const T: usize>(
+    events: &[RowEvent],
+    fm: &[i64; T],
+    fvs: u32,
+    out: &mut [TexValue],
+    q: &mut [i64; 3],
+) {
+    let (mut v, mut s) = (0i64, 0i64);
+    let mut rest = out;
+    for e in events {
+        let f = fm.get(usize::from(e.lane)).copied().unwrap_or(0);
+        v = wadd(v, wadd(e.dv[0], wmul(e.dv[1], f)));
+        s = wadd(s, wadd(e.ds[0], wmul(e.ds[1], f)));
+        let n = usize::from(e.run).min(rest.len());
+        let (run, tail) = core::mem::take(&mut rest).split_at_mut(n);
+        lanes::walk_out::<false, false, NOQ, AFFINE>(run, &mut [], fvs, &mut v, s, q);
+        rest = tail;
+    }
+}
+
+/// Whether `b` is value noise with the smooth fade (the row schedule's non-linear cells).
+#[cfg(not(texcore_lean))]
+#[inline(always)]
+pub(super) fn is_smooth_value(b: &crate::noise::NoiseBasis) -> bool {
+    #[cfg(feature = "smooth-fade")]
+    return b.kind == crate::noise::BasisKind::Value && b.fade == crate::noise::Fade::Smooth;
+    #[cfg(not(feature = "smooth-fade"))]
+    {
+        let _ = b;
+        false
+    }
+}
+
+/// The interpolation weight of fraction `f` (raw 0.16): `f`, or its smooth fade.
+#[cfg(not(texcore_lean))]
+#[inline(always)]
+pub(super) fn weight(smooth: bool, f: u32) -> u32 {
+    #[cfg(feature = "smooth-fade")]
+    if smooth {
+        return crate::noise::Fade::Smooth.apply(f) as u32;
+    }
+    let _ = smooth;
+    f
+}
+
+/// The smooth fade of fraction `a` (raw 0.16) in 32-bit words: `Fade::apply`'s
+/// `(3 a^2 2^16 - 2 a^3 + 2^31) >> 32` as `(a^2 (3 2^16 - 2 a) + 2^31) >> 32`, one 32 x 32-bit
+/// product (`a^2 < 2^32`, `3 2^16 - 2 a < 2^18`).
+#[cfg(not(texcore_lean))]
+#[inline(always)]
+pub(super) fn smooth_fade(a: u32) -> i64 {
+    let a = a & 0xFFFF;
+    let p = u64::from(a * a) * u64::from(0x30000 - 2 * a);
+    ((p + (1 << 31)) >> 32) as i64
+}
+
+/// The samples of a row with smooth-fade terms (as [`row_walk`]): the linear terms' merged
+/// value and slope, plus each smooth term's `D w(j)`, `w(j)` the fade of its fraction along `k`
+/// ([`smooth_fade`]), the lattice coordinate stepped a pixel at a time; a row of one smooth term
+/// without quadric reads its fades from `table` when it holds them.
+#[cfg(not(texcore_lean))]
+#[allow(clippy::too_many_arguments)]
+pub(super) fn smooth_walk<const T: usize>(
+    events: &[RowEvent],
+    lanes: &heapless::Vec<RowLane, T>,
+    wm: &[i64; T],
+    fvs: u32,
+    out: &mut [TexValue],
+    q: &mut [i64; 3],
+    table: Option<&[u32]>,
+) {
+    let (mut v, mut s) = (0i64, 0i64);
+    let mut table = table.unwrap_or_default();
+    // Each smooth term's `D` and lattice coordinate along `k` (its step: `du[k]`).
+    let mut dd = [0i64; T];
+    let mut uk = [0i32; T];
+    for (u, lane) in uk.iter_mut().zip(lanes.iter()) {
+        *u = lane.u0k;
+    }
+    let one = lanes.len() == 1;
+    let mut rest = out;
+    for e in events {
+        let li = usize::from(e.lane);
+        let (Some(lane), Some(&f)) = (lanes.get(li), wm.get(li)) else {
+            continue;
+        };
+        v = wadd(v, wadd(e.dv[0], wmul(e.dv[1], f)));
+        if lane.smooth {
+            if let Some(d) = dd.get_mut(li) {
+                *d = wadd(*d, wadd(e.ds[0], wmul(e.ds[1], f)));
+            }
+        } else {
+            s = wadd(s, wadd(e.ds[0], wmul(e.ds[1], f)));
+        }
+        let n = usize::from(e.run).min(rest.len());
+        let (run, tail) = core::mem::take(&mut rest).split_at_mut(n);
+        rest = tail;
+        let [mut qq, mut dq, ddq] = *q;
+        if let (Some(&d), Some(u), Some(lane), true) =
+            (dd.first(), uk.first_mut(), lanes.first(), one)
+        {
+            // One smooth term: its value alone.
+            let step = lane.du[lane.k.min(2)];
+            let mut x = *u;
+            let (ws, tail) = table.split_at(n.min(table.len()));
+            table = tail;
+            if ws.len() == n && (qq | dq | ddq) == 0 {
+                // The fades from the table.
+                for (o, w) in run.iter_mut().zip(ws) {
+                    let n = wadd(v, wmul(d, i64::from(*w)));
+                    *o = TexValue::from_bits(((n >> 32) as i32) >> fvs);
+                }
+                x = x.wrapping_add(step.wrapping_mul(n as i32));
+            } else if (qq | dq | ddq) == 0 {
+                for o in run.iter_mut() {
+                    let n = wadd(v, wmul(d, smooth_fade(x as u32)));
+                    *o = TexValue::from_bits(((n >> 32) as i32) >> fvs);
+                    x = x.wrapping_add(step);
+                }
+            } else {
+                for o in run.iter_mut() {
+                    let n = wadd(v, wmul(d, smooth_fade(x as u32)));
+                    *o = TexValue::from_bits((wadd(qq, n >> fvs) >> 32) as i32);
+                    x = x.wrapping_add(step);
+                    qq = wadd(qq, dq);
+                    dq = wadd(dq, ddq);
+                }
+            }
+            *u = x;
+        } else {
+            for o in run.iter_mut() {
+                let mut n = v;
+                for ((lane, d), u) in lanes.iter().zip(dd.iter()).zip(uk.iter_mut()) {
+                    if lane.smooth {
+                        n = wadd(n, wmul(*d, smooth_fade(*u as u32)));
+                        *u = u.wrapping_add(lane.du[lane.k.min(2)]);
+                    }
+                }
+                *o = TexValue::from_bits((wadd(qq, n >> fvs) >> 32) as i32);
+                v = wadd(v, s);
+                qq = wadd(qq, dq);
+                dq = wadd(dq, ddq);
+            }
+        }
+        *q = [qq, dq, ddq];
+    }
+}
