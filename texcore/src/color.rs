@@ -80,10 +80,14 @@ impl Rgba8888 {
 
     /// Reduces to RGB565, rounding each channel to nearest (`(c * 31 + 127) / 255`, exact; green
     /// `(c * 63 + 127) / 255`). Alpha is dropped (composite with [`over`] first if needed).
+    ///
+    /// Each quotient is taken as a multiply-add and a shift, `(c * 249 + 1014) >> 11` and
+    /// `(c * 253 + 505) >> 10`: equal to the divisions for every 8-bit `c` (a unit test checks
+    /// all 256), without the divisions' reciprocal multiplications.
     pub const fn to_rgb565(self) -> Rgb565 {
-        let r = (self.r as u32 * 31 + 127) / 255;
-        let g = (self.g as u32 * 63 + 127) / 255;
-        let b = (self.b as u32 * 31 + 127) / 255;
+        let r = (self.r as u32 * 249 + 1014) >> 11;
+        let g = (self.g as u32 * 253 + 505) >> 10;
+        let b = (self.b as u32 * 249 + 1014) >> 11;
         Rgb565::new(r as u8, g as u8, b as u8)
     }
 }
@@ -313,6 +317,9 @@ mod tests {
     #[test]
     fn rgb565_reduction_rounds_to_nearest() {
         for c in 0..=255u32 {
+            // The multiply-add-shift forms are the divisions.
+            assert_eq!((c * 249 + 1014) >> 11, (c * 31 + 127) / 255, "{c}");
+            assert_eq!((c * 253 + 505) >> 10, (c * 63 + 127) / 255, "{c}");
             let p = Rgba8888::rgb(c as u8, c as u8, c as u8).to_rgb565();
             assert_eq!(p.r() as u64, round_div(c as u64 * 31, 255), "r {c}");
             assert_eq!(p.g() as u64, round_div(c as u64 * 63, 255), "g {c}");
