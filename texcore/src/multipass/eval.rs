@@ -38,7 +38,11 @@ pub(crate) fn eval_span<const T: usize>(
     let fv = model.noise_frac_bits();
     let vb = model.precision().value_bits();
     let wrap = model.wrap();
-    let (quad, gqx, gqy) = (&setup.quad, setup.gqx, setup.gqy);
+    let (quad, gqx, gqy) = (
+        &setup.quadric().quad,
+        setup.quadric().gqx,
+        setup.quadric().gqy,
+    );
 
     let mut band = Band::<MULTIPASS_BAND>::new();
     let mut nsum: [i64; MULTIPASS_BAND];

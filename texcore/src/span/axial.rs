@@ -102,8 +102,8 @@ impl<'m, const T: usize> EvalCore<'m, T> {
             return;
         }
         let len = u32::from(len);
-        let qc = setup.quad.c;
-        let affine = qc[2] == 0 && setup.gqx[1] == 0 && setup.gqy[1] == 0;
+        let qc = setup.quadric().quad.c;
+        let affine = qc[2] == 0 && setup.quadric().gqx[1] == 0 && setup.quadric().gqy[1] == 0;
         let mut quad = QuadStep::new(setup);
 
         let mut lanes: heapless::Vec<Lane, T> = heapless::Vec::new();
@@ -284,7 +284,7 @@ impl<'m, const T: usize> EvalCore<'m, T> {
         let fv = m.noise_frac_bits();
         let vb = m.precision().value_bits();
         let len = u32::from(len);
-        let qc = setup.quad.c;
+        let qc = setup.quadric().quad.c;
         let affine = qc[2] == 0;
         let (mut qq, mut dq, ddq) = (
             qc[0] as i64,

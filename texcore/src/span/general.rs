@@ -68,12 +68,12 @@ impl<'m, const T: usize> EvalCore<'m, T> {
         // Quadric forward differences (exact, wrapping i128); a model without a quadric (no
         // nonzero matrix entry) skips them.
         let quad_zero = self.qmask == 0;
-        let qc = setup.quad.c;
+        let qc = setup.quadric().quad.c;
         let mut q = qc[0];
         let mut dq = qc[1].wrapping_add(qc[2]);
         let ddq = qc[2].wrapping_mul(2);
-        let mut gqx = setup.gqx[0];
-        let mut gqy = setup.gqy[0];
+        let mut gqx = setup.quadric().gqx[0];
+        let mut gqy = setup.quadric().gqy[0];
 
         let len = u32::from(len);
         let mut i = 0u32;
@@ -247,8 +247,8 @@ impl<'m, const T: usize> EvalCore<'m, T> {
                     dq = dq.wrapping_add(ddq);
                 }
                 if grads {
-                    gqx = gqx.wrapping_add(setup.gqx[1]);
-                    gqy = gqy.wrapping_add(setup.gqy[1]);
+                    gqx = gqx.wrapping_add(setup.quadric().gqx[1]);
+                    gqy = gqy.wrapping_add(setup.quadric().gqy[1]);
                 }
             }
             i += seg;

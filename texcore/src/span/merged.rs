@@ -26,8 +26,8 @@ impl<'m, const T: usize> EvalCore<'m, T> {
         });
         let grads = GRADIENTS && self.opts.gradients;
         accepted
-            && (m.wrap() != TableWrap::Clamp || fits(&setup.quad.c, len))
-            && (!grads || (fits(&setup.gqx, len) && fits(&setup.gqy, len)))
+            && (m.wrap() != TableWrap::Clamp || fits(&setup.quadric().quad.c, len))
+            && (!grads || (fits(&setup.quadric().gqx, len) && fits(&setup.quadric().gqy, len)))
     }
 
     /// The fast path: every forward-differenced term is a non-turbulent trilinear term, and their
@@ -85,9 +85,9 @@ impl<'m, const T: usize> EvalCore<'m, T> {
                 _ => {}
             }
         }
-        let qc = setup.quad.c;
+        let qc = setup.quadric().quad.c;
         // An affine quadric along the span (linear `q`, constant gradients) skips three additions.
-        let affine = qc[2] == 0 && setup.gqx[1] == 0 && setup.gqy[1] == 0;
+        let affine = qc[2] == 0 && setup.quadric().gqx[1] == 0 && setup.quadric().gqy[1] == 0;
         let mut quad = QuadStep::new(setup);
 
         // Merged terms: their polynomials, entry pixel and exit pixel.

@@ -64,15 +64,15 @@ impl QuadStep {
     /// differences, gradients and their steps (wrapped to `i64`).
     #[inline(always)]
     pub(super) fn new<const T: usize>(setup: &super::Setup<T>) -> QuadStep {
-        let qc = setup.quad.c;
+        let qc = setup.quadric().quad.c;
         QuadStep {
             q: qc[0] as i64,
             dq: qc[1].wrapping_add(qc[2]) as i64,
             ddq: qc[2].wrapping_mul(2) as i64,
-            gx: setup.gqx[0] as i64,
-            dgx: setup.gqx[1] as i64,
-            gy: setup.gqy[0] as i64,
-            dgy: setup.gqy[1] as i64,
+            gx: setup.quadric().gqx[0] as i64,
+            dgx: setup.quadric().gqx[1] as i64,
+            gy: setup.quadric().gqy[0] as i64,
+            dgy: setup.quadric().gqy[1] as i64,
         }
     }
 
@@ -81,7 +81,7 @@ impl QuadStep {
     #[cfg(not(texcore_lean))]
     #[inline(always)]
     pub(super) fn value_kind<const T: usize>(setup: &super::Setup<T>) -> ([i64; 3], u8) {
-        let qc = setup.quad.c;
+        let qc = setup.quadric().quad.c;
         let q = [
             qc[0] as i64,
             qc[1].wrapping_add(qc[2]) as i64,

@@ -39,15 +39,34 @@ pub(super) fn exact(p: TexPoint) -> [i64; 3] {
 pub(crate) struct Setup<const T: usize> {
     /// One per model term, in order (inactive where culled).
     pub(crate) terms: heapless::Vec<TermSetup, T>,
+    /// The quadric along the span, `None` when it is zero (fast shape: an empty set-up writes a
+    /// tag, not the 120 bytes of a zero quadric).
+    #[cfg(not(texcore_lean))]
+    quadric: Option<QuadSetup>,
+    /// The quadric along the span (size-lean shape: zero in an empty set-up).
+    #[cfg(texcore_lean)]
+    quadric: QuadSetup,
+    /// The span's extra filter width ([`SpanInfo::extra_width48`]).
+    pub(super) extra_width48: i64,
+}
+
+/// The quadric along a span and its gradients.
+#[derive(Clone, Copy, Debug)]
+pub(crate) struct QuadSetup {
     /// The quadric along the span (48 fraction bits).
     pub(crate) quad: QuadraticSpan,
     /// The quadric's x-gradient along the span: `gqx[0] + i gqx[1]` (zero without gradients).
     pub(crate) gqx: [i128; 2],
     /// The quadric's y-gradient along the span, as `gqx`.
     pub(crate) gqy: [i128; 2],
-    /// The span's extra filter width ([`SpanInfo::extra_width48`]).
-    pub(super) extra_width48: i64,
 }
+
+/// The zero quadric.
+const ZERO_QUAD: QuadSetup = QuadSetup {
+    quad: QuadraticSpan { c: [0; 3] },
+    gqx: [0; 2],
+    gqy: [0; 2],
+};
 
 impl<const T: usize> Setup<T> {
     /// No terms, a zero quadric (built in place: the term slots stay unwritten).
@@ -55,11 +74,24 @@ impl<const T: usize> Setup<T> {
     pub(super) fn empty() -> Self {
         Setup {
             terms: heapless::Vec::new(),
-            quad: QuadraticSpan { c: [0; 3] },
-            gqx: [0; 2],
-            gqy: [0; 2],
+            #[cfg(not(texcore_lean))]
+            quadric: None,
+            #[cfg(texcore_lean)]
+            quadric: ZERO_QUAD,
             extra_width48: 0,
         }
+    }
+
+    /// The quadric along the span and its gradients (zero for a zero quadric).
+    #[inline(always)]
+    pub(crate) fn quadric(&self) -> &QuadSetup {
+        #[cfg(not(texcore_lean))]
+        return match &self.quadric {
+            Some(q) => q,
+            None => &ZERO_QUAD,
+        };
+        #[cfg(texcore_lean)]
+        &self.quadric
     }
 }
 
@@ -150,13 +182,19 @@ impl<'m, const T: usize> EvalCore<'m, T> {
             let qd = mat_vec(&qm, self.qmask, &dh);
             let c1 = dot(&dh, &qx).wrapping_mul(2);
             let c2 = dot(&dh, &qd);
-            out.quad = QuadraticSpan {
+            // Written in place: the size-lean shape keeps its set-up's zeros where gradients
+            // are off; the fast shape writes the whole quadric.
+            #[cfg(not(texcore_lean))]
+            let q = out.quadric.insert(ZERO_QUAD);
+            #[cfg(texcore_lean)]
+            let q = &mut out.quadric;
+            q.quad = QuadraticSpan {
                 c: [dot(&xh, &qx), c1, c2],
             };
             if grads {
                 let yh = [dy[0], dy[1], dy[2], 0];
-                out.gqx = [c1, c2.wrapping_mul(2)];
-                out.gqy = [dot(&yh, &qx).wrapping_mul(2), dot(&yh, &qd).wrapping_mul(2)];
+                q.gqx = [c1, c2.wrapping_mul(2)];
+                q.gqy = [dot(&yh, &qx).wrapping_mul(2), dot(&yh, &qd).wrapping_mul(2)];
             }
         }
         // A vector, not an array: nothing is written for the slots past the model's terms.
@@ -267,10 +305,14 @@ mod tests {
                     assert_eq!(setup.extra_width48, want, "case {case}");
                     let (s0, ds, dsdy) = (exact(span.s0), exact(span.ds), exact(span.dsdy));
                     let quadric = model.quadric();
-                    assert_eq!(setup.quad.c, quadric.along(s0, ds).c, "case {case}");
+                    assert_eq!(
+                        setup.quadric().quad.c,
+                        quadric.along(s0, ds).c,
+                        "case {case}"
+                    );
                     if GRADIENTS && gradients {
-                        assert_eq!(setup.gqx, quadric.derivative_along(s0, ds, ds));
-                        assert_eq!(setup.gqy, quadric.derivative_along(s0, ds, dsdy));
+                        assert_eq!(setup.quadric().gqx, quadric.derivative_along(s0, ds, ds));
+                        assert_eq!(setup.quadric().gqy, quadric.derivative_along(s0, ds, dsdy));
                     }
                 }
             }

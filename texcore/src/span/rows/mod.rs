@@ -390,8 +390,8 @@ impl<'m, const T: usize> EvalCore<'m, T> {
         }
         let grads = GRADIENTS && self.opts.gradients;
         let len = u32::from(len);
-        any && (m.wrap() != TableWrap::Clamp || fits(&setup.quad.c, len))
-            && (!grads || (fits(&setup.gqx, len) && fits(&setup.gqy, len)))
+        any && (m.wrap() != TableWrap::Clamp || fits(&setup.quadric().quad.c, len))
+            && (!grads || (fits(&setup.quadric().gqx, len) && fits(&setup.quadric().gqy, len)))
     }
 
     /// Makes `state` and `events` serve the row `span` (set up as `setup`, planned as
