@@ -393,8 +393,10 @@ struct EvalCore<'m, const T: usize> {
     /// Tests only: run the size-lean loop shape ([`LEAN`]) whatever the build.
     #[cfg(test)]
     lean: bool,
-    /// Tests only: spans the axial kernel evaluated.
+    /// Tests only: spans the axial kernel evaluated (never in the size-lean shape, which has no
+    /// axial kernel).
     #[cfg(test)]
+    #[cfg_attr(texcore_lean, allow(dead_code))]
     axial_spans: u64,
     /// Tests only: rows the row schedule evaluated (`rows`).
     #[cfg(test)]
