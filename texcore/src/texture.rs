@@ -297,6 +297,8 @@ mod tests {
         direct
     }
 
+    // The shaders grow with the features.
+    #[allow(clippy::vec_init_then_push)]
     #[test]
     fn both_shapes_shade_alike() {
         let span = Span {
@@ -513,6 +515,8 @@ pub mod workload {
     mod tests {
         use super::*;
 
+        // The hashes grow with the features.
+        #[allow(clippy::single_element_loop)]
         #[test]
         fn marble_workload_is_the_preset() {
             for hash in [

@@ -151,6 +151,8 @@ mod tests {
         assert_eq!(ev.stats(), plain.stats());
     }
 
+    // The shaders grow with the features.
+    #[allow(clippy::vec_init_then_push)]
     #[test]
     fn rows_shade_as_spans() {
         let mut shaders = Vec::new();
