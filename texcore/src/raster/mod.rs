@@ -94,6 +94,8 @@ mod depth;
 mod edge;
 mod perspective;
 mod setup;
+#[cfg(feature = "atlas")]
+mod small;
 #[cfg(test)]
 mod tests;
 #[cfg(feature = "atlas")]

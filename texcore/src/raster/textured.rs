@@ -25,6 +25,7 @@
 //!   panics; a colour band shorter than the depth buffer's rectangle draws nothing.
 
 use super::setup::CoverDepth;
+use super::small::{depth_bias, draw_small, Small, SmallRun, SmallSetup};
 use super::{DepthBuffer, Perspective, Rasterizer, ScreenVertex, Segment, TriangleOptions};
 
 /// An RGB565 texture of `side x side` texels (`side` a power of two, 1 to 128), row-major.
@@ -152,210 +153,6 @@ impl Homogeneous {
     }
 }
 
-/// Raw coordinates of a *small* triangle lie in `(-SMALL, SMALL)` (1024 pixels either side of
-/// the origin): its edge walk fits `i32` (see [`EdgeWalker32::new`]).
-const SMALL: i64 = 1 << 14;
-
-/// An edge walker in `i32` words: exactly `edge::EdgeWalker` for a small triangle.
-#[derive(Clone, Copy)]
-struct EdgeWalker32 {
-    x: i32,
-    r: i32,
-    m: i32,
-    step_q: i32,
-    step_r: i32,
-}
-
-impl EdgeWalker32 {
-    /// The edge `a -> b` at row `py` (`a.y <= 16 py + 8 < b.y` when `a.y < b.y`), as
-    /// `edge::EdgeWalker::new`. Coordinates in `(-2^14, 2^14)` and `0 <= cy - a.y < dy < 2^15`
-    /// bound `(a.x - 8) dy` below `2^29 + 2^18`, `(cy - a.y) dx` below `2^30` and `m - 1` below
-    /// `2^19`: the numerator fits `i32`, and `16 dx` too.
-    #[inline(always)]
-    fn new(a: [i32; 2], b: [i32; 2], py: i32) -> EdgeWalker32 {
-        let (dx, dy) = (b[0] - a[0], b[1] - a[1]);
-        if dy <= 0 {
-            return EdgeWalker32 {
-                x: a[0].div_euclid(16),
-                r: 0,
-                m: 1,
-                step_q: 0,
-                step_r: 0,
-            };
-        }
-        let m = 16 * dy;
-        let cy = py * 16 + 8;
-        let n = (a[0] - 8) * dy + (cy - a[1]) * dx + (m - 1);
-        EdgeWalker32 {
-            x: n.div_euclid(m),
-            r: n.rem_euclid(m),
-            m,
-            step_q: (16 * dx).div_euclid(m),
-            step_r: (16 * dx).rem_euclid(m),
-        }
-    }
-
-    #[inline(always)]
-    fn advance(&mut self) {
-        self.x = self.x.wrapping_add(self.step_q);
-        self.r += self.step_r;
-        if self.r >= self.m {
-            self.r -= self.m;
-            self.x = self.x.wrapping_add(1);
-        }
-    }
-}
-
-/// The coverage of a small triangle in `i32` words (`edge::Coverage`).
-struct SmallCoverage {
-    top: [i32; 2],
-    mid: [i32; 2],
-    bot: [i32; 2],
-    mid_right: bool,
-    py_first: i32,
-    py_mid: i32,
-    py_end: i32,
-}
-
-impl SmallCoverage {
-    /// `None` unless every vertex lies in `(-SMALL, SMALL)`.
-    fn new(c: &super::edge::Coverage) -> Option<SmallCoverage> {
-        let small = |p: [i64; 2]| p.iter().all(|v| v.unsigned_abs() < SMALL as u64);
-        if !(small(c.top) && small(c.mid) && small(c.bot)) {
-            return None;
-        }
-        let n = |p: [i64; 2]| [p[0] as i32, p[1] as i32];
-        // Rows of small coordinates: |ceil((v - 8) / 16)| <= 2^10.
-        Some(SmallCoverage {
-            top: n(c.top),
-            mid: n(c.mid),
-            bot: n(c.bot),
-            mid_right: c.mid_right,
-            py_first: c.py_first as i32,
-            py_mid: c.py_mid as i32,
-            py_end: c.py_end as i32,
-        })
-    }
-}
-
-/// What the pixels of a small triangle need: the planes `[c, dx, dy]` of the depth (its
-/// rounding half up folded into `c`), `N_u`, `N_v` and `D`; the depth clamp, test bias and
-/// write; the texture.
-struct SmallRun<'a> {
-    planes: [[i64; 3]; 4],
-    zlim: [i32; 2],
-    bias: u32,
-    write: bool,
-    texels: &'a [u16],
-    shift: u32,
-    max: u32,
-    log2: u32,
-}
-
-/// One run of a small triangle: the planes at its first pixel `at` and their steps `dx` (as
-/// [`SmallRun::planes`]), the depth written when `WRITE`. Returns the pixels shown.
-#[inline(always)]
-fn small_run<const WRITE: bool>(
-    depth: &mut [u16],
-    colour: &mut [u16],
-    at: [i64; 4],
-    dx: [i64; 4],
-    run: &SmallRun<'_>,
-) -> u32 {
-    let [mut zp, mut nu, mut nv, mut dd] = at;
-    let [zlo, zhi] = run.zlim;
-    let (bias, shift, max, log2, texels) = (run.bias, run.shift, run.max, run.log2, run.texels);
-    let mut shown = 0u32;
-    for (d, c) in depth.iter_mut().zip(colour.iter_mut()) {
-        let z = ((zp >> 32) as i32).max(zlo).min(zhi) as u32;
-        if z < u32::from(*d) + bias {
-            if WRITE {
-                *d = z as u16;
-            }
-            let den = (dd >> 32) as u32;
-            let u = ((nu >> 32) as u32).checked_div(den).unwrap_or(0) >> shift;
-            let t = ((nv >> 32) as u32).checked_div(den).unwrap_or(0) >> shift;
-            let i = ((t.min(max) << log2) | u.min(max)) as usize;
-            *c = texels.get(i).copied().unwrap_or(0);
-            shown += 1;
-        }
-        zp = zp.wrapping_add(dx[0]);
-        nu = nu.wrapping_add(dx[1]);
-        nv = nv.wrapping_add(dx[2]);
-        dd = dd.wrapping_add(dx[3]);
-    }
-    shown
-}
-
-/// Draws a small triangle's covered pixels inside `clip` (within `rect`, the rectangle of
-/// `depth` and `colour`): exactly the rows and runs of `edge::for_each_run`, and the pixels of
-/// the general fast path. Out of line, with `i32` edge walkers: a register file of its own.
-/// Returns the pixels shown and the pixels that failed the depth test.
-#[inline(never)]
-fn draw_small(
-    cov: &SmallCoverage,
-    clip: super::Rect,
-    rect: super::Rect,
-    depth: &mut [u16],
-    colour: &mut [u16],
-    run: &SmallRun<'_>,
-) -> [u32; 2] {
-    let mut counts = [0u32; 2];
-    let y0 = cov.py_first.max(i32::from(clip.y0));
-    let y1 = cov.py_end.min(i32::from(clip.y1));
-    if y0 >= y1 || clip.x0 >= clip.x1 {
-        return counts;
-    }
-    let stride = usize::from(rect.width());
-    let (cx0, cx1) = (i32::from(clip.x0), i32::from(clip.x1));
-    let mut long = EdgeWalker32::new(cov.top, cov.bot, y0);
-    let mut short = if y0 < cov.py_mid {
-        EdgeWalker32::new(cov.top, cov.mid, y0)
-    } else {
-        EdgeWalker32::new(cov.mid, cov.bot, y0)
-    };
-    let [zplane, up, vp, dp] = run.planes;
-    for py in y0..y1 {
-        if py == cov.py_mid && py != y0 {
-            short = EdgeWalker32::new(cov.mid, cov.bot, py);
-        }
-        let (l, r) = if cov.mid_right {
-            (long.x, short.x)
-        } else {
-            (short.x, long.x)
-        };
-        let xa = l.max(cx0);
-        let xb = r.min(cx1);
-        long.advance();
-        short.advance();
-        if xa >= xb {
-            continue;
-        }
-        // clip.x0 <= xa < xb <= clip.x1 and clip.y0 <= py < clip.y1, inside `rect`.
-        let off = (py - i32::from(rect.y0)) as usize * stride + (xa - i32::from(rect.x0)) as usize;
-        let n = (xb - xa) as usize;
-        let (Some(drow), Some(crow)) = (depth.get_mut(off..off + n), colour.get_mut(off..off + n))
-        else {
-            continue;
-        };
-        let (px, pyi) = (i64::from(xa), i64::from(py));
-        let at = |p: [i64; 3]| {
-            p[0].wrapping_add(p[1].wrapping_mul(px))
-                .wrapping_add(p[2].wrapping_mul(pyi))
-        };
-        let at = [at(zplane), at(up), at(vp), at(dp)];
-        let steps = [zplane[1], up[1], vp[1], dp[1]];
-        let shown = if run.write {
-            small_run::<true>(drow, crow, at, steps, run)
-        } else {
-            small_run::<false>(drow, crow, at, steps, run)
-        };
-        counts[0] += shown;
-        counts[1] += n as u32 - shown;
-    }
-    counts
-}
-
 impl Rasterizer {
     /// Draws a textured triangle into `colour` (RGB565, row-major over `depth`'s rectangle, as
     /// `depth`'s storage) with the depth test and write of `opts`, reading `tex` nearest at the
@@ -370,6 +167,20 @@ impl Rasterizer {
         tex: &Texture565<'_>,
         colour: &mut [u16],
     ) {
+        self.draw_textured_with(v, opts, depth, tex, colour, true);
+    }
+
+    /// [`Rasterizer::draw_textured`], through the small path ([`SmallSetup`]) when `small`
+    /// allows it and the triangle is small (the tests draw both ways and compare).
+    fn draw_textured_with(
+        &mut self,
+        v: &[ScreenVertex; 3],
+        opts: &TriangleOptions,
+        depth: &mut DepthBuffer<'_>,
+        tex: &Texture565<'_>,
+        colour: &mut [u16],
+        small: bool,
+    ) {
         let rect = depth.rect();
         let stride = usize::from(rect.width());
         if colour.len() < stride * usize::from(rect.height()) {
@@ -378,6 +189,38 @@ impl Rasterizer {
         let clip = self.clip.intersect(&rect);
         if self.misses(v, clip) {
             return;
+        }
+        let set_up = if small {
+            SmallSetup::new(v, opts, tex.frac())
+        } else {
+            Small::Wide
+        };
+        match set_up {
+            Small::Wide => {}
+            Small::Rejected(r) => return self.count_setup(Some(&r)),
+            Small::General => {
+                self.count_setup(None);
+                return self.draw_textured_general(v, opts, depth, tex, colour, stride);
+            }
+            Small::Ready(s) => {
+                self.count_setup(None);
+                let run = SmallRun {
+                    planes: s.planes,
+                    zlim: s.zlim,
+                    bias: depth_bias(opts.depth_func),
+                    write: opts.depth_write,
+                    texels: tex.texels,
+                    shift: tex.frac(),
+                    max: u32::from(tex.side()) - 1,
+                    log2: tex.log2_side,
+                };
+                let [shown, failed] =
+                    draw_small(&s.cov, clip, rect, depth.data_mut(), colour, &run);
+                let c = &mut self.counters;
+                c.pixels = c.pixels.wrapping_add(u64::from(shown));
+                c.depth_failed = c.depth_failed.wrapping_add(u64::from(failed));
+                return;
+            }
         }
         let r = CoverDepth::new(v, opts);
         self.count_setup(r.as_ref().err());
@@ -408,29 +251,6 @@ impl Rasterizer {
         let max = u32::from(tex.side()) - 1;
         let log2 = tex.log2_side;
         let texels = tex.texels;
-        if let Some(cov) = SmallCoverage::new(&pre.coverage()) {
-            let z = plane.z;
-            let run = SmallRun {
-                planes: [
-                    [z.c.wrapping_add(1 << 31), z.dx, z.dy],
-                    h.planes[0],
-                    h.planes[1],
-                    h.planes[2],
-                ],
-                zlim: [zlo, zhi],
-                bias,
-                write,
-                texels: tex.texels,
-                shift: f,
-                max,
-                log2,
-            };
-            let shown = draw_small(&cov, clip, rect, depth.data_mut(), colour, &run);
-            let c = &mut self.counters;
-            c.pixels = c.pixels.wrapping_add(u64::from(shown[0]));
-            c.depth_failed = c.depth_failed.wrapping_add(u64::from(shown[1]));
-            return;
-        }
         let data = depth.data_mut();
         let counters = &mut self.counters;
         let [du, dv, ddx] = h.planes.map(|p| p[1]);
@@ -669,5 +489,71 @@ mod tests {
             &mut short,
         );
         assert!(z.iter().all(|d| *d == u16::MAX));
+    }
+
+    /// Small triangles (the `i32` set-up and walk) draw exactly the pixels, depths and counters
+    /// of the wide fast path: random triangles across a band, every depth function, both
+    /// perspective modes, culling, partly clipped.
+    #[test]
+    fn small_path_equals_the_wide_path() {
+        let (w, h) = (96u16, 40u16);
+        let texels = index_texture(128);
+        let tex = Texture565::new(&texels, 128).unwrap();
+        let mut st = 0x9e37_79b9_7f4a_7c15u64;
+        let mut rnd = |lo: i64, hi: i64| {
+            st = st
+                .wrapping_mul(6364136223846793005)
+                .wrapping_add(1442695040888963407);
+            lo + ((st >> 33) as i64).rem_euclid(hi - lo)
+        };
+        let mut drawn = 0u64;
+        for n in 0..600 {
+            // Raw 28.4 coordinates around the band, some far off it (still small), some tiny.
+            let span = if n % 5 == 0 { 16_000 } else { 1_800 };
+            let tri: [ScreenVertex; 3] = core::array::from_fn(|_| {
+                ScreenVertex::from_bits(
+                    rnd(-span, span) as i32,
+                    rnd(-span / 2, span) as i32,
+                    rnd(0, 65_536) as u16,
+                    rnd(1, 1 << 31) as u32,
+                    TexPoint::from_bits(
+                        rnd(-(1 << 20), 1 << 24) as i32,
+                        rnd(-(1 << 20), 1 << 24) as i32,
+                        0,
+                    ),
+                )
+            });
+            let mut opts = TriangleOptions::new(if n % 3 == 0 {
+                Perspective::Affine
+            } else {
+                Perspective::Every16
+            });
+            opts.depth_func = [DepthFunc::Less, DepthFunc::LessEqual, DepthFunc::Always][n % 3];
+            opts.depth_write = n % 4 != 1;
+            opts.cull = [
+                CullMode::None,
+                CullMode::Clockwise,
+                CullMode::CounterClockwise,
+            ][n % 3];
+            let rect = Rect::new(0, 8, w, 8 + h);
+            let draw = |small: bool| {
+                let mut z: Vec<u16> = (0..usize::from(w) * usize::from(h))
+                    .map(|i| (i as u16).wrapping_mul(977))
+                    .collect();
+                let mut colour = vec![u16::MAX; z.len()];
+                let mut r = Rasterizer::new(Rect::from_size(w, 64));
+                r.set_clip(Rect::new(3, 0, w - 5, 64));
+                let mut db = DepthBuffer::new(&mut z, rect).unwrap();
+                r.draw_textured_with(&tri, &opts, &mut db, &tex, &mut colour, small);
+                (z, colour, r.counters())
+            };
+            let (zs, cs, ks) = draw(true);
+            let (zw, cw, kw) = draw(false);
+            assert_eq!(zs, zw, "triangle {n}: depth");
+            assert_eq!(cs, cw, "triangle {n}: colour");
+            assert_eq!(ks, kw, "triangle {n}: counters");
+            drawn += ks.pixels;
+        }
+        assert!(drawn > 20_000, "{drawn} pixels drawn");
     }
 }

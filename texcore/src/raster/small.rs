@@ -1,0 +1,380 @@
+//! Small textured triangles: the fast path of [`Rasterizer::draw_textured`] in 32-bit words.
+//!
+//! A triangle whose raw vertex coordinates all lie in `(-2^14, 2^14)` (1024 pixels either side
+//! of the origin, far past any band a device draws) is set up and walked here:
+//!
+//! - **Set-up** ([`SmallSetup::new`]): the area, culling, the vertex order, the edge functions
+//!   and the edge walks' quotients fit `i32`; the depth plane is divided by the doubled area
+//!   exactly as `setup::Plane::new` does it (the same rounding, from the same sums); the
+//!   homogeneous planes take 32 x 32-bit products (weights below `2^30`, edge functions below
+//!   `2^30`).
+//! - **Walk** ([`draw_small`], out of line: a register file of its own): `i32` edge walkers,
+//!   then per run the depth test and the texel look-up of the general fast path.
+//!
+//! # Guarantees
+//!
+//! Exactly the pixels, depths and counters of the general fast path (and so of
+//! [`Rasterizer::draw_depth`]'s coverage and depth): every value computed here is the same
+//! integer the wide path computes, each bound stated where it is used. Tested against the
+//! general path on random small triangles (`tests` below and `textured.rs`).
+//!
+//! [`Rasterizer::draw_textured`]: super::Rasterizer::draw_textured
+//! [`Rasterizer::draw_depth`]: super::Rasterizer::draw_depth
+
+use super::setup::{round_plane_shifted, Reject};
+use super::{CullMode, DepthFunc, Perspective, Rect, ScreenVertex, TriangleOptions};
+
+/// Raw coordinates of a *small* triangle lie in `(-SMALL, SMALL)` (1024 pixels either side of
+/// the origin): its edge walk fits `i32` (see [`EdgeWalker32::new`]).
+pub(crate) const SMALL: i32 = 1 << 14;
+
+/// An edge walker in `i32` words: exactly `edge::EdgeWalker` for a small triangle.
+#[derive(Clone, Copy)]
+struct EdgeWalker32 {
+    x: i32,
+    r: i32,
+    m: i32,
+    step_q: i32,
+    step_r: i32,
+}
+
+impl EdgeWalker32 {
+    /// The edge `a -> b` at row `py` (`a.y <= 16 py + 8 < b.y` when `a.y < b.y`), as
+    /// `edge::EdgeWalker::new`. Coordinates in `(-2^14, 2^14)` and `0 <= cy - a.y < dy < 2^15`
+    /// bound `(a.x - 8) dy` below `2^29 + 2^18`, `(cy - a.y) dx` below `2^30` and `m - 1` below
+    /// `2^19`: the numerator fits `i32`, and `16 dx` too.
+    #[inline(always)]
+    fn new(a: [i32; 2], b: [i32; 2], py: i32) -> EdgeWalker32 {
+        let (dx, dy) = (b[0] - a[0], b[1] - a[1]);
+        if dy <= 0 {
+            return EdgeWalker32 {
+                x: a[0].div_euclid(16),
+                r: 0,
+                m: 1,
+                step_q: 0,
+                step_r: 0,
+            };
+        }
+        let m = 16 * dy;
+        let cy = py * 16 + 8;
+        let n = (a[0] - 8) * dy + (cy - a[1]) * dx + (m - 1);
+        EdgeWalker32 {
+            x: n.div_euclid(m),
+            r: n.rem_euclid(m),
+            m,
+            step_q: (16 * dx).div_euclid(m),
+            step_r: (16 * dx).rem_euclid(m),
+        }
+    }
+
+    #[inline(always)]
+    fn advance(&mut self) {
+        self.x = self.x.wrapping_add(self.step_q);
+        self.r += self.step_r;
+        if self.r >= self.m {
+            self.r -= self.m;
+            self.x = self.x.wrapping_add(1);
+        }
+    }
+}
+
+/// The coverage of a small triangle in `i32` words (`edge::Coverage`).
+pub(crate) struct SmallCoverage {
+    top: [i32; 2],
+    mid: [i32; 2],
+    bot: [i32; 2],
+    mid_right: bool,
+    py_first: i32,
+    py_mid: i32,
+    py_end: i32,
+}
+
+/// What the pixels of a small triangle need: the planes `[c, dx, dy]` of the depth (its
+/// rounding half up folded into `c`), `N_u`, `N_v` and `D`; the depth clamp, test bias and
+/// write; the texture.
+pub(crate) struct SmallRun<'a> {
+    pub(crate) planes: [[i64; 3]; 4],
+    pub(crate) zlim: [i32; 2],
+    pub(crate) bias: u32,
+    pub(crate) write: bool,
+    pub(crate) texels: &'a [u16],
+    pub(crate) shift: u32,
+    pub(crate) max: u32,
+    pub(crate) log2: u32,
+}
+
+/// One run of a small triangle: the planes at its first pixel `at` and their steps `dx` (as
+/// [`SmallRun::planes`]), the depth written when `WRITE`. Returns the pixels shown.
+#[inline(always)]
+fn small_run<const WRITE: bool>(
+    depth: &mut [u16],
+    colour: &mut [u16],
+    at: [i64; 4],
+    dx: [i64; 4],
+    run: &SmallRun<'_>,
+) -> u32 {
+    let [mut zp, mut nu, mut nv, mut dd] = at;
+    let [zlo, zhi] = run.zlim;
+    let (bias, shift, max, log2, texels) = (run.bias, run.shift, run.max, run.log2, run.texels);
+    let mut shown = 0u32;
+    for (d, c) in depth.iter_mut().zip(colour.iter_mut()) {
+        let z = ((zp >> 32) as i32).max(zlo).min(zhi) as u32;
+        if z < u32::from(*d) + bias {
+            if WRITE {
+                *d = z as u16;
+            }
+            let den = (dd >> 32) as u32;
+            let u = ((nu >> 32) as u32).checked_div(den).unwrap_or(0) >> shift;
+            let t = ((nv >> 32) as u32).checked_div(den).unwrap_or(0) >> shift;
+            let i = ((t.min(max) << log2) | u.min(max)) as usize;
+            *c = texels.get(i).copied().unwrap_or(0);
+            shown += 1;
+        }
+        zp = zp.wrapping_add(dx[0]);
+        nu = nu.wrapping_add(dx[1]);
+        nv = nv.wrapping_add(dx[2]);
+        dd = dd.wrapping_add(dx[3]);
+    }
+    shown
+}
+
+/// Draws a small triangle's covered pixels inside `clip` (within `rect`, the rectangle of
+/// `depth` and `colour`): exactly the rows and runs of `edge::for_each_run`, and the pixels of
+/// the general fast path. Out of line, with `i32` edge walkers: a register file of its own.
+/// Returns the pixels shown and the pixels that failed the depth test.
+#[inline(never)]
+pub(crate) fn draw_small(
+    cov: &SmallCoverage,
+    clip: Rect,
+    rect: Rect,
+    depth: &mut [u16],
+    colour: &mut [u16],
+    run: &SmallRun<'_>,
+) -> [u32; 2] {
+    let mut counts = [0u32; 2];
+    let y0 = cov.py_first.max(i32::from(clip.y0));
+    let y1 = cov.py_end.min(i32::from(clip.y1));
+    if y0 >= y1 || clip.x0 >= clip.x1 {
+        return counts;
+    }
+    let stride = usize::from(rect.width());
+    let (cx0, cx1) = (i32::from(clip.x0), i32::from(clip.x1));
+    let mut long = EdgeWalker32::new(cov.top, cov.bot, y0);
+    let mut short = if y0 < cov.py_mid {
+        EdgeWalker32::new(cov.top, cov.mid, y0)
+    } else {
+        EdgeWalker32::new(cov.mid, cov.bot, y0)
+    };
+    let [zplane, up, vp, dp] = run.planes;
+    for py in y0..y1 {
+        if py == cov.py_mid && py != y0 {
+            short = EdgeWalker32::new(cov.mid, cov.bot, py);
+        }
+        let (l, r) = if cov.mid_right {
+            (long.x, short.x)
+        } else {
+            (short.x, long.x)
+        };
+        let xa = l.max(cx0);
+        let xb = r.min(cx1);
+        long.advance();
+        short.advance();
+        if xa >= xb {
+            continue;
+        }
+        // clip.x0 <= xa < xb <= clip.x1 and clip.y0 <= py < clip.y1, inside `rect`.
+        let off = (py - i32::from(rect.y0)) as usize * stride + (xa - i32::from(rect.x0)) as usize;
+        let n = (xb - xa) as usize;
+        let (Some(drow), Some(crow)) = (depth.get_mut(off..off + n), colour.get_mut(off..off + n))
+        else {
+            continue;
+        };
+        let (px, pyi) = (i64::from(xa), i64::from(py));
+        let at = |p: [i64; 3]| {
+            p[0].wrapping_add(p[1].wrapping_mul(px))
+                .wrapping_add(p[2].wrapping_mul(pyi))
+        };
+        let at = [at(zplane), at(up), at(vp), at(dp)];
+        let steps = [zplane[1], up[1], vp[1], dp[1]];
+        let shown = if run.write {
+            small_run::<true>(drow, crow, at, steps, run)
+        } else {
+            small_run::<false>(drow, crow, at, steps, run)
+        };
+        counts[0] += shown;
+        counts[1] += n as u32 - shown;
+    }
+    counts
+}
+
+/// The first pixel row (or column) whose centre is at or after raw `v`
+/// (`edge::first_centre_at_or_after` in `i32`; `|v| < 2^14`).
+#[inline(always)]
+fn first_centre(v: i32) -> i32 {
+    (v - 8 + 15).div_euclid(16)
+}
+
+/// The set-up of a small triangle: what [`draw_small`] needs.
+pub(crate) struct SmallSetup {
+    pub(crate) cov: SmallCoverage,
+    /// Depth, `N_u`, `N_v`, `D` planes `[c, dx, dy]` (the depth's rounding folded into `c`).
+    pub(crate) planes: [[i64; 3]; 4],
+    /// The depth clamp.
+    pub(crate) zlim: [i32; 2],
+}
+
+/// What [`SmallSetup::new`] decides.
+pub(crate) enum Small {
+    /// A vertex lies outside `(-2^14, 2^14)`: the general set-up applies.
+    Wide,
+    /// Rejected (degenerate or culled), as the general set-up rejects it.
+    Rejected(Reject),
+    /// Set up, but a normalised `1/w` is 0: the general rasterizer draws it.
+    General,
+    /// Set up for [`draw_small`].
+    Ready(SmallSetup),
+}
+
+/// The number of significant bits of `v`.
+#[inline(always)]
+const fn bitlen(v: u32) -> u32 {
+    32 - v.leading_zeros()
+}
+
+impl SmallSetup {
+    /// Sets up `v` with `opts` for a texture with `frac` fraction bits (`Texture565::frac`).
+    #[inline(never)]
+    pub(crate) fn new(v: &[ScreenVertex; 3], opts: &TriangleOptions, frac: u32) -> Small {
+        let p = v.map(|p| [p.x.to_bits(), p.y.to_bits()]);
+        if !p.iter().flatten().all(|c| c.unsigned_abs() < SMALL as u32) {
+            return Small::Wide;
+        }
+        let [p0, p1, p2] = p;
+        // Coordinate differences below 2^15: products below 2^30, their difference below 2^31.
+        let area2 = (p1[0] - p0[0]) * (p2[1] - p0[1]) - (p2[0] - p0[0]) * (p1[1] - p0[1]);
+        if area2 == 0 {
+            return Small::Rejected(Reject::Degenerate);
+        }
+        let culled = match opts.cull {
+            CullMode::None => false,
+            CullMode::Clockwise => area2 > 0,
+            CullMode::CounterClockwise => area2 < 0,
+        };
+        if culled {
+            return Small::Rejected(Reject::Culled);
+        }
+        // Edge functions E_i = [E_i(0, 0), dE_i/dx, dE_i/dy] (`setup::PlaneBasis`): |x - 8| below
+        // 2^14 + 8, so each product is below 2^28.01 and the constant below 2^29.01; the steps
+        // below 2^19.
+        let mut e = [[0i32; 3]; 3];
+        for (ei, [xj, yj], [xk, yk]) in [(0, p1, p2), (1, p2, p0), (2, p0, p1)] {
+            if let Some(row) = e.get_mut(ei) {
+                *row = [
+                    (xj - 8) * (yk - 8) - (xk - 8) * (yj - 8),
+                    (yj - yk) * 16,
+                    (xk - xj) * 16,
+                ];
+            }
+        }
+        // The vertices sorted by y exactly as `edge::Coverage::new`.
+        let (mut a, mut b, mut c) = (p0, p1, p2);
+        if b[1] < a[1] {
+            core::mem::swap(&mut a, &mut b);
+        }
+        if c[1] < b[1] {
+            core::mem::swap(&mut b, &mut c);
+        }
+        if b[1] < a[1] {
+            core::mem::swap(&mut a, &mut b);
+        }
+        let cross = (b[0] - a[0]) * (c[1] - a[1]) - (b[1] - a[1]) * (c[0] - a[0]);
+        let cov = SmallCoverage {
+            top: a,
+            mid: b,
+            bot: c,
+            mid_right: cross > 0,
+            py_first: first_centre(a[1]),
+            py_mid: first_centre(b[1]),
+            py_end: first_centre(c[1]),
+        };
+        // Depth: the plane of z_i << 32 is round((sum_i z_i E_i) 2^32 / area2) per coefficient
+        // (sums below 2^47.6, exact in i64), as `setup::Plane::new` rounds it.
+        let z = v.map(|p| i64::from(p.z));
+        let sums = core::array::from_fn(|k| {
+            z.iter()
+                .zip(&e)
+                .map(|(zi, ei)| zi * i64::from(ei.get(k).copied().unwrap_or(0)))
+                .sum::<i64>()
+        });
+        let [zc, zdx, zdy] = round_plane_shifted(sums, area2);
+        let zlo = z.iter().copied().min().unwrap_or(0) as i32;
+        let zhi = z.iter().copied().max().unwrap_or(0) as i32;
+        // The homogeneous planes (`textured::Homogeneous::new`): weights q_i u_i, q_i v_i, q_i
+        // below 2^30, edge functions below 2^29.01: each sum of three products below 2^60.6,
+        // exact in i64, then scaled by 2^k and negated for a negative area modulo 2^64.
+        let inv_w = v.map(|p| p.inv_w.to_bits());
+        let qmax = inv_w.iter().copied().max().unwrap_or(0);
+        let q = if opts.perspective == Perspective::Affine || qmax == 0 {
+            [1u32 << 14; 3]
+        } else {
+            let bl = bitlen(qmax);
+            inv_w.map(|w| {
+                if bl > 15 {
+                    w >> (bl - 15)
+                } else {
+                    w << (15 - bl)
+                }
+            })
+        };
+        if q.contains(&0) {
+            return Small::General;
+        }
+        let k = 33 - bitlen(area2.unsigned_abs());
+        let top = (1i32 << 15) - 1;
+        let coord = |t: i32| (t >> (16 - frac)).max(0).min(top);
+        let w: [[i32; 3]; 3] = core::array::from_fn(|i| {
+            let qi = q.get(i).copied().unwrap_or(0) as i32;
+            let t = v.get(i).map_or([0; 3], |p| p.tex.to_bits());
+            [qi * coord(t[0]), qi * coord(t[1]), qi]
+        });
+        let neg = area2 < 0;
+        let plane = |j: usize| -> [i64; 3] {
+            core::array::from_fn(|c| {
+                let sum = e
+                    .iter()
+                    .zip(&w)
+                    .map(|(ei, wi)| {
+                        i64::from(ei.get(c).copied().unwrap_or(0))
+                            * i64::from(wi.get(j).copied().unwrap_or(0))
+                    })
+                    .sum::<i64>();
+                let scaled = ((sum as u64) << k) as i64;
+                if neg {
+                    scaled.wrapping_neg()
+                } else {
+                    scaled
+                }
+            })
+        };
+        Small::Ready(SmallSetup {
+            cov,
+            planes: [
+                [zc.wrapping_add(1 << 31), zdx, zdy],
+                plane(0),
+                plane(1),
+                plane(2),
+            ],
+            zlim: [zlo, zhi],
+        })
+    }
+}
+
+/// The depth test of `opts` as one unsigned comparison `z < stored + bias`: `Less` is bias 0,
+/// `LessEqual` bias 1, `Always` past every depth (z and stored are below 2^16).
+pub(crate) const fn depth_bias(func: DepthFunc) -> u32 {
+    match func {
+        DepthFunc::Less => 0,
+        DepthFunc::LessEqual => 1,
+        DepthFunc::Always => 1 << 16,
+    }
+}
