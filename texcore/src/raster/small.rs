@@ -3,7 +3,7 @@
 //! A triangle whose raw vertex coordinates all lie in `(-2^14, 2^14)` (1024 pixels either side
 //! of the origin, far past any band a device draws) is set up and walked here:
 //!
-//! - **Set-up** ([`SmallSetup::new`]): the area, culling, the vertex order, the edge functions
+//! - **Set-up** ([`Small::set_up`]): the area, culling, the vertex order, the edge functions
 //!   and the edge walks' quotients fit `i32`; the depth plane is divided by the doubled area
 //!   exactly as `setup::Plane::new` does it (the same rounding, from the same sums); the
 //!   homogeneous planes take 32 x 32-bit products (weights below `2^30`, edge functions below
@@ -223,7 +223,7 @@ pub(crate) struct SmallSetup {
     pub(crate) zlim: [i32; 2],
 }
 
-/// What [`SmallSetup::new`] decides.
+/// What [`Small::set_up`] decides.
 pub(crate) enum Small {
     /// A vertex lies outside `(-2^14, 2^14)`: the general set-up applies.
     Wide,
@@ -241,10 +241,10 @@ const fn bitlen(v: u32) -> u32 {
     32 - v.leading_zeros()
 }
 
-impl SmallSetup {
+impl Small {
     /// Sets up `v` with `opts` for a texture with `frac` fraction bits (`Texture565::frac`).
     #[inline(never)]
-    pub(crate) fn new(v: &[ScreenVertex; 3], opts: &TriangleOptions, frac: u32) -> Small {
+    pub(crate) fn set_up(v: &[ScreenVertex; 3], opts: &TriangleOptions, frac: u32) -> Small {
         let p = v.map(|p| [p.x.to_bits(), p.y.to_bits()]);
         if !p.iter().flatten().all(|c| c.unsigned_abs() < SMALL as u32) {
             return Small::Wide;

@@ -25,7 +25,7 @@
 //!   panics; a colour band shorter than the depth buffer's rectangle draws nothing.
 
 use super::setup::CoverDepth;
-use super::small::{depth_bias, draw_small, Small, SmallRun, SmallSetup};
+use super::small::{depth_bias, draw_small, Small, SmallRun};
 use super::{DepthBuffer, Perspective, Rasterizer, ScreenVertex, Segment, TriangleOptions};
 
 /// An RGB565 texture of `side x side` texels (`side` a power of two, 1 to 128), row-major.
@@ -170,7 +170,7 @@ impl Rasterizer {
         self.draw_textured_with(v, opts, depth, tex, colour, true);
     }
 
-    /// [`Rasterizer::draw_textured`], through the small path ([`SmallSetup`]) when `small`
+    /// [`Rasterizer::draw_textured`], through the small path ([`Small::set_up`]) when `small`
     /// allows it and the triangle is small (the tests draw both ways and compare).
     fn draw_textured_with(
         &mut self,
@@ -191,7 +191,7 @@ impl Rasterizer {
             return;
         }
         let set_up = if small {
-            SmallSetup::new(v, opts, tex.frac())
+            Small::set_up(v, opts, tex.frac())
         } else {
             Small::Wide
         };
