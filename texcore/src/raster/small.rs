@@ -89,12 +89,9 @@ pub(crate) struct SmallCoverage {
     py_end: i32,
 }
 
-/// What the pixels of a small triangle need: the planes `[c, dx, dy]` of the depth (its
-/// rounding half up folded into `c`), `N_u`, `N_v` and `D`; the depth clamp, test bias and
-/// write; the texture.
+/// What the pixels of a small triangle need besides its set-up: the depth test's bias and
+/// write, and the texture.
 pub(crate) struct SmallRun<'a> {
-    pub(crate) planes: [[i64; 3]; 4],
-    pub(crate) zlim: [i32; 2],
     pub(crate) bias: u32,
     pub(crate) write: bool,
     pub(crate) texels: &'a [u16],
@@ -104,17 +101,18 @@ pub(crate) struct SmallRun<'a> {
 }
 
 /// One run of a small triangle: the planes at its first pixel `at` and their steps `dx` (as
-/// [`SmallRun::planes`]), the depth written when `WRITE`. Returns the pixels shown.
+/// [`SmallSetup::planes`]), the depth clamp `zlim`, the depth written when `WRITE`. Returns the pixels shown.
 #[inline(always)]
 fn small_run<const WRITE: bool>(
     depth: &mut [u16],
     colour: &mut [u16],
     at: [i64; 4],
     dx: [i64; 4],
+    zlim: [i32; 2],
     run: &SmallRun<'_>,
 ) -> u32 {
     let [mut zp, mut nu, mut nv, mut dd] = at;
-    let [zlo, zhi] = run.zlim;
+    let [zlo, zhi] = zlim;
     let (bias, shift, max, log2, texels) = (run.bias, run.shift, run.max, run.log2, run.texels);
     let mut shown = 0u32;
     for (d, c) in depth.iter_mut().zip(colour.iter_mut()) {
@@ -144,13 +142,14 @@ fn small_run<const WRITE: bool>(
 /// Returns the pixels shown and the pixels that failed the depth test.
 #[inline(never)]
 pub(crate) fn draw_small(
-    cov: &SmallCoverage,
+    set_up: &SmallSetup,
     clip: Rect,
     rect: Rect,
     depth: &mut [u16],
     colour: &mut [u16],
     run: &SmallRun<'_>,
 ) -> [u32; 2] {
+    let cov = &set_up.cov;
     let mut counts = [0u32; 2];
     let y0 = cov.py_first.max(i32::from(clip.y0));
     let y1 = cov.py_end.min(i32::from(clip.y1));
@@ -165,7 +164,7 @@ pub(crate) fn draw_small(
     } else {
         EdgeWalker32::new(cov.mid, cov.bot, y0)
     };
-    let [zplane, up, vp, dp] = run.planes;
+    let [zplane, up, vp, dp] = set_up.planes;
     for py in y0..y1 {
         if py == cov.py_mid && py != y0 {
             short = EdgeWalker32::new(cov.mid, cov.bot, py);
@@ -197,9 +196,9 @@ pub(crate) fn draw_small(
         let at = [at(zplane), at(up), at(vp), at(dp)];
         let steps = [zplane[1], up[1], vp[1], dp[1]];
         let shown = if run.write {
-            small_run::<true>(drow, crow, at, steps, run)
+            small_run::<true>(drow, crow, at, steps, set_up.zlim, run)
         } else {
-            small_run::<false>(drow, crow, at, steps, run)
+            small_run::<false>(drow, crow, at, steps, set_up.zlim, run)
         };
         counts[0] += shown;
         counts[1] += n as u32 - shown;
@@ -300,13 +299,17 @@ impl Small {
         // Depth: the plane of z_i << 32 is round((sum_i z_i E_i) 2^32 / area2) per coefficient
         // (sums below 2^47.6, exact in i64), as `setup::Plane::new` rounds it.
         let z = v.map(|p| i64::from(p.z));
-        let sums = core::array::from_fn(|k| {
-            z.iter()
-                .zip(&e)
-                .map(|(zi, ei)| zi * i64::from(ei.get(k).copied().unwrap_or(0)))
-                .sum::<i64>()
-        });
-        let [zc, zdx, zdy] = round_plane_shifted(sums, area2);
+        // The edge functions by coefficient: `cols[c][i]` is `E_i`'s coefficient `c`.
+        let [e0, e1, e2] = e;
+        let cols = [
+            [e0[0], e1[0], e2[0]],
+            [e0[1], e1[1], e2[1]],
+            [e0[2], e1[2], e2[2]],
+        ]
+        .map(|c| c.map(i64::from));
+        let dot = |a: [i64; 3], c: [i64; 3]| a[0] * c[0] + a[1] * c[1] + a[2] * c[2];
+        let [c0, c1, c2] = cols;
+        let [zc, zdx, zdy] = round_plane_shifted([dot(z, c0), dot(z, c1), dot(z, c2)], area2);
         let zlo = z.iter().copied().min().unwrap_or(0) as i32;
         let zhi = z.iter().copied().max().unwrap_or(0) as i32;
         // The homogeneous planes (`textured::Homogeneous::new`): weights q_i u_i, q_i v_i, q_i
@@ -332,29 +335,26 @@ impl Small {
         let k = 33 - bitlen(area2.unsigned_abs());
         let top = (1i32 << 15) - 1;
         let coord = |t: i32| (t >> (16 - frac)).max(0).min(top);
-        let w: [[i32; 3]; 3] = core::array::from_fn(|i| {
-            let qi = q.get(i).copied().unwrap_or(0) as i32;
-            let t = v.get(i).map_or([0; 3], |p| p.tex.to_bits());
-            [qi * coord(t[0]), qi * coord(t[1]), qi]
-        });
+        let [t0, t1, t2] = v.map(|p| p.tex.to_bits());
+        let [q0, q1, q2] = q.map(|qi| qi as i32);
+        // The weights of vertex i per plane j (N_u, N_v, D).
+        let w = [
+            [q0 * coord(t0[0]), q1 * coord(t1[0]), q2 * coord(t2[0])],
+            [q0 * coord(t0[1]), q1 * coord(t1[1]), q2 * coord(t2[1])],
+            [q0, q1, q2],
+        ];
         let neg = area2 < 0;
-        let plane = |j: usize| -> [i64; 3] {
-            core::array::from_fn(|c| {
-                let sum = e
-                    .iter()
-                    .zip(&w)
-                    .map(|(ei, wi)| {
-                        i64::from(ei.get(c).copied().unwrap_or(0))
-                            * i64::from(wi.get(j).copied().unwrap_or(0))
-                    })
-                    .sum::<i64>();
-                let scaled = ((sum as u64) << k) as i64;
-                if neg {
-                    scaled.wrapping_neg()
-                } else {
-                    scaled
-                }
-            })
+        let coef = |wj: [i32; 3], c: [i64; 3]| {
+            let scaled = ((dot(wj.map(i64::from), c) as u64) << k) as i64;
+            if neg {
+                scaled.wrapping_neg()
+            } else {
+                scaled
+            }
+        };
+        let plane = |j: usize| {
+            let wj = w.get(j).copied().unwrap_or([0; 3]);
+            [coef(wj, c0), coef(wj, c1), coef(wj, c2)]
         };
         Small::Ready(SmallSetup {
             cov,

@@ -195,9 +195,9 @@ impl Rasterizer {
         } else {
             Small::Wide
         };
-        match set_up {
+        match &set_up {
             Small::Wide => {}
-            Small::Rejected(r) => return self.count_setup(Some(&r)),
+            Small::Rejected(r) => return self.count_setup(Some(r)),
             Small::General => {
                 self.count_setup(None);
                 return self.draw_textured_general(v, opts, depth, tex, colour, stride);
@@ -205,8 +205,6 @@ impl Rasterizer {
             Small::Ready(s) => {
                 self.count_setup(None);
                 let run = SmallRun {
-                    planes: s.planes,
-                    zlim: s.zlim,
                     bias: depth_bias(opts.depth_func),
                     write: opts.depth_write,
                     texels: tex.texels,
@@ -214,8 +212,7 @@ impl Rasterizer {
                     max: u32::from(tex.side()) - 1,
                     log2: tex.log2_side,
                 };
-                let [shown, failed] =
-                    draw_small(&s.cov, clip, rect, depth.data_mut(), colour, &run);
+                let [shown, failed] = draw_small(s, clip, rect, depth.data_mut(), colour, &run);
                 let c = &mut self.counters;
                 c.pixels = c.pixels.wrapping_add(u64::from(shown));
                 c.depth_failed = c.depth_failed.wrapping_add(u64::from(failed));
