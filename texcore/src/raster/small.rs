@@ -343,15 +343,9 @@ impl Small {
             [q0 * coord(t0[1]), q1 * coord(t1[1]), q2 * coord(t2[1])],
             [q0, q1, q2],
         ];
-        let neg = area2 < 0;
-        let coef = |wj: [i32; 3], c: [i64; 3]| {
-            let scaled = ((dot(wj.map(i64::from), c) as u64) << k) as i64;
-            if neg {
-                scaled.wrapping_neg()
-            } else {
-                scaled
-            }
-        };
+        // 2^k with the area's sign (k <= 33): one wrapping product scales and negates.
+        let scale = if area2 < 0 { -(1i64 << k) } else { 1i64 << k };
+        let coef = |wj: [i32; 3], c: [i64; 3]| dot(wj.map(i64::from), c).wrapping_mul(scale);
         let plane = |j: usize| {
             let wj = w.get(j).copied().unwrap_or([0; 3]);
             [coef(wj, c0), coef(wj, c1), coef(wj, c2)]
