@@ -493,7 +493,10 @@ impl Scene {
             // as its left edge (corners 0 and 3), and a corner at the same object-space
             // position has the same camera vertex, outcodes and projection (each a function of
             // the position and the object), so those are reused, not recomputed.
-            let mut edge: Option<SharedEdge> = None;
+            let mut edge: Option<[Vec3; 2]> = None;
+            let mut cam = [CamVertex::default(); 4];
+            let mut oc = [(0u8, 0u8); 4];
+            let mut projected: [Option<(ScreenVertex, u64)>; 4] = [None; 4];
             for q in 0..quads {
                 let group = groups.wrapping_add(q as usize);
                 if !keep(group) {
@@ -509,19 +512,29 @@ impl Scene {
                 if !live[0] && !live[1] {
                     continue;
                 }
-                let new_corner = |p: Vec3| walk_corner(view, o, p);
                 // Corner 0 is the last quad's corner 1 and corner 3 its corner 2 when their
-                // positions are equal.
-                let shared = |at: Vec3, k: usize| match &edge {
-                    Some(e) if e.at[k & 1] == at => e.corner[k & 1],
-                    _ => new_corner(at),
+                // positions are equal (the slots still hold what was computed for them).
+                let [reuse0, reuse3] = match edge {
+                    Some([e1, e2]) => [e1 == c0, e2 == c3],
+                    None => [false, false],
                 };
-                let k0 = shared(c0, 0);
-                let k3 = shared(c3, 1);
-                let (k1, k2) = (new_corner(c1), new_corner(c2));
-                let cam = [k0.0, k1.0, k2.0, k3.0];
-                let oc = [k0.1, k1.1, k2.1, k3.1];
-                let mut projected: [Option<(ScreenVertex, u64)>; 4] = [k0.2, k1.2, k2.2, k3.2];
+                if reuse0 {
+                    (cam[0], oc[0], projected[0]) = (cam[1], oc[1], projected[1]);
+                } else {
+                    (cam[0], oc[0]) = walk_corner(view, o, c0);
+                    projected[0] = None;
+                }
+                if reuse3 {
+                    (cam[3], oc[3], projected[3]) = (cam[2], oc[2], projected[2]);
+                } else {
+                    (cam[3], oc[3]) = walk_corner(view, o, c3);
+                    projected[3] = None;
+                }
+                (cam[1], oc[1]) = walk_corner(view, o, c1);
+                (cam[2], oc[2]) = walk_corner(view, o, c2);
+                projected[1] = None;
+                projected[2] = None;
+                edge = Some([c1, c2]);
                 let values: [core::cell::Cell<Option<L::Value>>; 4] = Default::default();
                 let v = |i: usize| -> L::Value {
                     let cell = &values[i & 3];
@@ -569,37 +582,23 @@ impl Scene {
                         }
                     }
                 }
-                edge = Some(SharedEdge {
-                    at: [c1, c2],
-                    corner: [(cam[1], oc[1], projected[1]), (cam[2], oc[2], projected[2])],
-                });
             }
         }
         c
     }
 }
 
-/// A walked corner: its camera vertex, outcodes, and projection once computed.
-type WalkedCorner = (CamVertex, (u8, u8), Option<(ScreenVertex, u64)>);
-
 /// The camera vertex and outcodes of object `o`'s object-space point `p` (not yet projected).
 /// Out of line: one copy for every walk.
 #[inline(never)]
-fn walk_corner(view: &View, o: &Object, p: Vec3) -> WalkedCorner {
+fn walk_corner(view: &View, o: &Object, p: Vec3) -> (CamVertex, (u8, u8)) {
     let v = CamVertex {
         p: view.to_camera(o.transform.saturating_apply(p)),
         tex: o
             .tex_map
             .apply_point(crate::format::TexPoint::from_bits(p.x, p.y, p.z)),
     };
-    (v, view.outcodes(&v.p), None)
-}
-
-/// The right edge of the last quad walked (its corners 1 and 2): object-space positions and
-/// what the walk computed for them.
-struct SharedEdge {
-    at: [Vec3; 2],
-    corner: [WalkedCorner; 2],
+    (v, view.outcodes(&v.p))
 }
 
 /// What a scene walk computes for each corner of a mesh quad besides its screen position.
