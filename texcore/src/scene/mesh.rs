@@ -14,7 +14,7 @@
 //! of a sphere or torus equals the first).
 
 use super::math::{sat_i32, sin_cos, Angle, Vec3, ONE};
-use super::teapot::{teapot_quad, MAX_TEAPOT_LEVEL, TEAPOT_PATCH_COUNT};
+use super::teapot::{teapot_quad, teapot_right_edge, MAX_TEAPOT_LEVEL, TEAPOT_PATCH_COUNT};
 
 /// A procedural mesh in object space (`Q16.16` sizes).
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
@@ -189,6 +189,32 @@ impl Mesh {
                 [a, b, c, c]
             }
         })
+    }
+
+    /// The corners of quad `q` (exactly [`Mesh::quad`]`(q)`) when `left` are corners 1 and 2 of
+    /// quad `q - 1`: a quad that continues its predecessor's row of a teapot patch has them as
+    /// its corners 0 and 3, so only its new edge (corners 1 and 2, a row of Bezier control
+    /// points and two combinations instead of two and four) is computed; any other quad is
+    /// computed whole. (The teapot only: the cheap parametric grids would double their code in
+    /// flash for little.)
+    #[inline(never)]
+    pub fn quad_after(&self, q: u32, left: [Vec3; 2]) -> Option<[Vec3; 4]> {
+        if q == 0 || q >= self.quad_count() {
+            return self.quad(q);
+        }
+        let edge = match *self {
+            Mesh::Teapot { level } => {
+                let n = level.clamp(1, MAX_TEAPOT_LEVEL) as u32;
+                let (patch, r) = divrem(q, n * n);
+                let (l, k) = divrem(r, n);
+                if k == 0 {
+                    return self.quad(q);
+                }
+                teapot_right_edge(patch as usize, n, k, l)
+            }
+            _ => return self.quad(q),
+        };
+        Some([left[0], edge[0], edge[1], left[1]])
     }
 
     /// The triangles, in a fixed order.
@@ -499,6 +525,53 @@ mod tests {
             for p in t {
                 let r = f(p).iter().map(|c| c * c).sum::<f64>().sqrt();
                 assert!((r - 3.0).abs() < 1e-4, "{r}");
+            }
+        }
+    }
+
+    #[test]
+    fn quad_after_is_quad() {
+        // Every grid kind, the odd sizes too: given its predecessor's right edge, each quad is
+        // exactly `quad(q)` (including the first of each row, computed whole).
+        let meshes = [
+            Mesh::Teapot { level: 1 },
+            Mesh::Teapot { level: 3 },
+            Mesh::Sphere {
+                radius: 3 << 15,
+                stacks: 5,
+                slices: 7,
+            },
+            Mesh::Torus {
+                major: 2 << 16,
+                minor: 1 << 15,
+                major_segments: 9,
+                minor_segments: 4,
+            },
+            Mesh::Cube {
+                half: 1 << 16,
+                divisions: 3,
+            },
+            Mesh::Plane {
+                half_size: 5 << 16,
+                rings: 3,
+            },
+            Mesh::Quad {
+                corners: [
+                    Vec3::ZERO,
+                    Vec3::new(1, 0, 0),
+                    Vec3::new(1, 1, 0),
+                    Vec3::new(0, 1, 0),
+                ],
+            },
+        ];
+        for m in &meshes {
+            let mut left = [Vec3::ZERO; 2];
+            for q in 0..m.quad_count() + 1 {
+                let whole = m.quad(q);
+                assert_eq!(m.quad_after(q, left), whole, "{m:?} quad {q}");
+                if let Some(c) = whole {
+                    left = [c[1], c[2]];
+                }
             }
         }
     }

@@ -497,14 +497,21 @@ impl Scene {
             let mut cam = [CamVertex::default(); 4];
             let mut oc = [(0u8, 0u8); 4];
             let mut projected: [Option<(ScreenVertex, u64)>; 4] = [None; 4];
+            // The right edge of the last quad generated (`Mesh::quad_after`).
+            let mut last: Option<(u32, [Vec3; 2])> = None;
             for q in 0..quads {
                 let group = groups.wrapping_add(q as usize);
                 if !keep(group) {
                     continue;
                 }
-                let Some(corners) = o.mesh.quad(q) else {
+                let corners = match last {
+                    Some((lq, left)) if lq.wrapping_add(1) == q => o.mesh.quad_after(q, left),
+                    _ => o.mesh.quad(q),
+                };
+                let Some(corners) = corners else {
                     break;
                 };
+                last = Some((q, [corners[1], corners[2]]));
                 let halves = [[0usize, 1, 2], [0, 2, 3]];
                 let [c0, c1, c2, c3] = corners;
                 let distinct = |a, b, d| a != b && b != d && d != a;

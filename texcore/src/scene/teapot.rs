@@ -550,6 +550,26 @@ pub fn teapot_quad(patch: usize, n: u32, k: u32, l: u32) -> [Vec3; 4] {
     ]
 }
 
+/// Corners 1 and 2 of [`teapot_quad`]`(patch, n, k, l)` (its edge at `k + 1`), computed as
+/// that function computes them: when `k >= 1`, its corners 0 and 3 are exactly corners 1 and 2
+/// of `teapot_quad(patch, n, k - 1, l)`, so a walk along `k` needs only this edge.
+#[inline(never)]
+pub fn teapot_right_edge(patch: usize, n: u32, k: u32, l: u32) -> [Vec3; 2] {
+    let Some(idx) = TEAPOT_PATCHES.get(patch) else {
+        return [Vec3::ZERO; 2];
+    };
+    let n = n.clamp(1, MAX_TEAPOT_LEVEL as u32);
+    let (k0, l0) = (k.min(n) as i64, l.min(n) as i64);
+    let (k1, l1) = ((k0 + 1).min(n as i64), (l0 + 1).min(n as i64));
+    let n = n as i64;
+    let recip = recip6(n);
+    let r1 = rows_at(idx, &bernstein(n, k1));
+    [
+        combine(&r1, &bernstein(n, l0), recip),
+        combine(&r1, &bernstein(n, l1), recip),
+    ]
+}
+
 #[cfg(test)]
 #[allow(clippy::needless_range_loop)]
 mod tests {
