@@ -58,12 +58,15 @@ impl EdgeWalker32 {
         let m = 16 * dy;
         let cy = py * 16 + 8;
         let n = (a[0] - 8) * dy + (cy - a[1]) * dx + (m - 1);
+        // m > 0 (checked forms: no panic path where the compiler cannot see it).
+        let q = |v: i32| v.checked_div_euclid(m).unwrap_or(0);
+        let r = |v: i32| v.checked_rem_euclid(m).unwrap_or(0);
         EdgeWalker32 {
-            x: n.div_euclid(m),
-            r: n.rem_euclid(m),
+            x: q(n),
+            r: r(n),
             m,
-            step_q: (16 * dx).div_euclid(m),
-            step_r: (16 * dx).rem_euclid(m),
+            step_q: q(16 * dx),
+            step_r: r(16 * dx),
         }
     }
 
