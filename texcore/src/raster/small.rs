@@ -22,6 +22,7 @@
 //! [`Rasterizer::draw_depth`]: super::Rasterizer::draw_depth
 
 use super::setup::{round_plane_shifted, Reject};
+use super::textured::homogeneous_texel;
 use super::{CullMode, DepthFunc, Perspective, Rect, ScreenVertex, TriangleOptions};
 
 /// Raw coordinates of a *small* triangle lie in `(-SMALL, SMALL)` (1024 pixels either side of
@@ -124,11 +125,7 @@ fn small_run<const WRITE: bool>(
             if WRITE {
                 *d = z as u16;
             }
-            let den = (dd >> 32) as u32;
-            let u = ((nu >> 32) as u32).checked_div(den).unwrap_or(0) >> shift;
-            let t = ((nv >> 32) as u32).checked_div(den).unwrap_or(0) >> shift;
-            let i = ((t.min(max) << log2) | u.min(max)) as usize;
-            *c = texels.get(i).copied().unwrap_or(0);
+            *c = homogeneous_texel(texels, [nu, nv, dd], shift, max, log2);
             shown += 1;
         }
         zp = zp.wrapping_add(dx[0]);

@@ -153,6 +153,25 @@ impl Homogeneous {
     }
 }
 
+/// The texel at the quotients `N_u / D`, `N_v / D` of the homogeneous planes' high words
+/// (`hom = [N_u, N_v, D]`; a high word of `D` of 0 reads texel `(0, 0)`), each taken to texels
+/// by `shift` and clamped to `max`, in a texture of `2^log2` texels a row.
+#[inline(always)]
+pub(crate) fn homogeneous_texel(
+    texels: &[u16],
+    hom: [i64; 3],
+    shift: u32,
+    max: u32,
+    log2: u32,
+) -> u16 {
+    let [nu, nv, dd] = hom;
+    let den = (dd >> 32) as u32;
+    let u = ((nu >> 32) as u32).checked_div(den).unwrap_or(0) >> shift;
+    let t = ((nv >> 32) as u32).checked_div(den).unwrap_or(0) >> shift;
+    let i = ((t.min(max) << log2) | u.min(max)) as usize;
+    texels.get(i).copied().unwrap_or(0)
+}
+
 impl Rasterizer {
     /// Draws a textured triangle into `colour` (RGB565, row-major over `depth`'s rectangle, as
     /// `depth`'s storage) with the depth test and write of `opts`, reading `tex` nearest at the
@@ -231,11 +250,7 @@ impl Rasterizer {
         let plane = pre.depth_plane();
         // The depth test as one unsigned comparison `z < stored + bias`: `Less` is bias 0,
         // `LessEqual` bias 1, `Always` past every depth (z and stored are below 2^16).
-        let bias: u32 = match plane.func {
-            super::DepthFunc::Less => 0,
-            super::DepthFunc::LessEqual => 1,
-            super::DepthFunc::Always => 1 << 16,
-        };
+        let bias = depth_bias(plane.func);
         let write = plane.write;
         // The rounded depth at a covered pixel centre is within one unit of `[zlo, zhi]` (the
         // exact value is a convex combination of the vertex depths, the plane's rounding is far
@@ -269,11 +284,7 @@ impl Rasterizer {
                     if write {
                         *d = z;
                     }
-                    let den = (dd >> 32) as u32;
-                    let u = ((nu >> 32) as u32).checked_div(den).unwrap_or(0) >> f;
-                    let t = ((nv >> 32) as u32).checked_div(den).unwrap_or(0) >> f;
-                    let i = ((t.min(max) << log2) | u.min(max)) as usize;
-                    *c = texels.get(i).copied().unwrap_or(0);
+                    *c = homogeneous_texel(texels, [nu, nv, dd], f, max, log2);
                     shown += 1;
                 }
                 zp = zp.wrapping_add(dz);

@@ -525,18 +525,47 @@ pub fn teapot_point(patch: usize, n: u32, k: u32, l: u32) -> Vec3 {
     combine(&rows_at(idx, &bernstein(n, k)), &bernstein(n, l), recip6(n))
 }
 
+/// Where quad `(k, l)` of patch `patch` at level `n` lies: the patch's control points, the
+/// level (clamped to `1..=MAX_TEAPOT_LEVEL`), its parameter steps `k, k + 1` and `l, l + 1`
+/// (clamped to the level) and `recip6` of the level. `None` past the last patch.
+struct QuadAt {
+    idx: &'static [u16; 16],
+    n: i64,
+    k: [i64; 2],
+    l: [i64; 2],
+    recip: i64,
+}
+
+impl QuadAt {
+    fn new(patch: usize, n: u32, k: u32, l: u32) -> Option<QuadAt> {
+        let idx = TEAPOT_PATCHES.get(patch)?;
+        let n = n.clamp(1, MAX_TEAPOT_LEVEL as u32);
+        let (k0, l0) = (k.min(n) as i64, l.min(n) as i64);
+        let n = n as i64;
+        Some(QuadAt {
+            idx,
+            n,
+            k: [k0, (k0 + 1).min(n)],
+            l: [l0, (l0 + 1).min(n)],
+            recip: recip6(n),
+        })
+    }
+}
+
 /// The corners `[P(k, l), P(k+1, l), P(k+1, l+1), P(k, l+1)]` of quad `(k, l)` of patch
 /// `patch` at level `n` (`k, l < n`), identical to four calls of [`teapot_point`] but sharing
 /// the row curves (about half the work).
 pub fn teapot_quad(patch: usize, n: u32, k: u32, l: u32) -> [Vec3; 4] {
-    let Some(idx) = TEAPOT_PATCHES.get(patch) else {
+    let Some(QuadAt {
+        idx,
+        n,
+        k: [k0, k1],
+        l: [l0, l1],
+        recip,
+    }) = QuadAt::new(patch, n, k, l)
+    else {
         return [Vec3::ZERO; 4];
     };
-    let n = n.clamp(1, MAX_TEAPOT_LEVEL as u32);
-    let (k0, l0) = (k.min(n) as i64, l.min(n) as i64);
-    let (k1, l1) = ((k0 + 1).min(n as i64), (l0 + 1).min(n as i64));
-    let n = n as i64;
-    let recip = recip6(n);
     let (r0, r1) = (
         rows_at(idx, &bernstein(n, k0)),
         rows_at(idx, &bernstein(n, k1)),
@@ -555,14 +584,16 @@ pub fn teapot_quad(patch: usize, n: u32, k: u32, l: u32) -> [Vec3; 4] {
 /// of `teapot_quad(patch, n, k - 1, l)`, so a walk along `k` needs only this edge.
 #[inline(never)]
 pub fn teapot_right_edge(patch: usize, n: u32, k: u32, l: u32) -> [Vec3; 2] {
-    let Some(idx) = TEAPOT_PATCHES.get(patch) else {
+    let Some(QuadAt {
+        idx,
+        n,
+        k: [_, k1],
+        l: [l0, l1],
+        recip,
+    }) = QuadAt::new(patch, n, k, l)
+    else {
         return [Vec3::ZERO; 2];
     };
-    let n = n.clamp(1, MAX_TEAPOT_LEVEL as u32);
-    let (k0, l0) = (k.min(n) as i64, l.min(n) as i64);
-    let (k1, l1) = ((k0 + 1).min(n as i64), (l0 + 1).min(n as i64));
-    let n = n as i64;
-    let recip = recip6(n);
     let r1 = rows_at(idx, &bernstein(n, k1));
     [
         combine(&r1, &bernstein(n, l0), recip),
