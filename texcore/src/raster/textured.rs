@@ -501,7 +501,8 @@ mod tests {
 
     /// Small triangles (the `i32` set-up and walk) draw exactly the pixels, depths and counters
     /// of the wide fast path: random triangles across a band, every depth function, both
-    /// perspective modes, culling, partly clipped.
+    /// perspective modes, culling, partly clipped, vertices at the small range's edges and just
+    /// past them, slivers.
     #[test]
     fn small_path_equals_the_wide_path() {
         let (w, h) = (96u16, 40u16);
@@ -518,9 +519,17 @@ mod tests {
         for n in 0..600 {
             // Raw 28.4 coordinates around the band, some far off it (still small), some tiny.
             let span = if n % 5 == 0 { 16_000 } else { 1_800 };
+            // Every 7th triangle has its vertices at the small range's edges (2^14 - 1 raw
+            // units either way) or just past them (the wide path), or a sliver one unit wide.
+            let edge = |v: i64| match n % 21 {
+                0 => v.signum() * 16_383,
+                7 => v.signum() * 16_384,
+                14 => v.clamp(-2, 2),
+                _ => v,
+            };
             let tri: [ScreenVertex; 3] = core::array::from_fn(|_| {
                 ScreenVertex::from_bits(
-                    rnd(-span, span) as i32,
+                    edge(rnd(-span, span)) as i32,
                     rnd(-span / 2, span) as i32,
                     rnd(0, 65_536) as u16,
                     rnd(1, 1 << 31) as u32,
