@@ -447,9 +447,9 @@ impl FrameQuad {
 /// The quad corners of each half, in the walk's triangle order.
 const HALF_TRIANGLES: [[usize; 3]; 2] = [[0, 1, 2], [0, 2, 3]];
 
-/// Adds the walk's triangle `t` (quad corners `corners` of group `g`, object `obj`) to the frame
-/// list: to the last entry when that is the same quad and holds the same values at the corners
-/// they share, otherwise as a new entry (the walk normalises `1/w` per triangle, so a quad's two
+/// Adds the walk's triangle `t` (quad corners `corners` of group `g`, object `obj`, rows `rows`
+/// as [`triangle_rows`]) to the frame list: to the last entry when that is the same quad and
+/// holds the same values at the corners they share, otherwise as a new entry (the walk normalises `1/w` per triangle, so a quad's two
 /// halves can disagree at their shared corners; such a quad takes two entries). `false` when
 /// the triangle cannot be listed exactly (clipped, a vertex past `i16`, an object or group past
 /// the entry's fields, or the list full).
@@ -460,7 +460,7 @@ fn list_triangle(
     obj: usize,
     t: &[ScreenVertex; 3],
     corners: Option<[u8; 3]>,
-    h: u16,
+    rows: Option<(u16, u16)>,
 ) -> bool {
     let Some(c) = corners else {
         return false;
@@ -512,7 +512,7 @@ fn list_triangle(
         q.flags |= 1 << (4 + i);
     }
     q.flags |= 1 << half;
-    if let Some((r0, r1)) = triangle_rows(t, h) {
+    if let Some((r0, r1)) = rows {
         q.rows = [q.rows[0].min(r0), q.rows[1].max(r1)];
     }
     true
@@ -571,7 +571,8 @@ pub fn draw_scene_rows_with<O: FnMut(&[u16])>(
     let mut listed = 0usize;
     let mut exact = true;
     scene.for_each_triangle_with_corners(&mut |_| true, &mut |g, obj, tri, corners| {
-        if let (Some(b), Some((r0, r1))) = (bins.get_mut(g), triangle_rows(tri, h)) {
+        let rows = triangle_rows(tri, h);
+        if let (Some(b), Some((r0, r1))) = (bins.get_mut(g), rows) {
             *b = match b.rows() {
                 Some((a0, a1)) => GroupRows::new(a0.min(r0), a1.max(r1)),
                 None => GroupRows::new(r0, r1),
@@ -581,7 +582,7 @@ pub fn draw_scene_rows_with<O: FnMut(&[u16])>(
             // A triangle the rasterizer rejects (zero area, culled) is not listed.
             let opts = scene.object(obj).map(|d| d.raster).unwrap_or_default();
             if TriangleSetup::check(tri, &opts).is_ok() {
-                exact = list_triangle(list, &mut listed, g, obj, tri, corners, h);
+                exact = list_triangle(list, &mut listed, g, obj, tri, corners, rows);
             }
         }
     });
