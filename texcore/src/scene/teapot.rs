@@ -507,9 +507,21 @@ fn combine(rows: &[[i32; 3]; 4], bv: &[i64; 4], recip: i64) -> Vec3 {
     Vec3::new(f(acc[0]), f(acc[1]), f(acc[2]))
 }
 
-/// `round(2^62 / n^6)` for a clamped level `n`.
+/// `round(2^62 / n^6)` for every level `n` (index `n`; index 0 unused), computed at compile
+/// time: no 64-bit division a quad.
+const RECIP6: [i64; MAX_TEAPOT_LEVEL as usize + 1] = {
+    let mut t = [0i64; MAX_TEAPOT_LEVEL as usize + 1];
+    let mut n = 1;
+    while n <= MAX_TEAPOT_LEVEL as i64 {
+        t[n as usize] = div_round(1 << 62, n * n * n * n * n * n);
+        n += 1;
+    }
+    t
+};
+
+/// `round(2^62 / n^6)` for a clamped level `n` (`1..=MAX_TEAPOT_LEVEL`; 0 outside).
 fn recip6(n: i64) -> i64 {
-    div_round(1 << 62, n * n * n * n * n * n)
+    RECIP6.get(n as usize).copied().unwrap_or(0)
 }
 
 /// The point of patch `patch` at `u = k / n`, `v = l / n` (`k, l <= n`), rounded to `Q16.16`.
