@@ -16,7 +16,8 @@
 //! Exactly the pixels, depths and counters of the general fast path (and so of
 //! [`Rasterizer::draw_depth`]'s coverage and depth): every value computed here is the same
 //! integer the wide path computes, each bound stated where it is used. Tested against the
-//! general path on random small triangles (`tests` below and `textured.rs`).
+//! wide path on random small triangles, triangles at the small range's edges and slivers
+//! (`small_path_equals_the_wide_path` in `textured.rs`).
 //!
 //! [`Rasterizer::draw_textured`]: super::Rasterizer::draw_textured
 //! [`Rasterizer::draw_depth`]: super::Rasterizer::draw_depth
@@ -105,7 +106,8 @@ pub(crate) struct SmallRun<'a> {
 }
 
 /// One run of a small triangle: the planes at its first pixel `at` and their steps `dx` (as
-/// [`SmallSetup::planes`]), the depth clamp `zlim`, the depth written when `WRITE`. Returns the pixels shown.
+/// [`SmallSetup::planes`]), the depth clamp `zlim`, the depth written when `WRITE`. Returns the
+/// pixels shown.
 #[inline(always)]
 fn small_run<const WRITE: bool>(
     depth: &mut [u16],
