@@ -449,8 +449,9 @@ const HALF_TRIANGLES: [[usize; 3]; 2] = [[0, 1, 2], [0, 2, 3]];
 
 /// Adds the walk's triangle `t` (quad corners `corners` of group `g`, object `obj`, rows `rows`
 /// as [`triangle_rows`]) to the frame list: to the last entry when that is the same quad and
-/// holds the same values at the corners they share, otherwise as a new entry (the walk normalises `1/w` per triangle, so a quad's two
-/// halves can disagree at their shared corners; such a quad takes two entries). `false` when
+/// holds the same values at the corners they share, otherwise as a new entry (the walk
+/// normalises `1/w` per triangle, so a quad's two halves can disagree at their shared corners;
+/// such a quad takes two entries). `false` when
 /// the triangle cannot be listed exactly (clipped, a vertex past `i16`, an object or group past
 /// the entry's fields, or the list full).
 fn list_triangle(

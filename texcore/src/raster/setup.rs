@@ -179,8 +179,6 @@ impl AreaDivisor {
     }
 }
 
-/// The barycentric edge functions of a triangle, shared by all its planes: `E_i` at the centre
-/// of pixel `(0, 0)` and its steps per pixel in x and y (`sum_i E_i = area2`).
 /// The plane of vertex values `z_i << 32` from its sums `s = [sum_i z_i E_i]` per coefficient
 /// (`|s| < 2^62`) and the doubled area: `round(s_k 2^32 / area2)` (half up) wrapped to `i64`,
 /// exactly the `c`, `dx`, `dy` of [`Plane::new`] for those vertex values (the same divisor and
@@ -191,6 +189,8 @@ pub(crate) fn round_plane_shifted(s: [i64; 3], area2: i32) -> [i64; 3] {
     s.map(|v| area.div_round(i128::from(v) << 32) as i64)
 }
 
+/// The barycentric edge functions of a triangle, shared by all its planes: `E_i` at the centre
+/// of pixel `(0, 0)` and its steps per pixel in x and y (`sum_i E_i = area2`).
 #[derive(Clone, Copy, Debug)]
 pub(crate) struct PlaneBasis {
     /// `[E_i(HALF, HALF), dE_i/dx SUB, dE_i/dy SUB]` for `i = 0, 1, 2`: below `2^62`, `2^35` and

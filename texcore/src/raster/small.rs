@@ -28,7 +28,7 @@ use super::{CullMode, DepthFunc, Perspective, Rect, ScreenVertex, TriangleOption
 
 /// Raw coordinates of a *small* triangle lie in `(-SMALL, SMALL)` (1024 pixels either side of
 /// the origin): its edge walk fits `i32` (see [`EdgeWalker32::new`]).
-pub(crate) const SMALL: i32 = 1 << 14;
+const SMALL: i32 = 1 << 14;
 
 /// An edge walker in `i32` words: exactly `edge::EdgeWalker` for a small triangle.
 #[derive(Clone, Copy)]
