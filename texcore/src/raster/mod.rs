@@ -588,14 +588,23 @@ impl Rasterizer {
 
     /// Conservative bounding-box rejection (counts the triangle as submitted and offscreen).
     fn misses(&mut self, v: &[ScreenVertex; 3], clip: Rect) -> bool {
-        let [x0, x1, y0, y1] = bounding_box(v);
+        // In i32: raw coordinates are i32 and 16 * 65535 + 8 fits.
+        let (mut x0, mut x1, mut y0, mut y1) = (i32::MAX, i32::MIN, i32::MAX, i32::MIN);
+        for p in v {
+            let (x, y) = (p.x.to_bits(), p.y.to_bits());
+            x0 = x0.min(x);
+            x1 = x1.max(x);
+            y0 = y0.min(y);
+            y1 = y1.max(y);
+        }
+        let edge = |c: u16| 16 * i32::from(c);
         // Pixel centres are at 16 p + 8: the box covers a centre of the clip only if
         // x1 >= 16 clip.x0 + 8 and x0 <= 16 (clip.x1 - 1) + 8 (same for y).
         let miss = clip.is_empty()
-            || x1 < 16 * clip.x0 as i64 + 8
-            || x0 > 16 * clip.x1 as i64 - 8
-            || y1 < 16 * clip.y0 as i64 + 8
-            || y0 > 16 * clip.y1 as i64 - 8;
+            || x1 < edge(clip.x0) + 8
+            || x0 > edge(clip.x1) - 8
+            || y1 < edge(clip.y0) + 8
+            || y0 > edge(clip.y1) - 8;
         if miss {
             let c = &mut self.counters;
             c.triangles = c.triangles.wrapping_add(1);

@@ -349,7 +349,18 @@ impl View {
             p.y as i64 - self.eye.y as i64,
             p.z as i64 - self.eye.z as i64,
         ];
-        // Unit rows (|r| <= 2^16) times |d| <= 2^32: every sum fits i64.
+        // Unit rows (|r| <= 2^16) times |d| <= 2^32: every sum fits i64. When every difference
+        // fits i32 (any point within about 32 000 units of the eye), the same products are
+        // 32 x 32 -> 64-bit ones.
+        if d.iter().all(|&c| c == c as i32 as i64) {
+            let d = d.map(|c| c as i32);
+            return self.rows.map(|r| {
+                let acc = i64::from(r.x) * i64::from(d[0])
+                    + i64::from(r.y) * i64::from(d[1])
+                    + i64::from(r.z) * i64::from(d[2]);
+                round_shift(acc, 16)
+            });
+        }
         self.rows.map(|r| {
             let acc = r.x as i64 * d[0] + r.y as i64 * d[1] + r.z as i64 * d[2];
             round_shift(acc, 16)
@@ -367,6 +378,14 @@ impl View {
     /// `round(round((z - n) r / 2^31) D / 2^47)` with `D = round(65535 f 2^16 / (f - n))`, and
     /// `1/w = r`. (An exact division replaces the product for `|x K| >= 2^62`.)
     pub fn project(&self, v: &CamVertex) -> (ScreenVertex, u64) {
+        match self.project_perspective_small(v) {
+            Some(p) => p,
+            None => self.project_wide(v),
+        }
+    }
+
+    /// [`View::project`] in `i128` words, for any vertex.
+    fn project_wide(&self, v: &CamVertex) -> (ScreenVertex, u64) {
         let [x, y, z] = v.p;
         // max then min, not clamp: no panic path even if near > far. 1 <= z < 2^31.
         let z = z.max(self.near).min(self.far);
@@ -409,6 +428,51 @@ impl View {
             tex: TexPoint::from_bits(v.tex[0], v.tex[1], v.tex[2]),
         };
         (sv, q)
+    }
+
+    /// [`View::project`] of a perspective view when `x`, `y` and the focal constant `K` fit
+    /// `i32` (every vertex of a frame in practice): the same values from `i64` operands, each
+    /// product a signed 64 x 64 -> 128-bit one rounded half up by one addition and shift
+    /// ([`mul_round_shift`]); `None` otherwise.
+    ///
+    /// Bounds: `|x K| <= 2^62`, and `project`'s product branch takes `|x K| < 2^62` (the
+    /// check leaves the rest to it); `r <= 2^62`, so `|x K r| < 2^124` and its
+    /// rounded shift by 74 is below `2^50`; `(z - n) r < 2^93`, `t <= 2^31` and the depth
+    /// factor below `2^63`, so `t D < 2^94`. Every sum is the one `project` forms.
+    #[inline]
+    fn project_perspective_small(&self, v: &CamVertex) -> Option<(ScreenVertex, u64)> {
+        let ViewProj::Perspective { k } = self.proj else {
+            return None;
+        };
+        let [x, y, z] = v.p;
+        let fits = |a: i64| a == a as i32 as i64;
+        if !(fits(x) && fits(y) && fits(k)) {
+            return None;
+        }
+        let (kx, ky) = (x * k, y * k);
+        if kx.unsigned_abs() >= 1 << 62 || ky.unsigned_abs() >= 1 << 62 {
+            return None;
+        }
+        let z = z.max(self.near).min(self.far);
+        let zu = u32::try_from(z.max(1)).unwrap_or(u32::MAX);
+        let r = crate::wide::div_rem_u64_by_u32((1u64 << 62) + u64::from(zu >> 1), zu)
+            .map_or(0, |(q, _)| q);
+        // r <= 2^62: it fits i64.
+        let ri = r as i64;
+        let (w8, h8) = (i64::from(self.width) * 8, i64::from(self.height) * 8);
+        let sx = w8 + mul_round_shift(kx, ri, 74);
+        let sy = h8 - mul_round_shift(ky, ri, 74);
+        let t = mul_round_shift(z - self.near, ri, 31);
+        let depth = mul_round_shift(t, self.depth_scale, 47);
+        let lim = i64::from(GUARD_BAND) - 1;
+        let sv = ScreenVertex {
+            x: ScreenCoord::from_bits(sx.max(-lim).min(lim) as i32),
+            y: ScreenCoord::from_bits(sy.max(-lim).min(lim) as i32),
+            z: depth.max(0).min(65535) as u16,
+            inv_w: crate::raster::InvW::ZERO,
+            tex: TexPoint::from_bits(v.tex[0], v.tex[1], v.tex[2]),
+        };
+        Some((sv, r))
     }
 
     /// Rejects, clips and projects one camera-space triangle, calling `f` with each resulting
@@ -471,14 +535,13 @@ impl View {
         let [mx, my] = self.margin;
         match self.proj {
             ViewProj::Perspective { k } => {
-                // The same tests in i64 when every operand is small: |x|, |y|, |k| < 2^31 make
-                // |k x|, |k y| < 2^62; 0 <= z < 2^31 and the margins (at most 32 768) make
-                // m 2^16 z < 2^63; and the guard's 2^40 z exceeds |k x| once z >= 2^22, so
+                // The same tests in i64 when every operand is small: x, y, k in i32 make
+                // |k x|, |k y| <= 2^62; 0 <= z < 2^31 and the margins (at most 32 768) make
+                // m 2^16 z < 2^63; and the guard's 2^40 z reaches |k x| once z >= 2^22, so
                 // its bits are clear there (below, 2^40 z < 2^62). Exact: the comparisons of
                 // the same values.
-                const L: i64 = 1 << 31;
-                let small = |a: i64| a > -L && a < L;
-                if small(x) && small(y) && small(k) && (0..L).contains(&z) {
+                let small = |a: i64| a == a as i32 as i64;
+                if small(x) && small(y) && small(k) && (z as u64) >> 31 == 0 {
                     let (kx, ky) = (x * k, y * k);
                     s |= side_bits(kx, (z * mx) << 16, 4) | side_bits(ky, (z * my) << 16, 16);
                     if z < 1 << 22 {
@@ -523,6 +586,13 @@ impl View {
 #[inline(always)]
 fn side_bits<T: Copy + PartialOrd + core::ops::Neg<Output = T>>(a: T, m: T, bit: u8) -> u8 {
     (if a > m { bit } else { 0 }) | (if -a > m { bit << 1 } else { 0 })
+}
+
+/// `round(a b / 2^k)` rounded half up (`1 <= k <= 126`), from a signed 64 x 64 -> 128-bit
+/// product; the caller bounds the result to `i64`.
+#[inline(always)]
+fn mul_round_shift(a: i64, b: i64, k: u32) -> i64 {
+    ((a as i128 * b as i128 + (1i128 << (k - 1))) >> k) as i64
 }
 
 /// `a b` exactly, with a 64-bit multiplication when both are below `2^31` in magnitude.
@@ -938,6 +1008,77 @@ mod tests {
     }
 
     /// The fast outcodes are exactly the signs of the clip planes.
+    /// The `i64` projection equals the `i128` one wherever it applies: random points of every
+    /// magnitude and points at its bounds (`x`, `y` at `±2^31`, `x K` at `±2^62`), for
+    /// cameras whose focal constant fits `i32` and one whose does not.
+    #[test]
+    fn small_projection_is_the_wide_one() {
+        let mut st = 777u64;
+        let mut rnd = || {
+            st = st
+                .wrapping_mul(6364136223846793005)
+                .wrapping_add(1442695040888963407);
+            let v = (st >> 1) as i64;
+            v >> (st % 63)
+        };
+        let cams = [
+            persp(Vec3::ZERO, Vec3::units(0, 0, -1)),
+            Camera::perspective(
+                Vec3::ZERO,
+                Vec3::units(0, 0, -1),
+                Vec3::Y,
+                i32::MAX,
+                1,
+                i32::MAX,
+                65535,
+                65535,
+            ),
+            Camera::perspective(Vec3::ZERO, Vec3::units(0, 0, -1), Vec3::Y, ONE, 1, 2, 2, 2),
+        ];
+        let edges = [
+            0,
+            1,
+            -1,
+            (1 << 31) - 1,
+            -(1 << 31),
+            1 << 31,
+            -(1 << 31) - 1,
+            i64::MAX,
+            i64::MIN,
+        ];
+        let mut fast = 0;
+        for cam in cams {
+            let view = cam.view().unwrap();
+            let ViewProj::Perspective { k } = view.proj else {
+                panic!("perspective");
+            };
+            let mut xs: Vec<i64> = edges.to_vec();
+            // x K at and next to ±2^62.
+            if k != 0 && (1i64 << 62) % k == 0 {
+                let q = (1i64 << 62) / k;
+                xs.extend([q, -q, q - 1, 1 - q]);
+            }
+            let mut pts: Vec<[i64; 3]> = Vec::new();
+            for &x in &xs {
+                for &z in &[1, 2, 1 << 20, (1 << 31) - 1, -5, i64::MAX] {
+                    pts.push([x, x.wrapping_neg(), z]);
+                    pts.push([x, 7, z]);
+                }
+            }
+            for _ in 0..20000 {
+                pts.push([rnd(), rnd(), rnd()]);
+            }
+            for p in pts {
+                let v = CamVertex { p, tex: [1, 2, 3] };
+                if let Some(s) = view.project_perspective_small(&v) {
+                    fast += 1;
+                    assert_eq!(s, view.project_wide(&v), "{p:?}");
+                }
+            }
+        }
+        assert!(fast > 10000, "the i64 path ran {fast} times");
+    }
+
     #[test]
     fn outcodes_match_planes() {
         let mut st = 12345u64;
@@ -972,10 +1113,29 @@ mod tests {
                 65535,
             ),
         ];
+        // The i64 path's bounds: coordinates at and past i32, z at and past 2^22 and 2^31.
+        let edges = [
+            0,
+            1,
+            -1,
+            i32::MAX as i64,
+            i32::MIN as i64,
+            1 << 31,
+            -(1 << 31) - 1,
+        ];
+        let zs = [0, 1, (1 << 22) - 1, 1 << 22, (1 << 31) - 1, 1 << 31, -1];
+        let mut pts = Vec::new();
+        for &x in &edges {
+            for &y in &edges {
+                for &z in &zs {
+                    pts.push([x, y, z]);
+                }
+            }
+        }
         for cam in cams {
             let view = cam.view().unwrap();
-            for _ in 0..20000 {
-                let p = [rnd(), rnd(), rnd()];
+            for i in 0..20000 + pts.len() {
+                let p = pts.get(i).copied().unwrap_or_else(|| [rnd(), rnd(), rnd()]);
                 let (s, g) = view.outcodes(&p);
                 for i in 0..6 {
                     assert_eq!(view.screen[i].eval(&p) < 0, s & (1 << i) != 0, "{p:?} {i}");

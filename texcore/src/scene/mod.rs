@@ -66,6 +66,7 @@
 
 pub mod builtin;
 pub mod camera;
+mod corners;
 #[cfg(feature = "lighting")]
 mod lit;
 pub mod math;
@@ -476,6 +477,7 @@ impl Scene {
         let mut c = SceneCounters::default();
         let view = self.camera.view();
         let mut first_group = 0usize;
+        let mut cache = corners::CornerCache::new();
         for (index, o) in self.objects.iter().enumerate() {
             c.objects = c.objects.wrapping_add(1);
             let quads = o.mesh.quad_count();
@@ -493,10 +495,15 @@ impl Scene {
             // as its left edge (corners 0 and 3), and a corner at the same object-space
             // position has the same camera vertex, outcodes and projection (each a function of
             // the position and the object), so those are reused, not recomputed.
+            //
+            // The bottom corners (3 and 2) of the quads walked go into `cache`: a quad whose
+            // top corners were a quad's bottom corners in the row above (or across a patch
+            // seam) takes them from there, exactly as computed (`corners`).
             let mut edge: Option<[Vec3; 2]> = None;
             let mut cam = [CamVertex::default(); 4];
             let mut oc = [(0u8, 0u8); 4];
             let mut projected: [Option<(ScreenVertex, u64)>; 4] = [None; 4];
+            cache.clear();
             // The right edge of the last quad generated (`Mesh::quad_after`).
             let mut last: Option<(u32, [Vec3; 2])> = None;
             for q in 0..quads {
@@ -528,19 +535,19 @@ impl Scene {
                 if reuse0 {
                     (cam[0], oc[0], projected[0]) = (cam[1], oc[1], projected[1]);
                 } else {
-                    (cam[0], oc[0]) = walk_corner(view, o, c0);
-                    projected[0] = None;
+                    let w = cached_corner(&cache, view, o, c0);
+                    (cam[0], oc[0], projected[0]) = (w.cam, w.oc, w.projected);
                 }
                 if reuse3 {
                     (cam[3], oc[3], projected[3]) = (cam[2], oc[2], projected[2]);
                 } else {
-                    (cam[3], oc[3]) = walk_corner(view, o, c3);
-                    projected[3] = None;
+                    let w = cached_corner(&cache, view, o, c3);
+                    (cam[3], oc[3], projected[3]) = (w.cam, w.oc, w.projected);
                 }
-                (cam[1], oc[1]) = walk_corner(view, o, c1);
-                (cam[2], oc[2]) = walk_corner(view, o, c2);
-                projected[1] = None;
-                projected[2] = None;
+                let w = cached_corner(&cache, view, o, c1);
+                (cam[1], oc[1], projected[1]) = (w.cam, w.oc, w.projected);
+                let w = walk_corner(view, o, c2);
+                (cam[2], oc[2], projected[2]) = (w.cam, w.oc, w.projected);
                 edge = Some([c1, c2]);
                 let values: [core::cell::Cell<Option<L::Value>>; 4] = Default::default();
                 let v = |i: usize| -> L::Value {
@@ -589,23 +596,48 @@ impl Scene {
                         }
                     }
                 }
+                cache.put_edge(
+                    [c3, c2],
+                    [cam[3], cam[2]],
+                    [oc[3], oc[2]],
+                    [projected[3], projected[2]],
+                );
             }
         }
         c
     }
 }
 
+/// [`walk_corner`] of `p`, or the corner `cache` holds for `p`: the same values. Out of line:
+/// one copy for every walk.
+#[inline(never)]
+fn cached_corner(
+    cache: &corners::CornerCache,
+    view: &View,
+    o: &Object,
+    p: Vec3,
+) -> corners::WalkedCorner {
+    match cache.get(&p) {
+        Some(w) => w,
+        None => walk_corner(view, o, p),
+    }
+}
+
 /// The camera vertex and outcodes of object `o`'s object-space point `p` (not yet projected).
 /// Out of line: one copy for every walk.
 #[inline(never)]
-fn walk_corner(view: &View, o: &Object, p: Vec3) -> (CamVertex, (u8, u8)) {
+fn walk_corner(view: &View, o: &Object, p: Vec3) -> corners::WalkedCorner {
     let v = CamVertex {
         p: view.to_camera(o.transform.saturating_apply(p)),
         tex: o
             .tex_map
             .apply_point(crate::format::TexPoint::from_bits(p.x, p.y, p.z)),
     };
-    (v, view.outcodes(&v.p))
+    corners::WalkedCorner {
+        cam: v,
+        oc: view.outcodes(&v.p),
+        projected: None,
+    }
 }
 
 /// What a scene walk computes for each corner of a mesh quad besides its screen position.
