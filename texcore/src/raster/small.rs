@@ -190,7 +190,9 @@ pub(crate) fn draw_small(
         else {
             continue;
         };
-        let (px, pyi) = (i64::from(xa), i64::from(py));
+        // 0 <= xa, py (inside the clip): zero-extended, so each plane product below is one
+        // 32 x 64-bit multiplication.
+        let (px, pyi) = (i64::from(xa as u32), i64::from(py as u32));
         let at = |p: [i64; 3]| {
             p[0].wrapping_add(p[1].wrapping_mul(px))
                 .wrapping_add(p[2].wrapping_mul(pyi))

@@ -18,7 +18,7 @@
 //! produce **bit-identical vertices** along it, and the tessellated teapot has no cracks
 //! between patches.
 
-use super::math::{div_round, round_shift_128, sat_i32, sat_i64, Vec3};
+use super::math::{div_round, sat_i32, sat_i64, Vec3};
 
 /// Number of patches.
 pub const TEAPOT_PATCH_COUNT: usize = 32;
@@ -503,7 +503,9 @@ fn combine(rows: &[[i32; 3]; 4], bv: &[i64; 4], recip: i64) -> Vec3 {
         acc[1] += wv * i64::from(r[1]);
         acc[2] += wv * i64::from(r[2]);
     }
-    let f = |a: i64| sat_i32(sat_i64(round_shift_128(a as i128 * recip as i128, 62)));
+    // A signed 64 x 64 -> 128-bit product (|acc| < 2^42, recip <= 2^62), rounded half up by
+    // one addition and shift: round_shift_128 of the same product.
+    let f = |a: i64| sat_i32(sat_i64((a as i128 * recip as i128 + (1 << 61)) >> 62));
     Vec3::new(f(acc[0]), f(acc[1]), f(acc[2]))
 }
 
