@@ -20,9 +20,15 @@ use super::camera::CamVertex;
 use super::math::Vec3;
 use crate::raster::ScreenVertex;
 
-/// Entries of a [`CornerCache`]: a power of two, enough for the bottom edge of a row of the
-/// built-in meshes' patches and grids.
-pub(crate) const CACHE_CORNERS: usize = 16;
+/// Cached entries of a [`CornerStore`]: enough for the bottom edge of a row of the built-in
+/// meshes' patches.
+pub(crate) const CACHE_CORNERS: usize = 12;
+
+/// Slots of a [`CornerStore`]: the cached ones and four scratch slots (a quad has four
+/// corners, so a free one always exists); a power of two, so a slot number is masked into
+/// range.
+const SLOTS: usize = CACHE_CORNERS + 4;
+const _: () = assert!(SLOTS.is_power_of_two());
 
 /// One walked corner: what the walk computed for an object-space position.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
@@ -35,64 +41,78 @@ pub(crate) struct WalkedCorner {
     pub(crate) projected: Option<(ScreenVertex, u64)>,
 }
 
-/// A direct-mapped cache of walked corners, by object-space position (see the module
-/// documentation).
+/// The walk's corners, in place: the current quad's corners are slot numbers, and the
+/// [`CACHE_CORNERS`] cached slots are direct-mapped by a hash of the position, so a corner
+/// computed once is found again by its position while its slot is not reused (see the module
+/// documentation). Nothing is copied in or out.
 #[derive(Clone, Copy, Debug)]
-pub(crate) struct CornerCache {
-    slots: [Option<(Vec3, WalkedCorner)>; CACHE_CORNERS],
+pub(crate) struct CornerStore {
+    /// The position each cached slot holds (`None`: empty; scratch slots are never found).
+    pos: [Option<Vec3>; CACHE_CORNERS],
+    corner: [WalkedCorner; SLOTS],
 }
 
-impl CornerCache {
-    /// An empty cache.
-    pub(crate) const fn new() -> CornerCache {
-        CornerCache {
-            slots: [None; CACHE_CORNERS],
+impl CornerStore {
+    /// An empty store.
+    pub(crate) fn new() -> CornerStore {
+        CornerStore {
+            pos: [None; CACHE_CORNERS],
+            corner: [WalkedCorner::default(); SLOTS],
         }
     }
 
-    /// Forgets every entry (a new object: another transform).
+    /// Forgets every cached position (a new object: another transform).
     pub(crate) fn clear(&mut self) {
-        self.slots = [None; CACHE_CORNERS];
+        self.pos = [None; CACHE_CORNERS];
     }
 
-    /// The slot of position `p`: the top bits of a multiplicative hash of its coordinates.
+    /// The cached slot of position `p`: a multiplicative hash of its coordinates scaled to
+    /// `0..CACHE_CORNERS` by its top bits (one multiplication, no division).
     #[inline(always)]
     fn slot(p: &Vec3) -> usize {
         let (x, y, z) = (p.x as u32, p.y as u32, p.z as u32);
         let h = (x ^ y.rotate_left(11) ^ z.rotate_left(22)).wrapping_mul(0x9E37_79B1);
-        (h >> (32 - CACHE_CORNERS.trailing_zeros())) as usize & (CACHE_CORNERS - 1)
+        ((u64::from(h) * CACHE_CORNERS as u64) >> 32) as usize
     }
 
-    /// The corner walked at position `p`, if it is still cached.
+    /// The slot holding the corner walked at position `p`, if it is still cached.
     #[inline]
-    pub(crate) fn get(&self, p: &Vec3) -> Option<WalkedCorner> {
-        match self.slots.get(Self::slot(p)) {
-            Some(Some((q, w))) if q == p => Some(*w),
+    pub(crate) fn find(&self, p: &Vec3) -> Option<usize> {
+        let i = Self::slot(p);
+        match self.pos.get(i) {
+            Some(Some(q)) if q == p => Some(i),
             _ => None,
         }
     }
 
-    /// Keeps a quad's bottom edge: the corners walked at positions `p` with their camera
-    /// vertices, outcodes and projections. Out of line: one copy for every walk.
-    #[inline(never)]
-    pub(crate) fn put_edge(
-        &mut self,
-        p: [Vec3; 2],
-        cam: [CamVertex; 2],
-        oc: [(u8, u8); 2],
-        projected: [Option<(ScreenVertex, u64)>; 2],
-    ) {
-        for (((p, cam), oc), projected) in p.into_iter().zip(cam).zip(oc).zip(projected) {
-            self.put(p, WalkedCorner { cam, oc, projected });
+    /// A slot for a new corner at position `p` that is none of `busy` (the slots the current
+    /// quad still uses): its cached slot, which then holds `p`, or else a free scratch slot
+    /// (never found again). The caller fills it.
+    #[inline]
+    pub(crate) fn claim(&mut self, p: Vec3, busy: &[usize; 4]) -> usize {
+        let i = Self::slot(&p);
+        if !busy.contains(&i) {
+            if let Some(s) = self.pos.get_mut(i) {
+                *s = Some(p);
+            }
+            return i;
         }
+        (CACHE_CORNERS..SLOTS)
+            .find(|j| !busy.contains(j))
+            .unwrap_or(CACHE_CORNERS)
     }
 
-    /// Keeps the corner walked at position `p` (replacing what its slot held).
+    /// The corner in slot `i` (a slot of [`CornerStore::find`] or [`CornerStore::claim`]).
     #[inline]
-    pub(crate) fn put(&mut self, p: Vec3, w: WalkedCorner) {
-        if let Some(s) = self.slots.get_mut(Self::slot(&p)) {
-            *s = Some((p, w));
-        }
+    pub(crate) fn get(&self, i: usize) -> &WalkedCorner {
+        // `i & (SLOTS - 1)`: in bounds, no panic path.
+        &self.corner[i & (SLOTS - 1)]
+    }
+
+    /// The corner in slot `i`, to fill or to add its projection.
+    #[inline]
+    pub(crate) fn get_mut(&mut self, i: usize) -> &mut WalkedCorner {
+        &mut self.corner[i & (SLOTS - 1)]
     }
 }
 
@@ -111,25 +131,51 @@ mod tests {
         }
     }
 
+    const FREE: [usize; 4] = [usize::MAX; 4];
+
     #[test]
-    fn hits_only_the_same_position() {
-        let mut c = CornerCache::new();
+    fn finds_only_the_same_position() {
+        let mut c = CornerStore::new();
         let p = Vec3::new(65536, -7, 1 << 20);
-        assert_eq!(c.get(&p), None);
-        c.put(p, corner(5));
-        assert_eq!(c.get(&p), Some(corner(5)));
+        assert_eq!(c.find(&p), None);
+        let i = c.claim(p, &FREE);
+        *c.get_mut(i) = corner(5);
+        assert_eq!(c.find(&p), Some(i));
+        assert_eq!(*c.get(i), corner(5));
         // Every other position that maps to the same slot misses.
         let mut others = 0;
         for x in -2000..2000 {
             let q = Vec3::new(x, -7, 1 << 20);
-            if q != p && CornerCache::slot(&q) == CornerCache::slot(&p) {
+            if q != p && CornerStore::slot(&q) == CornerStore::slot(&p) {
                 others += 1;
-                assert_eq!(c.get(&q), None, "{q:?}");
+                assert_eq!(c.find(&q), None, "{q:?}");
             }
         }
         assert!(others > 0);
         c.clear();
-        assert_eq!(c.get(&p), None);
+        assert_eq!(c.find(&p), None);
+    }
+
+    #[test]
+    fn busy_slots_are_never_claimed() {
+        let mut c = CornerStore::new();
+        let p = Vec3::new(3, 4, 5);
+        let home = CornerStore::slot(&p);
+        // Its own slot busy: a scratch slot, none of the busy ones, and not found later.
+        for busy in [
+            [home, usize::MAX, usize::MAX, usize::MAX],
+            [home, CACHE_CORNERS, CACHE_CORNERS + 1, CACHE_CORNERS + 2],
+            [CACHE_CORNERS + 3, home, CACHE_CORNERS, CACHE_CORNERS + 1],
+        ] {
+            let i = c.claim(p, &busy);
+            assert!(
+                i >= CACHE_CORNERS && i < SLOTS && !busy.contains(&i),
+                "{i} {busy:?}"
+            );
+            assert_eq!(c.find(&p), None);
+        }
+        assert_eq!(c.claim(p, &FREE), home);
+        assert_eq!(c.find(&p), Some(home));
     }
 
     #[test]
@@ -137,14 +183,14 @@ mod tests {
         // The bottom edge of a row of a 4 x 4 patch (5 corners) and of an 8-quad row: the
         // slots spread them (a few may collide, never more than half).
         for n in [5, 9] {
-            let mut c = CornerCache::new();
+            let mut c = CornerStore::new();
             let row: std::vec::Vec<Vec3> = (0..n)
                 .map(|i| Vec3::new(i * 9000, 4321, -i * 777))
                 .collect();
-            for (i, p) in row.iter().enumerate() {
-                c.put(*p, corner(i as i64));
+            for p in &row {
+                c.claim(*p, &FREE);
             }
-            let kept = row.iter().filter(|p| c.get(p).is_some()).count();
+            let kept = row.iter().filter(|p| c.find(p).is_some()).count();
             assert!(2 * kept >= n as usize, "{kept} of {n}");
         }
     }

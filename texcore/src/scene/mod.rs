@@ -477,7 +477,7 @@ impl Scene {
         let mut c = SceneCounters::default();
         let view = self.camera.view();
         let mut first_group = 0usize;
-        let mut cache = corners::CornerCache::new();
+        let mut store = corners::CornerStore::new();
         for (index, o) in self.objects.iter().enumerate() {
             c.objects = c.objects.wrapping_add(1);
             let quads = o.mesh.quad_count();
@@ -496,14 +496,14 @@ impl Scene {
             // position has the same camera vertex, outcodes and projection (each a function of
             // the position and the object), so those are reused, not recomputed.
             //
-            // The bottom corners (3 and 2) of the quads walked go into `cache`: a quad whose
-            // top corners were a quad's bottom corners in the row above (or across a patch
-            // seam) takes them from there, exactly as computed (`corners`).
+            //
+            // The corners live in `store` (slot numbers in `at`), which keeps recent ones by
+            // position: a quad whose top corners were the bottom corners of a quad in the row
+            // above (or across a patch seam) finds them there, exactly as computed
+            // (`corners`).
             let mut edge: Option<[Vec3; 2]> = None;
-            let mut cam = [CamVertex::default(); 4];
-            let mut oc = [(0u8, 0u8); 4];
-            let mut projected: [Option<(ScreenVertex, u64)>; 4] = [None; 4];
-            cache.clear();
+            let mut at = [0usize; 4];
+            store.clear();
             // The right edge of the last quad generated (`Mesh::quad_after`).
             let mut last: Option<(u32, [Vec3; 2])> = None;
             for q in 0..quads {
@@ -532,22 +532,7 @@ impl Scene {
                     Some([e1, e2]) => [e1 == c0, e2 == c3],
                     None => [false, false],
                 };
-                if reuse0 {
-                    (cam[0], oc[0], projected[0]) = (cam[1], oc[1], projected[1]);
-                } else {
-                    let w = cached_corner(&cache, view, o, c0);
-                    (cam[0], oc[0], projected[0]) = (w.cam, w.oc, w.projected);
-                }
-                if reuse3 {
-                    (cam[3], oc[3], projected[3]) = (cam[2], oc[2], projected[2]);
-                } else {
-                    let w = cached_corner(&cache, view, o, c3);
-                    (cam[3], oc[3], projected[3]) = (w.cam, w.oc, w.projected);
-                }
-                let w = cached_corner(&cache, view, o, c1);
-                (cam[1], oc[1], projected[1]) = (w.cam, w.oc, w.projected);
-                let w = walk_corner(view, o, c2);
-                (cam[2], oc[2], projected[2]) = (w.cam, w.oc, w.projected);
+                store_quad(&mut store, view, o, &corners, [reuse0, reuse3], &mut at);
                 edge = Some([c1, c2]);
                 let values: [core::cell::Cell<Option<L::Value>>; 4] = Default::default();
                 let v = |i: usize| -> L::Value {
@@ -569,11 +554,13 @@ impl Scene {
                     // `& 3`: provably in bounds (no panic path).
                     let [a, b, d] = *tri;
                     let (a, b, d) = (a & 3, b & 3, d & 3);
-                    if oc[a].0 & oc[b].0 & oc[d].0 != 0 {
+                    let oc = |i: usize| store.get(at[i]).oc;
+                    if oc(a).0 & oc(b).0 & oc(d).0 != 0 {
                         c.rejected = c.rejected.wrapping_add(1);
-                    } else if (oc[a].1 | oc[b].1 | oc[d].1) == 0 {
+                    } else if (oc(a).1 | oc(b).1 | oc(d).1) == 0 {
                         let mut p = |i: usize| -> (ScreenVertex, u64) {
-                            *projected[i].get_or_insert_with(|| view.project(&cam[i]))
+                            let w = store.get_mut(at[i]);
+                            *w.projected.get_or_insert_with(|| view.project(&w.cam))
                         };
                         let t = camera::assemble([p(a), p(b), p(d)]);
                         c.generated = c.generated.wrapping_add(1);
@@ -584,7 +571,8 @@ impl Scene {
                             c.generated = c.generated.wrapping_add(1);
                             f(group, index, t, &lit);
                         };
-                        let outcome = view.clip_project(&[cam[a], cam[b], cam[d]], &mut emit);
+                        let cam = |i: usize| store.get(at[i]).cam;
+                        let outcome = view.clip_project(&[cam(a), cam(b), cam(d)], &mut emit);
                         match outcome {
                             ClipOutcome::Inside => {}
                             ClipOutcome::Clipped(0) => {
@@ -596,48 +584,63 @@ impl Scene {
                         }
                     }
                 }
-                cache.put_edge(
-                    [c3, c2],
-                    [cam[3], cam[2]],
-                    [oc[3], oc[2]],
-                    [projected[3], projected[2]],
-                );
             }
         }
         c
     }
 }
 
-/// [`walk_corner`] of `p`, or the corner `cache` holds for `p`: the same values. Out of line:
-/// one copy for every walk.
+/// The slots `at` of `store` holding the corners `c` of a quad of object `o`: corner 0 is the
+/// last quad's corner 1 (`at[1]`) when `reuse[0]`, corner 3 its corner 2 (`at[2]`) when
+/// `reuse[1]`; every other corner is the one cached for its position (the same values) or a
+/// slot none of the quad's other corners holds, filled by [`walk_corner`]. Out of line: one
+/// copy for every walk.
 #[inline(never)]
-fn cached_corner(
-    cache: &corners::CornerCache,
+fn store_quad(
+    store: &mut corners::CornerStore,
     view: &View,
     o: &Object,
-    p: Vec3,
-) -> corners::WalkedCorner {
-    match cache.get(&p) {
-        Some(w) => w,
-        None => walk_corner(view, o, p),
+    c: &[Vec3; 4],
+    reuse: [bool; 2],
+    at: &mut [usize; 4],
+) {
+    // The slots of the reused corners stay busy while the others are claimed.
+    let mut busy = [usize::MAX; 4];
+    if reuse[0] {
+        busy[0] = at[1];
     }
+    if reuse[1] {
+        busy[3] = at[2];
+    }
+    for k in [0usize, 3, 1, 2] {
+        let (k, p) = (k & 3, c[k & 3]);
+        if busy[k] != usize::MAX {
+            continue;
+        }
+        busy[k] = match store.find(&p) {
+            Some(i) => i,
+            None => {
+                let i = store.claim(p, &busy);
+                walk_corner(view, o, p, store.get_mut(i));
+                i
+            }
+        };
+    }
+    *at = busy;
 }
 
-/// The camera vertex and outcodes of object `o`'s object-space point `p` (not yet projected).
-/// Out of line: one copy for every walk.
+/// The camera vertex and outcodes of object `o`'s object-space point `p` (not yet projected),
+/// into `out`.
 #[inline(never)]
-fn walk_corner(view: &View, o: &Object, p: Vec3) -> corners::WalkedCorner {
-    let v = CamVertex {
+fn walk_corner(view: &View, o: &Object, p: Vec3, out: &mut corners::WalkedCorner) {
+    out.cam = CamVertex {
         p: view.to_camera(o.transform.saturating_apply(p)),
         tex: o
             .tex_map
             .apply_point(crate::format::TexPoint::from_bits(p.x, p.y, p.z)),
     };
-    corners::WalkedCorner {
-        cam: v,
-        oc: view.outcodes(&v.p),
-        projected: None,
-    }
+    out.oc = view.outcodes(&out.cam.p);
+    out.projected = None;
 }
 
 /// What a scene walk computes for each corner of a mesh quad besides its screen position.
