@@ -468,7 +468,7 @@ impl View {
         let sv = ScreenVertex {
             x: ScreenCoord::from_bits(sx.max(-lim).min(lim) as i32),
             y: ScreenCoord::from_bits(sy.max(-lim).min(lim) as i32),
-            z: depth.max(0).min(65535) as u16,
+            z: depth.clamp(0, 65535) as u16,
             inv_w: crate::raster::InvW::ZERO,
             tex: TexPoint::from_bits(v.tex[0], v.tex[1], v.tex[2]),
         };

@@ -169,7 +169,7 @@ mod tests {
         ] {
             let i = c.claim(p, &busy);
             assert!(
-                i >= CACHE_CORNERS && i < SLOTS && !busy.contains(&i),
+                (CACHE_CORNERS..SLOTS).contains(&i) && !busy.contains(&i),
                 "{i} {busy:?}"
             );
             assert_eq!(c.find(&p), None);

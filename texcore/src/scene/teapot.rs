@@ -504,7 +504,14 @@ fn combine(rows: &[[i32; 3]; 4], bv: &[i64; 4], recip: i64) -> Vec3 {
         acc[2] += wv * i64::from(r[2]);
     }
     // A signed 64 x 64 -> 128-bit product (|acc| < 2^42, recip <= 2^62), rounded half up by
-    // one addition and shift: round_shift_128 of the same product.
+    // one addition and shift: round_shift_128 of the same product. When recip = 2^k with
+    // k < 62 (levels 2, 4 and 8), (a 2^k + 2^61) >> 62 = (a + 2^(61 - k)) >> (62 - k) exactly:
+    // one 64-bit addition and shift, no 128-bit product (|a| + 2^30 < 2^63).
+    let k = recip.trailing_zeros();
+    if recip == 1 << k && k < 62 {
+        let f = |a: i64| sat_i32((a + (1 << (61 - k))) >> (62 - k));
+        return Vec3::new(f(acc[0]), f(acc[1]), f(acc[2]));
+    }
     let f = |a: i64| sat_i32(sat_i64((a as i128 * recip as i128 + (1 << 61)) >> 62));
     Vec3::new(f(acc[0]), f(acc[1]), f(acc[2]))
 }
@@ -619,6 +626,43 @@ pub fn teapot_right_edge(patch: usize, n: u32, k: u32, l: u32) -> [Vec3; 2] {
 #[allow(clippy::needless_range_loop)]
 mod tests {
     use super::*;
+
+    /// `combine` at every level (the power-of-two ones take the shift) equals the 128-bit
+    /// product rounded half up, for random rows and weights up to their bounds.
+    #[test]
+    fn combine_is_the_wide_product() {
+        let mut st = 99u64;
+        let mut rnd = |bits: u32| {
+            st = st
+                .wrapping_mul(6364136223846793005)
+                .wrapping_add(1442695040888963407);
+            let v = (st >> 33) as i64 & ((1 << bits) - 1);
+            if st & 1 == 0 {
+                v
+            } else {
+                -v
+            }
+        };
+        for n in 1..=MAX_TEAPOT_LEVEL as i64 {
+            let recip = recip6(n);
+            for _ in 0..2000 {
+                let rows = [[0i32; 3]; 4].map(|r| r.map(|_| rnd(30) as i32));
+                let bv = [0i64; 4].map(|_| rnd(12));
+                let got = combine(&rows, &bv, recip);
+                let mut acc = [0i128; 3];
+                for (r, &w) in rows.iter().zip(&bv) {
+                    for c in 0..3 {
+                        acc[c] += w as i128 * r[c] as i128;
+                    }
+                }
+                let f = |a: i128| {
+                    let q = crate::scene::math::round_shift_128(a * recip as i128, 62);
+                    q.clamp(i32::MIN as i128, i32::MAX as i128) as i32
+                };
+                assert_eq!(got, Vec3::new(f(acc[0]), f(acc[1]), f(acc[2])), "n = {n}");
+            }
+        }
+    }
 
     #[test]
     fn patch_data_counts() {
