@@ -16,9 +16,10 @@
 //! Memory: the atlas is caller-owned frame memory like the band buffers (32 KB for 128 x 128
 //! RGB565, on the job's stack), not texture-unit state; the RGB565 band and its depth band
 //! ([`DRAW_PIXELS`] x 2 bytes each, taller bands than the procedural renderer's: a triangle is
-//! set up once per band it touches) and the frame list ([`FRAME_QUADS`] entries, 27 KB) are on
-//! the stack too, the quad bins are the suite's. On the Cortex-M4F the draw job peaks at about
-//! 101 KB of the 109 KB stack: bands of 24 rows with the list would not fit.
+//! set up once per band it touches) and the frame list ([`FRAME_QUADS`] entries, 25.5 KB) are
+//! on the stack too, the quad bins are the suite's. On the Cortex-M4F the draw job peaks at
+//! about 102 KB of the 109 KB stack (the scene walk's corner store included): bands of 24 rows
+//! with the list would not fit.
 //!
 //! Atlas coordinates of a screen vertex: the scene's walk hands over screen triangles whose
 //! vertices carry solid coordinates. A vertex of an unclipped triangle carries exactly the solid
@@ -376,9 +377,10 @@ pub fn draw_scene(scene: &Scene, atlas: &AtlasTexels, bins: &mut [GroupRows]) ->
     }
 }
 
-/// Quads of the frame list ([`FrameQuad`]) that [`draw_scene_rows`] keeps (48 bytes each, 27 KB
-/// on the stack): the marble frame lists 516 (515 drawn quads, one of them in two entries).
-pub const FRAME_QUADS: usize = 576;
+/// Quads of the frame list ([`FrameQuad`]) that [`draw_scene_rows`] keeps (48 bytes each,
+/// 25.5 KB on the stack): the marble frame lists 516 (515 drawn quads, one of them in two
+/// entries). A frame that lists more is drawn the general way.
+pub const FRAME_QUADS: usize = 544;
 
 /// A screen vertex of the frame list, exactly as the scene's walk made it (the atlas position is
 /// the quad corner's, from the layout): sub-pixel position (`i16`: every vertex of a listed quad
