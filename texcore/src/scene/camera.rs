@@ -1007,32 +1007,43 @@ mod tests {
         assert_eq!(shared.len(), 1, "{p1:?} {p2:?}");
     }
 
-    /// The fast outcodes are exactly the signs of the clip planes.
+    /// Random `i64` values of mixed magnitudes, from tiny to `2^(63 - shifts)` and up (a
+    /// linear congruential generator from `seed`).
+    fn mixed_values(seed: u64, shifts: u64) -> impl FnMut() -> i64 {
+        let mut st = seed;
+        move || {
+            st = st
+                .wrapping_mul(6364136223846793005)
+                .wrapping_add(1442695040888963407);
+            let v = (st >> 1) as i64;
+            v >> (st % shifts)
+        }
+    }
+
+    /// A perspective camera at the extremes: the largest focal factor, near 1, far `i32::MAX`,
+    /// a 65535 x 65535 image (its focal constant does not fit `i32`).
+    fn extreme_camera() -> Camera {
+        Camera::perspective(
+            Vec3::ZERO,
+            Vec3::units(0, 0, -1),
+            Vec3::Y,
+            i32::MAX,
+            1,
+            i32::MAX,
+            65535,
+            65535,
+        )
+    }
+
     /// The `i64` projection equals the `i128` one wherever it applies: random points of every
     /// magnitude and points at its bounds (`x`, `y` at `±2^31`, `x K` at `±2^62`), for
     /// cameras whose focal constant fits `i32` and one whose does not.
     #[test]
     fn small_projection_is_the_wide_one() {
-        let mut st = 777u64;
-        let mut rnd = || {
-            st = st
-                .wrapping_mul(6364136223846793005)
-                .wrapping_add(1442695040888963407);
-            let v = (st >> 1) as i64;
-            v >> (st % 63)
-        };
+        let mut rnd = mixed_values(777, 63);
         let cams = [
             persp(Vec3::ZERO, Vec3::units(0, 0, -1)),
-            Camera::perspective(
-                Vec3::ZERO,
-                Vec3::units(0, 0, -1),
-                Vec3::Y,
-                i32::MAX,
-                1,
-                i32::MAX,
-                65535,
-                65535,
-            ),
+            extreme_camera(),
             Camera::perspective(Vec3::ZERO, Vec3::units(0, 0, -1), Vec3::Y, ONE, 1, 2, 2, 2),
         ];
         let edges = [
@@ -1079,17 +1090,10 @@ mod tests {
         assert!(fast > 10000, "the i64 path ran {fast} times");
     }
 
+    /// The fast outcodes are exactly the signs of the clip planes.
     #[test]
     fn outcodes_match_planes() {
-        let mut st = 12345u64;
-        let mut rnd = || {
-            st = st
-                .wrapping_mul(6364136223846793005)
-                .wrapping_add(1442695040888963407);
-            let v = (st >> 1) as i64;
-            // Mixed magnitudes, from tiny to the full range.
-            v >> (st % 62)
-        };
+        let mut rnd = mixed_values(12345, 62);
         let cams = [
             persp(Vec3::ZERO, Vec3::units(0, 0, -1)),
             Camera::orthographic(
@@ -1102,16 +1106,7 @@ mod tests {
                 320,
                 240,
             ),
-            Camera::perspective(
-                Vec3::ZERO,
-                Vec3::units(0, 0, -1),
-                Vec3::Y,
-                i32::MAX,
-                1,
-                i32::MAX,
-                65535,
-                65535,
-            ),
+            extreme_camera(),
         ];
         // The i64 path's bounds: coordinates at and past i32, z at and past 2^22 and 2^31.
         let edges = [
