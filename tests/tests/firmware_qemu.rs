@@ -525,7 +525,7 @@ fn marble_lit_scene_bound(target: DeviceTarget) -> u64 {
 /// still frame (320 x 240) drawn from its 128 x 128 device atlas (one scene walk a frame into
 /// the frame list, coverage and depth set-up per 16-row band, the textured-triangle path: atlas
 /// coordinates by the homogeneous ratio at every pixel, nearest look-ups, depth test, checksum).
-/// Measured at 94.7 (Cortex-M4F) and 115.3 (rv32imc) when the bound was set (the goal
+/// Measured at 94.7 (Cortex-M4F) and 115.2 (rv32imc) when the bound was set (the goal
 /// is 60 / 100: not reached; 101.5 / 128.4 before the walk's corner store and 64-bit
 /// projections, 132.7 / 174.4 before small triangles took 32-bit words and the walk shared quad
 /// edges, 237.5 / 320.1 before the frame list); about 10% of headroom.
