@@ -560,7 +560,15 @@ impl Scene {
                     } else if (oc(a).1 | oc(b).1 | oc(d).1) == 0 {
                         let mut p = |i: usize| -> (ScreenVertex, u64) {
                             let w = store.get_mut(at[i]);
-                            *w.projected.get_or_insert_with(|| view.project(&w.cam))
+                            let pr = match w.projected {
+                                Some(pr) => pr,
+                                None => {
+                                    let pr = corners::Projected::new(view.project(&w.cam));
+                                    w.projected = Some(pr);
+                                    pr
+                                }
+                            };
+                            pr.vertex(&w.cam.tex)
                         };
                         let t = camera::assemble([p(a), p(b), p(d)]);
                         c.generated = c.generated.wrapping_add(1);
