@@ -500,7 +500,7 @@ fn marble_bound(target: DeviceTarget) -> u64 {
 /// Upper bound of the net instructions per pixel of the whole `marble` scene frame (`scene:marble`:
 /// 320 x 240, teapot and pedestal, 1004 triangles, perspective, depth test, 4-octave marble with
 /// csat; geometry, binning (one walk over the scene per frame), triangle set-up, shading, band
-/// clears and the checksum sink all included). Measured at 944.1 (Cortex-M4F) and 1270.0
+/// clears and the checksum sink all included). Measured at 945.1 (Cortex-M4F) and 1266.5
 /// (rv32imc) when the bound was set; about 10% of headroom. Lower it when the path gets faster.
 fn marble_scene_bound(target: DeviceTarget) -> u64 {
     match target {
@@ -512,8 +512,8 @@ fn marble_scene_bound(target: DeviceTarget) -> u64 {
 /// Upper bound of the net instructions per pixel of the lit marble scene (`scene:marble-lit`:
 /// `scene:marble` with ambient 1/8 and one white directional light, texcore feature `lighting`:
 /// vertex normals and light per quad corner, the light interpolated across each triangle and
-/// multiplied into every pixel). Measured at 1121.4 (Cortex-M4F) and 1499.3 (rv32imc) when the
-/// bound was set (944.1 / 1270.0 for the unlit frame); about 10% of headroom.
+/// multiplied into every pixel). Measured at 1121.1 (Cortex-M4F) and 1496.0 (rv32imc) when the
+/// bound was set (945.1 / 1266.5 for the unlit frame); about 10% of headroom.
 fn marble_lit_scene_bound(target: DeviceTarget) -> u64 {
     match target {
         DeviceTarget::CortexM4F => 1_235,
@@ -525,7 +525,7 @@ fn marble_lit_scene_bound(target: DeviceTarget) -> u64 {
 /// still frame (320 x 240) drawn from its 128 x 128 device atlas (one scene walk a frame into
 /// the frame list, coverage and depth set-up per 16-row band, the textured-triangle path: atlas
 /// coordinates by the homogeneous ratio at every pixel, nearest look-ups, depth test, checksum).
-/// Measured at 94.7 (Cortex-M4F) and 115.2 (rv32imc) when the bound was set (the goal
+/// Measured at 94.8 (Cortex-M4F) and 114.1 (rv32imc) when the bound was set (the goal
 /// is 60 / 100: not reached; 101.5 / 128.4 before the walk's corner store and 64-bit
 /// projections, 132.7 / 174.4 before small triangles took 32-bit words and the walk shared quad
 /// edges, 237.5 / 320.1 before the frame list); about 10% of headroom.
