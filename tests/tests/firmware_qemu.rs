@@ -500,7 +500,7 @@ fn marble_bound(target: DeviceTarget) -> u64 {
 /// Upper bound of the net instructions per pixel of the whole `marble` scene frame (`scene:marble`:
 /// 320 x 240, teapot and pedestal, 1004 triangles, perspective, depth test, 4-octave marble with
 /// csat; geometry, binning (one walk over the scene per frame), triangle set-up, shading, band
-/// clears and the checksum sink all included). Measured at 945.1 (Cortex-M4F) and 1266.5
+/// clears and the checksum sink all included). Measured at 945.1 (Cortex-M4F) and 1265.6
 /// (rv32imc) when the bound was set; about 10% of headroom. Lower it when the path gets faster.
 fn marble_scene_bound(target: DeviceTarget) -> u64 {
     match target {
@@ -512,8 +512,8 @@ fn marble_scene_bound(target: DeviceTarget) -> u64 {
 /// Upper bound of the net instructions per pixel of the lit marble scene (`scene:marble-lit`:
 /// `scene:marble` with ambient 1/8 and one white directional light, texcore feature `lighting`:
 /// vertex normals and light per quad corner, the light interpolated across each triangle and
-/// multiplied into every pixel). Measured at 1121.1 (Cortex-M4F) and 1496.0 (rv32imc) when the
-/// bound was set (945.1 / 1266.5 for the unlit frame); about 10% of headroom.
+/// multiplied into every pixel). Measured at 1121.1 (Cortex-M4F) and 1495.1 (rv32imc) when the
+/// bound was set (945.1 / 1265.6 for the unlit frame); about 10% of headroom.
 fn marble_lit_scene_bound(target: DeviceTarget) -> u64 {
     match target {
         DeviceTarget::CortexM4F => 1_235,

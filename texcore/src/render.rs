@@ -337,7 +337,7 @@ fn triangle_rows(
     rows: &core::ops::Range<u16>,
     width: u16,
 ) -> Option<(u16, u16)> {
-    let [x0, x1, y0, y1] = crate::raster::bounding_box(t);
+    let [x0, x1, y0, y1] = crate::raster::bounding_box(t).map(i64::from);
     if x1 < 8 || x0 > 16 * i64::from(width) - 8 {
         return None;
     }

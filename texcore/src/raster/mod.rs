@@ -588,15 +588,8 @@ impl Rasterizer {
 
     /// Conservative bounding-box rejection (counts the triangle as submitted and offscreen).
     fn misses(&mut self, v: &[ScreenVertex; 3], clip: Rect) -> bool {
-        // In i32: raw coordinates are i32 and 16 * 65535 + 8 fits.
-        let (mut x0, mut x1, mut y0, mut y1) = (i32::MAX, i32::MIN, i32::MAX, i32::MIN);
-        for p in v {
-            let (x, y) = (p.x.to_bits(), p.y.to_bits());
-            x0 = x0.min(x);
-            x1 = x1.max(x);
-            y0 = y0.min(y);
-            y1 = y1.max(y);
-        }
+        let [x0, x1, y0, y1] = bounding_box(v);
+        // In i32: 16 * 65535 + 8 fits.
         let edge = |c: u16| 16 * i32::from(c);
         // Pixel centres are at 16 p + 8: the box covers a centre of the clip only if
         // x1 >= 16 clip.x0 + 8 and x0 <= 16 (clip.x1 - 1) + 8 (same for y).
@@ -614,12 +607,13 @@ impl Rasterizer {
     }
 }
 
-/// The raw 28.4 bounding box `[x0, x1, y0, y1]` (inclusive) of a triangle's vertices.
+/// The raw 28.4 bounding box `[x0, x1, y0, y1]` (inclusive) of a triangle's vertices, in the
+/// coordinates' own `i32` words.
 #[inline]
-pub(crate) fn bounding_box(v: &[ScreenVertex; 3]) -> [i64; 4] {
-    let (mut x0, mut x1, mut y0, mut y1) = (i64::MAX, i64::MIN, i64::MAX, i64::MIN);
+pub(crate) fn bounding_box(v: &[ScreenVertex; 3]) -> [i32; 4] {
+    let (mut x0, mut x1, mut y0, mut y1) = (i32::MAX, i32::MIN, i32::MAX, i32::MIN);
     for p in v {
-        let (x, y) = (i64::from(p.x.to_bits()), i64::from(p.y.to_bits()));
+        let (x, y) = (p.x.to_bits(), p.y.to_bits());
         x0 = x0.min(x);
         x1 = x1.max(x);
         y0 = y0.min(y);

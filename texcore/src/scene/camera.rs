@@ -393,10 +393,7 @@ impl View {
         let (w8, h8) = (self.width as i128 * 8, self.height as i128 * 8);
         let (sx, sy, depth, q) = match self.proj {
             ViewProj::Perspective { k } => {
-                // 1 <= z < 2^31: the 32-bit divisor takes the hardware-divide path.
-                let zu = u32::try_from(z.max(1)).unwrap_or(u32::MAX);
-                let r = crate::wide::div_rem_u64_by_u32((1u64 << 62) + u64::from(zu >> 1), zu)
-                    .map_or(0, |(q, _)| q);
+                let r = inv_z(z);
                 let off = |a: i128| -> i128 {
                     if a.unsigned_abs() < 1 << 62 {
                         round_shift_128(a * r as i128, 74)
@@ -454,9 +451,7 @@ impl View {
             return None;
         }
         let z = z.max(self.near).min(self.far);
-        let zu = u32::try_from(z.max(1)).unwrap_or(u32::MAX);
-        let r = crate::wide::div_rem_u64_by_u32((1u64 << 62) + u64::from(zu >> 1), zu)
-            .map_or(0, |(q, _)| q);
+        let r = inv_z(z);
         // r <= 2^62: it fits i64.
         let ri = r as i64;
         let (w8, h8) = (i64::from(self.width) * 8, i64::from(self.height) * 8);
@@ -586,6 +581,14 @@ impl View {
 #[inline(always)]
 fn side_bits<T: Copy + PartialOrd + core::ops::Neg<Output = T>>(a: T, m: T, bit: u8) -> u8 {
     (if a > m { bit } else { 0 }) | (if -a > m { bit << 1 } else { 0 })
+}
+
+/// `round(2^62 / z)` of a depth clamped to `[near, far]` (`1 <= z < 2^31`: the 32-bit divisor
+/// takes the hardware-divide path), the unnormalised `1/w` of [`View::project`].
+#[inline]
+fn inv_z(z: i64) -> u64 {
+    let zu = u32::try_from(z.max(1)).unwrap_or(u32::MAX);
+    crate::wide::div_rem_u64_by_u32((1u64 << 62) + u64::from(zu >> 1), zu).map_or(0, |(q, _)| q)
 }
 
 /// `round(a b / 2^k)` rounded half up (`1 <= k <= 126`), from a signed 64 x 64 -> 128-bit

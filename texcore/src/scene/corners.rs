@@ -1,20 +1,20 @@
-//! The scene walk's corner cache: quad corners already transformed, classified and projected,
+//! The scene walk's corner store: quad corners already transformed, classified and projected,
 //! found again by their object-space position.
 //!
 //! A grid mesh's quads share corners with the quad before them in the row (the walk keeps that
-//! edge itself) and with the quads of the row above. [`CornerCache`] keeps the bottom corners of
-//! the quads walked last, so a quad whose top corners were some earlier quad's bottom corners
-//! takes them from here instead of transforming them again.
+//! edge's slots itself) and with the quads of the row above. [`CornerStore`] holds the walk's
+//! corners in place and finds the recent ones by position, so a quad whose top corners were
+//! some earlier quad's bottom corners takes them from there instead of transforming them again.
 //!
 //! # Guarantees
 //!
-//! - **Exact.** An entry is used only for a corner at the same object-space position of the
-//!   same object (the cache is emptied per object), and the camera vertex, outcodes and
+//! - **Exact.** A slot is found only for a corner at the same object-space position of the
+//!   same object (the positions are forgotten per object), and the camera vertex, outcodes and
 //!   projection of a corner are functions of its position and the object alone: a hit gives
 //!   exactly what recomputing would.
-//! - **Bounded.** [`CACHE_CORNERS`] entries in the walk's frame, direct-mapped by a hash of the
-//!   position: a miss (an empty slot, another position) only costs the computation it would
-//!   have cost anyway. No allocation, no panic path.
+//! - **Bounded.** [`CACHE_CORNERS`] positions and four scratch slots in the walk's frame,
+//!   direct-mapped by a hash of the position: a miss (an empty slot, another position) only
+//!   costs the computation it would have cost anyway. No allocation, no panic path.
 
 use super::camera::CamVertex;
 use super::math::Vec3;

@@ -496,7 +496,6 @@ impl Scene {
             // position has the same camera vertex, outcodes and projection (each a function of
             // the position and the object), so those are reused, not recomputed.
             //
-            //
             // The corners live in `store` (slot numbers in `at`), which keeps recent ones by
             // position: a quad whose top corners were the bottom corners of a quad in the row
             // above (or across a patch seam) finds them there, exactly as computed

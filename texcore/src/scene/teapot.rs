@@ -571,32 +571,38 @@ impl QuadAt {
             recip: recip6(n),
         })
     }
+
+    /// The patch's row curves at parameter step `k` ([`rows_at`]).
+    fn rows(&self, k: i64) -> [[i32; 3]; 4] {
+        rows_at(self.idx, &bernstein(self.n, k))
+    }
+
+    /// The Bernstein weights of parameter step `l` ([`bernstein`]).
+    fn weights(&self, l: i64) -> [i64; 4] {
+        bernstein(self.n, l)
+    }
+
+    /// The point of the row curves `rows` with the weights `w` of a step ([`combine`]).
+    fn point(&self, rows: &[[i32; 3]; 4], w: &[i64; 4]) -> Vec3 {
+        combine(rows, w, self.recip)
+    }
 }
 
 /// The corners `[P(k, l), P(k+1, l), P(k+1, l+1), P(k, l+1)]` of quad `(k, l)` of patch
 /// `patch` at level `n` (`k, l < n`), identical to four calls of [`teapot_point`] but sharing
 /// the row curves (about half the work).
 pub fn teapot_quad(patch: usize, n: u32, k: u32, l: u32) -> [Vec3; 4] {
-    let Some(QuadAt {
-        idx,
-        n,
-        k: [k0, k1],
-        l: [l0, l1],
-        recip,
-    }) = QuadAt::new(patch, n, k, l)
-    else {
+    let Some(at) = QuadAt::new(patch, n, k, l) else {
         return [Vec3::ZERO; 4];
     };
-    let (r0, r1) = (
-        rows_at(idx, &bernstein(n, k0)),
-        rows_at(idx, &bernstein(n, k1)),
-    );
-    let (b0, b1) = (bernstein(n, l0), bernstein(n, l1));
+    let ([k0, k1], [l0, l1]) = (at.k, at.l);
+    let (r0, r1) = (at.rows(k0), at.rows(k1));
+    let (b0, b1) = (at.weights(l0), at.weights(l1));
     [
-        combine(&r0, &b0, recip),
-        combine(&r1, &b0, recip),
-        combine(&r1, &b1, recip),
-        combine(&r0, &b1, recip),
+        at.point(&r0, &b0),
+        at.point(&r1, &b0),
+        at.point(&r1, &b1),
+        at.point(&r0, &b1),
     ]
 }
 
@@ -605,20 +611,14 @@ pub fn teapot_quad(patch: usize, n: u32, k: u32, l: u32) -> [Vec3; 4] {
 /// of `teapot_quad(patch, n, k - 1, l)`, so a walk along `k` needs only this edge.
 #[inline(never)]
 pub fn teapot_right_edge(patch: usize, n: u32, k: u32, l: u32) -> [Vec3; 2] {
-    let Some(QuadAt {
-        idx,
-        n,
-        k: [_, k1],
-        l: [l0, l1],
-        recip,
-    }) = QuadAt::new(patch, n, k, l)
-    else {
+    let Some(at) = QuadAt::new(patch, n, k, l) else {
         return [Vec3::ZERO; 2];
     };
-    let r1 = rows_at(idx, &bernstein(n, k1));
+    let r1 = at.rows(at.k[1]);
+    let [l0, l1] = at.l;
     [
-        combine(&r1, &bernstein(n, l0), recip),
-        combine(&r1, &bernstein(n, l1), recip),
+        at.point(&r1, &at.weights(l0)),
+        at.point(&r1, &at.weights(l1)),
     ]
 }
 
