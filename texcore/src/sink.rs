@@ -325,6 +325,29 @@ impl ChecksumSink {
         }
         self.pixels += 1;
     }
+
+    /// Adds RGB565 pixels in order: the same checksum as [`ChecksumSink::add_rgb565`] on each,
+    /// in a loop that takes two pixels a turn.
+    #[inline]
+    pub fn add_rgb565_row(&mut self, pixels: &[u16]) {
+        const PRIME: u32 = 0x0100_0193;
+        let step = |h: u32, p: u16| {
+            let h = (h ^ u32::from(p & 0xFF)).wrapping_mul(PRIME);
+            (h ^ u32::from(p >> 8)).wrapping_mul(PRIME)
+        };
+        let mut h = self.hash;
+        let mut pairs = pixels.chunks_exact(2);
+        for pair in &mut pairs {
+            if let [a, b] = *pair {
+                h = step(step(h, a), b);
+            }
+        }
+        for &p in pairs.remainder() {
+            h = step(h, p);
+        }
+        self.hash = h;
+        self.pixels += pixels.len() as u64;
+    }
 }
 
 impl PixelSink for ChecksumSink {
@@ -372,6 +395,29 @@ mod tests {
         assert_eq!(rest.checksum(), whole.checksum());
         assert_eq!(rest.pixels(), 4);
         assert_eq!(ChecksumSink::resume(0x811C_9DC5), ChecksumSink::new());
+    }
+
+    #[test]
+    fn a_row_is_its_pixels_one_by_one() {
+        let mut x = 0x2545_F491u32;
+        let pixels: [u16; 37] = core::array::from_fn(|_| {
+            x ^= x << 13;
+            x ^= x >> 17;
+            x ^= x << 5;
+            x as u16
+        });
+        // Every length, odd and even, from every resumed state.
+        for n in 0..=pixels.len() {
+            for start in [0x811C_9DC5, 0, 0xDEAD_BEEF] {
+                let mut one = ChecksumSink::resume(start);
+                for &p in &pixels[..n] {
+                    one.add_rgb565(p);
+                }
+                let mut row = ChecksumSink::resume(start);
+                row.add_rgb565_row(&pixels[..n]);
+                assert_eq!(row, one, "{n} pixels from {start:#x}");
+            }
+        }
     }
 
     #[test]

@@ -365,11 +365,7 @@ fn triangle_rows(tri: &[ScreenVertex; 3], h: u16) -> Option<(u16, u16)> {
 #[inline(never)]
 pub fn draw_scene(scene: &Scene, atlas: &AtlasTexels, bins: &mut [GroupRows]) -> u32 {
     let mut sink = ChecksumSink::resume(FRAME_START);
-    let drawn = draw_scene_rows(scene, atlas, bins, |row| {
-        for p in row {
-            sink.add_rgb565(*p);
-        }
-    });
+    let drawn = draw_scene_rows(scene, atlas, bins, |row| sink.add_rgb565_row(row));
     if drawn {
         sink.checksum()
     } else {

@@ -302,20 +302,24 @@ impl Small {
         };
         // Depth: the plane of z_i << 32 is round((sum_i z_i E_i) 2^32 / area2) per coefficient
         // (sums below 2^47.6, exact in i64), as `setup::Plane::new` rounds it.
-        let z = v.map(|p| i64::from(p.z));
+        let z = v.map(|p| i32::from(p.z));
         // The edge functions by coefficient: `cols[c][i]` is `E_i`'s coefficient `c`.
         let [e0, e1, e2] = e;
         let cols = [
             [e0[0], e1[0], e2[0]],
             [e0[1], e1[1], e2[1]],
             [e0[2], e1[2], e2[2]],
-        ]
-        .map(|c| c.map(i64::from));
-        let dot = |a: [i64; 3], c: [i64; 3]| a[0] * c[0] + a[1] * c[1] + a[2] * c[2];
+        ];
+        // Three 32 x 32 -> 64-bit products (operands below 2^31: one widening multiplication
+        // each on both devices), summed exactly in i64.
+        let dot = |a: [i32; 3], c: [i32; 3]| {
+            let p = |k: usize| i64::from(a[k]) * i64::from(c[k]);
+            p(0) + p(1) + p(2)
+        };
         let [c0, c1, c2] = cols;
         let [zc, zdx, zdy] = round_plane_shifted([dot(z, c0), dot(z, c1), dot(z, c2)], area2);
-        let zlo = z.iter().copied().min().unwrap_or(0) as i32;
-        let zhi = z.iter().copied().max().unwrap_or(0) as i32;
+        let zlo = z.iter().copied().min().unwrap_or(0);
+        let zhi = z.iter().copied().max().unwrap_or(0);
         // The homogeneous planes (`textured::Homogeneous::new`): weights q_i u_i, q_i v_i, q_i
         // below 2^30, edge functions below 2^29.01: each sum of three products below 2^60.6,
         // exact in i64, then scaled by 2^k and negated for a negative area modulo 2^64.
@@ -347,9 +351,10 @@ impl Small {
             [q0 * coord(t0[1]), q1 * coord(t1[1]), q2 * coord(t2[1])],
             [q0, q1, q2],
         ];
-        // 2^k with the area's sign (k <= 33): one wrapping product scales and negates.
+        // 2^k with the area's sign (k <= 33): one wrapping product scales and negates (a
+        // shift by `k` and a negation measured slower on both devices).
         let scale = if area2 < 0 { -(1i64 << k) } else { 1i64 << k };
-        let coef = |wj: [i32; 3], c: [i64; 3]| dot(wj.map(i64::from), c).wrapping_mul(scale);
+        let coef = |wj: [i32; 3], c: [i32; 3]| dot(wj, c).wrapping_mul(scale);
         let plane = |j: usize| {
             let wj = w.get(j).copied().unwrap_or([0; 3]);
             [coef(wj, c0), coef(wj, c1), coef(wj, c2)]

@@ -236,6 +236,16 @@ pub(super) struct Cubic {
     pub(super) gy: [i64; 3],
 }
 
+impl Cubic {
+    /// The zero state.
+    #[cfg_attr(not(texcore_fd_state), allow(dead_code))]
+    pub(super) const ZERO: Cubic = Cubic {
+        p: [0; 4],
+        gx: [0; 3],
+        gy: [0; 3],
+    };
+}
+
 /// Forward-difference state with 32-bit accumulators (the exact state's top 32 bits at the anchor).
 #[cfg(feature = "fd32")]
 #[derive(Clone, Copy, Debug, Default)]
@@ -243,6 +253,16 @@ pub(super) struct Cubic32 {
     pub(super) p: [i32; 4],
     pub(super) gx: [i32; 3],
     pub(super) gy: [i32; 3],
+}
+
+#[cfg(feature = "fd32")]
+impl Cubic32 {
+    /// The zero state.
+    pub(super) const ZERO: Cubic32 = Cubic32 {
+        p: [0; 4],
+        gx: [0; 3],
+        gy: [0; 3],
+    };
 }
 
 /// The top 32 bits (floor) of an exact forward-difference state.

@@ -358,19 +358,23 @@ struct TermRun {
     fd32: Cubic32,
 }
 
-impl Default for TermRun {
-    fn default() -> Self {
+impl TermRun {
+    /// A run of `strategy` from lattice point `u` with `remaining` pixels before its first
+    /// anchor, no cell cached and zero states: one literal, so that it is written straight into
+    /// its slot.
+    #[inline(always)]
+    const fn start(strategy: Strategy, u: [i32; 3], remaining: u32) -> TermRun {
         TermRun {
-            strategy: Strategy::Off,
+            strategy,
             data: CellData::Value([0; 8]),
             cell: [0; 3],
             cached: false,
-            remaining: 0,
-            u: [0; 3],
+            remaining,
+            u,
             #[cfg(texcore_fd_state)]
-            fd: Cubic::default(),
+            fd: Cubic::ZERO,
             #[cfg(feature = "fd32")]
-            fd32: Cubic32::default(),
+            fd32: Cubic32::ZERO,
         }
     }
 }
