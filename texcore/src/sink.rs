@@ -319,10 +319,7 @@ impl ChecksumSink {
     /// Adds one RGB565 pixel.
     #[inline]
     pub fn add_rgb565(&mut self, p: u16) {
-        for b in p.to_le_bytes() {
-            self.hash ^= u32::from(b);
-            self.hash = self.hash.wrapping_mul(0x0100_0193);
-        }
+        self.hash = fnv1a_rgb565(self.hash, p);
         self.pixels += 1;
     }
 
@@ -330,24 +327,29 @@ impl ChecksumSink {
     /// in a loop that takes two pixels a turn.
     #[inline]
     pub fn add_rgb565_row(&mut self, pixels: &[u16]) {
-        const PRIME: u32 = 0x0100_0193;
-        let step = |h: u32, p: u16| {
-            let h = (h ^ u32::from(p & 0xFF)).wrapping_mul(PRIME);
-            (h ^ u32::from(p >> 8)).wrapping_mul(PRIME)
-        };
         let mut h = self.hash;
         let mut pairs = pixels.chunks_exact(2);
         for pair in &mut pairs {
             if let [a, b] = *pair {
-                h = step(step(h, a), b);
+                h = fnv1a_rgb565(fnv1a_rgb565(h, a), b);
             }
         }
         for &p in pairs.remainder() {
-            h = step(h, p);
+            h = fnv1a_rgb565(h, p);
         }
         self.hash = h;
         self.pixels += pixels.len() as u64;
     }
+}
+
+/// FNV-1a's 32-bit prime.
+const FNV_PRIME: u32 = 0x0100_0193;
+
+/// FNV-1a continued from `hash` over the two bytes of the RGB565 pixel `p`, low byte first.
+#[inline(always)]
+const fn fnv1a_rgb565(hash: u32, p: u16) -> u32 {
+    let h = (hash ^ (p & 0xFF) as u32).wrapping_mul(FNV_PRIME);
+    (h ^ (p >> 8) as u32).wrapping_mul(FNV_PRIME)
 }
 
 impl PixelSink for ChecksumSink {

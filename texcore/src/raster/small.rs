@@ -310,8 +310,8 @@ impl Small {
             [e0[1], e1[1], e2[1]],
             [e0[2], e1[2], e2[2]],
         ];
-        // Three 32 x 32 -> 64-bit products (operands below 2^31: one widening multiplication
-        // each on both devices), summed exactly in i64.
+        // Three 32 x 32 -> 64-bit products (operands below 2^31: a widening multiplication
+        // each), summed exactly in i64.
         let dot = |a: [i32; 3], c: [i32; 3]| {
             let p = |k: usize| i64::from(a[k]) * i64::from(c[k]);
             p(0) + p(1) + p(2)
@@ -352,7 +352,8 @@ impl Small {
             [q0, q1, q2],
         ];
         // 2^k with the area's sign (k <= 33): one wrapping product scales and negates (a
-        // shift by `k` and a negation measured slower on both devices).
+        // shift by `k` and a negation measured 2.4 instructions a frame pixel dearer on the
+        // Cortex-M4F, 0.45 cheaper on rv32imc).
         let scale = if area2 < 0 { -(1i64 << k) } else { 1i64 << k };
         let coef = |wj: [i32; 3], c: [i32; 3]| dot(wj, c).wrapping_mul(scale);
         let plane = |j: usize| {
