@@ -24,6 +24,27 @@ pub enum Fade {
 /// One in U0F16.
 pub const ONE: i64 = 1 << 16;
 
+/// The quintic fade of `a < 2^16`: `(6 a^5 - 15 a^4 2^16 + 10 a^3 2^32 + 2^63) >> 64`, computed
+/// as `(a^3 P + 2^63) >> 64` with `P = 6 a^2 - 15 a 2^16 + 10 2^32` (in `(2^32, 10 2^32]`) from
+/// 32 x 32 -> 64-bit products of 32-bit limbs (no 128-bit multiplication: a few instructions
+/// on a 32-bit core; exhaustively tested against the 128-bit formula, which the size-lean
+/// code shape keeps).
+#[cfg(feature = "smooth-fade")]
+#[inline]
+fn quintic(a: u32) -> i64 {
+    const M: u64 = 0xFFFF_FFFF;
+    let a = a & 0xFFFF;
+    let a2 = a * a;
+    let a3 = u64::from(a2) * u64::from(a);
+    let p = 6 * u64::from(a2) + (10 << 32) - ((15 * u64::from(a)) << 16);
+    let (ah, al) = (a3 >> 32, a3 & M);
+    let (ph, pl) = (p >> 32, p & M);
+    let lo = al * pl;
+    let (m1, m2) = (al * ph, ah * pl);
+    let carry = ((lo >> 32) + (m1 & M) + (m2 & M) + (1 << 31)) >> 32;
+    (ah * ph + (m1 >> 32) + (m2 >> 32) + carry) as i64
+}
+
 impl Fade {
     /// The fade of fraction `a` (raw U0F16 in `0..65536`), in `0..=65536`.
     #[inline]
@@ -35,10 +56,15 @@ impl Fade {
             Fade::Smooth => (3 * a * a * ONE - 2 * a * a * a + (1 << 31)) >> 32,
             #[cfg(feature = "smooth-fade")]
             Fade::Quintic => {
-                let a = i128::from(a);
-                let a3 = a * a * a;
-                ((6 * a3 * a * a - 15 * a3 * a * (1 << 16) + 10 * a3 * (1 << 32) + (1 << 63)) >> 64)
-                    as i64
+                if cfg!(texcore_lean) {
+                    // The size-lean shape keeps the shorter 128-bit form (the same values).
+                    let a = i128::from(a);
+                    let a3 = a * a * a;
+                    ((6 * a3 * a * a - 15 * a3 * a * (1 << 16) + 10 * a3 * (1 << 32) + (1 << 63))
+                        >> 64) as i64
+                } else {
+                    quintic(a as u32)
+                }
             }
         }
     }
@@ -124,6 +150,21 @@ mod tests {
                     "{f:?}' {x}: {dgot} vs {dwant}"
                 );
             }
+        }
+    }
+
+    #[test]
+    #[cfg(feature = "smooth-fade")]
+    fn quintic_is_the_128_bit_formula() {
+        for a in 0..65536u32 {
+            let x = i128::from(a);
+            let x3 = x * x * x;
+            let want = ((6 * x3 * x * x - 15 * x3 * x * (1 << 16)
+                + 10 * x3 * (1 << 32)
+                + (1 << 63))
+                >> 64) as i64;
+            assert_eq!(quintic(a), want, "{a}");
+            assert_eq!(Fade::Quintic.apply(a | 0xABC_0000), want, "{a}");
         }
     }
 

@@ -73,7 +73,8 @@
 //!   cell, then the cell's monomial form, or the face blends of a single-axis term);
 //! - `face_cache` (fast shape only): [`FaceCache`], face blends kept across spans;
 //! - `rows` (fast shape only; a row at a time otherwise): [`PlaneRows`], the rows of a plane
-//!   with their cell schedule kept across rows (values, gradients, the smooth fade);
+//!   with their cell schedule kept across rows (values, gradients, the smooth fade, gradient
+//!   noise's corner gradients);
 //! - `quad`: the quadric along the span.
 //!
 //! # Planes

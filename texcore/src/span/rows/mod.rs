@@ -16,6 +16,12 @@
 //! no hashing, no blending, no division. A term's `A` and `B` are made again only when the rows
 //! reach its next cell along `m` (once every `1 / dsdy_m` rows).
 //!
+//! Value noise with the smooth fade and Perlin's gradient noise are not linear in a cell: their
+//! entries hold what stays fixed across the rows (the smooth fade's `G` and `D`; gradient
+//! noise's corner gradients and the parts of their dot products along the two other axes,
+//! `gradient`), and their pixels are interpolated one by one, the fade along the row read from
+//! the cache's weights when the row has one such term.
+//!
 //! # Guarantees
 //!
 //! - **Exact**: every sample is the one [`SpanEvaluator::eval_values`] gives for the row's span,
@@ -34,6 +40,8 @@
 use super::face_cache::blend_ab;
 use super::*;
 
+#[cfg(all(feature = "gradient-noise", not(texcore_lean)))]
+mod gradient;
 #[cfg(not(texcore_lean))]
 mod schedule;
 #[cfg(not(texcore_lean))]
@@ -131,6 +139,10 @@ struct RowLane {
     wo: u32,
     /// The basis has the smooth fade (`3u^2 - 2u^3`): the cell is not linear in the pixel.
     smooth: bool,
+    /// The basis is gradient noise (`gradient`): its entries are the cells' corner gradients,
+    /// interpolated per pixel with fade `fade`.
+    grad: bool,
+    fade: crate::noise::Fade,
     /// The term is forward differenced (`Fd`, `Fd32`; otherwise `Cached`): counted in
     /// `SpanStats::fd_pixels`.
     fd: bool,
@@ -375,17 +387,23 @@ impl<'m, const T: usize> EvalCore<'m, T> {
     ) -> bool {
         let m = self.model;
         let mut any = false;
+        let mut grad_terms = false;
         for ((term, st), ts) in m.terms().iter().zip(strategies).zip(setup.terms.iter()) {
             let b = &term.basis;
             let taken = match st {
                 Strategy::Off => continue,
                 Strategy::Fd | Strategy::Fd32 => b.is_cubic(),
-                Strategy::Cached => smooth && is_smooth_value(b),
+                Strategy::Cached => smooth && (is_smooth_value(b) || is_gradient_basis(b)),
                 _ => false,
             };
             if !taken || term.turbulence || single_axis(ts.du).is_none() {
                 return false;
             }
+            // Gradient-noise terms are walked on their own (`gradient`): not mixed with others.
+            if any && is_gradient_basis(b) != grad_terms {
+                return false;
+            }
+            grad_terms = is_gradient_basis(b);
             any = true;
         }
         let grads = GRADIENTS && self.opts.gradients;
@@ -456,6 +474,10 @@ impl<'m, const T: usize> EvalCore<'m, T> {
                 smooth: model_terms
                     .get(i)
                     .is_some_and(|t| is_smooth_value(&t.basis)),
+                grad: model_terms
+                    .get(i)
+                    .is_some_and(|t| is_gradient_basis(&t.basis)),
+                fade: model_terms.get(i).map(|t| t.basis.fade).unwrap_or_default(),
                 fd: matches!(st, Strategy::Fd | Strategy::Fd32),
             };
             // At most T terms: never full.
@@ -507,7 +529,10 @@ impl<'m, const T: usize> EvalCore<'m, T> {
             lane.wo = weight(lane.smooth, fo);
             let events = events.get_mut(..used).unwrap_or_default();
             let hash = term.basis.hash;
-            if lane.smooth {
+            if lane.grad {
+                #[cfg(feature = "gradient-noise")]
+                gradient::gradient_entries(li, lane, hash, events);
+            } else if lane.smooth {
                 smooth_entries(li, lane, hash, fv, vb, events);
             } else if GRADIENTS && grads {
                 lane_entries::<true>(li, lane, hash, fv, vb, events);
@@ -534,6 +559,30 @@ impl<'m, const T: usize> EvalCore<'m, T> {
         let (fm, smooth) = row_weights(setup, state);
         let (mut q, quad) = QuadStep::value_kind(setup);
         let events = events.get(..state.used).unwrap_or_default();
+        #[cfg(feature = "gradient-noise")]
+        if state.lanes.iter().any(|l| l.grad) {
+            // Gradient noise: the fades along `k` of a row of one term kept in the weights.
+            let n = usize::from(len);
+            let table = match (state.lanes.first(), weights.get_mut(..n)) {
+                (Some(lane), Some(w)) if state.lanes.len() == 1 => {
+                    if state.weights != n {
+                        let d = lane.du[lane.k.min(2)];
+                        let mut u = lane.u0k;
+                        for x in w.iter_mut() {
+                            *x = lane.fade.apply(u as u32) as u32;
+                            u = u.wrapping_add(d);
+                        }
+                        state.weights = n;
+                    }
+                    Some(&*w)
+                }
+                _ => None,
+            };
+            let fv = self.model.noise_frac_bits();
+            gradient::gradient_walk(events, &state.lanes, setup, fv, out, &mut q, table);
+            self.count_row(len, state, false);
+            return;
+        }
         if smooth {
             // One smooth term: its fades along the row (the same in every row the schedule
             // serves) kept in the weights when they hold the row.
@@ -637,7 +686,7 @@ mod tests {
         quadric: u32,
         clamp: bool,
         hash: HashKind,
-        smooth: bool,
+        basis: u8,
     ) -> TextureModel<8> {
         let q = match quadric {
             0 => Quadric::ZERO,
@@ -660,10 +709,10 @@ mod tests {
             base: Affine3::scale(MatrixEntry::from_num(1u32 << zoom)),
             amplitude: Amplitude::from_num(0.6),
             rotate: false,
-            basis: if smooth {
-                smooth_basis(hash)
-            } else {
-                NoiseBasis::trilinear(hash)
+            basis: match basis {
+                0 => NoiseBasis::trilinear(hash),
+                1 => smooth_basis(hash),
+                b => gradient_basis(hash, b == 2),
             },
             turbulence: false,
         })
@@ -681,6 +730,29 @@ mod tests {
         };
         #[cfg(not(feature = "smooth-fade"))]
         NoiseBasis::trilinear(hash)
+    }
+
+    /// Gradient noise, with the quintic fade (`quintic`, when compiled in) or the linear one
+    /// (trilinear value noise without the feature).
+    fn gradient_basis(hash: HashKind, quintic: bool) -> NoiseBasis {
+        #[cfg(feature = "gradient-noise")]
+        return NoiseBasis {
+            kind: crate::noise::BasisKind::Gradient,
+            #[cfg(feature = "smooth-fade")]
+            fade: if quintic {
+                crate::noise::Fade::Quintic
+            } else {
+                crate::noise::Fade::Linear
+            },
+            #[cfg(not(feature = "smooth-fade"))]
+            fade: crate::noise::Fade::Linear,
+            hash,
+        };
+        #[cfg(not(feature = "gradient-noise"))]
+        {
+            let _ = quintic;
+            NoiseBasis::trilinear(hash)
+        }
     }
 
     /// Row `y` of the plane `first` (`s0 + y dsdy`, wrapping).
@@ -776,7 +848,7 @@ mod tests {
         /// same counters, for any start, step along any axis (short and long cells), row step
         /// (along another axis, none, along the row's own axis or along two axes: the last two
         /// never served by the schedule), length, output length, quadric, `mod` and `clamp`,
-        /// mode, gradients asked for or not, octaves, zoom, the linear and the smooth fade; and
+        /// mode, gradients asked for or not, octaves, zoom, the linear and the smooth fade, gradient noise with the linear and the quintic fade; and
         /// the schedule serves every row of an axis-aligned plane of resolved cells when the
         /// cache holds it (with gradients, every row of linear-fade terms whose gradients are
         /// all needed).
@@ -796,11 +868,12 @@ mod tests {
             zoom in 0u32..3,
             mode in 0usize..3,
             hash: bool,
-            smooth: bool,
+            basis in 0u8..4,
         ) {
             let hash = if hash { HashKind::Integer } else { HashKind::default() };
-            let m = model(octaves, zoom, quadric, clamp, hash, smooth);
-            let smooth = smooth && cfg!(feature = "smooth-fade");
+            let m = model(octaves, zoom, quadric, clamp, hash, basis);
+            // Bases other than trilinear value noise: their rows' gradients are the span path's.
+            let per_pixel = basis != 0 && cfg!(any(feature = "smooth-fade", feature = "gradient-noise"));
             let mut ds = [0; 3];
             ds[axis] = (step >> (2 * zoom)) | 1;
             let mut dy = [0; 3];
@@ -847,7 +920,7 @@ mod tests {
             let fast = FD && !cfg!(texcore_lean);
             if fast && mode == EvalMode::Fd && n > 0 && across < 2 && !clamp && resolved && cells <= 256 {
                 proptest::prop_assert_eq!(served.0, 10);
-                if gradients_served && n == usize::from(len) && !smooth {
+                if gradients_served && n == usize::from(len) && !per_pixel {
                     proptest::prop_assert!(served.1 >= 10, "{:?}", served);
                 }
             }
@@ -892,8 +965,8 @@ mod tests {
                 64,
             ),
         ];
-        for (octaves, smooth) in [(1, false), (4, false), (1, true), (3, true)] {
-            let m = model(octaves, 0, 1, false, HashKind::Integer, smooth);
+        for (octaves, basis) in [(1, 0), (4, 0), (1, 1), (3, 1), (1, 2), (3, 2), (2, 3)] {
+            let m = model(octaves, 0, 1, false, HashKind::Integer, basis);
             for gradients in [false, true] {
                 let opts = EvalOptions {
                     mode: EvalMode::Fd,
@@ -923,6 +996,8 @@ mod tests {
             peers::Workload::Value1,
             peers::Workload::Value4,
             peers::Workload::Smooth1,
+            peers::Workload::Perlin1,
+            peers::Workload::Perlin4,
         ] {
             let Some(m) = peers::model(w, HashKind::Integer) else {
                 continue;
@@ -992,6 +1067,8 @@ mod tests {
                 made: true,
                 wo: fo,
                 smooth: false,
+                grad: false,
+                fade: crate::noise::Fade::Linear,
                 fd: true,
             };
             let cell = [next() as u16, next() as u16, next() as u16];

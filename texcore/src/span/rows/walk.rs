@@ -145,6 +145,19 @@ pub(super) fn is_smooth_value(b: &crate::noise::NoiseBasis) -> bool {
     }
 }
 
+/// Whether `b` is gradient noise (the row schedule's per-pixel gradient cells, `gradient`).
+#[cfg(not(texcore_lean))]
+#[inline(always)]
+pub(super) fn is_gradient_basis(b: &crate::noise::NoiseBasis) -> bool {
+    #[cfg(feature = "gradient-noise")]
+    return super::gradient::is_gradient(b);
+    #[cfg(not(feature = "gradient-noise"))]
+    {
+        let _ = b;
+        false
+    }
+}
+
 /// The interpolation weight of fraction `f` (raw 0.16): `f`, or its smooth fade.
 #[cfg(not(texcore_lean))]
 #[inline(always)]

@@ -1,0 +1,456 @@
+//! Gradient-noise terms (Perlin's improved noise) in a row schedule: each cell's corner
+//! gradients hashed once per cell along the row's two other axes, and the staged interpolation
+//! of `docs/model.md` 4.3 run per pixel on dot products stepped by additions.
+//!
+//! A gradient-noise cell is not a polynomial of low degree along the row (the fade and the
+//! rounding of each of the seven staged lerps), so it is not forward differenced. What the row
+//! schedule saves is everything else: in a cell entered at pixel `j0`, corner `c`'s dot product
+//! is `d_c(j) = g_c . o_c(j)`, whose offsets along the two other axes are constant along the row
+//! and whose offset along `k` grows by the lattice step `du_k` a pixel, so
+//! `d_c(j) = base_c + gm_c f_m + gk_c (j - j0) du_k` (`base_c` fixed while the rows stay in the
+//! same cells along `m` and `o`, `f_m` the row's fraction along its row axis `m`). An entry holds
+//! `base_c` and the components `gk_c`, `gm_c` of the eight corners ([`GradCell`]); a row turns them
+//! into the eight `d_c` once per cell, and a pixel is eight additions and the seven lerps. The
+//! fade along `k` is the same at a pixel in every row the schedule serves: a row of one term reads
+//! it from the cache's weights.
+//!
+//! Guarantees: every sample is `NoiseBasis::sample`'s (the same dot products, weights and staged
+//! lerps in the same order, each `p + ((q - p) w) >> 16` exact in 64-bit products of 32-bit
+//! words: `|d_c| <= 2^17`, every stage within `2^18`, `w <= 2^16`), combined with the quadric as
+//! the span path combines it; tested against `Direct` in the module `rows`. Nothing here panics.
+
+use super::*;
+use crate::noise::fade::ONE;
+use crate::noise::gradient::perlin_gradient;
+use crate::noise::Fade;
+
+/// Whether `b` is Perlin's gradient noise (any fade): the terms this module serves.
+#[inline(always)]
+pub(super) fn is_gradient(b: &crate::noise::NoiseBasis) -> bool {
+    b.kind == crate::noise::BasisKind::Gradient
+}
+
+/// One gradient-noise cell of a row schedule (see the module documentation), packed into a
+/// [`RowEvent`]'s words: `base` in `dv` and `ds` (two corners a word, low half first), the
+/// components along `k` and `m` (each `-1..=1`, stored `+1` in two bits) in `dg[0]`.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+struct GradCell {
+    base: [i32; 8],
+    gk: [i8; 8],
+    gm: [i8; 8],
+}
+
+impl GradCell {
+    fn store(&self, e: &mut RowEvent) {
+        let pair = |a: i32, b: i32| i64::from(a as u32) | (i64::from(b) << 32);
+        let b = &self.base;
+        e.dv = [pair(b[0], b[1]), pair(b[2], b[3])];
+        e.ds = [pair(b[4], b[5]), pair(b[6], b[7])];
+        let mut codes = 0i64;
+        for (c, (gk, gm)) in self.gk.iter().zip(self.gm.iter()).enumerate() {
+            let code = (i64::from(*gk + 1) & 3) | ((i64::from(*gm + 1) & 3) << 2);
+            codes |= code << (4 * c);
+        }
+        e.dg = [codes, 0];
+    }
+
+    #[inline(always)]
+    fn load(e: &RowEvent) -> GradCell {
+        let words = [e.dv[0], e.dv[1], e.ds[0], e.ds[1]];
+        let mut base = [0i32; 8];
+        for (pair, w) in base.chunks_exact_mut(2).zip(words) {
+            if let [lo, hi] = pair {
+                *lo = w as i32;
+                *hi = (w >> 32) as i32;
+            }
+        }
+        let mut gk = [0i8; 8];
+        let mut gm = [0i8; 8];
+        for (c, (k, m)) in gk.iter_mut().zip(gm.iter_mut()).enumerate() {
+            let code = (e.dg[0] >> (4 * c)) as i8;
+            *k = (code & 3) - 1;
+            *m = ((code >> 2) & 3) - 1;
+        }
+        GradCell { base, gk, gm }
+    }
+}
+
+/// The entries of gradient-noise term `li` (`lane`) of a schedule: each cell's corner
+/// gradients (hashed as `NoiseBasis::cell` hashes them) as a [`GradCell`] for the fraction
+/// along `k` at the entry's pixel and the fixed fraction `fo` along `o`.
+pub(super) fn gradient_entries(li: usize, lane: &RowLane, hash: HashKind, events: &mut [RowEvent]) {
+    let k = lane.k.min(2);
+    let (m, o) = (lane.m.min(2), lane.o.min(2));
+    let d = lane.du[k];
+    let mut cell = [0u16; 3];
+    cell[m] = lane.cm;
+    cell[o] = lane.co;
+    let fo = (lane.fo & 0xFFFF) as i32;
+    for e in events.iter_mut().filter(|e| usize::from(e.lane) == li) {
+        let uk = lane.u0k.wrapping_add(d.wrapping_mul(i32::from(e.at)));
+        cell[k] = (uk >> 16) as u16;
+        let fk = uk & 0xFFFF;
+        let mut g = GradCell {
+            base: [0; 8],
+            gk: [0; 8],
+            gm: [0; 8],
+        };
+        for c in 0..8 {
+            let bit = |axis: usize| ((c >> axis) & 1) as u16;
+            let bits = crate::hash::gradient_bits(
+                hash,
+                cell[0].wrapping_add(bit(0)),
+                cell[1].wrapping_add(bit(1)),
+                cell[2].wrapping_add(bit(2)),
+            );
+            let gc = perlin_gradient(bits);
+            let off = |axis: usize, f: i32| f - i32::from(bit(axis)) * ONE as i32;
+            let (gk, gm, go) = (i32::from(gc[k]), i32::from(gc[m]), i32::from(gc[o]));
+            g.base[c] = gk * off(k, fk) + go * off(o, fo) + gm * off(m, 0);
+            g.gk[c] = gc[k];
+            g.gm[c] = gc[m];
+        }
+        g.store(e);
+    }
+}
+
+/// `(x w) >> 16` in a 64-bit product: a lerp's step.
+#[inline(always)]
+fn mulw(x: i32, w: i32) -> i32 {
+    ((i64::from(x) * i64::from(w)) >> 16) as i32
+}
+
+/// `p + ((q - p) w) >> 16`, the staged lerp of `noise::gradient` (exact: see the module
+/// documentation).
+#[inline(always)]
+fn lerp(p: i32, q: i32, w: i32) -> i32 {
+    p.wrapping_add(mulw(q.wrapping_sub(p), w))
+}
+
+/// The interpolated value (units of 2^-16) of the corner dot products `d` with weights `w`
+/// along axes 0, 1, 2: `noise::gradient::value`'s seven stages.
+#[inline(always)]
+fn staged(d: &[i32; 8], w: [i32; 3]) -> i32 {
+    let e0 = lerp(d[0], d[1], w[0]);
+    let e2 = lerp(d[2], d[3], w[0]);
+    let e4 = lerp(d[4], d[5], w[0]);
+    let e6 = lerp(d[6], d[7], w[0]);
+    let f0 = lerp(e0, e2, w[1]);
+    let f1 = lerp(e4, e6, w[1]);
+    lerp(f0, f1, w[2])
+}
+
+/// A term's contribution to the noise sum (`48 + fv` fraction bits) from its value `n16`, as
+/// `NoiseBasis::sample` scales it.
+#[inline(always)]
+fn scaled(n16: i32, amp: i32, fv: u32) -> i64 {
+    (i64::from(amp) * i64::from(n16)) << ((16 + fv) & 63)
+}
+
+/// Whether terms of amplitudes `|amp|` summing to `sum` (raw) in a model of `fv` noise fraction
+/// bits contribute `sum_i amp_i n16_i` (units `2^-32`) to a sample, `(q + (V << 16)) >> 32`:
+/// true when `sum 2^fv <= 2^29` (what the model keeps, `TextureModel`), so that
+/// `|V| < 2^(47 - fv)` (`|n16| <= 2^17 + 3`: the lerps are convex combinations of dot products of
+/// at most `2^17`, less a floor each) and the span path's noise sum `V << (16 + fv)` neither
+/// wraps nor loses bits in its combination `(q + (n >> fv)) >> 32`.
+#[inline(always)]
+fn small_amps(sum: u64, fv: u32) -> bool {
+    fv <= 16 && (sum << fv) <= 1 << 29
+}
+
+/// The pixels `run` of a row's one gradient-noise term `g` along axis `K` (no quadric, the
+/// fades along `K` from `ws`, [`small_amps`]): the staged lerps on dot products stepped by
+/// additions, the sample `(amp n16) >> 16`. In two passes over the run, each with four corners
+/// in registers: the first writes the lerp `f0` of corners 0 to 3 into `run`, the second reads
+/// it back, makes `f1` from corners 4 to 7 and the sample (the stages and their order are
+/// [`staged`]'s).
+#[inline(never)]
+fn one_run<const K: usize>(g: &mut GradLane, ws: &[u32], run: &mut [TexValue]) {
+    let w = g.w;
+    let weights = |wk: u32| {
+        let mut wv = w;
+        wv[K] = wk as i32;
+        wv
+    };
+    let (d, s) = (g.d, g.s);
+    // Each pair of corners along axis 0 as its first dot product and the difference to the
+    // second, stepped by their own steps (one product a lerp: `lerp(p, q, w) = p + mulw(q - p)`).
+    let pair = |c: usize| {
+        (
+            d[c],
+            d[c + 1].wrapping_sub(d[c]),
+            s[c],
+            s[c + 1].wrapping_sub(s[c]),
+        )
+    };
+    let ((mut p0, mut q0, sp0, sq0), (mut p2, mut q2, sp2, sq2)) = (pair(0), pair(2));
+    for (o, wk) in run.iter_mut().zip(ws) {
+        let wv = weights(*wk);
+        let e0 = p0.wrapping_add(mulw(q0, wv[0]));
+        let e2 = p2.wrapping_add(mulw(q2, wv[0]));
+        *o = TexValue::from_bits(lerp(e0, e2, wv[1]));
+        (p0, q0) = (p0.wrapping_add(sp0), q0.wrapping_add(sq0));
+        (p2, q2) = (p2.wrapping_add(sp2), q2.wrapping_add(sq2));
+    }
+    let amp = i64::from(g.amp);
+    let ((mut p4, mut q4, sp4, sq4), (mut p6, mut q6, sp6, sq6)) = (pair(4), pair(6));
+    for (o, wk) in run.iter_mut().zip(ws) {
+        let wv = weights(*wk);
+        let e4 = p4.wrapping_add(mulw(q4, wv[0]));
+        let e6 = p6.wrapping_add(mulw(q6, wv[0]));
+        let n16 = lerp(o.to_bits(), lerp(e4, e6, wv[1]), wv[2]);
+        *o = TexValue::from_bits(((amp * i64::from(n16)) >> 16) as i32);
+        (p4, q4) = (p4.wrapping_add(sp4), q4.wrapping_add(sq4));
+        (p6, q6) = (p6.wrapping_add(sp6), q6.wrapping_add(sq6));
+    }
+    let n = run.len() as i32;
+    for (dc, sc) in g.d.iter_mut().zip(s) {
+        *dc = dc.wrapping_add(sc.wrapping_mul(n));
+    }
+    g.uk = g.uk.wrapping_add(g.step.wrapping_mul(n));
+}
+
+/// The pixels `run` of a row's gradient-noise terms `gl`, each term's fade
+/// along its `k` computed per pixel, with the quadric `qq` stepped by `dq` and `ddq`: with
+/// `SMALL` ([`small_amps`]) the sum `V = sum_i amp_i n16_i` combined as `(q + (V << 16)) >> 32`,
+/// otherwise each term scaled as the span path scales it ([`scaled`]) and the sum wrapping
+/// (the same samples: [`combine`]).
+#[inline(always)]
+#[allow(clippy::too_many_arguments)]
+fn multi_run<const SMALL: bool>(
+    gl: &mut [GradLane],
+    run: &mut [TexValue],
+    qq: &mut i64,
+    dq: &mut i64,
+    ddq: i64,
+    fv: u32,
+) {
+    for o in run.iter_mut() {
+        let mut v = 0i64;
+        for g in gl.iter_mut() {
+            let wk = g.fade.apply(g.uk as u32) as i32;
+            let n16 = g.pixel(wk);
+            v = wadd(
+                v,
+                if SMALL {
+                    i64::from(g.amp) * i64::from(n16)
+                } else {
+                    scaled(n16, g.amp, fv)
+                },
+            );
+        }
+        *o = TexValue::from_bits(combine::<SMALL>(*qq, v, fv));
+        *qq = wadd(*qq, *dq);
+        *dq = wadd(*dq, ddq);
+    }
+}
+
+/// A sample from the quadric `q` and the noise sum `v`: with `SMALL` ([`small_amps`]) `v` is
+/// `sum_i amp_i n16_i`, otherwise the span path's sum (`48 + fv` fraction bits).
+#[inline(always)]
+fn combine<const SMALL: bool>(q: i64, v: i64, fv: u32) -> i32 {
+    if SMALL {
+        (wadd(q, v << 16) >> 32) as i32
+    } else {
+        (wadd(q, v >> (fv & 31)) >> 32) as i32
+    }
+}
+
+/// What a row needs of one gradient-noise term: its fade, the row's weights along its two other
+/// axes, its fraction along `m`, amplitude, axis `k`, step along `k`, and the corner dot products
+/// and their steps in its current cell.
+#[derive(Clone, Copy, Debug)]
+struct GradLane {
+    fade: Fade,
+    w: [i32; 3],
+    fm: i32,
+    amp: i32,
+    k: usize,
+    step: i32,
+    uk: i32,
+    d: [i32; 8],
+    s: [i32; 8],
+}
+
+impl GradLane {
+    /// Enters the cell of entry `e`.
+    #[inline(always)]
+    fn enter(&mut self, e: &RowEvent) {
+        let g = GradCell::load(e);
+        for c in 0..8 {
+            self.d[c] = g.base[c].wrapping_add(i32::from(g.gm[c]) * self.fm);
+            self.s[c] = i32::from(g.gk[c]).wrapping_mul(self.step);
+        }
+    }
+
+    /// The term's value `n16` at the current pixel with weight `wk` along `k`, then one pixel on.
+    #[inline(always)]
+    fn pixel(&mut self, wk: i32) -> i32 {
+        let mut w = self.w;
+        w[self.k.min(2)] = wk;
+        let n16 = staged(&self.d, w);
+        for (d, s) in self.d.iter_mut().zip(self.s) {
+            *d = d.wrapping_add(s);
+        }
+        self.uk = self.uk.wrapping_add(self.step);
+        n16
+    }
+}
+
+/// The samples of a row whose terms are all gradient noise (as `row_walk`): at each entry the
+/// entering term's corner dot products for this row, then per pixel every term's staged lerps
+/// and the quadric `q` (a zero quadric from the fades of `table` when the row has one term and
+/// the table holds its pixels).
+#[allow(clippy::too_many_arguments)]
+pub(super) fn gradient_walk<const T: usize>(
+    events: &[RowEvent],
+    lanes: &heapless::Vec<RowLane, T>,
+    setup: &Setup<T>,
+    fv: u32,
+    out: &mut [TexValue],
+    q: &mut [i64; 3],
+    table: Option<&[u32]>,
+) {
+    // The terms' row state (pushed, not a zeroed array of `T`: at most `T` lanes, never full).
+    let mut gl: heapless::Vec<GradLane, T> = heapless::Vec::new();
+    for lane in lanes.iter() {
+        let Some(ts) = setup.terms.get(lane.term) else {
+            continue;
+        };
+        let (m, o, k) = (lane.m.min(2), lane.o.min(2), lane.k.min(2));
+        let fm = split(ts.u0).1[m];
+        let mut w = [0i32; 3];
+        w[m] = lane.fade.apply(fm) as i32;
+        w[o] = lane.fade.apply(lane.fo) as i32;
+        let _ = gl.push(GradLane {
+            fade: lane.fade,
+            w,
+            fm: fm as i32,
+            amp: lane.amp,
+            k,
+            step: lane.du[k],
+            uk: lane.u0k,
+            d: [0; 8],
+            s: [0; 8],
+        });
+    }
+    let sum: u64 = gl.iter().map(|g| u64::from(g.amp.unsigned_abs())).sum();
+    let small = small_amps(sum, fv);
+    let mut table = table.unwrap_or_default();
+    let mut rest = out;
+    for e in events {
+        if let Some(g) = gl.get_mut(usize::from(e.lane)) {
+            g.enter(e);
+        }
+        let n = usize::from(e.run).min(rest.len());
+        let (run, tail) = core::mem::take(&mut rest).split_at_mut(n);
+        rest = tail;
+        let [mut qq, mut dq, ddq] = *q;
+        let (ws, tail) = table.split_at(n.min(table.len()));
+        table = tail;
+        let lanes_n = gl.len();
+        match (gl.first_mut(), lanes_n) {
+            (Some(g), 1) if ws.len() == n && (qq | dq | ddq) == 0 && small => {
+                // One term, its fades from the table.
+                match g.k {
+                    0 => one_run::<0>(g, ws, run),
+                    1 => one_run::<1>(g, ws, run),
+                    _ => one_run::<2>(g, ws, run),
+                }
+            }
+            _ if small => multi_run::<true>(&mut gl, run, &mut qq, &mut dq, ddq, fv),
+            _ => multi_run::<false>(&mut gl, run, &mut qq, &mut dq, ddq, fv),
+        }
+        *q = [qq, dq, ddq];
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn a_cell_packs_into_an_entry() {
+        let g = GradCell {
+            base: [i32::MIN, -1, 0, 1, 131_072, -131_072, i32::MAX, 7],
+            gk: [-1, 0, 1, 1, 0, -1, 0, 1],
+            gm: [1, 1, -1, 0, 0, -1, 1, 0],
+        };
+        let mut e = RowEvent::default();
+        g.store(&mut e);
+        assert_eq!(GradCell::load(&e), g);
+    }
+
+    #[test]
+    fn small_sums_combine_as_the_span_path() {
+        let mut x = 0x9E37_79B9_7F4A_7C15u64;
+        let mut next = || {
+            x ^= x << 13;
+            x ^= x >> 7;
+            x ^= x << 17;
+            x
+        };
+        for _ in 0..50_000 {
+            let fv = (next() % 17) as u32;
+            // Amplitudes at the model's bound: `sum |amp| 2^fv <= 2^29`.
+            let n = 1 + (next() % 4) as usize;
+            let mut amps = [0i32; 4];
+            let mut sum = 0u64;
+            for a in amps.iter_mut().take(n) {
+                let room = (1u64 << (29 - fv)) - sum;
+                *a = (next() % (room / n as u64 + 1)) as i32 * if next() & 1 == 0 { 1 } else { -1 };
+                sum += u64::from(a.unsigned_abs());
+            }
+            assert!(small_amps(sum, fv));
+            let q = (next() as i64) >> (next() % 40);
+            let (mut small, mut span) = (0i64, 0i64);
+            for a in amps.iter().take(n) {
+                let n16 = (next() % (2 * 131_075)) as i32 - 131_075;
+                small = wadd(small, i64::from(*a) * i64::from(n16));
+                span = wadd(span, scaled(n16, *a, fv));
+            }
+            assert_eq!(combine::<true>(q, small, fv), combine::<false>(q, span, fv));
+        }
+        assert!(!small_amps(1 << 16, 14));
+        assert!(small_amps(1 << 16, 13));
+        assert!(!small_amps(1, 17));
+    }
+
+    #[test]
+    fn staged_is_the_basis_value() {
+        let mut x = 0x2545_F491_4F6C_DD1Du64;
+        let mut next = || {
+            x ^= x << 13;
+            x ^= x >> 7;
+            x ^= x << 17;
+            x
+        };
+        for _ in 0..20_000 {
+            let mut grads = [[0i8; 3]; 8];
+            for g in grads.iter_mut() {
+                *g = perlin_gradient(next() as u8);
+            }
+            let frac = [
+                (next() & 0xFFFF) as u32,
+                (next() & 0xFFFF) as u32,
+                (next() & 0xFFFF) as u32,
+            ];
+            let mut d = [0i32; 8];
+            for (c, dc) in d.iter_mut().enumerate() {
+                for axis in 0..3 {
+                    let o = frac[axis] as i32 - (((c >> axis) & 1) as i32) * ONE as i32;
+                    *dc += i32::from(grads[c][axis]) * o;
+                }
+            }
+            for fade in [
+                Fade::Linear,
+                #[cfg(feature = "smooth-fade")]
+                Fade::Quintic,
+            ] {
+                let w = frac.map(|f| fade.apply(f) as i32);
+                let want = crate::noise::gradient::value(&grads, frac, fade);
+                assert_eq!(i64::from(staged(&d, w)), want, "{grads:?} {frac:?}");
+            }
+        }
+    }
+}
