@@ -28,9 +28,9 @@ pub const ONE: i64 = 1 << 16;
 /// as `(a^3 P + 2^63) >> 64` with `P = 6 a^2 - 15 a 2^16 + 10 2^32` (in `(2^32, 10 2^32]`) from
 /// 32 x 32 -> 64-bit products of 32-bit limbs (no 128-bit multiplication: a few instructions
 /// on a 32-bit core; exhaustively tested against the 128-bit formula, which the size-lean
-/// code shape keeps).
+/// code shape and 64-bit targets keep).
 #[cfg(feature = "smooth-fade")]
-#[inline]
+#[inline(never)]
 fn quintic(a: u32) -> i64 {
     const M: u64 = 0xFFFF_FFFF;
     let a = a & 0xFFFF;
@@ -56,8 +56,9 @@ impl Fade {
             Fade::Smooth => (3 * a * a * ONE - 2 * a * a * a + (1 << 31)) >> 32,
             #[cfg(feature = "smooth-fade")]
             Fade::Quintic => {
-                if cfg!(texcore_lean) {
-                    // The size-lean shape keeps the shorter 128-bit form (the same values).
+                if cfg!(any(texcore_lean, target_pointer_width = "64")) {
+                    // The size-lean shape keeps the shorter 128-bit form, and 64-bit targets
+                    // multiply it natively (the same values).
                     let a = i128::from(a);
                     let a3 = a * a * a;
                     ((6 * a3 * a * a - 15 * a3 * a * (1 << 16) + 10 * a3 * (1 << 32) + (1 << 63))

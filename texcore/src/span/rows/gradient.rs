@@ -141,8 +141,8 @@ fn staged(d: &[i32; 8], w: [i32; 3]) -> i32 {
 }
 
 /// A term's contribution to the noise sum (`48 + fv` fraction bits) from its value `n16`, as
-/// `NoiseBasis::sample` scales it.
-#[inline(always)]
+/// `NoiseBasis::sample` scales it (what [`small_amps`] lets the rows skip).
+#[cfg(test)]
 fn scaled(n16: i32, amp: i32, fv: u32) -> i64 {
     (i64::from(amp) * i64::from(n16)) << ((16 + fv) & 63)
 }
@@ -154,7 +154,7 @@ fn scaled(n16: i32, amp: i32, fv: u32) -> i64 {
 /// at most `2^17`, less a floor each) and the span path's noise sum `V << (16 + fv)` neither
 /// wraps nor loses bits in its combination `(q + (n >> fv)) >> 32`.
 #[inline(always)]
-fn small_amps(sum: u64, fv: u32) -> bool {
+pub(super) fn small_amps(sum: u64, fv: u32) -> bool {
     fv <= 16 && (sum << fv) <= 1 << 29
 }
 
@@ -210,49 +210,47 @@ fn one_run<const K: usize>(g: &mut GradLane, ws: &[u32], run: &mut [TexValue]) {
     g.uk = g.uk.wrapping_add(g.step.wrapping_mul(n));
 }
 
-/// The pixels `run` of a row's gradient-noise terms `gl`, each term's fade
-/// along its `k` computed per pixel, with the quadric `qq` stepped by `dq` and `ddq`: with
-/// `SMALL` ([`small_amps`]) the sum `V = sum_i amp_i n16_i` combined as `(q + (V << 16)) >> 32`,
-/// otherwise each term scaled as the span path scales it ([`scaled`]) and the sum wrapping
-/// (the same samples: [`combine`]).
+/// The pixels `run` of a row's gradient-noise terms `gl`, each term's fade along its `k` from
+/// `fades`, with the quadric `qq` stepped by `dq` and `ddq`: the sum `V = sum_i amp_i n16_i`
+/// combined as `(q + (V << 16)) >> 32` ([`small_amps`], which `rows_take` checks).
 #[inline(always)]
-#[allow(clippy::too_many_arguments)]
-fn multi_run<const SMALL: bool>(
+fn multi_run(
     gl: &mut [GradLane],
     run: &mut [TexValue],
     qq: &mut i64,
     dq: &mut i64,
     ddq: i64,
-    fv: u32,
+    fades: Fades<'_>,
 ) {
-    for o in run.iter_mut() {
+    for (j, o) in run.iter_mut().enumerate() {
         let mut v = 0i64;
-        for g in gl.iter_mut() {
-            let wk = g.fade.apply(g.uk as u32) as i32;
-            let n16 = g.pixel(wk);
-            v = wadd(
-                v,
-                if SMALL {
-                    i64::from(g.amp) * i64::from(n16)
-                } else {
-                    scaled(n16, g.amp, fv)
-                },
-            );
+        for (l, g) in gl.iter_mut().enumerate() {
+            let wk = fades.at(l, j, g);
+            v = wadd(v, i64::from(g.amp) * i64::from(g.pixel(wk)));
         }
-        *o = TexValue::from_bits(combine::<SMALL>(*qq, v, fv));
+        *o = TexValue::from_bits((wadd(*qq, v << 16) >> 32) as i32);
         *qq = wadd(*qq, *dq);
         *dq = wadd(*dq, ddq);
     }
 }
 
-/// A sample from the quadric `q` and the noise sum `v`: with `SMALL` ([`small_amps`]) `v` is
-/// `sum_i amp_i n16_i`, otherwise the span path's sum (`48 + fv` fraction bits).
-#[inline(always)]
-fn combine<const SMALL: bool>(q: i64, v: i64, fv: u32) -> i32 {
-    if SMALL {
-        (wadd(q, v << 16) >> 32) as i32
-    } else {
-        (wadd(q, v >> (fv & 31)) >> 32) as i32
+/// The terms' fades along the row: term `l`'s at pixel `x + j` of a run is
+/// `table[l len + x + j]` when the table holds it, otherwise computed.
+#[derive(Clone, Copy, Debug)]
+struct Fades<'a> {
+    table: &'a [u32],
+    len: usize,
+    x: usize,
+}
+
+impl Fades<'_> {
+    /// Term `l`'s (`g`) fade at pixel `j` of the run.
+    #[inline(always)]
+    fn at(&self, l: usize, j: usize, g: &GradLane) -> i32 {
+        match self.table.get(l * self.len + self.x + j) {
+            Some(w) => *w as i32,
+            None => g.fade.apply(g.uk as u32) as i32,
+        }
     }
 }
 
@@ -297,24 +295,65 @@ impl GradLane {
     }
 }
 
+/// The samples of a row whose terms are all gradient noise ([`gradient_walk`]), each term's
+/// fades along its `k` (the same in every row the schedule serves) kept in `weights` when they
+/// hold them all, term after term. Out of line: the row paths of the other bases keep their
+/// code shape.
+#[inline(always)]
+pub(super) fn gradient_row<const T: usize>(
+    events: &[RowEvent],
+    state: &mut RowsState<T>,
+    weights: &mut [u32],
+    setup: &Setup<T>,
+    out: &mut [TexValue],
+    q: &mut [i64; 3],
+) {
+    let made = state.weights;
+    state.weights = row_fades(&state.lanes, made, weights, out.len());
+    let table = weights.get(..state.weights).filter(|w| !w.is_empty());
+    gradient_walk(events, &state.lanes, &setup.terms, out, q, table);
+}
+
+/// Keeps each term's fades along its `k` for a row of `n` pixels in `weights` (term `l` at
+/// `l n`) when they hold them all, unless they already do (`made`, the weights in use): the
+/// weights in use after it (0: the fades do not fit).
+#[inline(never)]
+fn row_fades(lanes: &[RowLane], made: usize, weights: &mut [u32], n: usize) -> usize {
+    let all = n * lanes.len();
+    let Some(w) = weights.get_mut(..all) else {
+        return 0;
+    };
+    if made != all {
+        for (lane, w) in lanes.iter().zip(w.chunks_exact_mut(n.max(1))) {
+            let d = lane.du[lane.k.min(2)];
+            let mut u = lane.u0k;
+            for x in w.iter_mut() {
+                *x = lane.fade.apply(u as u32) as u32;
+                u = u.wrapping_add(d);
+            }
+        }
+    }
+    all
+}
+
 /// The samples of a row whose terms are all gradient noise (as `row_walk`): at each entry the
 /// entering term's corner dot products for this row, then per pixel every term's staged lerps
-/// and the quadric `q` (a zero quadric from the fades of `table` when the row has one term and
-/// the table holds its pixels).
-#[allow(clippy::too_many_arguments)]
-pub(super) fn gradient_walk<const T: usize>(
+/// and the quadric `q`, the fades along the row from `table` when it holds every term's
+/// (`Fades`).
+#[inline(never)]
+fn gradient_walk(
     events: &[RowEvent],
-    lanes: &heapless::Vec<RowLane, T>,
-    setup: &Setup<T>,
-    fv: u32,
+    lanes: &[RowLane],
+    terms: &[TermSetup],
     out: &mut [TexValue],
     q: &mut [i64; 3],
     table: Option<&[u32]>,
 ) {
-    // The terms' row state (pushed, not a zeroed array of `T`: at most `T` lanes, never full).
-    let mut gl: heapless::Vec<GradLane, T> = heapless::Vec::new();
+    // The terms' row state (pushed, not a zeroed array: at most `GRADIENT_TERMS` lanes, as
+    // `rows_take` checks; never full).
+    let mut gl: heapless::Vec<GradLane, GRADIENT_TERMS> = heapless::Vec::new();
     for lane in lanes.iter() {
-        let Some(ts) = setup.terms.get(lane.term) else {
+        let Some(ts) = terms.get(lane.term) else {
             continue;
         };
         let (m, o, k) = (lane.m.min(2), lane.o.min(2), lane.k.min(2));
@@ -334,9 +373,12 @@ pub(super) fn gradient_walk<const T: usize>(
             s: [0; 8],
         });
     }
-    let sum: u64 = gl.iter().map(|g| u64::from(g.amp.unsigned_abs())).sum();
-    let small = small_amps(sum, fv);
-    let mut table = table.unwrap_or_default();
+    let len = out.len();
+    // Each term's fades along the row (term `l` at `l len`), when the table holds them.
+    let table = table
+        .filter(|t| t.len() >= gl.len() * len)
+        .unwrap_or_default();
+    let mut x = 0usize;
     let mut rest = out;
     for e in events {
         if let Some(g) = gl.get_mut(usize::from(e.lane)) {
@@ -346,22 +388,18 @@ pub(super) fn gradient_walk<const T: usize>(
         let (run, tail) = core::mem::take(&mut rest).split_at_mut(n);
         rest = tail;
         let [mut qq, mut dq, ddq] = *q;
-        let (ws, tail) = table.split_at(n.min(table.len()));
-        table = tail;
+        let ws = table.get(x..x + n).unwrap_or_default();
+        let tab = Fades { table, len, x };
         let lanes_n = gl.len();
         match (gl.first_mut(), lanes_n) {
-            (Some(g), 1) if ws.len() == n && (qq | dq | ddq) == 0 && small => {
-                // One term, its fades from the table.
-                match g.k {
-                    0 => one_run::<0>(g, ws, run),
-                    1 => one_run::<1>(g, ws, run),
-                    _ => one_run::<2>(g, ws, run),
-                }
+            // One term along axis 0 (the rows of an unrotated plane), its fades from the table.
+            (Some(g), 1) if g.k == 0 && ws.len() == n && (qq | dq | ddq) == 0 => {
+                one_run::<0>(g, ws, run)
             }
-            _ if small => multi_run::<true>(&mut gl, run, &mut qq, &mut dq, ddq, fv),
-            _ => multi_run::<false>(&mut gl, run, &mut qq, &mut dq, ddq, fv),
+            _ => multi_run(&mut gl, run, &mut qq, &mut dq, ddq, tab),
         }
         *q = [qq, dq, ddq];
+        x += n;
     }
 }
 
@@ -409,7 +447,9 @@ mod tests {
                 small = wadd(small, i64::from(*a) * i64::from(n16));
                 span = wadd(span, scaled(n16, *a, fv));
             }
-            assert_eq!(combine::<true>(q, small, fv), combine::<false>(q, span, fv));
+            // `multi_run`'s combination, and the span path's (`combine` of `mod` tables).
+            let rows = (wadd(q, small << 16) >> 32) as i32;
+            assert_eq!(rows, (wadd(q, span >> fv) >> 32) as i32);
         }
         assert!(!small_amps(1 << 16, 14));
         assert!(small_amps(1 << 16, 13));

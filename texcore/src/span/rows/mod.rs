@@ -72,7 +72,10 @@ pub(super) struct RowEvent {
 /// a device keeps them where it wants (see the module documentation of `texcore::span::rows`).
 ///
 /// Size it to the cells one row crosses, over all terms: a term of `c` cells across the row
-/// needs `c + 1` entries (four octaves of 8, 16, 32 and 64 cells: 124).
+/// needs `c + 1` entries (four octaves of 8, 16, 32 and 64 cells: 124). `W` fade weights keep
+/// the fades along the row of a row of one smooth-fade term (`W` at least its pixels) or of the
+/// terms of a row of gradient noise (`W` at least its pixels times its terms); with fewer the
+/// fades are computed per pixel (the same values).
 #[derive(Clone, Debug)]
 pub struct RowCache<const N: usize, const W: usize = 0> {
     events: [RowEvent; N],
@@ -100,8 +103,9 @@ impl<const N: usize, const W: usize> RowCache<N, W> {
         N
     }
 
-    /// Number of pixel weights (rows of up to `W` pixels of one smooth-fade term keep their
-    /// fades in them).
+    /// Number of pixel weights (a row of one smooth-fade term keeps its fades in them when it
+    /// has at most `W` pixels; a row of gradient noise when its pixels times its terms are at
+    /// most `W`).
     pub const fn weight_capacity(&self) -> usize {
         W
     }
@@ -142,6 +146,7 @@ struct RowLane {
     /// The basis is gradient noise (`gradient`): its entries are the cells' corner gradients,
     /// interpolated per pixel with fade `fade`.
     grad: bool,
+    #[cfg_attr(not(feature = "gradient-noise"), allow(dead_code))]
     fade: crate::noise::Fade,
     /// The term is forward differenced (`Fd`, `Fd32`; otherwise `Cached`): counted in
     /// `SpanStats::fd_pixels`.
@@ -211,7 +216,8 @@ struct RowsState<const T: usize> {
     len: u16,
     /// The entries have their derivative parts (`RowEvent::dg`).
     grads: bool,
-    /// The pixels whose fades the weights hold (a row of one smooth-fade term; 0: none).
+    /// The weights in use (the fades of a row of one smooth-fade term, or of every term of a
+    /// row of gradient noise; 0: none).
     weights: usize,
     lanes: heapless::Vec<RowLane, T>,
 }
@@ -388,6 +394,7 @@ impl<'m, const T: usize> EvalCore<'m, T> {
         let m = self.model;
         let mut any = false;
         let mut grad_terms = false;
+        let mut grads_n = 0usize;
         for ((term, st), ts) in m.terms().iter().zip(strategies).zip(setup.terms.iter()) {
             let b = &term.basis;
             let taken = match st {
@@ -404,7 +411,25 @@ impl<'m, const T: usize> EvalCore<'m, T> {
                 return false;
             }
             grad_terms = is_gradient_basis(b);
+            grads_n += usize::from(grad_terms);
             any = true;
+        }
+        if grads_n > GRADIENT_TERMS {
+            return false;
+        }
+        // Gradient-noise rows sum the terms' values unscaled (`gradient::small_amps`: what the
+        // model's noise fraction bits keep).
+        #[cfg(feature = "gradient-noise")]
+        if grads_n > 0 {
+            let sum: u64 = strategies
+                .iter()
+                .zip(setup.terms.iter())
+                .filter(|(st, _)| **st != Strategy::Off)
+                .map(|(_, ts)| u64::from(ts.amp.unsigned_abs()))
+                .sum();
+            if !gradient::small_amps(sum, m.noise_frac_bits()) {
+                return false;
+            }
         }
         let grads = GRADIENTS && self.opts.gradients;
         let len = u32::from(len);
@@ -561,25 +586,7 @@ impl<'m, const T: usize> EvalCore<'m, T> {
         let events = events.get(..state.used).unwrap_or_default();
         #[cfg(feature = "gradient-noise")]
         if state.lanes.iter().any(|l| l.grad) {
-            // Gradient noise: the fades along `k` of a row of one term kept in the weights.
-            let n = usize::from(len);
-            let table = match (state.lanes.first(), weights.get_mut(..n)) {
-                (Some(lane), Some(w)) if state.lanes.len() == 1 => {
-                    if state.weights != n {
-                        let d = lane.du[lane.k.min(2)];
-                        let mut u = lane.u0k;
-                        for x in w.iter_mut() {
-                            *x = lane.fade.apply(u as u32) as u32;
-                            u = u.wrapping_add(d);
-                        }
-                        state.weights = n;
-                    }
-                    Some(&*w)
-                }
-                _ => None,
-            };
-            let fv = self.model.noise_frac_bits();
-            gradient::gradient_walk(events, &state.lanes, setup, fv, out, &mut q, table);
+            gradient::gradient_row(events, state, weights, setup, out, &mut q);
             self.count_row(len, state, false);
             return;
         }
@@ -848,7 +855,8 @@ mod tests {
         /// same counters, for any start, step along any axis (short and long cells), row step
         /// (along another axis, none, along the row's own axis or along two axes: the last two
         /// never served by the schedule), length, output length, quadric, `mod` and `clamp`,
-        /// mode, gradients asked for or not, octaves, zoom, the linear and the smooth fade, gradient noise with the linear and the quintic fade; and
+        /// mode, gradients asked for or not, octaves, zoom, the linear and the smooth fade,
+        /// gradient noise with the linear and the quintic fade; and
         /// the schedule serves every row of an axis-aligned plane of resolved cells when the
         /// cache holds it (with gradients, every row of linear-fade terms whose gradients are
         /// all needed).

@@ -145,6 +145,11 @@ pub(super) fn is_smooth_value(b: &crate::noise::NoiseBasis) -> bool {
     }
 }
 
+/// The most gradient-noise terms a row schedule serves (a row of more is evaluated span by
+/// span).
+#[cfg(not(texcore_lean))]
+pub(super) const GRADIENT_TERMS: usize = 8;
+
 /// Whether `b` is gradient noise (the row schedule's per-pixel gradient cells, `gradient`).
 #[cfg(not(texcore_lean))]
 #[inline(always)]

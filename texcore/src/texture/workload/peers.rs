@@ -232,10 +232,15 @@ pub const FACES: usize = 128;
 /// row of the 4-octave workloads crosses, plus one a term (124).
 pub const ROW_EVENTS: usize = 128;
 
+/// Fade weights of the row schedule of the whole-row value workloads ([`value_plane`]): the
+/// fades along a row of the 4-octave gradient-noise workload (four terms of [`SIZE`] pixels;
+/// one term's for the smooth fade).
+pub const ROW_WEIGHTS: usize = 4 * SIZE as usize;
+
 /// Rows `0..rows` of noise workload `w`, each into `line` (its first [`SIZE`] values) and then
 /// handed to `each(y, line)`: the whole-row workloads through [`SpanEvaluator::rows`] (their
-/// schedule kept across rows in a [`RowCache`] of [`ROW_EVENTS`] entries and [`SIZE`] weights
-/// for the smooth fade; values, or [`grad_word`]s of the samples with gradients), the
+/// schedule kept across rows in a [`RowCache`] of [`ROW_EVENTS`] entries and [`ROW_WEIGHTS`]
+/// fade weights; values, or [`grad_word`]s of the samples with gradients), the
 /// 16-pixel-span ones row by row through [`value_row`] with a face cache kept across rows.
 /// `ev` must have been built for `w`'s model with `gradients = w.gradients()`.
 #[inline(always)]
@@ -250,7 +255,7 @@ pub fn value_plane<const T: usize>(
         let Some(line) = line.get_mut(..usize::from(SIZE)) else {
             return;
         };
-        let mut cache = RowCache::<ROW_EVENTS, { SIZE as usize }>::new();
+        let mut cache = RowCache::<ROW_EVENTS, ROW_WEIGHTS>::new();
         let mut plane = ev.rows(&span(0, 0, SIZE), &mut cache);
         for y in 0..rows {
             if w.gradients() {
