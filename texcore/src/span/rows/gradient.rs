@@ -11,8 +11,10 @@
 //! same cells along `m` and `o`, `f_m` the row's fraction along its row axis `m`). An entry holds
 //! `base_c` and the components `gk_c`, `gm_c` of the eight corners ([`GradCell`]); a row turns them
 //! into the eight `d_c` once per cell, and a pixel is eight additions and the seven lerps. The
-//! fade along `k` is the same at a pixel in every row the schedule serves: a row of one term reads
-//! it from the cache's weights.
+//! fades along `k` are the same at a pixel in every row the schedule serves: the rows read them
+//! from the cache's weights when they hold every term's. A row of one term along the lattice's
+//! first axis (an unrotated plane) runs in two passes over each cell's pixels, four corners at a
+//! time in registers. The terms' values are summed unscaled ([`small_amps`]).
 //!
 //! Guarantees: every sample is `NoiseBasis::sample`'s (the same dot products, weights and staged
 //! lerps in the same order, each `p + ((q - p) w) >> 16` exact in 64-bit products of 32-bit

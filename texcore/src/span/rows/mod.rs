@@ -482,6 +482,7 @@ impl<'m, const T: usize> EvalCore<'m, T> {
                 (false, false, true) => (c, a),
                 _ => return false,
             };
+            let basis = model_terms.get(i).map(|t| t.basis).unwrap_or_default();
             let lane = RowLane {
                 term: i,
                 k,
@@ -496,13 +497,9 @@ impl<'m, const T: usize> EvalCore<'m, T> {
                 amp: 0,
                 made: false,
                 wo: 0,
-                smooth: model_terms
-                    .get(i)
-                    .is_some_and(|t| is_smooth_value(&t.basis)),
-                grad: model_terms
-                    .get(i)
-                    .is_some_and(|t| is_gradient_basis(&t.basis)),
-                fade: model_terms.get(i).map(|t| t.basis.fade).unwrap_or_default(),
+                smooth: is_smooth_value(&basis),
+                grad: is_gradient_basis(&basis),
+                fade: basis.fade,
                 fd: matches!(st, Strategy::Fd | Strategy::Fd32),
             };
             // At most T terms: never full.

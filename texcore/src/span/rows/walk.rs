@@ -192,6 +192,7 @@ pub(super) fn smooth_fade(a: u32) -> i64 {
 /// without quadric reads its fades from `table` when it holds them.
 #[cfg(not(texcore_lean))]
 #[allow(clippy::too_many_arguments)]
+#[inline(never)]
 pub(super) fn smooth_walk<const T: usize>(
     events: &[RowEvent],
     lanes: &heapless::Vec<RowLane, T>,

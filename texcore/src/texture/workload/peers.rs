@@ -233,14 +233,17 @@ pub const FACES: usize = 128;
 pub const ROW_EVENTS: usize = 128;
 
 /// Fade weights of the row schedule of the whole-row value workloads ([`value_plane`]): the
-/// fades along a row of the 4-octave gradient-noise workload (four terms of [`SIZE`] pixels;
-/// one term's for the smooth fade).
-pub const ROW_WEIGHTS: usize = 4 * SIZE as usize;
+/// fades along a row of one term ([`SIZE`] pixels: the smooth fade, one octave of gradient
+/// noise); [`Workload::Perlin4`]'s rows keep four terms' ([`ROW_WEIGHTS_4`]).
+pub const ROW_WEIGHTS: usize = SIZE as usize;
+
+/// Fade weights of [`Workload::Perlin4`]'s rows: four terms of [`SIZE`] pixels.
+pub const ROW_WEIGHTS_4: usize = 4 * SIZE as usize;
 
 /// Rows `0..rows` of noise workload `w`, each into `line` (its first [`SIZE`] values) and then
 /// handed to `each(y, line)`: the whole-row workloads through [`SpanEvaluator::rows`] (their
 /// schedule kept across rows in a [`RowCache`] of [`ROW_EVENTS`] entries and [`ROW_WEIGHTS`]
-/// fade weights; values, or [`grad_word`]s of the samples with gradients), the
+/// or [`ROW_WEIGHTS_4`] fade weights; values, or [`grad_word`]s of the samples with gradients), the
 /// 16-pixel-span ones row by row through [`value_row`] with a face cache kept across rows.
 /// `ev` must have been built for `w`'s model with `gradients = w.gradients()`.
 #[inline(always)]
@@ -255,16 +258,12 @@ pub fn value_plane<const T: usize>(
         let Some(line) = line.get_mut(..usize::from(SIZE)) else {
             return;
         };
-        let mut cache = RowCache::<ROW_EVENTS, ROW_WEIGHTS>::new();
-        let mut plane = ev.rows(&span(0, 0, SIZE), &mut cache);
-        for y in 0..rows {
-            if w.gradients() {
-                let mut x = 0;
-                plane.next_chunks(&mut |c: &SampleChunk| store_grad_words(line, &mut x, c));
-            } else {
-                plane.next_values(line);
-            }
-            each(y, line);
+        if w == Workload::Perlin4 {
+            let mut cache = RowCache::<ROW_EVENTS, ROW_WEIGHTS_4>::new();
+            whole_rows(ev, w, rows, line, &mut cache, each);
+        } else {
+            let mut cache = RowCache::<ROW_EVENTS, ROW_WEIGHTS>::new();
+            whole_rows(ev, w, rows, line, &mut cache, each);
         }
     } else {
         let mut faces = FaceCache::new();
@@ -272,6 +271,29 @@ pub fn value_plane<const T: usize>(
             value_row(ev, w, y, line, &mut faces);
             each(y, line);
         }
+    }
+}
+
+/// Rows `0..rows` of whole-row workload `w` through [`SpanEvaluator::rows`] with `cache` (see
+/// [`value_plane`]).
+#[inline(always)]
+fn whole_rows<const T: usize, const W: usize>(
+    ev: &mut SpanEvaluator<'_, T>,
+    w: Workload,
+    rows: u16,
+    line: &mut [TexValue],
+    cache: &mut RowCache<ROW_EVENTS, W>,
+    mut each: impl FnMut(u16, &[TexValue]),
+) {
+    let mut plane = ev.rows(&span(0, 0, SIZE), cache);
+    for y in 0..rows {
+        if w.gradients() {
+            let mut x = 0;
+            plane.next_chunks(&mut |c: &SampleChunk| store_grad_words(line, &mut x, c));
+        } else {
+            plane.next_values(line);
+        }
+        each(y, line);
     }
 }
 
