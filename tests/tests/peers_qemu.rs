@@ -49,12 +49,12 @@ const BOUNDS: &[(&str, &str, f64, f64)] = &[
     ("smooth-1oct", "texcore-fd", 24.0, 31.0),    // 21.4 / 27.3
     ("smooth-1oct", "texcore-auto", 24.0, 31.0),  // 21.5 / 27.3
     ("smooth-1oct", "texcore-direct", 625.0, 815.0), // 567.9 / 740.4
-    ("perlin-1oct", "texcore-fd", 683.0, 1093.0), // 620.9 / 992.8
-    ("perlin-1oct", "texcore-auto", 684.0, 1093.0), // 621.1 / 992.9
-    ("perlin-1oct", "texcore-direct", 1052.0, 1454.0), // 955.9 / 1321.7
-    ("perlin-4oct", "texcore-fd", 2582.0, 4255.0), // 2346.7 / 3867.6
-    ("perlin-4oct", "texcore-auto", 2583.0, 4256.0), // 2347.5 / 3868.2
-    ("perlin-4oct", "texcore-direct", 3851.0, 5495.0), // 3500.3 / 4995.1
+    ("perlin-1oct", "texcore-fd", 110.0, 105.0),  // 100.0 / 94.9
+    ("perlin-1oct", "texcore-auto", 110.0, 105.0), // 100.1 / 95.0
+    ("perlin-1oct", "texcore-direct", 995.0, 1309.0), // 904.2 / 1189.7
+    ("perlin-4oct", "texcore-fd", 751.0, 803.0),  // 681.9 / 729.7
+    ("perlin-4oct", "texcore-auto", 751.0, 803.0), // 682.2 / 729.9
+    ("perlin-4oct", "texcore-direct", 3627.0, 4922.0), // 3297.2 / 4474.0
 ];
 
 fn bound(workload: &str, implementation: &str, target: DeviceTarget) -> Option<f64> {
