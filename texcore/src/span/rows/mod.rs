@@ -994,6 +994,60 @@ mod tests {
         }
     }
 
+    /// A row of more gradient-noise terms than the schedule serves (`GRADIENT_TERMS`) is
+    /// evaluated span by span, and a row of as many through the schedule: both `Direct`'s.
+    #[test]
+    #[cfg(all(feature = "gradient-noise", not(texcore_lean)))]
+    fn gradient_rows_up_to_their_term_limit() {
+        for (count, served) in [(GRADIENT_TERMS, true), (GRADIENT_TERMS + 1, false)] {
+            let mut m: TextureModel<16> = TextureModel::new(Quadric::ZERO, TableWrap::Mod);
+            m.push_octaves(&Octaves {
+                count: count as u8,
+                base: Affine3::scale(MatrixEntry::from_num(1)),
+                amplitude: Amplitude::from_num(0.5),
+                rotate: false,
+                basis: gradient_basis(HashKind::Integer, true),
+                turbulence: false,
+            })
+            .unwrap();
+            let opts = EvalOptions {
+                mode: EvalMode::Fd,
+                gradients: false,
+                cull: false,
+                ..Default::default()
+            };
+            let first = Span {
+                s0: TexPoint::from_bits(-70_000, 12_345, 99_999),
+                ds: TexPoint::from_bits(3_000, 0, 0),
+                dsdy: TexPoint::from_bits(0, 0, 2_500),
+                len: 40,
+            };
+            let mut cache = RowCache::<512, 512>::new();
+            let mut ev = SpanEvaluator::new(&m, opts);
+            let mut direct = SpanEvaluator::new(
+                &m,
+                EvalOptions {
+                    mode: EvalMode::Direct,
+                    ..opts
+                },
+            );
+            let mut rows = ev.rows(&first, &mut cache);
+            for y in 0..6 {
+                let mut got = [TexValue::ZERO; 40];
+                let mut want = [TexValue::ZERO; 40];
+                rows.next_values(&mut got);
+                direct.eval_values(&row(&first, y), &mut want);
+                assert_eq!(got, want, "{count} terms, row {y}");
+            }
+            drop(rows);
+            assert_eq!(
+                ev.core.row_spans,
+                if served { 6 } else { 0 },
+                "{count} terms"
+            );
+        }
+    }
+
     #[test]
     fn peers_plane_rows_take_the_schedule() {
         use crate::texture::workload::peers;
