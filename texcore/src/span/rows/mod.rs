@@ -1022,29 +1022,8 @@ mod tests {
                 dsdy: TexPoint::from_bits(0, 0, 2_500),
                 len: 40,
             };
-            let mut cache = RowCache::<512, 512>::new();
-            let mut ev = SpanEvaluator::new(&m, opts);
-            let mut direct = SpanEvaluator::new(
-                &m,
-                EvalOptions {
-                    mode: EvalMode::Direct,
-                    ..opts
-                },
-            );
-            let mut rows = ev.rows(&first, &mut cache);
-            for y in 0..6 {
-                let mut got = [TexValue::ZERO; 40];
-                let mut want = [TexValue::ZERO; 40];
-                rows.next_values(&mut got);
-                direct.eval_values(&row(&first, y), &mut want);
-                assert_eq!(got, want, "{count} terms, row {y}");
-            }
-            drop(rows);
-            assert_eq!(
-                ev.core.row_spans,
-                if served { 6 } else { 0 },
-                "{count} terms"
-            );
+            let spans = rows_against_direct::<16, 512, 512>(&m, opts, &first, 6, "gradient");
+            assert_eq!(spans, if served { 6 } else { 0 }, "{count} terms");
         }
     }
 
@@ -1068,27 +1047,39 @@ mod tests {
                 ..Default::default()
             };
             let first = peers::span(0, 0, peers::SIZE);
-            let mut cache = RowCache::<128>::new();
-            let mut ev = SpanEvaluator::new(&m, opts);
-            let mut direct = SpanEvaluator::new(
-                &m,
-                EvalOptions {
-                    mode: EvalMode::Direct,
-                    ..opts
-                },
-            );
-            let mut rows = ev.rows(&first, &mut cache);
-            let mut line = [TexValue::ZERO; 256];
-            let mut want = [TexValue::ZERO; 256];
-            for y in 0..70 {
-                rows.next_values(&mut line);
-                direct.eval_values(&peers::span(y, 0, peers::SIZE), &mut want);
-                assert_eq!(line, want, "{w:?} row {y}");
-            }
-            drop(rows);
+            let spans = rows_against_direct::<8, 128, 0>(&m, opts, &first, 70, "peers");
             let fast = FD && !cfg!(texcore_lean);
-            assert_eq!(ev.core.row_spans, if fast { 70 } else { 0 }, "{w:?}");
+            assert_eq!(spans, if fast { 70 } else { 0 }, "{w:?}");
         }
+    }
+
+    /// `rows` rows of `first` through a [`RowCache<N, W>`], each against `Direct`'s evaluation of
+    /// its span; returns the rows the schedule served.
+    fn rows_against_direct<const T: usize, const N: usize, const W: usize>(
+        m: &TextureModel<T>,
+        opts: EvalOptions,
+        first: &Span,
+        rows: i32,
+        what: &str,
+    ) -> u64 {
+        let mut cache = RowCache::<N, W>::new();
+        let mut ev = SpanEvaluator::new(m, opts);
+        let direct_opts = EvalOptions {
+            mode: EvalMode::Direct,
+            ..opts
+        };
+        let mut direct = SpanEvaluator::new(m, direct_opts);
+        let n = usize::from(first.len);
+        let mut pr = ev.rows(first, &mut cache);
+        for y in 0..rows {
+            let mut got = std::vec![TexValue::ZERO; n];
+            let mut want = got.clone();
+            pr.next_values(&mut got);
+            direct.eval_values(&row(first, y), &mut want);
+            assert_eq!(got, want, "{what} row {y}");
+        }
+        drop(pr);
+        ev.core.row_spans
     }
 
     #[test]
