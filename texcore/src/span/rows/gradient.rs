@@ -34,7 +34,7 @@ pub(super) fn is_gradient(b: &crate::noise::NoiseBasis) -> bool {
 
 /// One gradient-noise cell of a row schedule (see the module documentation), packed into a
 /// [`RowEvent`]'s words: `base` in `dv` and `ds` (two corners a word, low half first), the
-/// components along `k` and `m` (each `-1..=1`, stored `+1` in two bits) in `dg[0]`.
+/// components along `k` in `dg[0]` and along `m` in `dg[1]` (a byte a corner, corner 0 lowest).
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 struct GradCell {
     base: [i32; 8],
@@ -48,12 +48,8 @@ impl GradCell {
         let b = &self.base;
         e.dv = [pair(b[0], b[1]), pair(b[2], b[3])];
         e.ds = [pair(b[4], b[5]), pair(b[6], b[7])];
-        let mut codes = 0i64;
-        for (c, (gk, gm)) in self.gk.iter().zip(self.gm.iter()).enumerate() {
-            let code = (i64::from(*gk + 1) & 3) | ((i64::from(*gm + 1) & 3) << 2);
-            codes |= code << (4 * c);
-        }
-        e.dg = [codes, 0];
+        let bytes = |g: &[i8; 8]| i64::from_le_bytes(g.map(|x| x as u8));
+        e.dg = [bytes(&self.gk), bytes(&self.gm)];
     }
 
     #[inline(always)]
@@ -66,14 +62,12 @@ impl GradCell {
                 *hi = (w >> 32) as i32;
             }
         }
-        let mut gk = [0i8; 8];
-        let mut gm = [0i8; 8];
-        for (c, (k, m)) in gk.iter_mut().zip(gm.iter_mut()).enumerate() {
-            let code = (e.dg[0] >> (4 * c)) as i8;
-            *k = (code & 3) - 1;
-            *m = ((code >> 2) & 3) - 1;
+        let bytes = |w: i64| w.to_le_bytes().map(|x| x as i8);
+        GradCell {
+            base,
+            gk: bytes(e.dg[0]),
+            gm: bytes(e.dg[1]),
         }
-        GradCell { base, gk, gm }
     }
 }
 
