@@ -154,6 +154,19 @@ pub(super) fn small_amps(sum: u64, fv: u32) -> bool {
     fv <= 16 && (sum << fv) <= 1 << 29
 }
 
+/// On Arm, keeps the compiler from unrolling the loop it is in: an opaque call on a branch that
+/// a fade weight (at most `2^16`) never takes. Unrolled, the one-term kernel's loops hold four
+/// copies of their corner state and spill it among Thumb's 13 registers (the M4F: 9.6 a sample
+/// more on `peers:perlin-1oct`); rv32imc's 31 hold them (unrolled there: 1.8 a sample less).
+#[inline(always)]
+fn keep_rolled(w: u32) {
+    #[cfg(target_arch = "arm")]
+    if w > 1 << 16 {
+        core::hint::black_box(());
+    }
+    let _ = w;
+}
+
 /// The pixels `run` of a row's one gradient-noise term `g` along axis `K` (no quadric, the
 /// fades along `K` from `ws`, [`small_amps`]): the staged lerps on dot products stepped by
 /// additions, the sample `(amp n16) >> 16`. In two passes over the run, each with four corners
@@ -181,6 +194,7 @@ fn one_run<const K: usize>(g: &mut GradLane, ws: &[u32], run: &mut [TexValue]) {
     };
     let ((mut p0, mut q0, sp0, sq0), (mut p2, mut q2, sp2, sq2)) = (pair(0), pair(2));
     for (o, wk) in run.iter_mut().zip(ws) {
+        keep_rolled(*wk);
         let wv = weights(*wk);
         let e0 = p0.wrapping_add(mulw(q0, wv[0]));
         let e2 = p2.wrapping_add(mulw(q2, wv[0]));
@@ -191,6 +205,7 @@ fn one_run<const K: usize>(g: &mut GradLane, ws: &[u32], run: &mut [TexValue]) {
     let amp = i64::from(g.amp);
     let ((mut p4, mut q4, sp4, sq4), (mut p6, mut q6, sp6, sq6)) = (pair(4), pair(6));
     for (o, wk) in run.iter_mut().zip(ws) {
+        keep_rolled(*wk);
         let wv = weights(*wk);
         let e4 = p4.wrapping_add(mulw(q4, wv[0]));
         let e6 = p6.wrapping_add(mulw(q6, wv[0]));
