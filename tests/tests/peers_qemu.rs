@@ -49,8 +49,8 @@ const BOUNDS: &[(&str, &str, f64, f64)] = &[
     ("smooth-1oct", "texcore-fd", 24.0, 31.0),    // 21.4 / 27.3
     ("smooth-1oct", "texcore-auto", 24.0, 31.0),  // 21.5 / 27.3
     ("smooth-1oct", "texcore-direct", 625.0, 815.0), // 567.9 / 740.4
-    ("perlin-1oct", "texcore-fd", 110.0, 105.0),  // 100.0 / 94.9
-    ("perlin-1oct", "texcore-auto", 110.0, 105.0), // 100.1 / 95.0
+    ("perlin-1oct", "texcore-fd", 99.0, 104.0),   // 90.1 / 94.1
+    ("perlin-1oct", "texcore-auto", 99.0, 104.0), // 90.1 / 94.2
     ("perlin-1oct", "texcore-direct", 995.0, 1309.0), // 904.2 / 1189.7
     ("perlin-4oct", "texcore-fd", 751.0, 803.0),  // 681.9 / 729.7
     ("perlin-4oct", "texcore-auto", 751.0, 803.0), // 682.2 / 729.9
