@@ -26,12 +26,6 @@ use crate::noise::fade::ONE;
 use crate::noise::gradient::perlin_gradient;
 use crate::noise::Fade;
 
-/// Whether `b` is Perlin's gradient noise (any fade): the terms this module serves.
-#[inline(always)]
-pub(super) fn is_gradient(b: &crate::noise::NoiseBasis) -> bool {
-    b.kind == crate::noise::BasisKind::Gradient
-}
-
 /// One gradient-noise cell of a row schedule (see the module documentation), packed into a
 /// [`RowEvent`]'s words: `base` in `dv` and `ds` (two corners a word, low half first), the
 /// components along `k` in `dg[0]` and along `m` in `dg[1]` (a byte a corner, corner 0 lowest).
@@ -325,28 +319,6 @@ pub(super) fn gradient_row<const T: usize>(
     gradient_walk(events, &state.lanes, &setup.terms, out, q, table);
 }
 
-/// Keeps each term's fades along its `k` for a row of `n` pixels in `weights` (term `l` at
-/// `l n`) when they hold them all, unless they already do (`made`, the weights in use): the
-/// weights in use after it (0: the fades do not fit).
-#[inline(never)]
-fn row_fades(lanes: &[RowLane], made: usize, weights: &mut [u32], n: usize) -> usize {
-    let all = n * lanes.len();
-    let Some(w) = weights.get_mut(..all) else {
-        return 0;
-    };
-    if made != all {
-        for (lane, w) in lanes.iter().zip(w.chunks_exact_mut(n.max(1))) {
-            let d = lane.du[lane.k.min(2)];
-            let mut u = lane.u0k;
-            for x in w.iter_mut() {
-                *x = lane.fade.apply(u as u32) as u32;
-                u = u.wrapping_add(d);
-            }
-        }
-    }
-    all
-}
-
 /// The samples of a row whose terms are all gradient noise (as `row_walk`): at each entry the
 /// entering term's corner dot products for this row, then per pixel every term's staged lerps
 /// and the quadric `q`, the fades along the row from `table` when it holds every term's
@@ -418,6 +390,14 @@ fn gradient_walk(
 mod tests {
     use super::*;
 
+    /// Xorshift64 from `x`: the tests' pseudo-random numbers.
+    fn xorshift(x: &mut u64) -> u64 {
+        *x ^= *x << 13;
+        *x ^= *x >> 7;
+        *x ^= *x << 17;
+        *x
+    }
+
     #[test]
     fn a_cell_packs_into_an_entry() {
         let g = GradCell {
@@ -433,12 +413,7 @@ mod tests {
     #[test]
     fn small_sums_combine_as_the_span_path() {
         let mut x = 0x9E37_79B9_7F4A_7C15u64;
-        let mut next = || {
-            x ^= x << 13;
-            x ^= x >> 7;
-            x ^= x << 17;
-            x
-        };
+        let mut next = || xorshift(&mut x);
         for _ in 0..50_000 {
             let fv = (next() % 17) as u32;
             // Amplitudes at the model's bound: `sum |amp| 2^fv <= 2^29`.
@@ -470,12 +445,7 @@ mod tests {
     #[test]
     fn staged_is_the_basis_value() {
         let mut x = 0x2545_F491_4F6C_DD1Du64;
-        let mut next = || {
-            x ^= x << 13;
-            x ^= x >> 7;
-            x ^= x << 17;
-            x
-        };
+        let mut next = || xorshift(&mut x);
         for _ in 0..20_000 {
             let mut grads = [[0i8; 3]; 8];
             for g in grads.iter_mut() {
@@ -493,11 +463,12 @@ mod tests {
                     *dc += i32::from(grads[c][axis]) * o;
                 }
             }
-            for fade in [
+            let fades = [
                 Fade::Linear,
                 #[cfg(feature = "smooth-fade")]
                 Fade::Quintic,
-            ] {
+            ];
+            for fade in fades {
                 let w = frac.map(|f| fade.apply(f) as i32);
                 let want = crate::noise::gradient::value(&grads, frac, fade);
                 assert_eq!(i64::from(staged(&d, w)), want, "{grads:?} {frac:?}");

@@ -144,9 +144,9 @@ struct RowLane {
     /// The basis has the smooth fade (`3u^2 - 2u^3`): the cell is not linear in the pixel.
     smooth: bool,
     /// The basis is gradient noise (`gradient`): its entries are the cells' corner gradients,
-    /// interpolated per pixel with fade `fade`.
+    /// interpolated per pixel.
     grad: bool,
-    #[cfg_attr(not(feature = "gradient-noise"), allow(dead_code))]
+    /// The basis's fade (of the fades along the row that the weights keep, `row_fades`).
     fade: crate::noise::Fade,
     /// The term is forward differenced (`Fd`, `Fd32`; otherwise `Cached`): counted in
     /// `SpanStats::fd_pixels`.
@@ -395,6 +395,9 @@ impl<'m, const T: usize> EvalCore<'m, T> {
         let mut any = false;
         let mut grad_terms = false;
         let mut grads_n = 0usize;
+        // The gradient-noise terms' amplitudes (raw), summed.
+        #[cfg(feature = "gradient-noise")]
+        let mut amps = 0u64;
         for ((term, st), ts) in m.terms().iter().zip(strategies).zip(setup.terms.iter()) {
             let b = &term.basis;
             let taken = match st {
@@ -412,6 +415,10 @@ impl<'m, const T: usize> EvalCore<'m, T> {
             }
             grad_terms = is_gradient_basis(b);
             grads_n += usize::from(grad_terms);
+            #[cfg(feature = "gradient-noise")]
+            if grad_terms {
+                amps += u64::from(ts.amp.unsigned_abs());
+            }
             any = true;
         }
         if grads_n > GRADIENT_TERMS {
@@ -420,16 +427,8 @@ impl<'m, const T: usize> EvalCore<'m, T> {
         // Gradient-noise rows sum the terms' values unscaled (`gradient::small_amps`: what the
         // model's noise fraction bits keep).
         #[cfg(feature = "gradient-noise")]
-        if grads_n > 0 {
-            let sum: u64 = strategies
-                .iter()
-                .zip(setup.terms.iter())
-                .filter(|(st, _)| **st != Strategy::Off)
-                .map(|(_, ts)| u64::from(ts.amp.unsigned_abs()))
-                .sum();
-            if !gradient::small_amps(sum, m.noise_frac_bits()) {
-                return false;
-            }
+        if grads_n > 0 && !gradient::small_amps(amps, m.noise_frac_bits()) {
+            return false;
         }
         let grads = GRADIENTS && self.opts.gradients;
         let len = u32::from(len);
@@ -577,8 +576,6 @@ impl<'m, const T: usize> EvalCore<'m, T> {
         weights: &mut [u32],
         out: &mut [TexValue],
     ) {
-        let fvs = self.model.noise_frac_bits() & 31;
-        let (fm, smooth) = row_weights(setup, state);
         let (mut q, quad) = QuadStep::value_kind(setup);
         let events = events.get(..state.used).unwrap_or_default();
         #[cfg(feature = "gradient-noise")]
@@ -587,24 +584,16 @@ impl<'m, const T: usize> EvalCore<'m, T> {
             self.count_row(len, state, false);
             return;
         }
+        let fvs = self.model.noise_frac_bits() & 31;
+        let (fm, smooth) = row_weights(setup, state);
         if smooth {
             // One smooth term: its fades along the row (the same in every row the schedule
             // serves) kept in the weights when they hold the row.
-            let n = usize::from(len);
-            let table = match (state.lanes.first(), weights.get_mut(..n)) {
-                (Some(lane), Some(w)) if state.lanes.len() == 1 => {
-                    if state.weights != n {
-                        let d = lane.du[lane.k.min(2)];
-                        let mut u = lane.u0k;
-                        for x in w.iter_mut() {
-                            *x = smooth_fade(u as u32) as u32;
-                            u = u.wrapping_add(d);
-                        }
-                        state.weights = n;
-                    }
-                    Some(&*w)
-                }
-                _ => None,
+            let table = if state.lanes.len() == 1 {
+                state.weights = row_fades(&state.lanes, state.weights, weights, usize::from(len));
+                weights.get(..state.weights).filter(|w| !w.is_empty())
+            } else {
+                None
             };
             smooth_walk(events, &state.lanes, &fm, fvs, out, &mut q, table);
         } else {
@@ -740,18 +729,24 @@ mod tests {
     /// (trilinear value noise without the feature).
     fn gradient_basis(hash: HashKind, quintic: bool) -> NoiseBasis {
         #[cfg(feature = "gradient-noise")]
-        return NoiseBasis {
-            kind: crate::noise::BasisKind::Gradient,
+        {
             #[cfg(feature = "smooth-fade")]
-            fade: if quintic {
+            let fade = if quintic {
                 crate::noise::Fade::Quintic
             } else {
                 crate::noise::Fade::Linear
-            },
+            };
             #[cfg(not(feature = "smooth-fade"))]
-            fade: crate::noise::Fade::Linear,
-            hash,
-        };
+            let fade = {
+                let _ = quintic;
+                crate::noise::Fade::Linear
+            };
+            NoiseBasis {
+                kind: crate::noise::BasisKind::Gradient,
+                fade,
+                hash,
+            }
+        }
         #[cfg(not(feature = "gradient-noise"))]
         {
             let _ = quintic;

@@ -155,12 +155,36 @@ pub(super) const GRADIENT_TERMS: usize = 8;
 #[inline(always)]
 pub(super) fn is_gradient_basis(b: &crate::noise::NoiseBasis) -> bool {
     #[cfg(feature = "gradient-noise")]
-    return super::gradient::is_gradient(b);
+    return b.kind == crate::noise::BasisKind::Gradient;
     #[cfg(not(feature = "gradient-noise"))]
     {
         let _ = b;
         false
     }
+}
+
+/// Keeps each term's fades along its `k` for a row of `n` pixels in `weights` (term `l` at
+/// `l n`) when they hold them all, unless they already do (`made`, the weights in use): the
+/// weights in use after it (0: the fades do not fit). The rows of one smooth-fade term and of
+/// gradient noise read them.
+#[cfg(not(texcore_lean))]
+#[inline(never)]
+pub(super) fn row_fades(lanes: &[RowLane], made: usize, weights: &mut [u32], n: usize) -> usize {
+    let all = n * lanes.len();
+    let Some(w) = weights.get_mut(..all) else {
+        return 0;
+    };
+    if made != all {
+        for (lane, w) in lanes.iter().zip(w.chunks_exact_mut(n.max(1))) {
+            let d = lane.du[lane.k.min(2)];
+            let mut u = lane.u0k;
+            for x in w.iter_mut() {
+                *x = lane.fade.apply(u as u32) as u32;
+                u = u.wrapping_add(d);
+            }
+        }
+    }
+    all
 }
 
 /// The interpolation weight of fraction `f` (raw 0.16): `f`, or its smooth fade.
