@@ -18,7 +18,7 @@ use host_sim::unit::{self, UnitConfig};
 use texcore::hash::HashKind;
 use texcore::model::Precision;
 
-const KNOBS: [&str; 13] = [
+const KNOBS: [&str; 14] = [
     "coordinate_bits",
     "value_bits",
     "interpolation",
@@ -32,6 +32,7 @@ const KNOBS: [&str; 13] = [
     "hash",
     "band_limit",
     "shading",
+    "gradient_blend",
 ];
 const TARGETS: [&str; 2] = ["thumbv7em-none-eabihf", "riscv32imc-unknown-none-elf"];
 
@@ -123,9 +124,10 @@ fn report_accuracy_quick_json_schema() {
         let d = r["device_instructions_per_pixel"]
             .as_object()
             .unwrap_or_else(|| panic!("{id}: device object"));
-        // The `shading` rows (the marble scene from atlases) have device counts only in the
-        // full run (the default firmware's `scene:marble` and `atlas:marble` jobs).
-        if device && r["knob"] != "shading" {
+        // The `shading` rows (the marble scene from atlases) and the `gradient_blend` rows have
+        // device counts only in the full run (the default firmware's `scene:marble` and
+        // `atlas:marble` jobs; the peers firmware).
+        if device && r["knob"] != "shading" && r["knob"] != "gradient_blend" {
             for t in TARGETS {
                 let v = d
                     .get(t)
@@ -167,6 +169,22 @@ fn report_accuracy_quick_json_schema() {
         assert!(r["flicker"]["texcore"].is_number(), "{}", r["id"]);
     }
     assert!(rows.iter().any(|r| r["pareto"] == true));
+    // The `gradient_blend` rows: the staged samples are the exact ones, the fused ones within
+    // `EvalMode::Fused`'s bound (2 units a term's value; one and four octaves of amplitudes
+    // summing to 1 and 1.875) and not everywhere the exact ones.
+    for (setting, bound) in [
+        ("staged-1oct", 0),
+        ("fused-1oct", 3),
+        ("staged-4oct", 0),
+        ("fused-4oct", 5),
+    ] {
+        let r = by_id(setting);
+        assert_eq!(r["knob"], "gradient_blend");
+        let max = r["value_error"]["max_vs_exact"].as_i64().unwrap();
+        assert!(max <= bound, "{setting}: {max}");
+        assert_eq!(max == 0, bound == 0, "{setting}: {max}");
+        assert!(r["value_error"]["max_vs_f64"].as_f64().unwrap() < 8.0, "{setting}");
+    }
     check_code_sizes(&rows);
     // Generated files.
     for f in ["accuracy.md", "accuracy.png", "precision.png"] {

@@ -221,5 +221,13 @@ fn peers_report_schema() {
                 .any(|r| r["workload"] == "value-1oct" && r["implementation"] == "fastnoise-lite"),
             "{t}: fastnoise-lite"
         );
+        for w in ["perlin-1oct", "perlin-4oct"] {
+            assert!(
+                of_target.iter().any(|r| r["workload"] == w
+                    && r["implementation"] == "texcore-fused"
+                    && r["checksum_match"] == Value::Bool(true)),
+                "{t}: {w} texcore-fused"
+            );
+        }
     }
 }

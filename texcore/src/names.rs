@@ -47,7 +47,7 @@ display_names! {
     Perspective { Exact => "exact", Every8 => "every8", Every16 => "every16", Affine => "affine" }
 }
 
-/// `direct`, `fd`, `auto`, `fd32`, `reanchored`, or `multipass-PRECISION` with `-HASH` unless
+/// `direct`, `fd`, `auto`, `fd32`, `reanchored`, `fused`, or `multipass-PRECISION` with `-HASH` unless
 /// texcore's own hash.
 impl fmt::Display for EvalMode {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
@@ -57,6 +57,7 @@ impl fmt::Display for EvalMode {
             EvalMode::Auto => f.write_str("auto"),
             EvalMode::Fd32 => f.write_str("fd32"),
             EvalMode::Reanchored => f.write_str("reanchored"),
+            EvalMode::Fused => f.write_str("fused"),
             #[cfg(feature = "multipass")]
             EvalMode::Multipass(c) => {
                 write!(f, "multipass-{}", c.precision.name())?;
@@ -116,6 +117,7 @@ mod tests {
             EvalMode::Auto,
             EvalMode::Fd32,
             EvalMode::Reanchored,
+            EvalMode::Fused,
         ] {
             assert_eq!(m.to_string(), format!("{m:?}").to_lowercase());
         }

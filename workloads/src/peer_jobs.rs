@@ -47,9 +47,9 @@ macro_rules! texcore_rows {
     };
 }
 
-/// Jobs in a list: `peers:fold` and its set-up, the 27 texcore rows and the 6 fastnoise-lite
-/// rows, each with its set-up.
-const LEN: usize = 2 * (27 + 6) + 2;
+/// Jobs in a list: `peers:fold` and its set-up, the 27 texcore rows of the three exact modes,
+/// the 2 `texcore-fused` rows and the 6 fastnoise-lite rows, each with its set-up.
+const LEN: usize = 2 * (27 + 2 + 6) + 2;
 
 /// The job list with `ROWS` rows a job, in report order.
 const fn list<const ROWS: u16>() -> [Job; LEN] {
@@ -64,13 +64,15 @@ const fn list<const ROWS: u16>() -> [Job; LEN] {
         texcore_rows!(ROWS, 7, "perlin-1oct"),
         texcore_rows!(ROWS, 8, "perlin-4oct"),
     ];
-    let fastnoise: [[Job; 2]; 6] = [
-        row!(ROWS, 0, 3, "value-1oct", "fastnoise-lite"),
-        row!(ROWS, 1, 3, "value-4oct", "fastnoise-lite"),
-        row!(ROWS, 3, 3, "value-4oct-span16", "fastnoise-lite"),
-        row!(ROWS, 6, 3, "smooth-1oct", "fastnoise-lite"),
-        row!(ROWS, 7, 3, "perlin-1oct", "fastnoise-lite"),
-        row!(ROWS, 8, 3, "perlin-4oct", "fastnoise-lite"),
+    let others: [[Job; 2]; 8] = [
+        row!(ROWS, 7, 3, "perlin-1oct", "texcore-fused"),
+        row!(ROWS, 8, 3, "perlin-4oct", "texcore-fused"),
+        row!(ROWS, 0, 4, "value-1oct", "fastnoise-lite"),
+        row!(ROWS, 1, 4, "value-4oct", "fastnoise-lite"),
+        row!(ROWS, 3, 4, "value-4oct-span16", "fastnoise-lite"),
+        row!(ROWS, 6, 4, "smooth-1oct", "fastnoise-lite"),
+        row!(ROWS, 7, 4, "perlin-1oct", "fastnoise-lite"),
+        row!(ROWS, 8, 4, "perlin-4oct", "fastnoise-lite"),
     ];
     let mut out = [crate::job!("peers:fold", fold_job::<ROWS>); LEN];
     out[1] = crate::job!("peers:fold/setup", fold_job::<0>);
@@ -87,9 +89,9 @@ const fn list<const ROWS: u16>() -> [Job; LEN] {
         w += 1;
     }
     let mut f = 0;
-    while f < fastnoise.len() {
-        out[k] = fastnoise[f][0];
-        out[k + 1] = fastnoise[f][1];
+    while f < others.len() {
+        out[k] = others[f][0];
+        out[k + 1] = others[f][1];
         k += 2;
         f += 1;
     }
@@ -97,7 +99,7 @@ const fn list<const ROWS: u16>() -> [Job; LEN] {
 }
 
 /// Every peer-comparison job over the whole plane ([`PLANE_ROWS`] rows a job): `peers:fold`, the
-/// texcore rows, then the fastnoise-lite rows.
+/// texcore rows of the exact modes, then the `texcore-fused` and the fastnoise-lite rows.
 pub static PLANE: &[Job] = &PLANE_LIST;
 static PLANE_LIST: [Job; LEN] = list::<PLANE_ROWS>();
 

@@ -36,16 +36,20 @@ pub enum Implementation {
     TexcoreAuto,
     /// texcore, `EvalMode::Direct`.
     TexcoreDirect,
+    /// texcore, `EvalMode::Fused` (approximate; only the gradient-noise workloads, where it
+    /// differs from `Fd`).
+    TexcoreFused,
     /// `fastnoise-lite` (f32).
     FastnoiseLite,
 }
 
 impl Implementation {
     /// Every device implementation, in report order.
-    pub const ALL: [Implementation; 4] = [
+    pub const ALL: [Implementation; 5] = [
         Implementation::TexcoreFd,
         Implementation::TexcoreAuto,
         Implementation::TexcoreDirect,
+        Implementation::TexcoreFused,
         Implementation::FastnoiseLite,
     ];
 
@@ -55,6 +59,7 @@ impl Implementation {
             Implementation::TexcoreFd => "texcore-fd",
             Implementation::TexcoreAuto => "texcore-auto",
             Implementation::TexcoreDirect => "texcore-direct",
+            Implementation::TexcoreFused => "texcore-fused",
             Implementation::FastnoiseLite => "fastnoise-lite",
         }
     }
@@ -65,6 +70,7 @@ impl Implementation {
             Implementation::TexcoreFd => Some(EvalMode::Fd),
             Implementation::TexcoreAuto => Some(EvalMode::Auto),
             Implementation::TexcoreDirect => Some(EvalMode::Direct),
+            Implementation::TexcoreFused => Some(EvalMode::Fused),
             Implementation::FastnoiseLite => None,
         }
     }
@@ -98,6 +104,7 @@ pub fn fastnoise(w: Workload) -> Option<FastNoiseLite> {
 pub fn has(w: Workload, imp: Implementation) -> bool {
     match imp {
         Implementation::FastnoiseLite => fastnoise(w).is_some(),
+        Implementation::TexcoreFused => matches!(w, Workload::Perlin1 | Workload::Perlin4),
         _ => true,
     }
 }

@@ -28,6 +28,7 @@
 //! and a generated summary between the `<!-- accuracy:begin -->` and `<!-- accuracy:end -->`
 //! markers of `README.md`.
 
+pub mod blend;
 pub mod codesize;
 pub mod device;
 pub mod font;
@@ -160,7 +161,7 @@ pub struct Flicker {
 pub struct RowReport {
     /// The knob (`coordinate_bits`, `value_bits`, `interpolation`, `evaluation`, `octaves`,
     /// `table_size`, `antialiasing`, `gradient_norm`, `perspective`, `basis`, `hash`, and
-    /// `shading`, [`shading`]).
+    /// `shading` ([`shading`]) and `gradient_blend` ([`blend`])).
     pub knob: &'static str,
     /// The setting.
     pub setting: &'static str,
@@ -223,6 +224,8 @@ pub struct RowReport {
     /// `shading` rows drawn from atlases: host milliseconds to lay out and bake the atlases
     /// (median), not part of `host_ns_per_pixel`.
     pub host_bake_ms: Option<f64>,
+    /// `gradient_blend` rows ([`blend`]): the samples' error in units of `2^-16`.
+    pub value_error: Option<blend::ValueError>,
 }
 
 impl RowReport {
@@ -266,6 +269,7 @@ impl RowReport {
             pareto: false,
             atlas_texels_baked: None,
             host_bake_ms: None,
+            value_error: None,
         }
     }
 }
@@ -546,6 +550,14 @@ pub fn run(quick: bool, policy: DevicePolicy, log: &mut dyn FnMut(&str)) -> Resu
         shading::apply_code_size(&mut shading_rows, log)?;
     }
     out.extend(shading_rows);
+
+    // The `gradient_blend` knob: gradient noise staged or fused, on the peers' plane.
+    log("accuracy: gradient_blend (gradient noise staged or fused)");
+    let mut blend_rows = blend::host_rows(&settings)?;
+    if !quick {
+        device_skipped.extend(blend::apply_device(&mut blend_rows, policy)?);
+    }
+    out.extend(blend_rows);
     Ok(Report {
         rows: out,
         settings,

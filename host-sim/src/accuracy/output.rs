@@ -724,6 +724,14 @@ pub fn markdown(report: &Report) -> String {
     if !shading.is_empty() {
         let _ = writeln!(s, "{}", super::shading::markdown(&shading));
     }
+    let blend: Vec<&RowReport> = report
+        .rows
+        .iter()
+        .filter(|r| r.knob == super::blend::KNOB)
+        .collect();
+    if !blend.is_empty() {
+        let _ = writeln!(s, "{}", super::blend::markdown(&blend));
+    }
     let combos: Vec<&RowReport> = report.rows.iter().filter(|r| r.combination).collect();
     if !combos.is_empty() {
         let _ = writeln!(s, "## Combinations\n");

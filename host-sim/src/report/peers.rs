@@ -2,7 +2,8 @@
 //! workloads (`texcore::texture::workload::peers`).
 //!
 //! - Devices (Cortex-M4F, rv32imc): the firmware built with feature `peers` (whole plane) or
-//!   `peers-band` (`--quick`: one 8-row band) runs texcore's three modes and `fastnoise-lite`
+//!   `peers-band` (`--quick`: one 8-row band) runs texcore's three exact modes, the approximate `Fused` on the
+//!   gradient-noise workloads (`texcore-fused`) and `fastnoise-lite`
 //!   under QEMU with exact instruction counting (`host_sim::device`). Instructions per sample are
 //!   `(job - setup - fold) / samples`: the set-up job builds the model, texture or generator and
 //!   evaluates nothing, and `peers:fold` is the cost of the checksum fold that follows every row
@@ -452,7 +453,11 @@ pub fn markdown(rows: &[PeerRow], quick: bool) -> String {
          Equivalents: `fastnoise-lite` (f32) `Value` has the smooth fade `3u^2 - 2u^3` (the \
          equivalent of `smooth-1oct`, the nearest one of the trilinear workloads) and `Perlin` \
          the quintic fade, `FBm` for 4 octaves; `noise` (noise-rs, f64, host only) `Value` has the \
-         quintic fade, `Fbm` for 4 octaves. No peer has the gradients or the colour stage.\n",
+         quintic fade, `Fbm` for 4 octaves. No peer has the gradients or the colour stage.\n\n\
+         `texcore-fused` (the Perlin workloads) is `EvalMode::Fused`, the one approximate \
+         mode here: each gradient-noise term interpolated in one blend instead of seven staged \
+         lerps, within 2 units of `2^-16` of the exact modes' value (its error in \
+         `docs/accuracy.md`, knob `gradient_blend`); the other rows are exact.\n",
         if quick { " --quick" } else { "" },
         if cfg!(debug_assertions) {
             "debug"

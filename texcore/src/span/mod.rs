@@ -24,15 +24,16 @@
 //!   (set-up would cost more than it saves). Per-pixel trilinear terms hash their corners once
 //!   per cell and evaluate the cell's monomial form (`noise::value`), bit-identical to the lerps.
 //!
-//! Two cheaper, approximate modes trade accuracy for time: [`EvalMode::Fd32`] (32-bit
-//! accumulators) and [`EvalMode::Reanchored`] (piecewise cubic forward differencing of the
-//! higher-degree bases); their error bounds are documented on the variants and priced in the
+//! Three cheaper, approximate modes trade accuracy for time: [`EvalMode::Fd32`] (32-bit
+//! accumulators), [`EvalMode::Reanchored`] (piecewise cubic forward differencing of the
+//! higher-degree bases) and [`EvalMode::Fused`] (gradient-noise rows interpolated with one
+//! rounding); their error bounds are documented on the variants and priced in the
 //! accuracy report.
 //!
 //! How much of this is compiled in follows the crate features: `fd` carries forward differencing
 //! itself (without it every mode evaluates per pixel, the smallest code), `gradients` the
-//! filter-width gradients, `fd32` and `reanchor` carry the
-//! two approximate modes, `turbulence-fd` the general loop's per-term forward differencing
+//! filter-width gradients, `fd32`, `reanchor` and `fused` carry the
+//! three approximate modes, `turbulence-fd` the general loop's per-term forward differencing
 //! (turbulent terms; terms of spans the merged path does not take). A mode or strategy that is
 //! not compiled in falls back to an exact one (documented on the variants), so every feature
 //! combination gives the samples described here.
@@ -159,7 +160,8 @@ impl Span {
     }
 }
 
-/// How a span is evaluated; every mode gives identical samples.
+/// How a span is evaluated; the exact modes (`Direct`, `Fd`, `Auto`, exact `Multipass`) give
+/// identical samples, the approximate ones (`Fd32`, `Reanchored`, `Fused`) state their error.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]
 #[cfg_attr(feature = "defmt", derive(defmt::Format))]
 pub enum EvalMode {
@@ -194,6 +196,19 @@ pub enum EvalMode {
     /// basis that is not a cubic (`smooth-fade`, `gradient-noise` or `mnoise`); otherwise this mode
     /// is [`EvalMode::Fd`] (exact).
     Reanchored,
+    /// Rows of Perlin gradient noise (`BasisKind::Gradient`) served by the row schedule
+    /// ([`SpanEvaluator::rows`]) interpolated without the seven staged lerps of
+    /// `docs/model.md` 4.3: per cell and row, the corners' dot products weighted along the row's
+    /// two other axes are summed exactly into two 64-bit values, which a pixel steps by
+    /// additions and blends with its fade along the row in one product. **Not** bit-identical:
+    /// a term's value `n` and `Direct`'s are both within three units of `2^-16` below the exact
+    /// trilinear value (three floors each), so they differ by at most `2 * 2^-16`, and a sample
+    /// by at most `2 sum |a_i| 2^-16` plus one unit of the final floor. Everything else (other
+    /// bases, spans outside the row schedule) as `Fd`.
+    ///
+    /// Compiled in with the crate feature `fused`; without it this mode is [`EvalMode::Fd`]
+    /// (exact, so within the bound above).
+    Fused,
     /// Multipass corner-by-corner noise (Hart 2001, [`crate::multipass`], crate feature
     /// `multipass`): value-noise terms evaluated a band of pixels at a time, one pass per corner.
     /// With [`crate::multipass::MultipassConfig::EXACT`] bit-identical to `Direct`; the reduced

@@ -104,6 +104,8 @@ pub(super) const fn compiled_mode(mode: EvalMode) -> EvalMode {
         EvalMode::Fd32 => EvalMode::Fd,
         #[cfg(not(texcore_hermite))]
         EvalMode::Reanchored => EvalMode::Fd,
+        #[cfg(not(feature = "fused"))]
+        EvalMode::Fused => EvalMode::Fd,
         m => m,
     }
 }
@@ -137,7 +139,7 @@ pub(super) fn plan<const T: usize>(
 pub(super) fn strategy(mode: EvalMode, ts: &TermSetup, cubic: bool, len: u16) -> Strategy {
     match mode {
         EvalMode::Direct => Strategy::Direct,
-        EvalMode::Fd => {
+        EvalMode::Fd | EvalMode::Fused => {
             if cubic {
                 Strategy::Fd
             } else {

@@ -30,14 +30,14 @@ use crate::noise::Fade;
 /// [`RowEvent`]'s words: `base` in `dv` and `ds` (two corners a word, low half first), the
 /// components along `k` in `dg[0]` and along `m` in `dg[1]` (a byte a corner, corner 0 lowest).
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
-struct GradCell {
-    base: [i32; 8],
-    gk: [i8; 8],
-    gm: [i8; 8],
+pub(super) struct GradCell {
+    pub(super) base: [i32; 8],
+    pub(super) gk: [i8; 8],
+    pub(super) gm: [i8; 8],
 }
 
 impl GradCell {
-    fn store(&self, e: &mut RowEvent) {
+    pub(super) fn store(&self, e: &mut RowEvent) {
         let pair = |a: i32, b: i32| i64::from(a as u32) | (i64::from(b) << 32);
         let b = &self.base;
         e.dv = [pair(b[0], b[1]), pair(b[2], b[3])];
@@ -47,7 +47,7 @@ impl GradCell {
     }
 
     #[inline(always)]
-    fn load(e: &RowEvent) -> GradCell {
+    pub(super) fn load(e: &RowEvent) -> GradCell {
         let words = [e.dv[0], e.dv[1], e.ds[0], e.ds[1]];
         let mut base = [0i32; 8];
         for (pair, w) in base.chunks_exact_mut(2).zip(words) {
@@ -242,16 +242,16 @@ fn multi_run(
 /// The terms' fades along the row: term `l`'s at pixel `x + j` of a run is
 /// `table[l len + x + j]` when the table holds it, otherwise computed.
 #[derive(Clone, Copy, Debug)]
-struct Fades<'a> {
-    table: &'a [u32],
-    len: usize,
-    x: usize,
+pub(super) struct Fades<'a> {
+    pub(super) table: &'a [u32],
+    pub(super) len: usize,
+    pub(super) x: usize,
 }
 
 impl Fades<'_> {
     /// Term `l`'s (`g`) fade at pixel `j` of the run.
     #[inline(always)]
-    fn at(&self, l: usize, j: usize, g: &GradLane) -> i32 {
+    pub(super) fn at(&self, l: usize, j: usize, g: &GradLane) -> i32 {
         match self.table.get(l * self.len + self.x + j) {
             Some(w) => *w as i32,
             None => g.fade.apply(g.uk as u32) as i32,
@@ -263,16 +263,16 @@ impl Fades<'_> {
 /// axes, its fraction along `m`, amplitude, axis `k`, step along `k`, and the corner dot products
 /// and their steps in its current cell.
 #[derive(Clone, Copy, Debug)]
-struct GradLane {
-    fade: Fade,
-    w: [i32; 3],
-    fm: i32,
-    amp: i32,
-    k: usize,
-    step: i32,
-    uk: i32,
-    d: [i32; 8],
-    s: [i32; 8],
+pub(super) struct GradLane {
+    pub(super) fade: Fade,
+    pub(super) w: [i32; 3],
+    pub(super) fm: i32,
+    pub(super) amp: i32,
+    pub(super) k: usize,
+    pub(super) step: i32,
+    pub(super) uk: i32,
+    pub(super) d: [i32; 8],
+    pub(super) s: [i32; 8],
 }
 
 impl GradLane {
@@ -312,17 +312,19 @@ pub(super) fn gradient_row<const T: usize>(
     setup: &Setup<T>,
     out: &mut [TexValue],
     q: &mut [i64; 3],
+    fused: bool,
 ) {
     let made = state.weights;
     state.weights = row_fades(&state.lanes, made, weights, out.len());
     let table = weights.get(..state.weights).filter(|w| !w.is_empty());
-    gradient_walk(events, &state.lanes, &setup.terms, out, q, table);
+    gradient_walk(events, &state.lanes, &setup.terms, out, q, table, fused);
 }
 
 /// The samples of a row whose terms are all gradient noise (as `row_walk`): at each entry the
 /// entering term's corner dot products for this row, then per pixel every term's staged lerps
 /// and the quadric `q`, the fades along the row from `table` when it holds every term's
-/// (`Fades`).
+/// (`Fades`); with `fused` (`EvalMode::Fused`), `fused::fused_walk`'s one blend instead of
+/// the staged lerps.
 #[inline(never)]
 fn gradient_walk(
     events: &[RowEvent],
@@ -331,6 +333,7 @@ fn gradient_walk(
     out: &mut [TexValue],
     q: &mut [i64; 3],
     table: Option<&[u32]>,
+    fused: bool,
 ) {
     // The terms' row state (pushed, not a zeroed array: at most `GRADIENT_TERMS` lanes, as
     // `rows_take` checks; never full).
@@ -361,6 +364,11 @@ fn gradient_walk(
     let table = table
         .filter(|t| t.len() >= gl.len() * len)
         .unwrap_or_default();
+    #[cfg(feature = "fused")]
+    if fused {
+        return super::fused::fused_walk(events, &mut gl, out, q, table);
+    }
+    let _ = fused;
     let mut x = 0usize;
     let mut rest = out;
     for e in events {

@@ -40,6 +40,8 @@
 use super::face_cache::blend_ab;
 use super::*;
 
+#[cfg(all(feature = "fused", not(texcore_lean)))]
+mod fused;
 #[cfg(all(feature = "gradient-noise", not(texcore_lean)))]
 mod gradient;
 #[cfg(not(texcore_lean))]
@@ -580,7 +582,8 @@ impl<'m, const T: usize> EvalCore<'m, T> {
         let events = events.get(..state.used).unwrap_or_default();
         #[cfg(feature = "gradient-noise")]
         if state.lanes.iter().any(|l| l.grad) {
-            gradient::gradient_row(events, state, weights, setup, out, &mut q);
+            let fused = compiled_mode(self.opts.mode) == EvalMode::Fused;
+            gradient::gradient_row(events, state, weights, setup, out, &mut q, fused);
             self.count_row(len, state, false);
             return;
         }
@@ -1045,6 +1048,146 @@ mod tests {
             let spans = rows_against_direct::<8, 128, 0>(&m, opts, &first, 70, "peers");
             let fast = FD && !cfg!(texcore_lean);
             assert_eq!(spans, if fast { 70 } else { 0 }, "{w:?}");
+        }
+    }
+
+    /// `rows` rows of `first` in `EvalMode::Fused` through a [`RowCache<N, W>`], each sample
+    /// within `ceil(2 sum |a_i| / 2^16) + 1` (raw) of `Direct`'s (the mode's bound, `a_i` the
+    /// terms' raw amplitudes); returns the rows the schedule served and the samples that differ
+    /// from `Direct`'s.
+    #[cfg(feature = "fused")]
+    fn fused_against_direct<const T: usize, const N: usize, const W: usize>(
+        m: &TextureModel<T>,
+        gradients: bool,
+        first: &Span,
+        rows: i32,
+        out_len: usize,
+    ) -> Result<(u64, usize), proptest::test_runner::TestCaseError> {
+        let opts = EvalOptions {
+            mode: EvalMode::Fused,
+            gradients,
+            cull: true,
+            ..Default::default()
+        };
+        let amps: i64 = m
+            .terms()
+            .iter()
+            .map(|t| i64::from(t.amplitude.to_bits()).abs())
+            .sum();
+        let bound = (2 * amps + 65_535) / 65_536 + 1;
+        let mut cache = RowCache::<N, W>::new();
+        let mut ev = SpanEvaluator::new(m, opts);
+        let direct_opts = EvalOptions {
+            mode: EvalMode::Direct,
+            ..opts
+        };
+        let mut direct = SpanEvaluator::new(m, direct_opts);
+        let mut differ = 0;
+        let mut pr = ev.rows(first, &mut cache);
+        for y in 0..rows {
+            let mut got = std::vec![TexValue::ZERO; out_len];
+            let mut want = got.clone();
+            pr.next_values(&mut got);
+            direct.eval_values(&row(first, y), &mut want);
+            for (x, (g, w)) in got.iter().zip(&want).enumerate() {
+                let e = (i64::from(g.to_bits()) - i64::from(w.to_bits())).abs();
+                proptest::prop_assert!(e <= bound, "row {} pixel {}: {:?} {:?}", y, x, g, w);
+                differ += usize::from(e != 0);
+            }
+        }
+        drop(pr);
+        Ok((ev.core.row_spans, differ))
+    }
+
+    #[cfg(feature = "fused")]
+    proptest::proptest! {
+        #![proptest_config(proptest::prelude::ProptestConfig::with_cases(96))]
+        /// `EvalMode::Fused` rows are within the mode's bound of `Direct` for any start, step
+        /// along any axis, row step, length, quadric, octaves, zoom, fade, cache (weights holding
+        /// the fades or not); value-noise rows are `Fd`'s exactly; an axis-aligned plane of one
+        /// or more octaves is served by the schedule.
+        #[test]
+        fn fused_rows_are_within_their_bound(
+            s0 in proptest::array::uniform3(-4_000_000i32..4_000_000),
+            step in -90_000i32..90_000,
+            axis in 0usize..3,
+            across: bool,
+            dyv in -30_000i32..30_000,
+            len in 0u16..300,
+            quadric in 0u32..3,
+            octaves in 1u8..6,
+            zoom in 0u32..3,
+            basis in 0u8..4,
+        ) {
+            let m = model(octaves, zoom, quadric, false, HashKind::Integer, basis);
+            let mut ds = [0; 3];
+            ds[axis] = (step >> (2 * zoom)) | 1;
+            let mut dy = [0; 3];
+            if across {
+                dy[(axis + 1) % 3] = dyv;
+            }
+            let first = Span {
+                s0: TexPoint::from_bits(s0[0], s0[1], s0[2]),
+                ds: TexPoint::from_bits(ds[0], ds[1], ds[2]),
+                dsdy: TexPoint::from_bits(dy[0], dy[1], dy[2]),
+                len,
+            };
+            let n = usize::from(len);
+            let (served, differ) = fused_against_direct::<8, 512, 2048>(&m, false, &first, 6, n)?;
+            fused_against_direct::<8, 512, 0>(&m, false, &first, 3, n)?;
+            fused_against_direct::<8, 512, 0>(&m, true, &first, 3, n)?;
+            if basis < 2 {
+                // Not gradient noise: `Fd`'s samples.
+                proptest::prop_assert_eq!(differ, 0);
+            }
+            let resolved = (ds[axis] << zoom).unsigned_abs() < NYQUIST_STEP as u32;
+            let cells: u64 = (0..octaves)
+                .map(|i| 2 + ((n as u64 * u64::from(ds[axis].unsigned_abs())) << (zoom + u32::from(i))) / 65536)
+                .sum();
+            if n > 0 && resolved && cells <= 512 && !cfg!(texcore_lean) {
+                proptest::prop_assert_eq!(served, 6);
+            }
+        }
+    }
+
+    /// The fused rows of the peers' Perlin planes and of the extreme planes: within the bound,
+    /// served by the schedule, and not `Direct`'s samples everywhere (the fused path ran).
+    #[test]
+    #[cfg(all(feature = "fused", not(texcore_lean)))]
+    fn fused_rows_of_hard_planes() {
+        use crate::texture::workload::peers;
+        for w in [peers::Workload::Perlin1, peers::Workload::Perlin4] {
+            let m = peers::model(w, HashKind::Integer).unwrap();
+            let first = peers::span(0, 0, peers::SIZE);
+            let n = usize::from(peers::SIZE);
+            let (served, differ) = fused_against_direct::<8, 128, 1024>(&m, false, &first, 40, n).unwrap();
+            assert_eq!(served, 40, "{w:?}");
+            assert!(differ > 0, "{w:?}");
+        }
+        // Coordinates at the ends of the 16.16 range, long spans, whole-cell and one-unit
+        // steps, negative steps, every axis.
+        type Case = ([i32; 3], [i32; 3], [i32; 3], u16);
+        let cases: [Case; 4] = [
+            ([i32::MAX - 9_000, i32::MIN + 5, -7], [4099, 0, 0], [0, 30_000, 0], 4000),
+            ([i32::MIN + 1, 123, i32::MAX - 77], [0, 0, -65_536], [70_000, 0, 0], 300),
+            ([5, -5, 0], [1, 0, 0], [0, 0, 1], 2000),
+            ([-1_000_000, 2_000_000, -3], [0, -32_768, 0], [0, 0, -1], 1000),
+        ];
+        for (octaves, basis) in [(1, 2), (3, 2), (1, 3), (5, 3)] {
+            let m = model(octaves, 0, 1, false, HashKind::Integer, basis);
+            for &(s0, ds, dy, len) in &cases {
+                let first = Span {
+                    s0: TexPoint::from_bits(s0[0], s0[1], s0[2]),
+                    ds: TexPoint::from_bits(ds[0], ds[1], ds[2]),
+                    dsdy: TexPoint::from_bits(dy[0], dy[1], dy[2]),
+                    len,
+                };
+                let n = usize::from(len);
+                let (served, _) = fused_against_direct::<8, 4096, 8192>(&m, false, &first, 4, n).unwrap();
+                // Five octaves of the long rows need more entries than the cache holds.
+                assert!(served == 4 || octaves == 5, "{s0:?} {ds:?}");
+                fused_against_direct::<8, 16, 0>(&m, false, &first, 2, n).unwrap();
+            }
         }
     }
 
