@@ -183,7 +183,10 @@ fn report_accuracy_quick_json_schema() {
         let max = r["value_error"]["max_vs_exact"].as_i64().unwrap();
         assert!(max <= bound, "{setting}: {max}");
         assert_eq!(max == 0, bound == 0, "{setting}: {max}");
-        assert!(r["value_error"]["max_vs_f64"].as_f64().unwrap() < 8.0, "{setting}");
+        assert!(
+            r["value_error"]["max_vs_f64"].as_f64().unwrap() < 8.0,
+            "{setting}"
+        );
     }
     check_code_sizes(&rows);
     // Generated files.

@@ -256,7 +256,10 @@ pub fn markdown(rows: &[&RowReport]) -> String {
          PSNR | within 1 step | host ns/sample | M4F instr/sample | rv32imc instr/sample | \
          device = host |"
     );
-    let _ = writeln!(s, "|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---|");
+    let _ = writeln!(
+        s,
+        "|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---|"
+    );
     let m4f = DeviceTarget::CortexM4F.triple();
     let rv = DeviceTarget::Riscv32imc.triple();
     for r in rows {
@@ -308,9 +311,15 @@ mod tests {
             assert_eq!(staged.max_vs_exact, 0, "{w:?}");
             assert_eq!(staged.equal_share, 1.0);
             let fused = value_error(&plane(w, EvalMode::Fused), &exact, &truth);
-            assert!(fused.max_vs_exact > 0 && fused.max_vs_exact <= bound, "{w:?} {fused:?}");
+            assert!(
+                fused.max_vs_exact > 0 && fused.max_vs_exact <= bound,
+                "{w:?} {fused:?}"
+            );
             // Both within a few units of the f64 noise (the quintic fade's rounding aside).
-            assert!(staged.max_vs_f64 < 8.0 && fused.max_vs_f64 < 8.0, "{staged:?} {fused:?}");
+            assert!(
+                staged.max_vs_f64 < 8.0 && fused.max_vs_f64 < 8.0,
+                "{staged:?} {fused:?}"
+            );
         }
     }
 }

@@ -1,14 +1,20 @@
 //! Gradient-noise rows of [`EvalMode::Fused`]: each term's trilinear interpolation in one
-//! rounding, its corner sums stepped by two 64-bit additions a pixel.
+//! blend, its corner sums stepped by two 64-bit additions a pixel.
 //!
-//! In a cell entered at pixel `j0` of a row along axis `k`, the weights `u`, `v` along the two
-//! other axes are fixed, and each corner's dot product `d_c(j)` is linear in the pixel
-//! (`gradient`). So the exact trilinear value (units `2^-16`) is
+//! In a cell entered at pixel `j0` of a row along axis `k`, the weights `u` (along the row axis
+//! `m`) and `v` (along the fixed axis `o`) are fixed, and each corner's dot product `d_c(j)` is
+//! linear in the pixel (`gradient`). So the exact trilinear value (units `2^-16`) is
 //! `R(j) = (A_0(j) + w_k(j) (A_1(j) - A_0(j)) / 2^16) / 2^32`, with `A_b(j)` the bilinear blend
-//! of the four corners whose bit `k` is `b`, scaled by `2^32` (`2^32 d_00 + 2^16 u (d_10 - d_00)
-//! + 2^16 v (d_01 - d_00) + u v (d_11 - d_10 - d_01 + d_00)`, exact in 64 bits): two values
-//! linear in the pixel, made once per cell and row and stepped by additions. A pixel keeps
-//! `a = A_0` and `d = A_1 - A_0` (`|a| <= 2^49`, `|d| <= 2^50`: `|d_c| <= 2^17`) and makes
+//! (scaled by `2^32`) of the four corners whose bit `k` is `b`: two values linear in the pixel,
+//! made once per cell and row and stepped by additions.
+//!
+//! The blend along `o` is the same in every row of the cell's slab: an entry ([`FusedCell`])
+//! holds, for each pair of corners along `o`, `E_0 = (2^16 - v) base_0 + v base_1` (the dot
+//! products at the row axis' fraction 0) and the corners' gradient components along `m` and `k`;
+//! a row adds `f_m ((2^16 - v) gm_0 + v gm_1)` and blends along `m` with `u`. Every step is exact
+//! integer arithmetic (`|d_c| <= 2^17`: `|E| < 2^35`, `|A| <= 2^49`).
+//!
+//! A pixel keeps `a = A_0` and `d = A_1 - A_0` and makes
 //! `n = floor(a / 2^32) + floor(w_k floor(d / 2^32) / 2^16)`.
 //!
 //! Guarantees: `n` is in `(R - 3, R]` (each of its three floors loses less than one unit), and
@@ -18,18 +24,83 @@
 //! The steps wrap (`a` and `d` are exact modulo `2^64`, and their true values are in range at
 //! every pixel of the cell). Nothing here panics.
 
-use super::gradient::{Fades, GradCell, GradLane};
+use super::gradient::{grad_cell, keep_rolled, Fades, GradCell, GradLane};
 use super::*;
+
+/// One gradient-noise cell of a fused row schedule, packed into a [`RowEvent`]'s words: for
+/// each pair `p = 2 b + i` of corners along `o` (`b` the bit along `k`, `i` along `m`), `e0[p]`
+/// (in `dv`, `ds`), and the pair's gradient components along `m` (`dg[0]`) and `k` (`dg[1]`),
+/// a byte a corner, the corner at `o = 0` first.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+struct FusedCell {
+    e0: [i64; 4],
+    gm: [[i8; 2]; 4],
+    gk: [[i8; 2]; 4],
+}
+
+impl FusedCell {
+    fn store(&self, e: &mut RowEvent) {
+        e.dv = [self.e0[0], self.e0[1]];
+        e.ds = [self.e0[2], self.e0[3]];
+        let bytes =
+            |g: &[[i8; 2]; 4]| i64::from_le_bytes(core::array::from_fn(|i| g[i / 2][i % 2] as u8));
+        e.dg = [bytes(&self.gm), bytes(&self.gk)];
+    }
+
+    #[inline(always)]
+    fn load(e: &RowEvent) -> FusedCell {
+        let pairs = |w: i64| {
+            let b = w.to_le_bytes().map(|x| x as i8);
+            [[b[0], b[1]], [b[2], b[3]], [b[4], b[5]], [b[6], b[7]]]
+        };
+        FusedCell {
+            e0: [e.dv[0], e.dv[1], e.ds[0], e.ds[1]],
+            gm: pairs(e.dg[0]),
+            gk: pairs(e.dg[1]),
+        }
+    }
+}
+
+/// The entries of gradient-noise term `li` (`lane`) of a fused schedule: each cell's corner
+/// gradients (as `gradient::grad_cell` hashes them) blended along `o` ([`FusedCell`]).
+pub(super) fn fused_entries(li: usize, lane: &RowLane, hash: HashKind, events: &mut [RowEvent]) {
+    let axes = [lane.k.min(2), lane.m.min(2), lane.o.min(2)];
+    let v = lane.fade.apply(lane.fo) as i32;
+    for e in events.iter_mut().filter(|e| usize::from(e.lane) == li) {
+        fused_cell(&grad_cell(lane, hash, e.at), axes, v).store(e);
+    }
+}
+
+/// The [`FusedCell`] of cell `g` of a row along `k` with row axis `m` and fixed axis `o`
+/// (`[k, m, o]`), the weight along `o` `v`.
+fn fused_cell(g: &GradCell, [k, m, o]: [usize; 3], v: i32) -> FusedCell {
+    let v = i64::from(v);
+    let mut f = FusedCell {
+        e0: [0; 4],
+        gm: [[0; 2]; 4],
+        gk: [[0; 2]; 4],
+    };
+    for p in 0..4 {
+        let c0 = ((((p >> 1) & 1) << k) | ((p & 1) << m)) & 7;
+        let c1 = (c0 | (1 << o)) & 7;
+        let (b0, b1) = (i64::from(g.base[c0]), i64::from(g.base[c1]));
+        f.e0[p] = ((65_536 - v) * b0) + v * b1;
+        f.gm[p] = [g.gm[c0], g.gm[c1]];
+        f.gk[p] = [g.gk[c0], g.gk[c1]];
+    }
+    f
+}
 
 /// What a fused row keeps of a gradient-noise term between pixels (module documentation).
 #[derive(Clone, Copy, Debug, Default)]
 pub(super) struct FusedLane {
-    /// The weights `u`, `v` along the axes after `k` (`(k + 1) % 3`, `(k + 2) % 3`), and
-    /// `u v`.
-    u: i64,
-    v: i64,
-    uv: i64,
-    /// `A_0` and `A_1 - A_0` at the current pixel (wrapping).
+    /// The weights `u` along `m` and `v` along `o`, the row's fraction `f_m`, the step along
+    /// `k`.
+    u: i32,
+    v: i32,
+    fm: i32,
+    step: i32,
+    /// `A_0` and `4 (A_1 - A_0)` at the current pixel (wrapping).
     a: i64,
     d: i64,
     /// Their steps a pixel (wrapping).
@@ -38,94 +109,74 @@ pub(super) struct FusedLane {
 }
 
 impl FusedLane {
-    /// The lane of gradient term `g` in the current row: its weights along the other axes.
-    pub(super) fn new(g: &GradLane) -> FusedLane {
-        let k = g.k.min(2);
-        let axes = [(k + 1) % 3, (k + 2) % 3];
-        let w = |axis: usize| i64::from(g.w.get(axis).copied().unwrap_or_default());
-        let (u, v) = (w(axes[0]), w(axes[1]));
+    /// The lane of gradient term `g` (`lane`) in the current row.
+    pub(super) fn new(g: &GradLane, lane: &RowLane) -> FusedLane {
+        let w = |axis: usize| g.w.get(axis).copied().unwrap_or_default();
         FusedLane {
-            u,
-            v,
-            uv: u * v,
+            u: w(lane.m),
+            v: w(lane.o),
+            fm: g.fm,
+            step: g.step,
             ..FusedLane::default()
         }
     }
 
-    /// The bilinear blend of `x00`, `x10`, `x01`, `x11` (`x_ij`: bit `i` along the first other
-    /// axis, bit `j` along the second; each within `2^19`) with the weights `u`, `v` (at most
-    /// `2^16`), scaled by `2^32`: exact (32 x 32-bit products; `u v <= 2^32`).
+    /// Enters the cell of entry `e`.
     #[inline(always)]
-    fn blend2(&self, x: [i32; 4]) -> i64 {
-        let [x00, x10, x01, x11] = x;
-        let mul = |w: i64, d: i32| i64::from(w as i32) * i64::from(d);
-        let cross = x11.wrapping_sub(x10).wrapping_sub(x01).wrapping_add(x00);
-        (i64::from(x00) << 32)
-            .wrapping_add(mul(self.u, x10.wrapping_sub(x00)) << 16)
-            .wrapping_add(mul(self.v, x01.wrapping_sub(x00)) << 16)
-            .wrapping_add((self.uv as u64 as i64).wrapping_mul(i64::from(cross)))
-    }
-
-    /// Enters the cell of entry `e` of term `g` (`g.fm`: the row's fraction along `m`), a row
-    /// along axis `K`.
-    #[inline(always)]
-    fn enter<const K: usize>(&mut self, g: &GradLane, e: &RowEvent) {
-        let cell = GradCell::load(e);
-        // The corners' dot products at the entry pixel (their true values are within `2^17`, so
-        // the wrapping sums are exact) and their gradients along `K`.
-        let mut dot = [0i32; 8];
-        let mut grad = [0i32; 8];
-        for c in 0..8 {
-            dot[c] = cell.base[c].wrapping_add(i32::from(cell.gm[c]) * g.fm);
-            grad[c] = i32::from(cell.gk[c]);
-        }
-        // The four corners whose bit `K` is `b`, in `blend2`'s order.
-        let corners = |b: usize| {
-            let (p, q) = ((K + 1) % 3, (K + 2) % 3);
-            [(0, 0), (1, 0), (0, 1), (1, 1)].map(|(i, j)| ((b << K) | (i << p) | (j << q)) & 7)
+    fn enter(&mut self, e: &RowEvent) {
+        let cell = FusedCell::load(e);
+        let (u, v, fm) = (self.u, self.v, self.fm);
+        // `(2^16 - v) g_0 + v g_1` of a pair's components (within `2^16`).
+        let along_o = |g: [i8; 2]| {
+            let (g0, g1) = (i32::from(g[0]), i32::from(g[1]));
+            (g0 << 16) + v * (g1 - g0)
         };
-        let (c0, c1) = (corners(0), corners(1));
-        let a0 = self.blend2(c0.map(|c| dot[c]));
-        let a1 = self.blend2(c1.map(|c| dot[c]));
-        let g0 = self.blend2(c0.map(|c| grad[c]));
-        let g1 = self.blend2(c1.map(|c| grad[c]));
-        let step = i64::from(g.step);
+        // The pair's blend along `o` in this row (`E_0 + f_m E_1`, within `2^35`).
+        let x: [i64; 4] = core::array::from_fn(|p| {
+            let e1 = along_o(cell.gm.get(p).copied().unwrap_or_default());
+            let e0 = cell.e0.get(p).copied().unwrap_or_default();
+            e0.wrapping_add(i64::from(fm) * i64::from(e1))
+        });
+        let h: [i32; 4] =
+            core::array::from_fn(|p| along_o(cell.gk.get(p).copied().unwrap_or_default()));
+        // Along `m`: `2^16 x_0 + u (x_1 - x_0)`, exact.
+        let blend = |x0: i64, x1: i64| {
+            (x0 << 16).wrapping_add(x1.wrapping_sub(x0).wrapping_mul(i64::from(u)))
+        };
+        let hblend = |h0: i32, h1: i32| (i64::from(h0) << 16) + i64::from(u) * i64::from(h1 - h0);
+        let (a0, a1) = (blend(x[0], x[1]), blend(x[2], x[3]));
+        let (g0, g1) = (hblend(h[0], h[1]), hblend(h[2], h[3]));
+        let step = i64::from(self.step);
         self.a = a0;
-        self.d = a1.wrapping_sub(a0);
+        self.d = a1.wrapping_sub(a0).wrapping_mul(4);
         self.sa = g0.wrapping_mul(step);
-        self.sd = g1.wrapping_sub(g0).wrapping_mul(step);
+        self.sd = g1.wrapping_sub(g0).wrapping_mul(step).wrapping_mul(4);
     }
 
-    /// [`Self::enter`] for a row along `g.k`.
+    /// The term's value `n` (units `2^-16`) at the current pixel with fade `w14 = wk << 14` along
+    /// the row, then one pixel on.
     #[inline(always)]
-    fn enter_any(&mut self, g: &GradLane, e: &RowEvent) {
-        match g.k {
-            0 => self.enter::<0>(g, e),
-            1 => self.enter::<1>(g, e),
-            _ => self.enter::<2>(g, e),
-        }
-    }
-
-    /// The term's value `n` (units `2^-16`) at the current pixel with fade `wk` along the row,
-    /// then one pixel on.
-    #[inline(always)]
-    fn pixel(&mut self, wk: i32) -> i32 {
-        let n = blend(self.a, self.d, wk);
+    fn pixel(&mut self, w14: i32) -> i32 {
+        let n = blend(self.a, self.d, w14);
         self.a = self.a.wrapping_add(self.sa);
         self.d = self.d.wrapping_add(self.sd);
         n
     }
 }
 
-/// `floor(a / 2^32) + floor(w floor(d / 2^32) / 2^16)`: the fused value of the module
-/// documentation (`0 <= w <= 2^16`, `|d| <= 2^50`: the product is within `2^34`).
+/// `floor(a / 2^32) + floor(floor(d4 / 2^32) w14 / 2^32)` with `d4 = 4 d` and `w14 = w 2^14`:
+/// the fused value of the module documentation (`0 <= w <= 2^16`, so `0 <= w14 <= 2^30`;
+/// `|d4| <= 2^52`, so the product is within `2^50`): one signed high-word product (`smmul`,
+/// `mulh`). `floor(d4 / 2^32)` loses less than `2^30` of `d`, a quarter of a unit after the
+/// weight, so `n` stays in `(R - 3, R]`.
 #[inline(always)]
-fn blend(a: i64, d: i64, w: i32) -> i32 {
-    let (ah, dh) = ((a >> 32) as i32, (d >> 32) as i32);
-    ah.wrapping_add(((i64::from(dh) * i64::from(w)) >> 16) as i32)
+fn blend(a: i64, d4: i64, w14: i32) -> i32 {
+    let (ah, dh) = ((a >> 32) as i32, (d4 >> 32) as i32);
+    ah.wrapping_add(((i64::from(dh) * i64::from(w14)) >> 32) as i32)
 }
 
-/// The pixels `run` of one term (`g`, `f`) without quadric, its fades along the row from `ws`:
+/// The pixels `run` of one term (`g`, `f`) without quadric, its fades along the row from `ws`
+/// (`w << 14`):
 /// the sample `(amp n) >> 16`, as the staged rows make it from their `n`; for an amplitude
 /// `2^p`, `0 <= p <= 16` (an octave's `2^-i`), the same floor as `n >> (16 - p)`.
 #[inline(never)]
@@ -146,6 +197,7 @@ fn one_run(g: &mut GradLane, f: &mut FusedLane, ws: &[u32], run: &mut [TexValue]
 fn scaled_run(f: &mut FusedLane, ws: &[u32], run: &mut [TexValue], scale: impl Fn(i32) -> i32) {
     let (mut a, mut d, sa, sd) = (f.a, f.d, f.sa, f.sd);
     for (o, wk) in run.iter_mut().zip(ws) {
+        keep_rolled(*wk);
         *o = TexValue::from_bits(scale(blend(a, d, *wk as i32)));
         a = a.wrapping_add(sa);
         d = d.wrapping_add(sd);
@@ -185,36 +237,44 @@ fn multi_run(
 #[inline(never)]
 pub(super) fn fused_walk(
     events: &[RowEvent],
+    lanes: &[RowLane],
     gl: &mut [GradLane],
     out: &mut [TexValue],
     q: &mut [i64; 3],
     table: &[u32],
 ) {
     let mut fl: heapless::Vec<FusedLane, GRADIENT_TERMS> = heapless::Vec::new();
-    for g in gl.iter() {
-        let _ = fl.push(FusedLane::new(g));
+    for (g, lane) in gl.iter().zip(lanes) {
+        let _ = fl.push(FusedLane::new(g, lane));
     }
-    let (len, lanes) = (out.len(), gl.len());
+    let (len, lanes_n) = (out.len(), gl.len());
     let mut x = 0usize;
     let mut rest = out;
     for e in events {
         let l = usize::from(e.lane);
-        if let (Some(g), Some(f)) = (gl.get(l), fl.get_mut(l)) {
-            if lanes == 1 && g.k == 0 {
-                f.enter::<0>(g, e);
-            } else {
-                f.enter_any(g, e);
-            }
+        if let Some(f) = fl.get_mut(l) {
+            f.enter(e);
         }
         let n = usize::from(e.run).min(rest.len());
         let (run, tail) = core::mem::take(&mut rest).split_at_mut(n);
         rest = tail;
         let ws = table.get(x..x + n).unwrap_or_default();
-        match (gl.first_mut(), fl.first_mut(), lanes) {
+        match (gl.first_mut(), fl.first_mut(), lanes_n) {
             (Some(g), Some(f), 1) if ws.len() == n && (q[0] | q[1] | q[2]) == 0 => {
                 one_run(g, f, ws, run)
             }
-            _ => multi_run(gl, &mut fl, run, q, Fades { table, len, x }),
+            _ => multi_run(
+                gl,
+                &mut fl,
+                run,
+                q,
+                Fades {
+                    table,
+                    len,
+                    x,
+                    shift: 14,
+                },
+            ),
         }
         x += n;
     }
@@ -239,7 +299,13 @@ mod tests {
         (0..8)
             .map(|c| {
                 let wc: i128 = (0..3)
-                    .map(|a| i128::from(if (c >> a) & 1 == 1 { w[a] } else { 65_536 - w[a] }))
+                    .map(|a| {
+                        i128::from(if (c >> a) & 1 == 1 {
+                            w[a]
+                        } else {
+                            65_536 - w[a]
+                        })
+                    })
                     .product();
                 wc * i128::from(d[c])
             })
@@ -264,14 +330,19 @@ mod tests {
                 Fade::Quintic,
             ];
             let fade = fades[(next() % fades.len() as u64) as usize];
+            let (m, o) = if next() & 1 == 0 {
+                ((k + 1) % 3, (k + 2) % 3)
+            } else {
+                ((k + 2) % 3, (k + 1) % 3)
+            };
             let mut w = [0i32; 3];
             for a in 0..3 {
                 if a != k {
                     w[a] = fade.apply(frac[a]) as i32;
                 }
             }
-            // The entry: each corner's dot product less its part along `m` (here: all of it,
-            // `fm` = 0) and its gradient along `k`.
+            // The entry: each corner's dot product at the row axis' fraction `fm` less its part
+            // along `m` (`fm` times its component) and its gradients along `k` and `m`.
             let dot = |c: usize, f: [u32; 3]| -> i32 {
                 (0..3)
                     .map(|a| {
@@ -280,26 +351,23 @@ mod tests {
                     })
                     .sum()
             };
-            let mut e = RowEvent::default();
+            let fm = frac[m] as i32;
             let cell = GradCell {
-                base: core::array::from_fn(|c| dot(c, frac)),
+                base: core::array::from_fn(|c| dot(c, frac) - i32::from(grads[c][m]) * fm),
                 gk: core::array::from_fn(|c| grads[c][k]),
-                gm: [0; 8],
+                gm: core::array::from_fn(|c| grads[c][m]),
             };
-            cell.store(&mut e);
-            let g = GradLane {
-                fade,
-                w,
-                fm: 0,
-                amp: 65_536,
-                k,
+            let mut e = RowEvent::default();
+            fused_cell(&cell, [k, m, o], w[o]).store(&mut e);
+            assert_eq!(FusedCell::load(&e), fused_cell(&cell, [k, m, o], w[o]));
+            let mut f = FusedLane {
+                u: w[m],
+                v: w[o],
+                fm,
                 step,
-                uk: frac[k] as i32,
-                d: [0; 8],
-                s: [0; 8],
+                ..FusedLane::default()
             };
-            let mut f = FusedLane::new(&g);
-            f.enter_any(&g, &e);
+            f.enter(&e);
             let mut fk = frac[k];
             while fk < 65_536 {
                 let mut fr = frac;
@@ -309,7 +377,7 @@ mod tests {
                 let mut wv = w.map(i64::from);
                 wv[k] = i64::from(wk);
                 let r = exact(&d, wv);
-                let n = f.pixel(wk);
+                let n = f.pixel(wk << 14);
                 // `n` in `(R - 3, R]`, `R = r / 2^48`.
                 let lo = (i128::from(n) << 48) - r;
                 assert!(lo <= 0 && lo > -(3i128 << 48), "{n} {r}");
@@ -324,28 +392,12 @@ mod tests {
     #[test]
     fn blend_at_its_bounds() {
         let top = 1i64 << 49;
+        let one = 1 << 30;
         assert_eq!(blend(top, 0, 0), 1 << 17);
-        assert_eq!(blend(-top, 0, 65_536), -(1 << 17));
-        let dmax = 1i64 << 50;
-        assert_eq!(blend(0, dmax, 65_536), 1 << 18);
-        assert_eq!(blend(0, -dmax, 65_536), -(1 << 18));
-        assert_eq!(blend(-1, -1, 65_535), -2);
-    }
-
-    /// The bilinear blend is the four corners weighted, scaled by `2^32`.
-    #[test]
-    fn blend2_is_the_weighted_sum() {
-        let mut x = 0x2545_F491_4F6C_DD1Du64;
-        let mut next = || xorshift(&mut x);
-        for _ in 0..20_000 {
-            let (u, v) = ((next() % 65_537) as i64, (next() % 65_537) as i64);
-            let f = FusedLane { u, v, uv: u * v, ..FusedLane::default() };
-            let c: [i32; 4] = core::array::from_fn(|_| (next() % (1 << 19)) as i32 - (1 << 18));
-            let want = (65_536 - u) * (65_536 - v) * i64::from(c[0])
-                + u * (65_536 - v) * i64::from(c[1])
-                + (65_536 - u) * v * i64::from(c[2])
-                + u * v * i64::from(c[3]);
-            assert_eq!(f.blend2(c), want);
-        }
+        assert_eq!(blend(-top, 0, one), -(1 << 17));
+        let dmax = 1i64 << 52;
+        assert_eq!(blend(0, dmax, one), 1 << 18);
+        assert_eq!(blend(0, -dmax, one), -(1 << 18));
+        assert_eq!(blend(-1, -1, one - (1 << 14)), -2);
     }
 }

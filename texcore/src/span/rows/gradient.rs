@@ -69,6 +69,14 @@ impl GradCell {
 /// gradients (hashed as `NoiseBasis::cell` hashes them) as a [`GradCell`] for the fraction
 /// along `k` at the entry's pixel and the fixed fraction `fo` along `o`.
 pub(super) fn gradient_entries(li: usize, lane: &RowLane, hash: HashKind, events: &mut [RowEvent]) {
+    for e in events.iter_mut().filter(|e| usize::from(e.lane) == li) {
+        grad_cell(lane, hash, e.at).store(e);
+    }
+}
+
+/// The [`GradCell`] of term `lane` at pixel `at` of the row (see [`gradient_entries`]).
+#[inline(always)]
+pub(super) fn grad_cell(lane: &RowLane, hash: HashKind, at: u16) -> GradCell {
     let k = lane.k.min(2);
     let (m, o) = (lane.m.min(2), lane.o.min(2));
     let d = lane.du[k];
@@ -76,32 +84,30 @@ pub(super) fn gradient_entries(li: usize, lane: &RowLane, hash: HashKind, events
     cell[m] = lane.cm;
     cell[o] = lane.co;
     let fo = (lane.fo & 0xFFFF) as i32;
-    for e in events.iter_mut().filter(|e| usize::from(e.lane) == li) {
-        let uk = lane.u0k.wrapping_add(d.wrapping_mul(i32::from(e.at)));
-        cell[k] = (uk >> 16) as u16;
-        let fk = uk & 0xFFFF;
-        let mut g = GradCell {
-            base: [0; 8],
-            gk: [0; 8],
-            gm: [0; 8],
-        };
-        for c in 0..8 {
-            let bit = |axis: usize| ((c >> axis) & 1) as u16;
-            let bits = crate::hash::gradient_bits(
-                hash,
-                cell[0].wrapping_add(bit(0)),
-                cell[1].wrapping_add(bit(1)),
-                cell[2].wrapping_add(bit(2)),
-            );
-            let gc = perlin_gradient(bits);
-            let off = |axis: usize, f: i32| f - i32::from(bit(axis)) * ONE as i32;
-            let (gk, gm, go) = (i32::from(gc[k]), i32::from(gc[m]), i32::from(gc[o]));
-            g.base[c] = gk * off(k, fk) + go * off(o, fo) + gm * off(m, 0);
-            g.gk[c] = gc[k];
-            g.gm[c] = gc[m];
-        }
-        g.store(e);
+    let uk = lane.u0k.wrapping_add(d.wrapping_mul(i32::from(at)));
+    cell[k] = (uk >> 16) as u16;
+    let fk = uk & 0xFFFF;
+    let mut g = GradCell {
+        base: [0; 8],
+        gk: [0; 8],
+        gm: [0; 8],
+    };
+    for c in 0..8 {
+        let bit = |axis: usize| ((c >> axis) & 1) as u16;
+        let bits = crate::hash::gradient_bits(
+            hash,
+            cell[0].wrapping_add(bit(0)),
+            cell[1].wrapping_add(bit(1)),
+            cell[2].wrapping_add(bit(2)),
+        );
+        let gc = perlin_gradient(bits);
+        let off = |axis: usize, f: i32| f - i32::from(bit(axis)) * ONE as i32;
+        let (gk, gm, go) = (i32::from(gc[k]), i32::from(gc[m]), i32::from(gc[o]));
+        g.base[c] = gk * off(k, fk) + go * off(o, fo) + gm * off(m, 0);
+        g.gk[c] = gc[k];
+        g.gm[c] = gc[m];
     }
+    g
 }
 
 /// `(x w) >> 16` in a 64-bit product: a lerp's step.
@@ -153,7 +159,7 @@ pub(super) fn small_amps(sum: u64, fv: u32) -> bool {
 /// copies of their corner state and spill it among Thumb's 13 registers (the M4F: 9.6 a sample
 /// more on `peers:perlin-1oct`); rv32imc's 31 hold them (unrolled there: 1.8 a sample less).
 #[inline(always)]
-fn keep_rolled(w: u32) {
+pub(super) fn keep_rolled(w: u32) {
     #[cfg(target_arch = "arm")]
     if w > 1 << 16 {
         core::hint::black_box(());
@@ -246,6 +252,8 @@ pub(super) struct Fades<'a> {
     pub(super) table: &'a [u32],
     pub(super) len: usize,
     pub(super) x: usize,
+    /// The table's fades are `w << shift`; computed ones are shifted alike.
+    pub(super) shift: u32,
 }
 
 impl Fades<'_> {
@@ -254,7 +262,7 @@ impl Fades<'_> {
     pub(super) fn at(&self, l: usize, j: usize, g: &GradLane) -> i32 {
         match self.table.get(l * self.len + self.x + j) {
             Some(w) => *w as i32,
-            None => g.fade.apply(g.uk as u32) as i32,
+            None => (g.fade.apply(g.uk as u32) as i32) << (self.shift & 15),
         }
     }
 }
@@ -315,7 +323,9 @@ pub(super) fn gradient_row<const T: usize>(
     fused: bool,
 ) {
     let made = state.weights;
-    state.weights = row_fades(&state.lanes, made, weights, out.len());
+    // The fused rows read the fades as `w << 14` (`fused::blend`).
+    let shift = if fused { 14 } else { 0 };
+    state.weights = row_fades(&state.lanes, made, weights, out.len(), shift);
     let table = weights.get(..state.weights).filter(|w| !w.is_empty());
     gradient_walk(events, &state.lanes, &setup.terms, out, q, table, fused);
 }
@@ -366,7 +376,7 @@ fn gradient_walk(
         .unwrap_or_default();
     #[cfg(feature = "fused")]
     if fused {
-        return super::fused::fused_walk(events, &mut gl, out, q, table);
+        return super::fused::fused_walk(events, lanes, &mut gl, out, q, table);
     }
     let _ = fused;
     let mut x = 0usize;
@@ -380,7 +390,12 @@ fn gradient_walk(
         rest = tail;
         let [mut qq, mut dq, ddq] = *q;
         let ws = table.get(x..x + n).unwrap_or_default();
-        let tab = Fades { table, len, x };
+        let tab = Fades {
+            table,
+            len,
+            x,
+            shift: 0,
+        };
         let lanes_n = gl.len();
         match (gl.first_mut(), lanes_n) {
             // One term along axis 0 (the rows of an unrotated plane), its fades from the table.

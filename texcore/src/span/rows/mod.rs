@@ -537,6 +537,9 @@ impl<'m, const T: usize> EvalCore<'m, T> {
         let m = self.model;
         let (fv, vb) = (m.noise_frac_bits(), m.precision().value_bits());
         let used = state.used;
+        // `EvalMode::Fused`: gradient-noise entries as `fused` blends them.
+        #[cfg(feature = "fused")]
+        let fused = compiled_mode(self.opts.mode) == EvalMode::Fused;
         for (li, lane) in state.lanes.iter_mut().enumerate() {
             let (Some(ts), Some(term)) = (setup.terms.get(lane.term), m.terms().get(lane.term))
             else {
@@ -553,6 +556,12 @@ impl<'m, const T: usize> EvalCore<'m, T> {
             let events = events.get_mut(..used).unwrap_or_default();
             let hash = term.basis.hash;
             if lane.grad {
+                #[cfg(feature = "fused")]
+                if fused {
+                    fused::fused_entries(li, lane, hash, events);
+                    lane.made = true;
+                    continue;
+                }
                 #[cfg(feature = "gradient-noise")]
                 gradient::gradient_entries(li, lane, hash, events);
             } else if lane.smooth {
@@ -593,7 +602,8 @@ impl<'m, const T: usize> EvalCore<'m, T> {
             // One smooth term: its fades along the row (the same in every row the schedule
             // serves) kept in the weights when they hold the row.
             let table = if state.lanes.len() == 1 {
-                state.weights = row_fades(&state.lanes, state.weights, weights, usize::from(len));
+                state.weights =
+                    row_fades(&state.lanes, state.weights, weights, usize::from(len), 0);
                 weights.get(..state.weights).filter(|w| !w.is_empty())
             } else {
                 None
@@ -1160,7 +1170,8 @@ mod tests {
             let m = peers::model(w, HashKind::Integer).unwrap();
             let first = peers::span(0, 0, peers::SIZE);
             let n = usize::from(peers::SIZE);
-            let (served, differ) = fused_against_direct::<8, 128, 1024>(&m, false, &first, 40, n).unwrap();
+            let (served, differ) =
+                fused_against_direct::<8, 128, 1024>(&m, false, &first, 40, n).unwrap();
             assert_eq!(served, 40, "{w:?}");
             assert!(differ > 0, "{w:?}");
         }
@@ -1168,10 +1179,25 @@ mod tests {
         // steps, negative steps, every axis.
         type Case = ([i32; 3], [i32; 3], [i32; 3], u16);
         let cases: [Case; 4] = [
-            ([i32::MAX - 9_000, i32::MIN + 5, -7], [4099, 0, 0], [0, 30_000, 0], 4000),
-            ([i32::MIN + 1, 123, i32::MAX - 77], [0, 0, -65_536], [70_000, 0, 0], 300),
+            (
+                [i32::MAX - 9_000, i32::MIN + 5, -7],
+                [4099, 0, 0],
+                [0, 30_000, 0],
+                4000,
+            ),
+            (
+                [i32::MIN + 1, 123, i32::MAX - 77],
+                [0, 0, -65_536],
+                [70_000, 0, 0],
+                300,
+            ),
             ([5, -5, 0], [1, 0, 0], [0, 0, 1], 2000),
-            ([-1_000_000, 2_000_000, -3], [0, -32_768, 0], [0, 0, -1], 1000),
+            (
+                [-1_000_000, 2_000_000, -3],
+                [0, -32_768, 0],
+                [0, 0, -1],
+                1000,
+            ),
         ];
         for (octaves, basis) in [(1, 2), (3, 2), (1, 3), (5, 3)] {
             let m = model(octaves, 0, 1, false, HashKind::Integer, basis);
@@ -1183,7 +1209,8 @@ mod tests {
                     len,
                 };
                 let n = usize::from(len);
-                let (served, _) = fused_against_direct::<8, 4096, 8192>(&m, false, &first, 4, n).unwrap();
+                let (served, _) =
+                    fused_against_direct::<8, 4096, 8192>(&m, false, &first, 4, n).unwrap();
                 // Five octaves of the long rows need more entries than the cache holds.
                 assert!(served == 4 || octaves == 5, "{s0:?} {ds:?}");
                 fused_against_direct::<8, 16, 0>(&m, false, &first, 2, n).unwrap();

@@ -164,12 +164,18 @@ pub(super) fn is_gradient_basis(b: &crate::noise::NoiseBasis) -> bool {
 }
 
 /// Keeps each term's fades along its `k` for a row of `n` pixels in `weights` (term `l` at
-/// `l n`) when they hold them all, unless they already do (`made`, the weights in use): the
+/// `l n`; each `w << shift`, `shift <= 15`) when they hold them all, unless they already do (`made`, the weights in use): the
 /// weights in use after it (0: the fades do not fit). The rows of one smooth-fade term and of
 /// gradient noise read them.
 #[cfg(not(texcore_lean))]
 #[inline(never)]
-pub(super) fn row_fades(lanes: &[RowLane], made: usize, weights: &mut [u32], n: usize) -> usize {
+pub(super) fn row_fades(
+    lanes: &[RowLane],
+    made: usize,
+    weights: &mut [u32],
+    n: usize,
+    shift: u32,
+) -> usize {
     let all = n * lanes.len();
     let Some(w) = weights.get_mut(..all) else {
         return 0;
@@ -179,7 +185,7 @@ pub(super) fn row_fades(lanes: &[RowLane], made: usize, weights: &mut [u32], n: 
             let d = lane.du[lane.k.min(2)];
             let mut u = lane.u0k;
             for x in w.iter_mut() {
-                *x = lane.fade.apply(u as u32) as u32;
+                *x = (lane.fade.apply(u as u32) as u32) << (shift & 15);
                 u = u.wrapping_add(d);
             }
         }
