@@ -100,6 +100,8 @@ pub(super) struct FusedLane {
     v: i32,
     fm: i32,
     step: i32,
+    /// `16 - p` for an amplitude `2^p`, `0 <= p <= 16` (`one_run`'s shift); 32 for any other.
+    shift: u32,
     /// `A_0` and `4 (A_1 - A_0)` at the current pixel (wrapping).
     a: i64,
     d: i64,
@@ -117,6 +119,11 @@ impl FusedLane {
             v: w(lane.o),
             fm: g.fm,
             step: g.step,
+            shift: if g.amp > 0 && g.amp <= 1 << 16 && g.amp & (g.amp - 1) == 0 {
+                16 - g.amp.trailing_zeros()
+            } else {
+                32
+            },
             ..FusedLane::default()
         }
     }
@@ -181,12 +188,11 @@ fn blend(a: i64, d4: i64, w14: i32) -> i32 {
 /// `2^p`, `0 <= p <= 16` (an octave's `2^-i`), the same floor as `n >> (16 - p)`.
 #[inline(never)]
 fn one_run(g: &mut GradLane, f: &mut FusedLane, ws: &[u32], run: &mut [TexValue]) {
-    let amp = g.amp;
-    if amp > 0 && amp <= 1 << 16 && amp & (amp - 1) == 0 {
-        let sh = 16 - amp.trailing_zeros();
+    let sh = f.shift;
+    if sh <= 16 {
         scaled_run(f, ws, run, |n| n >> sh);
     } else {
-        let amp = i64::from(amp);
+        let amp = i64::from(g.amp);
         scaled_run(f, ws, run, |n| ((amp * i64::from(n)) >> 16) as i32);
     }
     g.uk = g.uk.wrapping_add(g.step.wrapping_mul(run.len() as i32));

@@ -356,7 +356,7 @@ fn gradient_walk(
         let fm = split(ts.u0).1[m];
         let mut w = [0i32; 3];
         w[m] = lane.fade.apply(fm) as i32;
-        w[o] = lane.fade.apply(lane.fo) as i32;
+        w[o] = lane.wo as i32;
         let _ = gl.push(GradLane {
             fade: lane.fade,
             w,

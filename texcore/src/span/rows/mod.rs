@@ -141,7 +141,7 @@ struct RowLane {
     fo: u32,
     amp: i32,
     made: bool,
-    /// The weight along `o`: `fo`, or its smooth fade.
+    /// The weight along `o`: `fo`, or its fade (smooth-fade value noise, gradient noise).
     wo: u32,
     /// The basis has the smooth fade (`3u^2 - 2u^3`): the cell is not linear in the pixel.
     smooth: bool,
@@ -552,7 +552,11 @@ impl<'m, const T: usize> EvalCore<'m, T> {
                 continue;
             }
             (lane.cm, lane.co, lane.fo, lane.amp) = (cm, co, fo, ts.amp);
-            lane.wo = weight(lane.smooth, fo);
+            lane.wo = if lane.grad {
+                lane.fade.apply(fo) as u32
+            } else {
+                weight(lane.smooth, fo)
+            };
             let events = events.get_mut(..used).unwrap_or_default();
             let hash = term.basis.hash;
             if lane.grad {
