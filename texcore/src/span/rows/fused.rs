@@ -24,8 +24,9 @@
 //! The steps wrap (`a` and `d` are exact modulo `2^64`, and their true values are in range at
 //! every pixel of the cell). Nothing here panics.
 
-use super::gradient::{grad_cell, keep_rolled, Fades, GradCell, GradLane};
+use super::gradient::{grad_cell, keep_rolled, Fades, GradCell};
 use super::*;
+use crate::noise::Fade;
 
 /// One gradient-noise cell of a fused row schedule, packed into a [`RowEvent`]'s words: for
 /// each pair `p = 2 b + i` of corners along `o` (`b` the bit along `k`, `i` along `m`), `e0[p]`
@@ -92,14 +93,18 @@ fn fused_cell(g: &GradCell, [k, m, o]: [usize; 3], v: i32) -> FusedCell {
 }
 
 /// What a fused row keeps of a gradient-noise term between pixels (module documentation).
-#[derive(Clone, Copy, Debug, Default)]
+#[derive(Clone, Copy, Debug)]
 pub(super) struct FusedLane {
+    /// The term's fade and amplitude.
+    fade: Fade,
+    amp: i32,
     /// The weights `u` along `m` and `v` along `o`, the row's fraction `f_m`, the step along
-    /// `k`.
+    /// `k` and the coordinate along `k` at the current pixel.
     u: i32,
     v: i32,
     fm: i32,
     step: i32,
+    uk: i32,
     /// `16 - p` for an amplitude `2^p`, `0 <= p <= 16` (`one_run`'s shift); 32 for any other.
     shift: u32,
     /// `A_0` and `4 (A_1 - A_0)` at the current pixel (wrapping).
@@ -111,20 +116,29 @@ pub(super) struct FusedLane {
 }
 
 impl FusedLane {
-    /// The lane of gradient term `g` (`lane`) in the current row.
-    pub(super) fn new(g: &GradLane, lane: &RowLane) -> FusedLane {
-        let w = |axis: usize| g.w.get(axis).copied().unwrap_or_default();
+    /// The lane of term `lane` (set up as `ts`) in the current row.
+    #[inline(always)]
+    fn new(lane: &RowLane, ts: &TermSetup) -> FusedLane {
+        let (m, k) = (lane.m.min(2), lane.k.min(2));
+        let fm = split(ts.u0).1[m];
+        let amp = lane.amp;
         FusedLane {
-            u: w(lane.m),
-            v: w(lane.o),
-            fm: g.fm,
-            step: g.step,
-            shift: if g.amp > 0 && g.amp <= 1 << 16 && g.amp & (g.amp - 1) == 0 {
-                16 - g.amp.trailing_zeros()
+            fade: lane.fade,
+            amp,
+            u: lane.fade.apply(fm) as i32,
+            v: lane.wo as i32,
+            fm: fm as i32,
+            step: lane.du[k],
+            uk: lane.u0k,
+            shift: if amp > 0 && amp <= 1 << 16 && amp & (amp - 1) == 0 {
+                16 - amp.trailing_zeros()
             } else {
                 32
             },
-            ..FusedLane::default()
+            a: 0,
+            d: 0,
+            sa: 0,
+            sd: 0,
         }
     }
 
@@ -182,20 +196,20 @@ fn blend(a: i64, d4: i64, w14: i32) -> i32 {
     ah.wrapping_add(((i64::from(dh) * i64::from(w14)) >> 32) as i32)
 }
 
-/// The pixels `run` of one term (`g`, `f`) without quadric, its fades along the row from `ws`
+/// The pixels `run` of one term `f` without quadric, its fades along the row from `ws`
 /// (`w << 14`):
 /// the sample `(amp n) >> 16`, as the staged rows make it from their `n`; for an amplitude
 /// `2^p`, `0 <= p <= 16` (an octave's `2^-i`), the same floor as `n >> (16 - p)`.
 #[inline(never)]
-fn one_run(g: &mut GradLane, f: &mut FusedLane, ws: &[u32], run: &mut [TexValue]) {
+fn one_run(f: &mut FusedLane, ws: &[u32], run: &mut [TexValue]) {
     let sh = f.shift;
     if sh <= 16 {
         scaled_run(f, ws, run, |n| n >> sh);
     } else {
-        let amp = i64::from(g.amp);
+        let amp = i64::from(f.amp);
         scaled_run(f, ws, run, |n| ((amp * i64::from(n)) >> 16) as i32);
     }
-    g.uk = g.uk.wrapping_add(g.step.wrapping_mul(run.len() as i32));
+    f.uk = f.uk.wrapping_add(f.step.wrapping_mul(run.len() as i32));
 }
 
 /// [`one_run`]'s loop, each value `n` scaled by `scale`.
@@ -211,23 +225,17 @@ fn scaled_run(f: &mut FusedLane, ws: &[u32], run: &mut [TexValue], scale: impl F
     (f.a, f.d) = (a, d);
 }
 
-/// The pixels `run` of the terms `gl` / `fl` with the quadric `qq` stepped by `dq` and `ddq`:
+/// The pixels `run` of the terms `fl` with the quadric `q` (value, step, second difference):
 /// `V = sum_i amp_i n_i` combined as the staged rows combine it, `(q + (V << 16)) >> 32`.
 #[inline(always)]
-fn multi_run(
-    gl: &mut [GradLane],
-    fl: &mut [FusedLane],
-    run: &mut [TexValue],
-    q: &mut [i64; 3],
-    fades: Fades<'_>,
-) {
+fn multi_run(fl: &mut [FusedLane], run: &mut [TexValue], q: &mut [i64; 3], fades: Fades<'_>) {
     let [mut qq, mut dq, ddq] = *q;
     for (j, o) in run.iter_mut().enumerate() {
         let mut v = 0i64;
-        for (l, (g, f)) in gl.iter_mut().zip(fl.iter_mut()).enumerate() {
-            let wk = fades.at(l, j, g);
-            v = wadd(v, i64::from(g.amp) * i64::from(f.pixel(wk)));
-            g.uk = g.uk.wrapping_add(g.step);
+        for (l, f) in fl.iter_mut().enumerate() {
+            let wk = fades.at(l, j, f.fade, f.uk);
+            v = wadd(v, i64::from(f.amp) * i64::from(f.pixel(wk)));
+            f.uk = f.uk.wrapping_add(f.step);
         }
         *o = TexValue::from_bits((wadd(qq, v << 16) >> 32) as i32);
         qq = wadd(qq, dq);
@@ -236,42 +244,40 @@ fn multi_run(
     *q = [qq, dq, ddq];
 }
 
-/// The samples of a row whose terms `gl` are all gradient noise (set up for this row by
-/// `gradient_walk`), fused: at each entry the entering term's corner sums, then per pixel each
-/// term's blend; the fades along the row from `table` (term `l` at `l len`) when it holds
-/// them all.
+/// The samples of a row whose terms (`lanes`, set up as `terms`) are all gradient noise, fused:
+/// at each entry the entering term's corner sums, then per pixel each term's blend; the fades
+/// along the row (`w << 14`) from `table` (term `l` at `l len`), or computed when it is empty.
 #[inline(never)]
 pub(super) fn fused_walk(
     events: &[RowEvent],
     lanes: &[RowLane],
-    gl: &mut [GradLane],
+    terms: &[TermSetup],
     out: &mut [TexValue],
     q: &mut [i64; 3],
     table: &[u32],
 ) {
+    // At most `GRADIENT_TERMS` lanes, as `rows_take` checks: never full.
     let mut fl: heapless::Vec<FusedLane, GRADIENT_TERMS> = heapless::Vec::new();
-    for (g, lane) in gl.iter().zip(lanes) {
-        let _ = fl.push(FusedLane::new(g, lane));
+    for lane in lanes {
+        if let Some(ts) = terms.get(lane.term) {
+            let _ = fl.push(FusedLane::new(lane, ts));
+        }
     }
-    let (len, lanes_n) = (out.len(), gl.len());
+    let len = out.len();
     let mut x = 0usize;
     let mut rest = out;
     for e in events {
-        let l = usize::from(e.lane);
-        if let Some(f) = fl.get_mut(l) {
+        if let Some(f) = fl.get_mut(usize::from(e.lane)) {
             f.enter(e);
         }
         let n = usize::from(e.run).min(rest.len());
         let (run, tail) = core::mem::take(&mut rest).split_at_mut(n);
         rest = tail;
         let ws = table.get(x..x + n).unwrap_or_default();
-        match (gl.first_mut(), fl.first_mut(), lanes_n) {
-            (Some(g), Some(f), 1) if ws.len() == n && (q[0] | q[1] | q[2]) == 0 => {
-                one_run(g, f, ws, run)
-            }
-            _ => multi_run(
-                gl,
-                &mut fl,
+        match fl.as_mut_slice() {
+            [f] if ws.len() == n && (q[0] | q[1] | q[2]) == 0 => one_run(f, ws, run),
+            fl => multi_run(
+                fl,
                 run,
                 q,
                 Fades {
@@ -367,11 +373,18 @@ mod tests {
             fused_cell(&cell, [k, m, o], w[o]).store(&mut e);
             assert_eq!(FusedCell::load(&e), fused_cell(&cell, [k, m, o], w[o]));
             let mut f = FusedLane {
+                fade,
+                amp: 65_536,
                 u: w[m],
                 v: w[o],
                 fm,
                 step,
-                ..FusedLane::default()
+                uk: 0,
+                shift: 0,
+                a: 0,
+                d: 0,
+                sa: 0,
+                sd: 0,
             };
             f.enter(&e);
             let mut fk = frac[k];

@@ -236,7 +236,7 @@ fn multi_run(
     for (j, o) in run.iter_mut().enumerate() {
         let mut v = 0i64;
         for (l, g) in gl.iter_mut().enumerate() {
-            let wk = fades.at(l, j, g);
+            let wk = fades.at(l, j, g.fade, g.uk);
             v = wadd(v, i64::from(g.amp) * i64::from(g.pixel(wk)));
         }
         *o = TexValue::from_bits((wadd(*qq, v << 16) >> 32) as i32);
@@ -257,12 +257,13 @@ pub(super) struct Fades<'a> {
 }
 
 impl Fades<'_> {
-    /// Term `l`'s (`g`) fade at pixel `j` of the run.
+    /// Term `l`'s fade at pixel `j` of the run (`fade` of the term, `uk` its coordinate along
+    /// the row at the pixel).
     #[inline(always)]
-    pub(super) fn at(&self, l: usize, j: usize, g: &GradLane) -> i32 {
+    pub(super) fn at(&self, l: usize, j: usize, fade: Fade, uk: i32) -> i32 {
         match self.table.get(l * self.len + self.x + j) {
             Some(w) => *w as i32,
-            None => (g.fade.apply(g.uk as u32) as i32) << (self.shift & 15),
+            None => (fade.apply(uk as u32) as i32) << (self.shift & 15),
         }
     }
 }
@@ -308,7 +309,8 @@ impl GradLane {
     }
 }
 
-/// The samples of a row whose terms are all gradient noise ([`gradient_walk`]), each term's
+/// The samples of a row whose terms are all gradient noise ([`gradient_walk`]; with `fused`,
+/// `EvalMode::Fused`, `fused::fused_walk`'s one blend instead of the staged lerps), each term's
 /// fades along its `k` (the same in every row the schedule serves) kept in `weights` when they
 /// hold them all, term after term. Out of line: the row paths of the other bases keep their
 /// code shape.
@@ -327,14 +329,21 @@ pub(super) fn gradient_row<const T: usize>(
     let shift = if fused { 14 } else { 0 };
     state.weights = row_fades(&state.lanes, made, weights, out.len(), shift);
     let table = weights.get(..state.weights).filter(|w| !w.is_empty());
-    gradient_walk(events, &state.lanes, &setup.terms, out, q, table, fused);
+    #[cfg(feature = "fused")]
+    if fused {
+        let table = table
+            .filter(|t| t.len() >= state.lanes.len() * out.len())
+            .unwrap_or_default();
+        return super::fused::fused_walk(events, &state.lanes, &setup.terms, out, q, table);
+    }
+    let _ = fused;
+    gradient_walk(events, &state.lanes, &setup.terms, out, q, table);
 }
 
 /// The samples of a row whose terms are all gradient noise (as `row_walk`): at each entry the
 /// entering term's corner dot products for this row, then per pixel every term's staged lerps
 /// and the quadric `q`, the fades along the row from `table` when it holds every term's
-/// (`Fades`); with `fused` (`EvalMode::Fused`), `fused::fused_walk`'s one blend instead of
-/// the staged lerps.
+/// (`Fades`).
 #[inline(never)]
 fn gradient_walk(
     events: &[RowEvent],
@@ -343,7 +352,6 @@ fn gradient_walk(
     out: &mut [TexValue],
     q: &mut [i64; 3],
     table: Option<&[u32]>,
-    fused: bool,
 ) {
     // The terms' row state (pushed, not a zeroed array: at most `GRADIENT_TERMS` lanes, as
     // `rows_take` checks; never full).
@@ -374,11 +382,6 @@ fn gradient_walk(
     let table = table
         .filter(|t| t.len() >= gl.len() * len)
         .unwrap_or_default();
-    #[cfg(feature = "fused")]
-    if fused {
-        return super::fused::fused_walk(events, lanes, &mut gl, out, q, table);
-    }
-    let _ = fused;
     let mut x = 0usize;
     let mut rest = out;
     for e in events {
