@@ -24,7 +24,7 @@
 //! The steps wrap (`a` and `d` are exact modulo `2^64`, and their true values are in range at
 //! every pixel of the cell). Nothing here panics.
 
-use super::gradient::{grad_cell, keep_rolled, Fades, GradCell};
+use super::gradient::{grad_cell, Fades, GradCell};
 use super::*;
 use crate::noise::Fade;
 
@@ -217,7 +217,6 @@ fn one_run(f: &mut FusedLane, ws: &[u32], run: &mut [TexValue]) {
 fn scaled_run(f: &mut FusedLane, ws: &[u32], run: &mut [TexValue], scale: impl Fn(i32) -> i32) {
     let (mut a, mut d, sa, sd) = (f.a, f.d, f.sa, f.sd);
     for (o, wk) in run.iter_mut().zip(ws) {
-        keep_rolled(*wk);
         *o = TexValue::from_bits(scale(blend(a, d, *wk as i32)));
         a = a.wrapping_add(sa);
         d = d.wrapping_add(sd);
