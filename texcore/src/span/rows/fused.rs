@@ -201,11 +201,14 @@ fn blend(a: i64, d4: i64, w14: i32) -> i32 {
 /// The pixels `run` of one term `f` without quadric, its fades along the row from `ws`
 /// (`w << 14`):
 /// the sample `(amp n) >> 16`, as the staged rows make it from their `n`; for an amplitude
-/// `2^p`, `0 <= p <= 16` (an octave's `2^-i`), the same floor as `n >> (16 - p)`.
+/// `2^p`, `0 <= p <= 16` (an octave's `2^-i`), the same floor as `n >> (16 - p)` (`n` itself
+/// for an amplitude of one).
 #[inline(never)]
 fn one_run(f: &mut FusedLane, ws: &[u32], run: &mut [TexValue]) {
     let sh = f.shift;
-    if sh <= 16 {
+    if sh == 0 {
+        scaled_run(f, ws, run, |n| n);
+    } else if sh <= 16 {
         scaled_run(f, ws, run, |n| n >> sh);
     } else {
         let amp = i64::from(f.amp);
