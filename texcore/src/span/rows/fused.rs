@@ -203,7 +203,7 @@ fn blend(a: i64, d4: i64, w14: i32) -> i32 {
 /// the sample `(amp n) >> 16`, as the staged rows make it from their `n`; for an amplitude
 /// `2^p`, `0 <= p <= 16` (an octave's `2^-i`), the same floor as `n >> (16 - p)` (`n` itself
 /// for an amplitude of one).
-#[inline(never)]
+#[inline(always)]
 fn one_run(f: &mut FusedLane, ws: &[u32], run: &mut [TexValue]) {
     let sh = f.shift;
     if sh == 0 {
@@ -227,6 +227,23 @@ fn scaled_run(f: &mut FusedLane, ws: &[u32], run: &mut [TexValue], scale: impl F
         d = d.wrapping_add(sd);
     }
     (f.a, f.d) = (a, d);
+}
+
+/// The samples of a row of one term `f` without quadric, its fades along the row (`w << 14`)
+/// in `table`: each cell entered, then its pixels ([`one_run`]).
+#[inline(never)]
+fn one_term_row(f: &mut FusedLane, events: &[RowEvent], table: &[u32], out: &mut [TexValue]) {
+    let mut x = 0usize;
+    let mut rest = out;
+    for e in events {
+        f.enter(e);
+        let n = usize::from(e.run).min(rest.len());
+        let (run, tail) = core::mem::take(&mut rest).split_at_mut(n);
+        rest = tail;
+        let ws = table.get(x..x + n).unwrap_or_default();
+        one_run(f, ws, run);
+        x += n;
+    }
 }
 
 /// The pixels `run` of the terms `fl` with the quadric `q` (value, step, second difference):
@@ -268,6 +285,12 @@ pub(super) fn fused_walk(
         }
     }
     let len = out.len();
+    // One term without quadric, its fades in the table: the whole row in one call.
+    if let [f] = fl.as_mut_slice() {
+        if table.len() >= len && (q[0] | q[1] | q[2]) == 0 {
+            return one_term_row(f, events, table, out);
+        }
+    }
     let mut x = 0usize;
     let mut rest = out;
     for e in events {
@@ -278,19 +301,15 @@ pub(super) fn fused_walk(
         let (run, tail) = core::mem::take(&mut rest).split_at_mut(n);
         rest = tail;
         let ws = table.get(x..x + n).unwrap_or_default();
+        let fades = Fades {
+            table,
+            len,
+            x,
+            shift: 14,
+        };
         match fl.as_mut_slice() {
             [f] if ws.len() == n && (q[0] | q[1] | q[2]) == 0 => one_run(f, ws, run),
-            fl => multi_run(
-                fl,
-                run,
-                q,
-                Fades {
-                    table,
-                    len,
-                    x,
-                    shift: 14,
-                },
-            ),
+            fl => multi_run(fl, run, q, fades),
         }
         x += n;
     }
