@@ -142,11 +142,18 @@ impl FusedLane {
         }
     }
 
-    /// Enters the cell of entry `e`. Out of line on Arm (the walk's registers stay its own:
-    /// 0.9 a sample less on the M4F's one-term rows), inline elsewhere (rv32imc: 0.3 less).
+    /// Enters the cell of entry `e`.
+    #[inline(always)]
+    fn enter(&mut self, e: &RowEvent) {
+        [self.a, self.d, self.sa, self.sd] = self.entered(e);
+    }
+
+    /// The state `[a, d, sa, sd]` at the entry pixel of the cell of entry `e`. Out of line on
+    /// Arm (the walk's registers stay its own: 0.9 a sample less on the M4F's one-term rows),
+    /// inline elsewhere (rv32imc: 0.3 less).
     #[cfg_attr(target_arch = "arm", inline(never))]
     #[cfg_attr(not(target_arch = "arm"), inline(always))]
-    fn enter(&mut self, e: &RowEvent) {
+    fn entered(&self, e: &RowEvent) -> [i64; 4] {
         let cell = FusedCell::load(e);
         let (u, v, fm) = (self.u, self.v, self.fm);
         // `(2^16 - v) g_0 + v g_1` of a pair's components (within `2^16`).
@@ -170,10 +177,12 @@ impl FusedLane {
         let (a0, a1) = (blend(x[0], x[1]), blend(x[2], x[3]));
         let (g0, g1) = (hblend(h[0], h[1]), hblend(h[2], h[3]));
         let step = i64::from(self.step);
-        self.a = a0;
-        self.d = a1.wrapping_sub(a0).wrapping_mul(4);
-        self.sa = g0.wrapping_mul(step);
-        self.sd = g1.wrapping_sub(g0).wrapping_mul(step).wrapping_mul(4);
+        [
+            a0,
+            a1.wrapping_sub(a0).wrapping_mul(4),
+            g0.wrapping_mul(step),
+            g1.wrapping_sub(g0).wrapping_mul(step).wrapping_mul(4),
+        ]
     }
 
     /// The term's value `n` (units `2^-16`) at the current pixel with fade `w14 = wk << 14` along
@@ -205,44 +214,56 @@ fn blend(a: i64, d4: i64, w14: i32) -> i32 {
 /// for an amplitude of one).
 #[inline(always)]
 fn one_run(f: &mut FusedLane, ws: &[u32], run: &mut [TexValue]) {
+    let state = [f.a, f.d, f.sa, f.sd];
+    [f.a, f.d] = scaled(f, state, ws, run);
+    f.uk = f.uk.wrapping_add(f.step.wrapping_mul(run.len() as i32));
+}
+
+/// [`one_run`]'s pixels from the state `[a, d, sa, sd]`; returns `[a, d]` after them.
+#[inline(always)]
+fn scaled(f: &FusedLane, state: [i64; 4], ws: &[u32], run: &mut [TexValue]) -> [i64; 2] {
     let sh = f.shift;
     if sh == 0 {
-        scaled_run(f, ws, run, |n| n);
+        scaled_run(state, ws, run, |n| n)
     } else if sh <= 16 {
-        scaled_run(f, ws, run, |n| n >> sh);
+        scaled_run(state, ws, run, |n| n >> sh)
     } else {
         let amp = i64::from(f.amp);
-        scaled_run(f, ws, run, |n| ((amp * i64::from(n)) >> 16) as i32);
+        scaled_run(state, ws, run, |n| ((amp * i64::from(n)) >> 16) as i32)
     }
-    f.uk = f.uk.wrapping_add(f.step.wrapping_mul(run.len() as i32));
 }
 
 /// [`one_run`]'s loop, each value `n` scaled by `scale`.
 #[inline(always)]
-fn scaled_run(f: &mut FusedLane, ws: &[u32], run: &mut [TexValue], scale: impl Fn(i32) -> i32) {
-    let (mut a, mut d, sa, sd) = (f.a, f.d, f.sa, f.sd);
+fn scaled_run(
+    [mut a, mut d, sa, sd]: [i64; 4],
+    ws: &[u32],
+    run: &mut [TexValue],
+    scale: impl Fn(i32) -> i32,
+) -> [i64; 2] {
     for (o, wk) in run.iter_mut().zip(ws) {
         *o = TexValue::from_bits(scale(blend(a, d, *wk as i32)));
         a = a.wrapping_add(sa);
         d = d.wrapping_add(sd);
     }
-    (f.a, f.d) = (a, d);
+    [a, d]
 }
 
 /// The samples of a row of one term `f` without quadric, its fades along the row (`w << 14`)
 /// in `table`: each cell entered, then its pixels ([`one_run`]).
 #[inline(never)]
-fn one_term_row(f: &mut FusedLane, events: &[RowEvent], table: &[u32], out: &mut [TexValue]) {
-    let mut x = 0usize;
+fn one_term_row(f: &FusedLane, events: &[RowEvent], table: &[u32], out: &mut [TexValue]) {
     let mut rest = out;
+    let mut fades = table;
     for e in events {
-        f.enter(e);
         let n = usize::from(e.run).min(rest.len());
         let (run, tail) = core::mem::take(&mut rest).split_at_mut(n);
         rest = tail;
-        let ws = table.get(x..x + n).unwrap_or_default();
-        one_run(f, ws, run);
-        x += n;
+        let Some((ws, later)) = fades.split_at_checked(n) else {
+            return;
+        };
+        fades = later;
+        scaled(f, f.entered(e), ws, run);
     }
 }
 
