@@ -148,11 +148,8 @@ impl FusedLane {
         [self.a, self.d, self.sa, self.sd] = self.entered(e);
     }
 
-    /// The state `[a, d, sa, sd]` at the entry pixel of the cell of entry `e`. Out of line on
-    /// Arm (the walk's registers stay its own: 0.9 a sample less on the M4F's one-term rows),
-    /// inline elsewhere (rv32imc: 0.3 less).
-    #[cfg_attr(target_arch = "arm", inline(never))]
-    #[cfg_attr(not(target_arch = "arm"), inline(always))]
+    /// The state `[a, d, sa, sd]` at the entry pixel of the cell of entry `e`.
+    #[inline(always)]
     fn entered(&self, e: &RowEvent) -> [i64; 4] {
         let cell = FusedCell::load(e);
         let (u, v, fm) = (self.u, self.v, self.fm);
