@@ -1,7 +1,8 @@
 //! Span evaluator: random models (up to four noise terms of every basis, fade, hash and
 //! turbulence, any transform and quadric bits, any precision, both table wraps) and random spans
 //! (any start, step and second direction, up to 1023 pixels). The exact modes (`Fd`, `Auto`)
-//! give the same samples as `Direct`, bit for bit, with and without culling and gradients; the
+//! and `Fused` (approximate only in the rows of `SpanEvaluator::rows`) give the same samples as
+//! `Direct`, bit for bit, with and without culling and gradients; the
 //! approximate modes (`Fd32`, `Reanchored`) never panic and give one sample per pixel. Every
 //! band-limiting setting (either fade rule, any floor and share) is drawn too.
 #![no_main]
@@ -120,7 +121,8 @@ fuzz_target!(|data: &[u8]| {
     for (gradients, cull) in [(true, true), (true, false), (false, true)] {
         let direct = eval(&m, EvalMode::Direct, gradients, cull, band, &span);
         assert_eq!(direct.len(), n);
-        for mode in [EvalMode::Fd, EvalMode::Auto] {
+        // `Fused` differs only in the rows of `SpanEvaluator::rows`: spans are `Fd`'s.
+        for mode in [EvalMode::Fd, EvalMode::Auto, EvalMode::Fused] {
             let got = eval(&m, mode, gradients, cull, band, &span);
             if let Some(i) = (0..n).find(|&i| got[i] != direct[i]) {
                 panic!(
