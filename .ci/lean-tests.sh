@@ -9,5 +9,5 @@ cd "$(dirname "$0")/.."
 export CARGO_TARGET_DIR=target/lean
 export RUSTFLAGS="--cfg texcore_lean"
 export RUSTDOCFLAGS="--cfg texcore_lean"
-cargo test -q -p texcore
+cargo test -q -p texcore --features fused
 cargo test -q -p texcore --no-default-features --lib
