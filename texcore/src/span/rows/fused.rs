@@ -14,10 +14,12 @@
 //! a row adds `f_m ((2^16 - v) gm_0 + v gm_1)` and blends along `m` with `u`. Every step is exact
 //! integer arithmetic (`|d_c| <= 2^17`: `|E| < 2^35`, `|A| <= 2^49`).
 //!
-//! A pixel keeps `a = A_0` and `d = A_1 - A_0` and makes
-//! `n = floor(a / 2^32) + floor(w_k floor(d / 2^32) / 2^16)`.
+//! A pixel keeps `a = A_0` and `d4 = 4 (A_1 - A_0)` and makes
+//! `n = floor(a / 2^32) + floor(floor(d4 / 2^32) w14 / 2^32)`, `w14 = w_k 2^14` (the fades along
+//! the row are kept so): one signed high-word product (`blend`).
 //!
-//! Guarantees: `n` is in `(R - 3, R]` (each of its three floors loses less than one unit), and
+//! Guarantees: `n` is in `(R - 3, R]` (its three floors lose less than one unit, a quarter and
+//! one), and
 //! so is `NoiseBasis::sample`'s value from the seven staged lerps (each of its three stages
 //! floors once, and the lerps are convex combinations): the two differ by at most 2 units of
 //! `2^-16`. Tested against the exact `R` (128-bit) and against `Direct` in the module `rows`.
@@ -66,7 +68,8 @@ impl FusedCell {
 /// gradients (as `gradient::grad_cell` hashes them) blended along `o` ([`FusedCell`]).
 pub(super) fn fused_entries(li: usize, lane: &RowLane, hash: HashKind, events: &mut [RowEvent]) {
     let axes = [lane.k.min(2), lane.m.min(2), lane.o.min(2)];
-    let v = lane.fade.apply(lane.fo) as i32;
+    // The fade along `o` (`row_schedule` makes it before the entries).
+    let v = lane.wo as i32;
     for e in events.iter_mut().filter(|e| usize::from(e.lane) == li) {
         fused_cell(&grad_cell(lane, hash, e.at), axes, v).store(e);
     }
@@ -369,7 +372,7 @@ mod tests {
     /// within two of the staged value at every pixel of the cell, for random corner gradients,
     /// fractions, steps and every row axis.
     #[test]
-    fn a_fused_cell_is_within_one_of_the_exact_value() {
+    fn a_fused_cell_is_within_its_bound() {
         let mut x = 0x9E37_79B9_7F4A_7C15u64;
         let mut next = || xorshift(&mut x);
         for _ in 0..4000 {
