@@ -248,7 +248,9 @@ pub fn markdown(rows: &[&RowReport]) -> String {
          and within 1 step of the samples as an 8-bit grey image (`[-1, 1]` to `[0, 255]`) \
          against the reference's. Device: exact instructions per sample of the peers firmware's \
          one-band jobs (`peers:perlin-*:texcore-fd`, `peers:perlin-*:texcore-fused`; the whole \
-         plane's figures are in `docs/peers.md`).\n"
+         plane's figures are in `docs/peers.md`). Code: `fused` adds the fused row kernels to the \
+         fast code shape's row schedule (`docs/performance.md`); the size-lean shape has no row \
+         schedule, so there it adds nothing and `Fused` evaluates as `Fd`.\n"
     );
     let _ = writeln!(
         s,

@@ -126,9 +126,15 @@ fn code_summary(report: &Report) -> Option<String> {
          configuration needs; not an axis of the front): the baseline (`{}`) is {} / {} bytes",
         base.code_features, bm.texcore_text, br.texcore_text
     );
-    // Distinct sets of single-knob rows other than the baseline's, in row order.
+    // Distinct sets of single-knob rows other than the baseline's, in row order (not the
+    // `gradient_blend` rows: another plane and model, whose code is in the fast shape's row
+    // schedule, which no size-lean probe has).
     let mut sets: Vec<(&str, Vec<&RowReport>)> = Vec::new();
-    for r in report.rows.iter().filter(|r| !r.combination) {
+    for r in report
+        .rows
+        .iter()
+        .filter(|r| !r.combination && r.knob != super::blend::KNOB)
+    {
         if r.code_features == base.code_features {
             continue;
         }
