@@ -27,7 +27,7 @@ use texcore::texture::workload::peers::{self as wl, Workload};
 use super::device::DevicePolicy;
 use super::{measure, set_primary, RowReport, Settings};
 use crate::bridge::ref_model;
-use crate::device::{self, DeviceTarget, RunOptions};
+use crate::device::{DeviceTarget, RunOptions};
 use crate::metrics::compare_to_reference;
 use crate::report::peers as dev_peers;
 
@@ -189,18 +189,11 @@ pub fn host_rows(settings: &Settings) -> Result<Vec<RowReport>, String> {
 /// `perlin-1oct` and `perlin-4oct` rows of `texcore-fd` (the `staged` settings) and
 /// `texcore-fused`. Returns the targets skipped and why.
 pub fn apply_device(rows: &mut [RowReport], policy: DevicePolicy) -> Result<Vec<String>, String> {
-    let mut skipped = Vec::new();
-    if policy == DevicePolicy::Off || rows.is_empty() {
-        return Ok(skipped);
+    if rows.is_empty() {
+        return Ok(Vec::new());
     }
-    for target in DeviceTarget::ALL {
-        if let Err(e) = device::check_qemu(target) {
-            if policy == DevicePolicy::IfAvailable {
-                skipped.push(format!("{target}: {e}"));
-                continue;
-            }
-            return Err(e.to_string());
-        }
+    let (targets, skipped) = super::device::runnable_targets(policy)?;
+    for target in targets {
         let opts = RunOptions {
             timeout: Duration::from_secs(900),
             ..RunOptions::default()

@@ -56,6 +56,25 @@ pub fn pixels(row: &Row) -> f64 {
     }
 }
 
+/// The targets to measure under `policy` (both, unless `Off`), and those skipped and why: with
+/// `IfAvailable` a target whose QEMU is missing is skipped, with `Required` it is an error.
+pub fn runnable_targets(policy: DevicePolicy) -> Result<(Vec<DeviceTarget>, Vec<String>), String> {
+    let (mut run, mut skipped) = (Vec::new(), Vec::new());
+    if policy == DevicePolicy::Off {
+        return Ok((run, skipped));
+    }
+    for target in DeviceTarget::ALL {
+        match device::check_qemu(target) {
+            Ok(_) => run.push(target),
+            Err(e) if policy == DevicePolicy::IfAvailable => {
+                skipped.push(format!("{target}: {e}"));
+            }
+            Err(e) => return Err(e.to_string()),
+        }
+    }
+    Ok((run, skipped))
+}
+
 /// Builds and runs the firmware parts the rows need, on both targets.
 pub fn measure(rows: &[&Row], policy: DevicePolicy) -> Result<DeviceResults, String> {
     let start = std::time::Instant::now();
@@ -66,15 +85,9 @@ pub fn measure(rows: &[&Row], policy: DevicePolicy) -> Result<DeviceResults, Str
     let mut parts: Vec<Part> = rows.iter().map(|r| Part::of(&r.cfg)).collect();
     parts.sort();
     parts.dedup();
-    for target in DeviceTarget::ALL {
-        match device::check_qemu(target) {
-            Ok(_) => {}
-            Err(e) if policy == DevicePolicy::IfAvailable => {
-                out.skipped.push(format!("{target}: {e}"));
-                continue;
-            }
-            Err(e) => return Err(e.to_string()),
-        }
+    let (targets, skipped) = runnable_targets(policy)?;
+    out.skipped = skipped;
+    for target in targets {
         let mut map = BTreeMap::new();
         for part in &parts {
             let opts = RunOptions {

@@ -294,18 +294,11 @@ fn device_row(
 /// their set-up jobs, checksums compared with the host's) put on the `procedural` and
 /// `atlas-128-device` rows. Returns the targets skipped and why.
 pub fn apply_device(rows: &mut [RowReport], policy: DevicePolicy) -> Result<Vec<String>, String> {
-    let mut skipped = Vec::new();
-    if policy == DevicePolicy::Off || !rows.iter().any(|r| r.setting == DEVICE_ROW) {
-        return Ok(skipped);
+    if !rows.iter().any(|r| r.setting == DEVICE_ROW) {
+        return Ok(Vec::new());
     }
-    for target in DeviceTarget::ALL {
-        if let Err(e) = device::check_qemu(target) {
-            if policy == DevicePolicy::IfAvailable {
-                skipped.push(format!("{target}: {e}"));
-                continue;
-            }
-            return Err(e.to_string());
-        }
+    let (targets, skipped) = super::device::runnable_targets(policy)?;
+    for target in targets {
         let opts = RunOptions {
             timeout: Duration::from_secs(900),
             ..RunOptions::default()
