@@ -37,7 +37,7 @@ pub(super) struct GradCell {
 }
 
 impl GradCell {
-    pub(super) fn store(&self, e: &mut RowEvent) {
+    fn store(&self, e: &mut RowEvent) {
         let pair = |a: i32, b: i32| i64::from(a as u32) | (i64::from(b) << 32);
         let b = &self.base;
         e.dv = [pair(b[0], b[1]), pair(b[2], b[3])];
@@ -47,7 +47,7 @@ impl GradCell {
     }
 
     #[inline(always)]
-    pub(super) fn load(e: &RowEvent) -> GradCell {
+    fn load(e: &RowEvent) -> GradCell {
         let words = [e.dv[0], e.dv[1], e.ds[0], e.ds[1]];
         let mut base = [0i32; 8];
         for (pair, w) in base.chunks_exact_mut(2).zip(words) {
@@ -159,7 +159,7 @@ pub(super) fn small_amps(sum: u64, fv: u32) -> bool {
 /// copies of their corner state and spill it among Thumb's 13 registers (the M4F: 9.6 a sample
 /// more on `peers:perlin-1oct`); rv32imc's 31 hold them (unrolled there: 1.8 a sample less).
 #[inline(always)]
-pub(super) fn keep_rolled(w: u32) {
+fn keep_rolled(w: u32) {
     #[cfg(target_arch = "arm")]
     if w > 1 << 16 {
         core::hint::black_box(());
@@ -272,16 +272,16 @@ impl Fades<'_> {
 /// axes, its fraction along `m`, amplitude, axis `k`, step along `k`, and the corner dot products
 /// and their steps in its current cell.
 #[derive(Clone, Copy, Debug)]
-pub(super) struct GradLane {
-    pub(super) fade: Fade,
-    pub(super) w: [i32; 3],
-    pub(super) fm: i32,
-    pub(super) amp: i32,
-    pub(super) k: usize,
-    pub(super) step: i32,
-    pub(super) uk: i32,
-    pub(super) d: [i32; 8],
-    pub(super) s: [i32; 8],
+struct GradLane {
+    fade: Fade,
+    w: [i32; 3],
+    fm: i32,
+    amp: i32,
+    k: usize,
+    step: i32,
+    uk: i32,
+    d: [i32; 8],
+    s: [i32; 8],
 }
 
 impl GradLane {
