@@ -46,8 +46,8 @@ pub const HOST_HASH: HashKind = HashKind::Permutation;
 pub struct PeerRow {
     /// Workload name (`value-1oct`, ...).
     pub workload: String,
-    /// Implementation (`texcore-fd`, `texcore-auto`, `texcore-direct`, `fastnoise-lite`,
-    /// `noise`).
+    /// Implementation (`texcore-fd`, `texcore-auto`, `texcore-direct`, `texcore-fused` (the
+    /// Perlin workloads only), `fastnoise-lite`, `noise`).
     pub implementation: String,
     /// Target triple.
     pub target: String,
