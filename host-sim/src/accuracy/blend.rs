@@ -258,18 +258,8 @@ pub fn markdown(rows: &[&RowReport]) -> String {
     let m4f = DeviceTarget::CortexM4F.triple();
     let rv = DeviceTarget::Riscv32imc.triple();
     for r in rows {
-        let dev = |t: &str| {
-            r.device_instructions_per_pixel
-                .get(t)
-                .map_or("-".to_string(), |v| format!("{v:.1}"))
-        };
-        let matched = if r.device_checksum_match.is_empty() {
-            "-"
-        } else if r.device_checksum_match.values().all(|&m| m) {
-            "yes"
-        } else {
-            "**no**"
-        };
+        let dev = |t: &str| r.device_cell(t);
+        let matched = r.device_match_cell();
         let e = r.value_error.unwrap_or_default();
         let _ = writeln!(
             s,

@@ -229,6 +229,25 @@ pub struct RowReport {
 }
 
 impl RowReport {
+    /// The row's device instructions per unit on `triple` as a table cell (`-` when not
+    /// measured).
+    pub fn device_cell(&self, triple: &str) -> String {
+        self.device_instructions_per_pixel
+            .get(triple)
+            .map_or("-".to_string(), |v| format!("{v:.1}"))
+    }
+
+    /// Whether every device checksum equals the host's, as a table cell (`-`: no device run).
+    pub fn device_match_cell(&self) -> &'static str {
+        if self.device_checksum_match.is_empty() {
+            "-"
+        } else if self.device_checksum_match.values().all(|&m| m) {
+            "yes"
+        } else {
+            "**no**"
+        }
+    }
+
     /// A row of `knob = setting` (device job `id`) with nothing measured yet: no errors, no
     /// timings, no device counts, not a combination, not the baseline.
     pub fn unmeasured(

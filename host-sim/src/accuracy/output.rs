@@ -24,13 +24,7 @@ fn dev(r: &RowReport, t: &str) -> String {
 }
 
 fn matched(r: &RowReport) -> &'static str {
-    if r.device_checksum_match.is_empty() {
-        "-"
-    } else if r.device_checksum_match.values().all(|&b| b) {
-        "yes"
-    } else {
-        "**NO**"
-    }
+    r.device_match_cell()
 }
 
 fn pct(v: f64) -> String {

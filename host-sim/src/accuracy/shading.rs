@@ -397,22 +397,12 @@ pub fn markdown(rows: &[&RowReport]) -> String {
     let m4f = DeviceTarget::CortexM4F.triple();
     let rv = DeviceTarget::Riscv32imc.triple();
     for r in rows {
-        let dev = |t: &str| {
-            r.device_instructions_per_pixel
-                .get(t)
-                .map_or("-".to_string(), |v| format!("{v:.1}"))
-        };
+        let dev = |t: &str| r.device_cell(t);
         let bake_texel = match (r.device_setup_instructions.get(m4f), r.atlas_texels_baked) {
             (Some(i), Some(n)) if n > 0 => format!("{:.1}", *i as f64 / n as f64),
             _ => "-".to_string(),
         };
-        let matched = if r.device_checksum_match.is_empty() {
-            "-"
-        } else if r.device_checksum_match.values().all(|&m| m) {
-            "yes"
-        } else {
-            "**no**"
-        };
+        let matched = r.device_match_cell();
         let _ = writeln!(
             s,
             "| `{}` | {:.2} | {:.0} | {:.1}% | {} | {} | {} | {:.1} | {} | {} | {} | {} | {} |",
