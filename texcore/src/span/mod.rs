@@ -203,7 +203,8 @@ pub enum EvalMode {
     /// additions and blends with its fade along the row in one product. **Not** bit-identical:
     /// a term's value `n` and `Direct`'s are both within three units of `2^-16` below the exact
     /// trilinear value (three floors each), so they differ by at most `2 * 2^-16`, and a sample
-    /// by at most `2 sum |a_i| 2^-16` plus one unit of the final floor. Everything else (other
+    /// by at most `2 sum |a_i| 2^-16` plus one unit a term (a row without quadric floors each
+    /// term's product on its own, term after term). Everything else (other
     /// bases, spans outside the row schedule) as `Fd`.
     ///
     /// Compiled in with the crate feature `fused`; without it this mode is [`EvalMode::Fd`]

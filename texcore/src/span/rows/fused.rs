@@ -18,6 +18,11 @@
 //! `n = floor(a / 2^32) + floor(floor(d4 / 2^32) w14 / 2^32)`, `w14 = w_k 2^14` (the fades along
 //! the row are kept so): one signed high-word product (`blend`).
 //!
+//! A row of one term without quadric runs in one call (`one_term_row`); of several, term after
+//! term, each over its own cells, adding its floored `(amp n) >> 16` into the row (`lane_rows`:
+//! one floor a term instead of one of the sum); with a quadric, pixel after pixel
+//! (`multi_run`, the staged rows' combination).
+//!
 //! Guarantees: `n` is in `(R - 3, R]` (its three floors lose less than one unit, a quarter and
 //! one), and
 //! so is `NoiseBasis::sample`'s value from the seven staged lerps (each of its three stages
@@ -215,34 +220,42 @@ fn blend(a: i64, d4: i64, w14: i32) -> i32 {
 #[inline(always)]
 fn one_run(f: &mut FusedLane, ws: &[u32], run: &mut [TexValue]) {
     let state = [f.a, f.d, f.sa, f.sd];
-    [f.a, f.d] = scaled(f, state, ws, run);
+    [f.a, f.d] = scaled::<false>(f, state, ws, run);
     f.uk = f.uk.wrapping_add(f.step.wrapping_mul(run.len() as i32));
 }
 
-/// [`one_run`]'s pixels from the state `[a, d, sa, sd]`; returns `[a, d]` after them.
+/// [`one_run`]'s pixels from the state `[a, d, sa, sd]` (with `ADD`, each added to the pixel's
+/// value instead of stored); returns `[a, d]` after them.
 #[inline(always)]
-fn scaled(f: &FusedLane, state: [i64; 4], ws: &[u32], run: &mut [TexValue]) -> [i64; 2] {
+fn scaled<const ADD: bool>(
+    f: &FusedLane,
+    state: [i64; 4],
+    ws: &[u32],
+    run: &mut [TexValue],
+) -> [i64; 2] {
     let sh = f.shift;
     if sh == 0 {
-        scaled_run(state, ws, run, |n| n)
+        scaled_run::<ADD>(state, ws, run, |n| n)
     } else if sh <= 16 {
-        scaled_run(state, ws, run, |n| n >> sh)
+        scaled_run::<ADD>(state, ws, run, |n| n >> sh)
     } else {
         let amp = i64::from(f.amp);
-        scaled_run(state, ws, run, |n| ((amp * i64::from(n)) >> 16) as i32)
+        scaled_run::<ADD>(state, ws, run, |n| ((amp * i64::from(n)) >> 16) as i32)
     }
 }
 
-/// [`one_run`]'s loop, each value `n` scaled by `scale`.
+/// [`one_run`]'s loop, each value `n` scaled by `scale` (with `ADD`, added to the pixel's value,
+/// wrapping: the terms' sum is within range, `gradient::small_amps`).
 #[inline(always)]
-fn scaled_run(
+fn scaled_run<const ADD: bool>(
     [mut a, mut d, sa, sd]: [i64; 4],
     ws: &[u32],
     run: &mut [TexValue],
     scale: impl Fn(i32) -> i32,
 ) -> [i64; 2] {
     for (o, wk) in run.iter_mut().zip(ws) {
-        *o = TexValue::from_bits(scale(blend(a, d, *wk as i32)));
+        let v = scale(blend(a, d, *wk as i32));
+        *o = TexValue::from_bits(if ADD { o.to_bits().wrapping_add(v) } else { v });
         a = a.wrapping_add(sa);
         d = d.wrapping_add(sd);
     }
@@ -263,7 +276,40 @@ fn one_term_row(f: &FusedLane, events: &[RowEvent], table: &[u32], out: &mut [Te
             return;
         };
         fades = later;
-        scaled(f, f.entered(e), ws, run);
+        scaled::<false>(f, f.entered(e), ws, run);
+    }
+}
+
+/// The samples of a row of several terms `fl` without quadric, their fades along the row
+/// (`w << 14`) in `table` (term `l` at `l len`): term after term, each over its own cells, its
+/// scaled values added into `out` (so each term's `(amp n) >> 16` is floored on its own: at most
+/// one unit more a term than [`multi_run`]'s one floor of the sum).
+#[inline(never)]
+fn lane_rows(fl: &[FusedLane], events: &[RowEvent], table: &[u32], out: &mut [TexValue]) {
+    let len = out.len();
+    out.fill(TexValue::ZERO);
+    for (l, f) in fl.iter().enumerate() {
+        let Some(fades) = table.get(l * len..(l + 1) * len) else {
+            return;
+        };
+        // The term's cells: from each of its entries to its next (or the row's end).
+        let mut cell: Option<([i64; 4], usize)> = None;
+        let mut x = 0usize;
+        let mut add = |cell: Option<([i64; 4], usize)>, end: usize| {
+            if let Some((state, start)) = cell {
+                if let (Some(ws), Some(run)) = (fades.get(start..end), out.get_mut(start..end)) {
+                    scaled::<true>(f, state, ws, run);
+                }
+            }
+        };
+        for e in events {
+            if usize::from(e.lane) == l {
+                add(cell, x);
+                cell = Some((f.entered(e), x));
+            }
+            x = (x + usize::from(e.run)).min(len);
+        }
+        add(cell, x);
     }
 }
 
@@ -306,11 +352,12 @@ pub(super) fn fused_walk(
         }
     }
     let len = out.len();
-    // One term without quadric, its fades in the table: the whole row in one call.
-    if let [f] = fl.as_mut_slice() {
-        if table.len() >= len && (q[0] | q[1] | q[2]) == 0 {
-            return one_term_row(f, events, table, out);
-        }
+    // Terms without quadric, their fades in the table: the whole row in one call.
+    if table.len() >= fl.len() * len && (q[0] | q[1] | q[2]) == 0 {
+        return match fl.as_slice() {
+            [f] => one_term_row(f, events, table, out),
+            fl => lane_rows(fl, events, table, out),
+        };
     }
     let mut x = 0usize;
     let mut rest = out;

@@ -1074,8 +1074,8 @@ mod tests {
     }
 
     /// `rows` rows of `first` in `EvalMode::Fused` through a [`RowCache<N, W>`], each sample
-    /// within `ceil(2 sum |a_i| / 2^16) + 1` (raw) of `Direct`'s (the mode's bound, `a_i` the
-    /// terms' raw amplitudes); returns the rows the schedule served and the samples that differ
+    /// within `ceil(2 sum |a_i| / 2^16)` plus one per term (raw) of `Direct`'s (the mode's bound,
+    /// `a_i` the terms' raw amplitudes); returns the rows the schedule served and the samples that differ
     /// from `Direct`'s.
     #[cfg(feature = "fused")]
     fn fused_against_direct<const T: usize, const N: usize, const W: usize>(
@@ -1096,7 +1096,7 @@ mod tests {
             .iter()
             .map(|t| i64::from(t.amplitude.to_bits()).abs())
             .sum();
-        let bound = (2 * amps + 65_535) / 65_536 + 1;
+        let bound = (2 * amps + 65_535) / 65_536 + m.terms().len() as i64;
         let mut cache = RowCache::<N, W>::new();
         let mut ev = SpanEvaluator::new(m, opts);
         let direct_opts = EvalOptions {
