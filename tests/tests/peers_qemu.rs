@@ -56,7 +56,7 @@ const BOUNDS: &[(&str, &str, f64, f64)] = &[
     ("perlin-4oct", "texcore-auto", 751.0, 803.0), // 682.2 / 729.9
     ("perlin-4oct", "texcore-direct", 3627.0, 4922.0), // 3297.2 / 4474.0
     ("perlin-1oct", "texcore-fused", 32.0, 45.0), // 28.9 / 40.6
-    ("perlin-4oct", "texcore-fused", 404.0, 506.0), // 366.7 / 459.9
+    ("perlin-4oct", "texcore-fused", 298.0, 365.0), // 271.0 / 331.6
 ];
 
 fn bound(workload: &str, implementation: &str, target: DeviceTarget) -> Option<f64> {
