@@ -134,8 +134,7 @@ pub fn host_rows(settings: &Settings) -> Result<Vec<RowReport>, String> {
                 [g, g, g, 255.0]
             })
             .collect();
-        for &(setting, sw, mode) in SETTINGS.iter().filter(|s| s.1 == w) {
-            let _ = sw;
+        for &(setting, _, mode) in SETTINGS.iter().filter(|s| s.1 == w) {
             let got = plane(w, mode);
             let features = if mode == EvalMode::Fused {
                 "fd,smooth-fade,gradient-noise,fused"

@@ -2,8 +2,8 @@
 //! workloads (`texcore::texture::workload::peers`).
 //!
 //! - Devices (Cortex-M4F, rv32imc): the firmware built with feature `peers` (whole plane) or
-//!   `peers-band` (`--quick`: one 8-row band) runs texcore's three exact modes, the approximate `Fused` on the
-//!   gradient-noise workloads (`texcore-fused`) and `fastnoise-lite`
+//!   `peers-band` (`--quick`: one 8-row band) runs texcore's three exact modes, the
+//!   approximate `Fused` on the gradient-noise workloads (`texcore-fused`) and `fastnoise-lite`
 //!   under QEMU with exact instruction counting (`host_sim::device`). Instructions per sample are
 //!   `(job - setup - fold) / samples`: the set-up job builds the model, texture or generator and
 //!   evaluates nothing, and `peers:fold` is the cost of the checksum fold that follows every row

@@ -113,7 +113,7 @@ pub(super) struct FusedLane {
     fm: i32,
     step: i32,
     uk: i32,
-    /// `16 - p` for an amplitude `2^p`, `0 <= p <= 16` (`one_run`'s shift); 32 for any other.
+    /// `16 - p` for an amplitude `2^p`, `0 <= p <= 16` ([`scaled`]'s shift); 32 for any other.
     shift: u32,
     /// `A_0` and `4 (A_1 - A_0)` at the current pixel (wrapping).
     a: i64,
@@ -212,20 +212,11 @@ fn blend(a: i64, d4: i64, w14: i32) -> i32 {
     ah.wrapping_add(((i64::from(dh) * i64::from(w14)) >> 32) as i32)
 }
 
-/// The pixels `run` of one term `f` without quadric, its fades along the row from `ws`
-/// (`w << 14`):
-/// the sample `(amp n) >> 16`, as the staged rows make it from their `n`; for an amplitude
-/// `2^p`, `0 <= p <= 16` (an octave's `2^-i`), the same floor as `n >> (16 - p)` (`n` itself
-/// for an amplitude of one).
-#[inline(always)]
-fn one_run(f: &mut FusedLane, ws: &[u32], run: &mut [TexValue]) {
-    let state = [f.a, f.d, f.sa, f.sd];
-    [f.a, f.d] = scaled::<false>(f, state, ws, run);
-    f.uk = f.uk.wrapping_add(f.step.wrapping_mul(run.len() as i32));
-}
-
-/// [`one_run`]'s pixels from the state `[a, d, sa, sd]` (with `ADD`, each added to the pixel's
-/// value instead of stored); returns `[a, d]` after them.
+/// A cell's pixels `run` of one term `f` from the state `[a, d, sa, sd]`, their fades along the
+/// row (`w << 14`) in `ws`: the sample `(amp n) >> 16`, as the staged rows make it from their
+/// `n`; for an amplitude `2^p`, `0 <= p <= 16` (an octave's `2^-i`), the same floor as
+/// `n >> (16 - p)` (`n` itself for an amplitude of one). With `ADD` each sample is added to the
+/// pixel's value instead of stored. Returns `[a, d]` after the run.
 #[inline(always)]
 fn scaled<const ADD: bool>(
     f: &FusedLane,
@@ -244,7 +235,7 @@ fn scaled<const ADD: bool>(
     }
 }
 
-/// [`one_run`]'s loop, each value `n` scaled by `scale` (with `ADD`, added to the pixel's value,
+/// [`scaled`]'s loop, each value `n` scaled by `scale` (with `ADD`, added to the pixel's value,
 /// wrapping: the terms' sum is within range, `gradient::small_amps`).
 #[inline(always)]
 fn scaled_run<const ADD: bool>(
@@ -263,7 +254,7 @@ fn scaled_run<const ADD: bool>(
 }
 
 /// The samples of a row of one term `f` without quadric, its fades along the row (`w << 14`)
-/// in `table`: each cell entered, then its pixels ([`one_run`]).
+/// in `table`: each cell entered, then its pixels ([`scaled`]).
 #[inline(never)]
 fn one_term_row(f: &FusedLane, events: &[RowEvent], table: &[u32], out: &mut [TexValue]) {
     let mut rest = out;
@@ -368,17 +359,13 @@ pub(super) fn fused_walk(
         let n = usize::from(e.run).min(rest.len());
         let (run, tail) = core::mem::take(&mut rest).split_at_mut(n);
         rest = tail;
-        let ws = table.get(x..x + n).unwrap_or_default();
         let fades = Fades {
             table,
             len,
             x,
             shift: 14,
         };
-        match fl.as_mut_slice() {
-            [f] if ws.len() == n && (q[0] | q[1] | q[2]) == 0 => one_run(f, ws, run),
-            fl => multi_run(fl, run, q, fades),
-        }
+        multi_run(&mut fl, run, q, fades);
         x += n;
     }
 }

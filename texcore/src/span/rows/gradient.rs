@@ -328,12 +328,13 @@ pub(super) fn gradient_row<const T: usize>(
     // The fused rows read the fades as `w << 14` (`fused::blend`).
     let shift = if fused { 14 } else { 0 };
     state.weights = row_fades(&state.lanes, made, weights, out.len(), shift);
-    let table = weights.get(..state.weights).filter(|w| !w.is_empty());
+    // Each term's fades along the row (term `l` at `l len`), when the weights hold them all.
+    let table = weights
+        .get(..state.weights)
+        .filter(|t| t.len() >= state.lanes.len() * out.len())
+        .unwrap_or_default();
     #[cfg(feature = "fused")]
     if fused {
-        let table = table
-            .filter(|t| t.len() >= state.lanes.len() * out.len())
-            .unwrap_or_default();
         return super::fused::fused_walk(events, &state.lanes, &setup.terms, out, q, table);
     }
     let _ = fused;
@@ -351,7 +352,7 @@ fn gradient_walk(
     terms: &[TermSetup],
     out: &mut [TexValue],
     q: &mut [i64; 3],
-    table: Option<&[u32]>,
+    table: &[u32],
 ) {
     // The terms' row state (pushed, not a zeroed array: at most `GRADIENT_TERMS` lanes, as
     // `rows_take` checks; never full).
@@ -378,10 +379,6 @@ fn gradient_walk(
         });
     }
     let len = out.len();
-    // Each term's fades along the row (term `l` at `l len`), when the table holds them.
-    let table = table
-        .filter(|t| t.len() >= gl.len() * len)
-        .unwrap_or_default();
     let mut x = 0usize;
     let mut rest = out;
     for e in events {

@@ -318,6 +318,13 @@ impl<const T: usize> PlaneRows<'_, '_, '_, T> {
 }
 
 impl<'m, const T: usize> EvalCore<'m, T> {
+    /// Whether the rows of gradient noise are fused ([`EvalMode::Fused`], compiled in).
+    #[cfg(not(texcore_lean))]
+    #[inline(always)]
+    fn fused_rows(&self) -> bool {
+        compiled_mode(self.opts.mode) == EvalMode::Fused
+    }
+
     /// A row of [`PlaneRows`] (gradients off, `out` exactly `span.len` long): through the
     /// schedule `state` / `events` where it serves the row, otherwise as
     /// [`SpanEvaluator::eval_values`].
@@ -538,8 +545,7 @@ impl<'m, const T: usize> EvalCore<'m, T> {
         let (fv, vb) = (m.noise_frac_bits(), m.precision().value_bits());
         let used = state.used;
         // `EvalMode::Fused`: gradient-noise entries as `fused` blends them.
-        #[cfg(feature = "fused")]
-        let fused = compiled_mode(self.opts.mode) == EvalMode::Fused;
+        let fused = self.fused_rows();
         for (li, lane) in state.lanes.iter_mut().enumerate() {
             let (Some(ts), Some(term)) = (setup.terms.get(lane.term), m.terms().get(lane.term))
             else {
@@ -552,20 +558,15 @@ impl<'m, const T: usize> EvalCore<'m, T> {
                 continue;
             }
             (lane.cm, lane.co, lane.fo, lane.amp) = (cm, co, fo, ts.amp);
-            lane.wo = if lane.grad {
-                lane.fade.apply(fo) as u32
-            } else {
-                weight(lane.smooth, fo)
-            };
+            // `fo` or its fade (the lanes' fades are the linear one, the smooth one of value
+            // noise, or any of gradient noise).
+            lane.wo = lane.fade.apply(fo) as u32;
             let events = events.get_mut(..used).unwrap_or_default();
             let hash = term.basis.hash;
-            if lane.grad {
+            if lane.grad && fused {
                 #[cfg(feature = "fused")]
-                if fused {
-                    fused::fused_entries(li, lane, hash, events);
-                    lane.made = true;
-                    continue;
-                }
+                fused::fused_entries(li, lane, hash, events);
+            } else if lane.grad {
                 #[cfg(feature = "gradient-noise")]
                 gradient::gradient_entries(li, lane, hash, events);
             } else if lane.smooth {
@@ -595,7 +596,7 @@ impl<'m, const T: usize> EvalCore<'m, T> {
         let events = events.get(..state.used).unwrap_or_default();
         #[cfg(feature = "gradient-noise")]
         if state.lanes.iter().any(|l| l.grad) {
-            let fused = compiled_mode(self.opts.mode) == EvalMode::Fused;
+            let fused = self.fused_rows();
             gradient::gradient_row(events, state, weights, setup, out, &mut q, fused);
             self.count_row(len, state, false);
             return;

@@ -164,9 +164,9 @@ pub(super) fn is_gradient_basis(b: &crate::noise::NoiseBasis) -> bool {
 }
 
 /// Keeps each term's fades along its `k` for a row of `n` pixels in `weights` (term `l` at
-/// `l n`; each `w << shift`, `shift <= 15`) when they hold them all, unless they already do (`made`, the weights in use): the
-/// weights in use after it (0: the fades do not fit). The rows of one smooth-fade term and of
-/// gradient noise read them.
+/// `l n`; each `w << shift`, `shift <= 15`) when they hold them all, unless they already do
+/// (`made`, the weights in use): the weights in use after it (0: the fades do not fit). The rows
+/// of one smooth-fade term and of gradient noise read them.
 #[cfg(not(texcore_lean))]
 #[inline(never)]
 pub(super) fn row_fades(
