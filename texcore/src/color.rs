@@ -18,7 +18,7 @@
 /// pixel. `a = 255` is opaque.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]
 #[cfg_attr(feature = "defmt", derive(defmt::Format))]
-#[repr(C)]
+#[repr(C, align(4))]
 pub struct Rgba8888 {
     /// Red.
     pub r: u8,

@@ -209,56 +209,94 @@ impl AtlasTriangle {
         }
     }
 
-    /// The solid coordinates (raw `Q16.16`) at the centre of texel `(i, j)`, and the steps per
-    /// texel along `u` and `v`: the affine map of the triangle, extrapolated outside it.
-    fn affine(&self, i: u16, j: u16) -> ([i64; 3], [i64; 3], [i64; 3]) {
-        let [r, a, b] = self.solid.map(|p| p.to_bits().map(i64::from));
-        let l2 = 2 * self.leg as i64;
-        let [[rx, ry], _, _] = self.corners_x16();
+    /// The direction of the legs (`+1` for the upper half, `-1` for the lower) and the doubled
+    /// leg `2 a` (the divisor of the affine map, in half texels).
+    fn sign_and_divisor(&self) -> (i64, i64) {
         let sx: i64 = match self.half {
             Half::Upper => 1,
             Half::Lower => -1,
         };
-        // Offsets of the texel centre from the right angle, in half texels, along the legs.
-        let du = sx * (2 * i as i64 + 1 - (rx as i64 >> 3));
-        let dv = sx * (2 * j as i64 + 1 - (ry as i64 >> 3));
-        let div = |n: i64| -> i64 {
-            // Round to nearest, ties away from zero (same on every target).
-            // (`checked_div`: no panic path; `l2 > 0` by construction.)
-            if n >= 0 {
-                (n + l2 / 2).checked_div(l2).unwrap_or(0)
-            } else {
-                -(-n + l2 / 2).checked_div(l2).unwrap_or(0)
-            }
-        };
-        let mut s = [0i64; 3];
+        (sx, 2 * self.leg as i64)
+    }
+
+    /// The steps of the solid coordinates (raw `Q16.16`) per texel along `u` and `v`: the affine
+    /// map's, the same for every texel of the triangle (computed once a triangle by [`bake`]).
+    fn steps(&self) -> RowSteps {
+        let [r, a, b] = self.solid.map(|p| p.to_bits().map(i64::from));
+        let (sx, l2) = self.sign_and_divisor();
         let mut su = [0i64; 3];
         let mut sv = [0i64; 3];
         for k in 0..3 {
-            let (eu, ev) = (a[k] - r[k], b[k] - r[k]);
-            s[k] = r[k] + div(eu * du + ev * dv);
-            su[k] = div(2 * sx * eu);
-            sv[k] = div(2 * sx * ev);
+            su[k] = div_round(2 * sx * (a[k] - r[k]), l2);
+            sv[k] = div_round(2 * sx * (b[k] - r[k]), l2);
         }
-        (s, su, sv)
+        RowSteps { su, sv }
+    }
+
+    /// The solid coordinates (raw `Q16.16`) at the centre of texel `(i, j)`: the affine map of the
+    /// triangle, extrapolated outside it.
+    fn at(&self, i: u16, j: u16) -> [i64; 3] {
+        let [r, a, b] = self.solid.map(|p| p.to_bits().map(i64::from));
+        let (sx, l2) = self.sign_and_divisor();
+        let [[rx, ry], _, _] = self.corners_x16();
+        // Offsets of the texel centre from the right angle, in half texels, along the legs.
+        let du = sx * (2 * i as i64 + 1 - (rx as i64 >> 3));
+        let dv = sx * (2 * j as i64 + 1 - (ry as i64 >> 3));
+        let mut s = [0i64; 3];
+        for k in 0..3 {
+            let (eu, ev) = (a[k] - r[k], b[k] - r[k]);
+            s[k] = r[k] + div_round(eu * du + ev * dv, l2);
+        }
+        s
     }
 
     /// The span of solid coordinates over the owned texels of row `j`, with its first column
     /// (`None` when the triangle owns nothing there).
     pub fn row_span(&self, j: u16) -> Option<(u16, Span)> {
+        self.row_span_with(j, &self.steps())
+    }
+
+    /// [`AtlasTriangle::row_span`] with the triangle's steps computed once.
+    fn row_span_with(&self, j: u16, steps: &RowSteps) -> Option<(u16, Span)> {
         let (x0, len) = self.row(j)?;
-        let (s, su, sv) = self.affine(x0, j);
+        let s = self.at(x0, j);
         let sat = |v: i64| v.clamp(i32::MIN as i64, i32::MAX as i64) as i32;
         let p = |v: [i64; 3]| TexPoint::from_bits(sat(v[0]), sat(v[1]), sat(v[2]));
         Some((
             x0,
             Span {
                 s0: p(s),
-                ds: p(su),
-                dsdy: p(sv),
+                ds: p(steps.su),
+                dsdy: p(steps.sv),
                 len,
             },
         ))
+    }
+}
+
+/// The steps of a triangle's solid coordinates per texel along `u` and `v` (raw `Q16.16`).
+struct RowSteps {
+    su: [i64; 3],
+    sv: [i64; 3],
+}
+
+/// `n / l2` rounded to nearest, ties away from zero (the same on every target), for `l2 > 0`:
+/// on the 32-bit divide when `|n| + l2 / 2` fits `u32` (every texel of a device-sized atlas),
+/// else in 64 bits. `|n| < 2^62` (solid coordinates differ by less than `2^33`, offsets are
+/// below `2^18` half texels), so the sum cannot overflow.
+fn div_round(n: i64, l2: i64) -> i64 {
+    let m = n.unsigned_abs() + (l2 / 2) as u64;
+    let d = l2 as u64;
+    let q = if m <= u64::from(u32::MAX) && d <= u64::from(u32::MAX) {
+        // `checked_div`: no panic path; `l2 > 0` by construction.
+        u64::from((m as u32).checked_div(d as u32).unwrap_or(0))
+    } else {
+        m.checked_div(d).unwrap_or(0)
+    };
+    if n >= 0 {
+        q as i64
+    } else {
+        -(q as i64)
     }
 }
 
@@ -273,8 +311,9 @@ pub fn bake<const T: usize, const N: usize, P: FnMut(u16, u16, Rgba8888)>(
     let mut texels = 0u32;
     for t in layout {
         let (_, y, _, h) = t.block();
+        let steps = t.steps();
         for j in y..y.saturating_add(h) {
-            if let Some((x0, span)) = t.row_span(j) {
+            if let Some((x0, span)) = t.row_span_with(j, &steps) {
                 let mut x = x0;
                 texture.shade(&span, |c| {
                     put(x, j, c);
@@ -296,6 +335,35 @@ mod tests {
     use std::string::String;
     use std::vec;
     use std::vec::Vec;
+
+    #[test]
+    fn div_round_is_the_rounded_quotient() {
+        // Round to nearest, ties away from zero, on both the 32-bit and the 64-bit path.
+        let want = |n: i64, d: i64| -> i64 {
+            let (q, r) = (n / d, n % d);
+            if 2 * r.abs() >= d {
+                q + n.signum()
+            } else {
+                q
+            }
+        };
+        let big = [
+            1i64 << 31,
+            (1 << 32) - 1,
+            1 << 32,
+            1 << 40,
+            (1 << 61) + 12345,
+        ];
+        for d in [1i64, 2, 3, 14, 16, 255, 4096, (1 << 32) - 2, 1 << 33] {
+            for n in (-3000i64..3000).chain(big).chain(big.map(|b| -b)) {
+                assert_eq!(div_round(n, d), want(n, d), "{n} / {d}");
+                if n.abs() < 1 << 40 {
+                    let m = n * 7919;
+                    assert_eq!(div_round(m, d), want(m, d), "{m} / {d}");
+                }
+            }
+        }
+    }
 
     fn tp(s: i32, t: i32, r: i32) -> TexPoint {
         TexPoint::from_bits(s, t, r)
