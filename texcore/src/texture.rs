@@ -256,7 +256,9 @@ fn shade_chunk<const N: usize, F: FnMut(Rgba8888)>(
 ) {
     let extra = c.extra_width48();
     let mut w = [FilterWidth::ZERO; SAMPLE_CHUNK];
-    widths.widths_into(c.gx(), c.gy(), extra, &mut w);
+    for ((w, &gx), &gy) in w.iter_mut().zip(c.gx()).zip(c.gy()) {
+        *w = widths.width_with(gx, gy, extra);
+    }
     stage.shade_each(c.f(), &w, emit);
 }
 

@@ -197,66 +197,6 @@ impl WidthStream {
         }
         filter_width_spread(gx, gy, spread48, self.norm, n_log2)
     }
-
-    /// The widths of a chunk of pixels: `out[i] = width_with(gx[i], gy[i], spread48)` for every
-    /// `i` below the shortest of the three lengths (the norm, the table size and the spread are
-    /// checked once for the chunk, and the previous root is kept in a register; the size-lean
-    /// shape takes [`WidthStream::width_with`] pixel by pixel).
-    #[cfg_attr(not(texcore_lean), inline(always))]
-    pub fn widths_into(&mut self, gx: &[i64], gy: &[i64], spread48: i64, out: &mut [FilterWidth]) {
-        #[cfg(not(texcore_lean))]
-        if self.widths_l2(gx, gy, spread48, out) {
-            return;
-        }
-        for ((o, &x), &y) in out.iter_mut().zip(gx).zip(gy) {
-            *o = self.width_with(x, y, spread48);
-        }
-    }
-
-    /// [`WidthStream::widths_into`] for the `L2` norm, a table of at most `2^15` entries and a
-    /// spread below 1.0; `false` (and nothing written) otherwise.
-    #[cfg(not(texcore_lean))]
-    #[inline(always)]
-    fn widths_l2(
-        &mut self,
-        gx: &[i64],
-        gy: &[i64],
-        spread48: i64,
-        out: &mut [FilterWidth],
-    ) -> bool {
-        let n_log2 = self.n_log2;
-        let e = saturate_to_u16f16(spread48);
-        if let (GradientNorm::L2, true, true) = (self.norm, n_log2 <= 15, e < 1 << 16) {
-            // As `width_with`: a norm of at least 1.0 gives the cap, and below it `g << n_log2`
-            // is under the cap; a, b, e < 2^16, so the sum of squares is below 3 * 2^32.
-            let cap = FilterWidth::from_bits(1 << (16 + n_log2));
-            let e2 = u64::from(e * e);
-            let mut root = self.root;
-            for ((o, &x), &y) in out.iter_mut().zip(gx).zip(gy) {
-                let a = saturate_to_u16f16(x);
-                let b = saturate_to_u16f16(y);
-                *o = if (a | b) >= 1 << 16 {
-                    cap
-                } else {
-                    let s = u64::from(a * a) + u64::from(b * b) + e2;
-                    let g = if s <= u64::from(u32::MAX) {
-                        root = isqrt32_from(s as u32, root);
-                        root
-                    } else {
-                        isqrt(s) as u32
-                    };
-                    if g >= 1 << 16 {
-                        cap
-                    } else {
-                        FilterWidth::from_bits(g << n_log2)
-                    }
-                };
-            }
-            self.root = root;
-            return true;
-        }
-        false
-    }
 }
 
 /// `w = g << n_log2` saturating at `N` (and at `u32::MAX`), `n_log2 <= 16`.
@@ -509,27 +449,6 @@ mod tests {
                 for &(gx, gy, shift) in &g {
                     let (gx, gy) = (gx >> shift, gy >> shift);
                     prop_assert_eq!(st.width(gx, gy), filter_width(gx, gy, norm, n_log2));
-                }
-            }
-        }
-
-        #[test]
-        fn widths_into_is_filter_width_spread(
-            g in proptest::collection::vec((any::<i64>(), any::<i64>(), 0u32..40), 1..40),
-            spread in any::<i64>(),
-            spread_shift in 0u32..64,
-            n_log2 in 0u32..18,
-        ) {
-            // Spreads of every magnitude: zero, below 1.0 (the chunk path) and past it.
-            let spread = (spread >> spread_shift).abs();
-            for norm in [GradientNorm::L1, GradientNorm::L2, GradientNorm::Max] {
-                let mut st = WidthStream::new(norm, n_log2);
-                let gx: std::vec::Vec<i64> = g.iter().map(|&(x, _, s)| x >> s).collect();
-                let gy: std::vec::Vec<i64> = g.iter().map(|&(_, y, s)| y >> (s / 2)).collect();
-                let mut out = std::vec![FilterWidth::ZERO; g.len()];
-                st.widths_into(&gx, &gy, spread, &mut out);
-                for ((&x, &y), w) in gx.iter().zip(&gy).zip(&out) {
-                    prop_assert_eq!(*w, filter_width_spread(x, y, spread, norm, n_log2));
                 }
             }
         }
