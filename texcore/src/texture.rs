@@ -230,8 +230,9 @@ impl<const T: usize, const N: usize> TextureEvaluator<'_, T, N> {
                 // The model's samples arrive by component, a chunk at a time: widths for the
                 // chunk, then its colours with the filter chosen once. Each chunk carries its
                 // span's culled width (the span's set-up computed it once).
+                let mut w = [FilterWidth::ZERO; SAMPLE_CHUNK];
                 e.eval_chunks(span, &mut |c: &SampleChunk| {
-                    shade_chunk(stage, &mut widths, c, &mut emit);
+                    shade_chunk(stage, &mut widths, &mut w, c, &mut emit);
                 });
             }
             #[cfg(feature = "perturb")]
@@ -246,20 +247,21 @@ impl<const T: usize, const N: usize> TextureEvaluator<'_, T, N> {
 }
 
 /// The colours of a chunk of samples with gradients: each pixel's filter width (the chunk's
-/// culled width in quadrature), then the colours with the filter chosen once.
+/// culled width in quadrature) into `w` (scratch kept across a span's chunks, so that it is not
+/// cleared for each), then the colours with the filter chosen once.
 #[inline(always)]
 fn shade_chunk<const N: usize, F: FnMut(Rgba8888)>(
     stage: &ColorStage<N>,
     widths: &mut WidthStream,
+    w: &mut [FilterWidth; SAMPLE_CHUNK],
     c: &SampleChunk,
     emit: &mut F,
 ) {
     let extra = c.extra_width48();
-    let mut w = [FilterWidth::ZERO; SAMPLE_CHUNK];
     for ((w, &gx), &gy) in w.iter_mut().zip(c.gx()).zip(c.gy()) {
         *w = widths.width_with(gx, gy, extra);
     }
-    stage.shade_each(c.f(), &w, emit);
+    stage.shade_each(c.f(), &w[..], emit);
 }
 
 #[cfg(test)]

@@ -12,9 +12,10 @@
 use super::{shade_chunk, Inner, Texture, TextureEvaluator};
 use crate::color::Rgba8888;
 use crate::filter::{Antialias, WidthStream};
+use crate::format::FilterWidth;
 #[cfg(feature = "perturb")]
 use crate::material::MaterialEvaluator;
-use crate::span::{PlaneRows, RowCache, SampleChunk, Span};
+use crate::span::{PlaneRows, RowCache, SampleChunk, Span, SAMPLE_CHUNK};
 
 /// The rows of a plane, shaded one after the other with the span evaluator's row schedule kept
 /// across them: made by [`TextureEvaluator::rows`].
@@ -94,8 +95,9 @@ impl<const T: usize, const N: usize> TextureRows<'_, '_, '_, T, N> {
         let mut widths = WidthStream::new(self.tex.norm, super::log2(N));
         match &mut self.source {
             Source::Rows(r) => {
+                let mut w = [FilterWidth::ZERO; SAMPLE_CHUNK];
                 r.next_chunks(&mut |c: &SampleChunk| {
-                    shade_chunk(stage, &mut widths, c, &mut emit);
+                    shade_chunk(stage, &mut widths, &mut w, c, &mut emit);
                 });
             }
             #[cfg(feature = "perturb")]
