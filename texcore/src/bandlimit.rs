@@ -380,8 +380,15 @@ const fn spread_width48_always(variance: u64) -> i64 {
     if variance == 0 {
         return 0;
     }
-    // sqrt(12 var) in 16.16 is isqrt(12 var_raw 2^16).
-    let w16 = crate::filter::isqrt(variance.saturating_mul(12).saturating_mul(1 << 16));
+    // sqrt(12 var) in 16.16 is isqrt(12 var_raw 2^16). The fast shape takes the 32-bit root
+    // (Newton's iteration on the 32-bit divide) when the argument fits, as every spread of a
+    // device-sized scene does; the digit-by-digit root otherwise. Both are exact.
+    let v = variance.saturating_mul(12).saturating_mul(1 << 16);
+    let w16 = if !cfg!(texcore_lean) && v <= u32::MAX as u64 {
+        crate::filter::width::isqrt32(v as u32) as u64
+    } else {
+        crate::filter::isqrt(v)
+    };
     if w16 >= 1 << 31 {
         i64::MAX
     } else {
@@ -634,6 +641,32 @@ mod tests {
 
     fn full_variance(t: &NoiseTerm) -> u64 {
         term_band(t, [2 << 16, 0, 0], [0; 3], on(false)).variance
+    }
+
+    #[test]
+    fn spread_width_is_the_digit_root() {
+        // Every variance whose argument `12 var 2^16` lies below 2^32 takes the 32-bit root in
+        // the fast shape: the same as the digit-by-digit root, at the boundary and around it.
+        let edge = u64::from(u32::MAX) / (12 << 16);
+        let mut x = 0x2545_F491_4F6C_DD1Du64;
+        let random = core::iter::from_fn(move || {
+            x ^= x << 13;
+            x ^= x >> 7;
+            x ^= x << 17;
+            Some(x >> (x & 63))
+        });
+        for v in (0..5000)
+            .chain(edge - 3..edge + 4)
+            .chain(random.take(20_000))
+        {
+            let want = crate::filter::isqrt(v.saturating_mul(12).saturating_mul(1 << 16));
+            let want = if want >= 1 << 31 {
+                i64::MAX
+            } else {
+                (want as i64) << 32
+            };
+            assert_eq!(spread_width48(v), want, "{v}");
+        }
     }
 
     #[test]
