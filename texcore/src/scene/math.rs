@@ -75,6 +75,33 @@ pub const fn div_round(n: i64, d: i64) -> i64 {
     }
 }
 
+/// [`div_round`] at run time, the same value for every input: for operands below `2^61` the
+/// quotient on the 32-bit hardware divide (`wide::div_rem_u64`: two steps for a divisor below
+/// `2^32`) instead of the 64-bit library division, which `div_round` (a `const fn`, as the
+/// scene constants need) cannot avoid. For the per-quad mesh points.
+pub(crate) fn div_round_rt(n: i64, d: i64) -> i64 {
+    if d == 0 || !(n > -FAST_DIV && n < FAST_DIV && d > -FAST_DIV && d < FAST_DIV) {
+        return div_round(n, d);
+    }
+    let (n, d) = if d < 0 { (-n, -d) } else { (n, d) };
+    // floor((2n + d) / 2d), 2d > 0 and |2n + d| < 2^63: the magnitude's quotient, one less
+    // (rounded towards -inf) for a negative numerator with a remainder.
+    let (m, dd) = (2 * n + d, (2 * d) as u64);
+    match crate::wide::div_rem_u64(m.unsigned_abs(), dd) {
+        Some((q, r)) => {
+            let q = q as i64;
+            if m >= 0 {
+                q
+            } else if r == 0 {
+                -q
+            } else {
+                -q - 1
+            }
+        }
+        None => 0,
+    }
+}
+
 /// `round(n / d)` in `i128`, ties towards `+inf`; 0 for `d == 0`. Same as [`div_round`] (fast
 /// `i64` path for small operands).
 #[inline]
@@ -702,6 +729,45 @@ mod tests {
                 let got = n.to_array()[k] as f64;
                 assert!((exact - got).abs() <= 0.51, "{c:?}: {got} vs {exact}");
             }
+        }
+    }
+
+    #[test]
+    fn div_round_rt_is_div_round() {
+        let mut x = 0x9E37_79B9_7F4A_7C15u64;
+        let mut next = move || {
+            x ^= x << 13;
+            x ^= x >> 7;
+            x ^= x << 17;
+            x
+        };
+        let edges = [
+            0i64,
+            1,
+            -1,
+            2,
+            -2,
+            FAST_DIV - 1,
+            -(FAST_DIV - 1),
+            FAST_DIV,
+            -FAST_DIV,
+            i64::MAX,
+            i64::MIN,
+            (1 << 32) - 1,
+            1 << 32,
+            -(1 << 32),
+        ];
+        for &n in &edges {
+            for &d in &edges {
+                assert_eq!(div_round_rt(n, d), div_round(n, d), "{n} / {d}");
+            }
+        }
+        for _ in 0..200_000 {
+            let (a, b) = (next(), next());
+            // Every magnitude of numerator and divisor, both signs.
+            let n = (a as i64) >> (a & 63);
+            let d = (b as i64) >> (b & 63);
+            assert_eq!(div_round_rt(n, d), div_round(n, d), "{n} / {d}");
         }
     }
 

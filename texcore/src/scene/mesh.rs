@@ -320,7 +320,7 @@ fn cube_point(half: i32, d: u32, face: usize, i: u32, j: u32) -> Vec3 {
     // Coordinate along a tangent: -half + 2 half k / d, exact rational rounded.
     let coord = |k: u32| -> i32 {
         let num = (half as i64) * (2 * k as i64 - d as i64);
-        sat_i32(super::math::div_round(num, d as i64))
+        sat_i32(super::math::div_round_rt(num, d as i64))
     };
     let mut p = [0i32; 3];
     if let Some(v) = p.get_mut(n) {
@@ -340,7 +340,7 @@ fn plane_line(half_size: i32, rings: u32, k: u32) -> i32 {
     let i = k as i64 - rings as i64;
     let e = i.unsigned_abs() as u32;
     let num = half_size as i64 * ((1i64 << e) - 1);
-    let v = sat_i32(super::math::div_round(num, (1i64 << rings) - 1));
+    let v = sat_i32(super::math::div_round_rt(num, (1i64 << rings) - 1));
     if i < 0 {
         v.saturating_neg()
     } else {
