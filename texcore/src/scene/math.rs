@@ -273,6 +273,21 @@ impl Angle {
         Angle(q as u32) // q == 2^32 wraps to 0
     }
 
+    /// [`Angle::from_turns`] of a non-negative `num` at run time, the same angle: the remainder
+    /// and the rounded quotient on the 32-bit hardware divide (`wide::div_rem_u64_by_u32`)
+    /// instead of the 64-bit library division. For the per-quad angles of the sphere and torus
+    /// meshes.
+    pub(crate) fn from_turns_rt(num: u32, den: u32) -> Angle {
+        let (Some(r), Some(h)) = (num.checked_rem(den), den.checked_div(2)) else {
+            return Angle(0);
+        };
+        // r < den: r 2^32 + den / 2 < 2^64, and the quotient is at most 2^32 (wrapping to 0).
+        match crate::wide::div_rem_u64_by_u32((u64::from(r) << 32) + u64::from(h), den) {
+            Some((q, _)) => Angle(q as u32),
+            None => Angle(0),
+        }
+    }
+
     /// Whole degrees.
     pub const fn from_degrees(deg: i32) -> Angle {
         Angle::from_turns(deg as i64, 360)
@@ -728,6 +743,20 @@ mod tests {
                 let exact = c[k] as f64 / l * 65536.0;
                 let got = n.to_array()[k] as f64;
                 assert!((exact - got).abs() <= 0.51, "{c:?}: {got} vs {exact}");
+            }
+        }
+    }
+
+    #[test]
+    fn from_turns_rt_is_from_turns() {
+        for den in (0u32..300).chain([359, 360, 1000, 360_000, u32::MAX - 1, u32::MAX]) {
+            for num in (0u32..400).chain([den.wrapping_sub(1), den, den.wrapping_add(1), u32::MAX])
+            {
+                assert_eq!(
+                    Angle::from_turns_rt(num, den),
+                    Angle::from_turns(i64::from(num), den),
+                    "{num} / {den}"
+                );
             }
         }
     }

@@ -143,8 +143,8 @@ impl Mesh {
                 );
                 let (j, i) = divrem(q, sl);
                 // Longitude i / slices turn, latitude j / (2 stacks) turn from the north pole.
-                let ph = [i, i + 1].map(|i| sin_cos(Angle::from_turns(i as i64, sl)));
-                let th = [j, j + 1].map(|j| sin_cos(Angle::from_turns(j as i64, 2 * st)));
+                let ph = [i, i + 1].map(|i| sin_cos(Angle::from_turns_rt(i, sl)));
+                let th = [j, j + 1].map(|j| sin_cos(Angle::from_turns_rt(j, 2 * st)));
                 let p = |a: usize, b: usize| sphere_point(radius, ph[a], th[b]);
                 [p(0, 0), p(1, 0), p(1, 1), p(0, 1)]
             }
@@ -160,8 +160,8 @@ impl Mesh {
                 );
                 let (j, i) = divrem(q, nu);
                 // Around the centre circle i / nu turn, around the tube j / nv turn.
-                let ph = [i, i + 1].map(|i| sin_cos(Angle::from_turns(i as i64, nu)));
-                let th = [j, j + 1].map(|j| sin_cos(Angle::from_turns(j as i64, nv)));
+                let ph = [i, i + 1].map(|i| sin_cos(Angle::from_turns_rt(i, nu)));
+                let th = [j, j + 1].map(|j| sin_cos(Angle::from_turns_rt(j, nv)));
                 let p = |a: usize, b: usize| torus_point(major, minor, ph[a], th[b]);
                 [p(0, 0), p(1, 0), p(1, 1), p(0, 1)]
             }
