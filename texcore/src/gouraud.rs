@@ -16,7 +16,7 @@
 use crate::color::Rgba8888;
 use crate::light::{modulate_channel, LightRgb};
 use crate::raster::ScreenVertex;
-use crate::scene::math::{div_round_128, ONE};
+use crate::scene::math::{div_round_128, div_round_128_rt, ONE};
 
 /// Fractional bits kept below `Q16.16` in the plane's coefficients.
 const FRAC: u32 = 16;
@@ -69,8 +69,8 @@ impl TriangleLight {
             let l0 = i128::from(light[0][c]);
             let (dl1, dl2) = (i128::from(light[1][c]) - l0, i128::from(light[2][c]) - l0);
             // Per 1/16 pixel: (dl1 dy2 - dl2 dy1) / det; per pixel 16 times that; FRAC more bits.
-            let sx = div_round_128((dl1 * dy2 - dl2 * dy1) << (FRAC + 4), det);
-            let sy = div_round_128((dl2 * dx1 - dl1 * dx2) << (FRAC + 4), det);
+            let sx = div_round_128_rt((dl1 * dy2 - dl2 * dy1) << (FRAC + 4), det);
+            let sy = div_round_128_rt((dl2 * dx1 - dl1 * dx2) << (FRAC + 4), det);
             let sx = sx.clamp(-i128::from(STEP_MAX), i128::from(STEP_MAX));
             let sy = sy.clamp(-i128::from(STEP_MAX), i128::from(STEP_MAX));
             // Pixel (0, 0)'s centre is at 8/16 of a pixel: offsets from vertex 0 in pixels.

@@ -115,7 +115,7 @@ impl Light {
     pub fn direction_from(&self, p: Vec3) -> Option<Vec3> {
         match self.kind {
             LightKind::Directional { direction } => Some(direction),
-            LightKind::Point { position } => position.sub(p).normalized(),
+            LightKind::Point { position } => position.sub(p).normalized_rt(),
         }
     }
 }
@@ -198,7 +198,7 @@ impl<const N: usize> Lighting<N> {
             self.ambient[1] as i64,
             self.ambient[2] as i64,
         ];
-        let view = eye.sub(p).normalized();
+        let view = eye.sub(p).normalized_rt();
         for light in self.lights.iter() {
             let Some(l) = light.direction_from(p) else {
                 continue;
@@ -209,7 +209,7 @@ impl<const N: usize> Lighting<N> {
             }
             let mut k = diffuse as i64;
             if self.specular_exponent > 0 {
-                if let Some(h) = view.and_then(|v| l.add(v).normalized()) {
+                if let Some(h) = view.and_then(|v| l.add(v).normalized_rt()) {
                     let s = pow_q16(n.dot(h).max(0), self.specular_exponent);
                     k += mul_q16(s, self.specular_strength) as i64;
                 }
@@ -262,10 +262,10 @@ pub const fn modulate(rgb: [u8; 3], light: LightRgb) -> [u8; 3] {
 /// [`smooth_normals`] on their vertices, or the face normals the scene walk falls back to) and for degenerate points (a sphere's centre, a torus's axis).
 pub fn analytic_normal(mesh: &Mesh, p: Vec3) -> Option<Vec3> {
     match *mesh {
-        Mesh::Sphere { .. } => p.normalized(),
+        Mesh::Sphere { .. } => p.normalized_rt(),
         Mesh::Torus { major, .. } => {
-            let radial = Vec3::new(p.x, 0, p.z).normalized()?;
-            p.sub(radial.scale(major)).normalized()
+            let radial = Vec3::new(p.x, 0, p.z).normalized_rt()?;
+            p.sub(radial.scale(major)).normalized_rt()
         }
         Mesh::Cube { .. } => {
             let (ax, ay, az) = (p.x.unsigned_abs(), p.y.unsigned_abs(), p.z.unsigned_abs());
@@ -281,7 +281,7 @@ pub fn analytic_normal(mesh: &Mesh, p: Vec3) -> Option<Vec3> {
         Mesh::Quad { corners } => corners[1]
             .sub(corners[0])
             .cross(corners[3].sub(corners[0]))
-            .normalized(),
+            .normalized_rt(),
         Mesh::Teapot { .. } => None,
         #[cfg(feature = "atlas")]
         Mesh::Packed(_) => None,
@@ -314,7 +314,7 @@ pub fn smooth_normals(
         }
     }
     for v in out.iter_mut() {
-        *v = v.normalized().unwrap_or(Vec3::ZERO);
+        *v = v.normalized_rt().unwrap_or(Vec3::ZERO);
     }
     Ok(())
 }
@@ -336,7 +336,7 @@ pub(crate) fn face_normal(a: Vec3, b: Vec3, c: Vec3) -> Option<Vec3> {
     // Shift into i32 range keeping ~30 bits of direction, then normalise.
     let bits = 128 - m.leading_zeros();
     let s = bits.saturating_sub(30);
-    Vec3::new((w[0] >> s) as i32, (w[1] >> s) as i32, (w[2] >> s) as i32).normalized()
+    Vec3::new((w[0] >> s) as i32, (w[1] >> s) as i32, (w[2] >> s) as i32).normalized_rt()
 }
 
 #[cfg(test)]

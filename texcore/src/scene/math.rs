@@ -114,6 +114,17 @@ pub const fn div_round_128(n: i128, d: i128) -> i128 {
     }
 }
 
+/// [`div_round_128`] at run time, the same value: small operands through [`div_round_rt`].
+#[cfg(any(feature = "lighting", test))]
+pub(crate) fn div_round_128_rt(n: i128, d: i128) -> i128 {
+    let lim = FAST_DIV as i128;
+    if n > -lim && n < lim && d > -lim && d < lim {
+        div_round_rt(n as i64, d as i64) as i128
+    } else {
+        div_round_wide(n, d)
+    }
+}
+
 /// [`div_round`] for `|n|, |d| < 2^61`: `floor((2n + d) / 2d)` after making `d` positive.
 #[inline]
 const fn div_round_small(n: i64, d: i64) -> i64 {
@@ -505,6 +516,31 @@ impl Vec3 {
     /// (exact), then `len = isqrt((x^2 + y^2 + z^2) * 2^32)` (16 extra bits) and each component
     /// is `round(c * 2^32 / len)`.
     pub const fn normalized(self) -> Option<Vec3> {
+        let Some((s, len)) = self.unit_parts() else {
+            return None;
+        };
+        Some(Vec3::new(
+            unit_component(s[0], len),
+            unit_component(s[1], len),
+            unit_component(s[2], len),
+        ))
+    }
+
+    /// [`Vec3::normalized`] at run time, the same vector: the three quotients on the 32-bit
+    /// hardware divide (`wide::div_rem_u64`) instead of the 64-bit library division, which the
+    /// `const fn` cannot avoid. For the per-vertex normals and half vectors of the lighting.
+    #[cfg(any(feature = "lighting", test))]
+    pub(crate) fn normalized_rt(self) -> Option<Vec3> {
+        let (s, len) = self.unit_parts()?;
+        Some(Vec3::new(
+            unit_component_rt(s[0], len),
+            unit_component_rt(s[1], len),
+            unit_component_rt(s[2], len),
+        ))
+    }
+
+    /// The scaled components and the length of [`Vec3::normalized`] (`None` for the zero vector).
+    const fn unit_parts(self) -> Option<([i64; 3], i64)> {
         let c = [self.x as i64, self.y as i64, self.z as i64];
         let m = max3(
             c[0].unsigned_abs(),
@@ -525,11 +561,7 @@ impl Vec3 {
         let s = [(c[0] << l) >> r, (c[1] << l) >> r, (c[2] << l) >> r];
         let sum = (s[0] * s[0] + s[1] * s[1] + s[2] * s[2]) as u64; // <= 3 * 2^60
         let len = isqrt_u64_scaled(sum, 16) as i64; // isqrt(sum * 2^32): 2^44 <= len < 2^47
-        Some(Vec3::new(
-            unit_component(s[0], len),
-            unit_component(s[1], len),
-            unit_component(s[2], len),
-        ))
+        Some((s, len))
     }
 }
 
@@ -546,6 +578,26 @@ const fn det2(a: i32, b: i32, c: i32, d: i32) -> i32 {
 const fn unit_component(v: i64, len: i64) -> i32 {
     match ((v << 32) + (len >> 1)).checked_div_euclid(len) {
         Some(q) => q as i32,
+        None => 0,
+    }
+}
+
+/// [`unit_component`] on the 32-bit hardware divide: the floor of the same quotient from the
+/// magnitude's (`len > 0`; one less for a negative numerator with a remainder).
+#[cfg(any(feature = "lighting", test))]
+fn unit_component_rt(v: i64, len: i64) -> i32 {
+    let n = (v << 32) + (len >> 1);
+    match crate::wide::div_rem_u64(n.unsigned_abs(), len as u64) {
+        Some((q, r)) => {
+            let q = q as i64;
+            (if n >= 0 {
+                q
+            } else if r == 0 {
+                -q
+            } else {
+                -q - 1
+            }) as i32
+        }
         None => 0,
     }
 }
@@ -743,6 +795,68 @@ mod tests {
                 let exact = c[k] as f64 / l * 65536.0;
                 let got = n.to_array()[k] as f64;
                 assert!((exact - got).abs() <= 0.51, "{c:?}: {got} vs {exact}");
+            }
+        }
+    }
+
+    #[test]
+    fn normalized_rt_is_normalized() {
+        let mut x = 0x243F_6A88_85A3_08D3u64;
+        let mut next = move || {
+            x ^= x << 13;
+            x ^= x >> 7;
+            x ^= x << 17;
+            x
+        };
+        let ends = [
+            0,
+            1,
+            -1,
+            7,
+            i32::MAX,
+            i32::MIN,
+            i32::MIN + 1,
+            1 << 16,
+            -(1 << 29),
+        ];
+        for &a in &ends {
+            for &b in &ends {
+                for &c in &ends {
+                    let v = Vec3::new(a, b, c);
+                    assert_eq!(v.normalized_rt(), v.normalized(), "{v:?}");
+                }
+            }
+        }
+        for _ in 0..50_000 {
+            let r = next();
+            let c = [next(), next(), next()].map(|w| (w as i32) >> (r & 31));
+            let v = Vec3::from_array(c);
+            assert_eq!(v.normalized_rt(), v.normalized(), "{v:?}");
+        }
+    }
+
+    #[test]
+    fn div_round_128_rt_is_div_round_128() {
+        let big = [
+            0i128,
+            1,
+            -1,
+            3,
+            -3,
+            (1 << 61) - 1,
+            -(1 << 61) + 1,
+            1 << 61,
+            -(1 << 61),
+            1 << 100,
+        ];
+        for &n in &big {
+            for &d in &big {
+                assert_eq!(div_round_128_rt(n, d), div_round_128(n, d), "{n} / {d}");
+            }
+        }
+        for n in -300i128..300 {
+            for d in [-7i128, -2, -1, 1, 2, 3, 16, 255, 1 << 40] {
+                assert_eq!(div_round_128_rt(n << 20, d), div_round_128(n << 20, d));
             }
         }
     }
