@@ -799,15 +799,20 @@ mod tests {
         }
     }
 
-    #[test]
-    fn normalized_rt_is_normalized() {
-        let mut x = 0x243F_6A88_85A3_08D3u64;
-        let mut next = move || {
+    /// A xorshift generator from `seed` (non-zero): every bit pattern, repeatably.
+    fn xorshift(seed: u64) -> impl FnMut() -> u64 {
+        let mut x = seed;
+        move || {
             x ^= x << 13;
             x ^= x >> 7;
             x ^= x << 17;
             x
-        };
+        }
+    }
+
+    #[test]
+    fn normalized_rt_is_normalized() {
+        let mut next = xorshift(0x243F_6A88_85A3_08D3);
         let ends = [
             0,
             1,
@@ -877,13 +882,7 @@ mod tests {
 
     #[test]
     fn div_round_rt_is_div_round() {
-        let mut x = 0x9E37_79B9_7F4A_7C15u64;
-        let mut next = move || {
-            x ^= x << 13;
-            x ^= x >> 7;
-            x ^= x << 17;
-            x
-        };
+        let mut next = xorshift(0x9E37_79B9_7F4A_7C15);
         let edges = [
             0i64,
             1,
