@@ -75,31 +75,18 @@ pub const fn div_round(n: i64, d: i64) -> i64 {
     }
 }
 
-/// [`div_round`] at run time, the same value for every input: for operands below `2^61` the
-/// quotient on the 32-bit hardware divide (`wide::div_rem_u64`: two steps for a divisor below
-/// `2^32`) instead of the 64-bit library division, which `div_round` (a `const fn`, as the
-/// scene constants need) cannot avoid. For the per-quad mesh points.
+/// [`div_round`] at run time, the same value for every input: for operands below `2^61`
+/// the raster's half-up division (`raster::div_round_i64`, on the 32-bit hardware divide through
+/// `wide::div_rem_u64`) instead of the 64-bit library division, which `div_round` (a `const fn`,
+/// as the scene constants need) cannot avoid. For the per-quad mesh points.
 pub(crate) fn div_round_rt(n: i64, d: i64) -> i64 {
     if d == 0 || !(n > -FAST_DIV && n < FAST_DIV && d > -FAST_DIV && d < FAST_DIV) {
         return div_round(n, d);
     }
+    // round(n / d) half up is round(-n / -d) half up: the divisor made positive, as the raster's
+    // division needs.
     let (n, d) = if d < 0 { (-n, -d) } else { (n, d) };
-    // floor((2n + d) / 2d), 2d > 0 and |2n + d| < 2^63: the magnitude's quotient, one less
-    // (rounded towards -inf) for a negative numerator with a remainder.
-    let (m, dd) = (2 * n + d, (2 * d) as u64);
-    match crate::wide::div_rem_u64(m.unsigned_abs(), dd) {
-        Some((q, r)) => {
-            let q = q as i64;
-            if m >= 0 {
-                q
-            } else if r == 0 {
-                -q
-            } else {
-                -q - 1
-            }
-        }
-        None => 0,
-    }
+    crate::raster::div_round_i64(n, d)
 }
 
 /// `round(n / d)` in `i128`, ties towards `+inf`; 0 for `d == 0`. Same as [`div_round`] (fast
@@ -582,24 +569,11 @@ const fn unit_component(v: i64, len: i64) -> i32 {
     }
 }
 
-/// [`unit_component`] on the 32-bit hardware divide: the floor of the same quotient from the
-/// magnitude's (`len > 0`; one less for a negative numerator with a remainder).
+/// [`unit_component`] on the 32-bit hardware divide: `round(v 2^32 / len)` half up, which is
+/// the raster's division (`raster::div_round_i64`; `|v| <= 2^30`, `len > 0`).
 #[cfg(any(feature = "lighting", test))]
 fn unit_component_rt(v: i64, len: i64) -> i32 {
-    let n = (v << 32) + (len >> 1);
-    match crate::wide::div_rem_u64(n.unsigned_abs(), len as u64) {
-        Some((q, r)) => {
-            let q = q as i64;
-            (if n >= 0 {
-                q
-            } else if r == 0 {
-                -q
-            } else {
-                -q - 1
-            }) as i32
-        }
-        None => 0,
-    }
+    crate::raster::div_round_i64(v << 32, len) as i32
 }
 
 const fn max3(a: u64, b: u64, c: u64) -> u64 {
