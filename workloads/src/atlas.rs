@@ -39,8 +39,8 @@ use texcore::color::Rgba8888;
 use texcore::format::TexPoint;
 use texcore::hash::HashKind;
 use texcore::raster::{
-    DepthBuffer, DepthFunc, InvW, Rasterizer, Rect, ScreenCoord, ScreenVertex, Texture565,
-    TriangleSetup,
+    fill_u16, DepthBuffer, DepthFunc, InvW, Rasterizer, Rect, ScreenCoord, ScreenVertex,
+    Texture565, TriangleSetup,
 };
 use texcore::render::{GroupRows, TriangleSource};
 use texcore::scene::{Object, Scene};
@@ -610,7 +610,7 @@ pub fn draw_scene_rows_with<O: FnMut(&[u16])>(
         raster.set_clip(rect);
         db.set_rect(rect);
         db.clear(u16::MAX);
-        band.fill(bg);
+        fill_u16(&mut band, bg);
         let mut draw = |obj: usize, v: &[ScreenVertex; 3]| {
             let Some(d) = scene.object(obj) else {
                 return;

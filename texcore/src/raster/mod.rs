@@ -101,7 +101,7 @@ mod tests;
 #[cfg(feature = "atlas")]
 mod textured;
 
-pub use depth::{DepthBuffer, DepthFunc};
+pub use depth::{fill_u16, DepthBuffer, DepthFunc};
 use setup::Prepared;
 pub use setup::{Reject, TriangleSetup};
 #[cfg(feature = "atlas")]
