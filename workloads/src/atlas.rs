@@ -569,7 +569,7 @@ pub fn draw_scene_rows_with<O: FnMut(&[u16])>(
     }
     let mut listed = 0usize;
     let mut exact = true;
-    scene.for_each_triangle_with_corners(&mut |_| true, &mut |g, obj, tri, corners| {
+    scene.for_each_screen_triangle_with_corners(&mut |_| true, &mut |g, obj, tri, corners| {
         let rows = triangle_rows(tri, h);
         if let (Some(b), Some((r0, r1))) = (bins.get_mut(g), rows) {
             *b = match b.rows() {

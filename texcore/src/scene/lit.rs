@@ -55,7 +55,7 @@ impl Scene {
             lighting: &self.lighting,
             eye: self.camera.eye,
         };
-        self.walk_quads(keep, f, &corner)
+        self.walk_quads(keep, f, &corner, true)
     }
 }
 

@@ -434,6 +434,7 @@ impl Scene {
             keep,
             &mut |g, o, t, _: &dyn Fn() -> [(); 3]| f(g, o, t),
             &(),
+            true,
         )
     }
 
@@ -450,6 +451,30 @@ impl Scene {
         K: FnMut(usize) -> bool,
         F: FnMut(usize, usize, &[ScreenVertex; 3], Option<[u8; 3]>),
     {
+        self.walk_with_corners(keep, f, true)
+    }
+
+    /// [`Scene::for_each_triangle_with_corners`] without the vertices' texture coordinates
+    /// (every `tex` is zero): the same triangles, screen positions, depths, `1/w`, corners and
+    /// counters, for a caller that takes each corner's texture position from elsewhere (an
+    /// atlas layout) and so need not map every corner's solid coordinates.
+    pub fn for_each_screen_triangle_with_corners<K, F>(
+        &self,
+        keep: &mut K,
+        f: &mut F,
+    ) -> SceneCounters
+    where
+        K: FnMut(usize) -> bool,
+        F: FnMut(usize, usize, &[ScreenVertex; 3], Option<[u8; 3]>),
+    {
+        self.walk_with_corners(keep, f, false)
+    }
+
+    fn walk_with_corners<K, F>(&self, keep: &mut K, f: &mut F, tex: bool) -> SceneCounters
+    where
+        K: FnMut(usize) -> bool,
+        F: FnMut(usize, usize, &[ScreenVertex; 3], Option<[u8; 3]>),
+    {
         self.walk_quads(
             keep,
             &mut |g, o, t, corners: &dyn Fn() -> [Option<u8>; 3]| {
@@ -460,6 +485,7 @@ impl Scene {
                 f(g, o, t, c)
             },
             &CornerIndex,
+            tex,
         )
     }
 
@@ -467,8 +493,15 @@ impl Scene {
     /// emitted vertex carries besides its screen position, on demand: `f` gets a function that
     /// computes the triangle's three values (each quad corner at most once per walk), so a
     /// triangle whose values are not asked for costs nothing (nor does anything for `()`). A
-    /// triangle cut by clipping gets the mean of its input corners' values.
-    fn walk_quads<K, F, L>(&self, keep: &mut K, f: &mut F, corner: &L) -> SceneCounters
+    /// triangle cut by clipping gets the mean of its input corners' values. Without `tex`, every
+    /// vertex's texture coordinates are zero (nothing else changes).
+    fn walk_quads<K, F, L>(
+        &self,
+        keep: &mut K,
+        f: &mut F,
+        corner: &L,
+        tex: bool,
+    ) -> SceneCounters
     where
         K: FnMut(usize) -> bool,
         F: FnMut(usize, usize, &[ScreenVertex; 3], &dyn Fn() -> [L::Value; 3]),
@@ -531,7 +564,15 @@ impl Scene {
                     Some([e1, e2]) => [e1 == c0, e2 == c3],
                     None => [false, false],
                 };
-                store_quad(&mut store, view, o, &corners, [reuse0, reuse3], &mut at);
+                store_quad(
+                    &mut store,
+                    view,
+                    o,
+                    &corners,
+                    [reuse0, reuse3],
+                    tex,
+                    &mut at,
+                );
                 edge = Some([c1, c2]);
                 let values: [core::cell::Cell<Option<L::Value>>; 4] = Default::default();
                 let v = |i: usize| -> L::Value {
@@ -609,6 +650,7 @@ fn store_quad(
     o: &Object,
     c: &[Vec3; 4],
     reuse: [bool; 2],
+    tex: bool,
     at: &mut [usize; 4],
 ) {
     // The slots of the reused corners stay busy while the others are claimed.
@@ -628,7 +670,7 @@ fn store_quad(
             Some(i) => i,
             None => {
                 let i = store.claim(p, &busy);
-                walk_corner(view, o, p, store.get_mut(i));
+                walk_corner(view, o, p, tex, store.get_mut(i));
                 i
             }
         };
@@ -637,14 +679,17 @@ fn store_quad(
 }
 
 /// The camera vertex and outcodes of object `o`'s object-space point `p` (not yet projected),
-/// into `out`.
+/// into `out`; its texture coordinates zero unless `tex`.
 #[inline(never)]
-fn walk_corner(view: &View, o: &Object, p: Vec3, out: &mut corners::WalkedCorner) {
+fn walk_corner(view: &View, o: &Object, p: Vec3, tex: bool, out: &mut corners::WalkedCorner) {
     out.cam = CamVertex {
         p: view.to_camera(o.transform.saturating_apply(p)),
-        tex: o
-            .tex_map
-            .apply_point(crate::format::TexPoint::from_bits(p.x, p.y, p.z)),
+        tex: if tex {
+            o.tex_map
+                .apply_point(crate::format::TexPoint::from_bits(p.x, p.y, p.z))
+        } else {
+            [0; 3]
+        },
     };
     out.oc = view.outcodes(&out.cam.p);
     out.projected = None;
@@ -759,6 +804,29 @@ mod quad_group_tests {
                 });
                 assert_eq!(cw, cg, "{name} frame {frame}");
                 assert_eq!(with, grouped, "{name} frame {frame}");
+                // Without texture coordinates: the same triangles and corners, `tex` zero.
+                let mut screen = Vec::new();
+                let mut corners_of = Vec::new();
+                s.for_each_triangle_with_corners(&mut |_| true, &mut |_, _, _, c| {
+                    corners_of.push(c)
+                });
+                let cs = s.for_each_screen_triangle_with_corners(
+                    &mut |_| true,
+                    &mut |g, o, t, c| screen.push((g, o, *t, c)),
+                );
+                assert_eq!(cs, cw, "{name} frame {frame}");
+                assert_eq!(screen.len(), with.len(), "{name} frame {frame}");
+                for ((g, o, t, c), (wg, wo, wt)) in screen.iter().zip(&with) {
+                    assert_eq!((g, o), (wg, wo), "{name} frame {frame}");
+                    for (v, w) in t.iter().zip(wt) {
+                        assert_eq!(v.tex.to_bits(), [0; 3], "{name} group {g}");
+                        let mut w = *w;
+                        w.tex = v.tex;
+                        assert_eq!(*v, w, "{name} group {g}");
+                    }
+                }
+                let sc: Vec<_> = screen.iter().map(|e| e.3).collect();
+                assert_eq!(sc, corners_of, "{name} frame {frame}");
                 assert_eq!(none > 0, cw.clipped > 0, "{name} frame {frame}: {cw:?}");
                 cornerless += none;
                 // Every third quad declined: the rest, in order.
