@@ -323,7 +323,19 @@ impl Small {
             p(0) + p(1) + p(2)
         };
         let [c0, c1, c2] = cols;
-        let [zc, zdx, zdy] = round_plane_shifted([dot(z, c0), dot(z, c1), dot(z, c2)], area2);
+        // The steps `sum_i a_i dE_i/dx`, `sum_i a_i dE_i/dy`: on rv32imc from two differences
+        // of `a` ([`difference_steps`]: two products each instead of three), elsewhere as the
+        // sums themselves (the Cortex-M's multiply-accumulate makes the three products as
+        // cheap). The same integers either way.
+        let steps = |a: [i32; 3]| {
+            if cfg!(target_arch = "riscv32") {
+                difference_steps(a, &p)
+            } else {
+                (dot(a, c1), dot(a, c2))
+            }
+        };
+        let (zsx, zsy) = steps(z);
+        let [zc, zdx, zdy] = round_plane_shifted([dot(z, c0), zsx, zsy], area2);
         let zlo = z.iter().copied().min().unwrap_or(0);
         let zhi = z.iter().copied().max().unwrap_or(0);
         // The homogeneous planes (`textured::Homogeneous::new`): weights q_i u_i, q_i v_i, q_i
@@ -361,10 +373,10 @@ impl Small {
         // shift by `k` and a negation measured 2.4 instructions a frame pixel dearer on the
         // Cortex-M4F, 0.45 cheaper on rv32imc).
         let scale = if area2 < 0 { -(1i64 << k) } else { 1i64 << k };
-        let coef = |wj: [i32; 3], c: [i32; 3]| dot(wj, c).wrapping_mul(scale);
         let plane = |j: usize| {
             let wj = w.get(j).copied().unwrap_or([0; 3]);
-            [coef(wj, c0), coef(wj, c1), coef(wj, c2)]
+            let (sx, sy) = steps(wj);
+            [dot(wj, c0), sx, sy].map(|c| c.wrapping_mul(scale))
         };
         Small::Ready(SmallSetup {
             cov,
@@ -379,6 +391,21 @@ impl Small {
     }
 }
 
+/// `(sum_i a_i dE_i/dx, sum_i a_i dE_i/dy)` for the edge functions of the raw vertices `p`
+/// (`dE_i/dx = (y_j - y_k) 16`, `dE_i/dy = (x_k - x_j) 16` for `(i, j, k)` the rotations of
+/// `(0, 1, 2)`) from two differences of `a`: the sums expand to `(a_1 - a_0)(y_2 - y_0) -
+/// (a_2 - a_0)(y_1 - y_0)` and `(a_2 - a_0)(x_1 - x_0) - (a_1 - a_0)(x_2 - x_0)`, times 16.
+/// Exact for `|a_i| < 2^30` (the differences fit `i32`) and coordinates in `(-2^14, 2^14)`:
+/// every product is below `2^45`.
+#[inline(always)]
+fn difference_steps(a: [i32; 3], p: &[[i32; 2]; 3]) -> (i64, i64) {
+    let [p0, p1, p2] = *p;
+    let [dx1, dy1] = [p1[0] - p0[0], p1[1] - p0[1]].map(i64::from);
+    let [dx2, dy2] = [p2[0] - p0[0], p2[1] - p0[1]].map(i64::from);
+    let (a1, a2) = (i64::from(a[1] - a[0]), i64::from(a[2] - a[0]));
+    ((a1 * dy2 - a2 * dy1) * 16, (a2 * dx1 - a1 * dx2) * 16)
+}
+
 /// The depth test of `opts` as one unsigned comparison `z < stored + bias`: `Less` is bias 0,
 /// `LessEqual` bias 1, `Always` past every depth (z and stored are below 2^16).
 pub(crate) const fn depth_bias(func: DepthFunc) -> u32 {
@@ -386,5 +413,55 @@ pub(crate) const fn depth_bias(func: DepthFunc) -> u32 {
         DepthFunc::Less => 0,
         DepthFunc::LessEqual => 1,
         DepthFunc::Always => 1 << 16,
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// The three-term sums `sum_i a_i dE_i/dx`, `sum_i a_i dE_i/dy` of the edge functions.
+    fn edge_sums(a: [i32; 3], p: &[[i32; 2]; 3]) -> (i64, i64) {
+        let [p0, p1, p2] = *p;
+        let mut s = (0i64, 0i64);
+        for (ai, [xj, yj], [xk, yk]) in [(a[0], p1, p2), (a[1], p2, p0), (a[2], p0, p1)] {
+            s.0 += i64::from(ai) * i64::from((yj - yk) * 16);
+            s.1 += i64::from(ai) * i64::from((xk - xj) * 16);
+        }
+        s
+    }
+
+    /// The difference form is the sums, at random and at the ranges' ends (weights to
+    /// `2^30 - 1`, coordinates to `+-(2^14 - 1)`); a wrong sign or a wrong pair fails.
+    #[test]
+    fn difference_steps_are_the_edge_sums() {
+        let mut st = 0x9E37_79B9_7F4A_7C15u64;
+        let mut rnd = |m: u64| {
+            st ^= st << 13;
+            st ^= st >> 7;
+            st ^= st << 17;
+            st % m
+        };
+        let lim = SMALL - 1;
+        let ends = [-lim, lim, 0, 1, -1];
+        for n in 0..200_000u32 {
+            let (a, p) = if n < 3125 {
+                // Every coordinate at an end, weights at their extremes.
+                let c = |i: u32| ends[(n / 5u32.pow(i) % 5) as usize];
+                let p = [[c(0), c(1)], [c(2), c(3)], [c(4), c(0)]];
+                let a = [(1 << 30) - 1, 0, (n as i32 & 1) * ((1 << 30) - 1)];
+                (a, p)
+            } else {
+                let c = |r: &mut dyn FnMut(u64) -> u64| r(2 * lim as u64 + 1) as i32 - lim;
+                let p = [
+                    [c(&mut rnd), c(&mut rnd)],
+                    [c(&mut rnd), c(&mut rnd)],
+                    [c(&mut rnd), c(&mut rnd)],
+                ];
+                let a = [0; 3].map(|_| rnd(1 << 30) as i32);
+                (a, p)
+            };
+            assert_eq!(difference_steps(a, &p), edge_sums(a, &p), "{a:?} {p:?}");
+        }
     }
 }

@@ -495,13 +495,7 @@ impl Scene {
     /// triangle whose values are not asked for costs nothing (nor does anything for `()`). A
     /// triangle cut by clipping gets the mean of its input corners' values. Without `tex`, every
     /// vertex's texture coordinates are zero (nothing else changes).
-    fn walk_quads<K, F, L>(
-        &self,
-        keep: &mut K,
-        f: &mut F,
-        corner: &L,
-        tex: bool,
-    ) -> SceneCounters
+    fn walk_quads<K, F, L>(&self, keep: &mut K, f: &mut F, corner: &L, tex: bool) -> SceneCounters
     where
         K: FnMut(usize) -> bool,
         F: FnMut(usize, usize, &[ScreenVertex; 3], &dyn Fn() -> [L::Value; 3]),
@@ -810,10 +804,10 @@ mod quad_group_tests {
                 s.for_each_triangle_with_corners(&mut |_| true, &mut |_, _, _, c| {
                     corners_of.push(c)
                 });
-                let cs = s.for_each_screen_triangle_with_corners(
-                    &mut |_| true,
-                    &mut |g, o, t, c| screen.push((g, o, *t, c)),
-                );
+                let cs = s
+                    .for_each_screen_triangle_with_corners(&mut |_| true, &mut |g, o, t, c| {
+                        screen.push((g, o, *t, c))
+                    });
                 assert_eq!(cs, cw, "{name} frame {frame}");
                 assert_eq!(screen.len(), with.len(), "{name} frame {frame}");
                 for ((g, o, t, c), (wg, wo, wt)) in screen.iter().zip(&with) {
