@@ -457,8 +457,13 @@ impl View {
         let (w8, h8) = (i64::from(self.width) * 8, i64::from(self.height) * 8);
         let sx = w8 + mul_round_shift(kx, ri, 74);
         let sy = h8 - mul_round_shift(ky, ri, 74);
-        let t = mul_round_shift(z - self.near, ri, 31);
-        let depth = mul_round_shift(t, self.depth_scale, 47);
+        // 0 <= z - n < 2^31 and 0 <= t <= 2^31 + 1 (r <= 2^62 / z + 1/2), the depth factor
+        // positive: unsigned 32 x 64-bit products, the same values as the signed ones.
+        let t = mul_u32_round_shift((z - self.near) as u32, r, 31) as i64;
+        let depth = match u64::try_from(self.depth_scale) {
+            Ok(d) => mul_u32_round_shift(t as u32, d, 47) as i64,
+            Err(_) => mul_round_shift(t, self.depth_scale, 47),
+        };
         let lim = i64::from(GUARD_BAND) - 1;
         let sv = ScreenVertex {
             x: ScreenCoord::from_bits(sx.max(-lim).min(lim) as i32),
@@ -596,6 +601,13 @@ fn inv_z(z: i64) -> u64 {
 #[inline(always)]
 fn mul_round_shift(a: i64, b: i64, k: u32) -> i64 {
     ((a as i128 * b as i128 + (1i128 << (k - 1))) >> k) as i64
+}
+
+/// `round(a b / 2^k)` rounded half up (`1 <= k <= 64`) from an unsigned 32 x 64-bit product
+/// (below `2^96`): no sign handling and half the partial products of [`mul_round_shift`].
+#[inline(always)]
+fn mul_u32_round_shift(a: u32, b: u64, k: u32) -> u64 {
+    ((u128::from(a) * u128::from(b) + (1u128 << (k - 1))) >> k) as u64
 }
 
 /// `a b` exactly, with a 64-bit multiplication when both are below `2^31` in magnitude.
