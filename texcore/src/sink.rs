@@ -324,17 +324,17 @@ impl ChecksumSink {
     }
 
     /// Adds RGB565 pixels in order: the same checksum as [`ChecksumSink::add_rgb565`] on each,
-    /// in a loop that takes two pixels a turn.
+    /// in a loop that takes four pixels a turn.
     #[inline]
     pub fn add_rgb565_row(&mut self, pixels: &[u16]) {
         let mut h = self.hash;
-        let mut pairs = pixels.chunks_exact(2);
-        for pair in &mut pairs {
-            if let [a, b] = *pair {
-                h = fnv1a_rgb565(fnv1a_rgb565(h, a), b);
+        let mut quads = pixels.chunks_exact(4);
+        for quad in &mut quads {
+            if let [a, b, c, d] = *quad {
+                h = fnv1a_rgb565(fnv1a_rgb565(fnv1a_rgb565(fnv1a_rgb565(h, a), b), c), d);
             }
         }
-        for &p in pairs.remainder() {
+        for &p in quads.remainder() {
             h = fnv1a_rgb565(h, p);
         }
         self.hash = h;
