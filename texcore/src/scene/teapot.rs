@@ -494,7 +494,7 @@ fn rows_at(idx: &[u16; 16], bu: &[i64; 4]) -> [[i32; 3]; 4] {
 /// `recip = round(2^62 / n^6)`, rounded half up from 62 fraction bits. A function of the exact
 /// numerator only (so shared boundaries agree bit for bit), within `2^-20` LSB of the exactly
 /// rounded quotient before the final rounding (exact at control points).
-fn combine(rows: &[[i32; 3]; 4], bv: &[i64; 4], recip: i64) -> Vec3 {
+fn combine(rows: &[[i32; 3]; 4], bv: &[i64; 4], recip: Recip6) -> Vec3 {
     // 32 x 32 -> 64-bit products (`|b_j| <= 2^12`, `|rows| < 2^30`): one multiply-accumulate.
     let mut acc = [0i64; 3];
     for (r, &wv) in rows.iter().zip(bv.iter()) {
@@ -507,30 +507,45 @@ fn combine(rows: &[[i32; 3]; 4], bv: &[i64; 4], recip: i64) -> Vec3 {
     // one addition and shift: round_shift_128 of the same product. When recip = 2^k with
     // k < 62 (levels 2, 4 and 8), (a 2^k + 2^61) >> 62 = (a + 2^(61 - k)) >> (62 - k) exactly:
     // one 64-bit addition and shift, no 128-bit product (|a| + 2^30 < 2^63).
-    let k = recip.trailing_zeros();
-    if recip == 1 << k && k < 62 {
-        let f = |a: i64| sat_i32((a + (1 << (61 - k))) >> (62 - k));
+    let s = recip.shift;
+    if s != 0 {
+        let f = |a: i64| sat_i32((a + (1 << (s - 1))) >> s);
         return Vec3::new(f(acc[0]), f(acc[1]), f(acc[2]));
     }
-    let f = |a: i64| sat_i32(sat_i64((a as i128 * recip as i128 + (1 << 61)) >> 62));
+    let r = recip.recip;
+    let f = |a: i64| sat_i32(sat_i64((a as i128 * r as i128 + (1 << 61)) >> 62));
     Vec3::new(f(acc[0]), f(acc[1]), f(acc[2]))
 }
 
-/// `round(2^62 / n^6)` for every level `n` (index `n`; index 0 unused), computed at compile
-/// time: no 64-bit division a quad.
-const RECIP6: [i64; MAX_TEAPOT_LEVEL as usize + 1] = {
-    let mut t = [0i64; MAX_TEAPOT_LEVEL as usize + 1];
+/// `round(2^62 / n^6)` for a level `n`, and the shift `62 - k` that divides by it when it is
+/// `2^k` with `k < 62` (0 otherwise): found once at compile time, not at every point.
+#[derive(Clone, Copy, Debug)]
+struct Recip6 {
+    recip: i64,
+    shift: u32,
+}
+
+/// [`Recip6`] for every level `n` (index `n`; index 0 unused), computed at compile time: no
+/// 64-bit division a quad.
+const RECIP6: [Recip6; MAX_TEAPOT_LEVEL as usize + 1] = {
+    let mut t = [Recip6 { recip: 0, shift: 0 }; MAX_TEAPOT_LEVEL as usize + 1];
     let mut n = 1;
     while n <= MAX_TEAPOT_LEVEL as i64 {
-        t[n as usize] = div_round(1 << 62, n * n * n * n * n * n);
+        let recip = div_round(1 << 62, n * n * n * n * n * n);
+        let k = recip.trailing_zeros();
+        let shift = if recip == 1 << k && k < 62 { 62 - k } else { 0 };
+        t[n as usize] = Recip6 { recip, shift };
         n += 1;
     }
     t
 };
 
-/// `round(2^62 / n^6)` for a clamped level `n` (`1..=MAX_TEAPOT_LEVEL`; 0 outside).
-fn recip6(n: i64) -> i64 {
-    RECIP6.get(n as usize).copied().unwrap_or(0)
+/// [`Recip6`] of a clamped level `n` (`1..=MAX_TEAPOT_LEVEL`; zero outside).
+fn recip6(n: i64) -> Recip6 {
+    RECIP6
+        .get(n as usize)
+        .copied()
+        .unwrap_or(Recip6 { recip: 0, shift: 0 })
 }
 
 /// The point of patch `patch` at `u = k / n`, `v = l / n` (`k, l <= n`), rounded to `Q16.16`.
@@ -554,7 +569,7 @@ struct QuadAt {
     n: i64,
     k: [i64; 2],
     l: [i64; 2],
-    recip: i64,
+    recip: Recip6,
 }
 
 impl QuadAt {
@@ -656,7 +671,7 @@ mod tests {
                     }
                 }
                 let f = |a: i128| {
-                    let q = crate::scene::math::round_shift_128(a * recip as i128, 62);
+                    let q = crate::scene::math::round_shift_128(a * recip.recip as i128, 62);
                     q.clamp(i32::MIN as i128, i32::MAX as i128) as i32
                 };
                 assert_eq!(got, Vec3::new(f(acc[0]), f(acc[1]), f(acc[2])), "n = {n}");
