@@ -197,10 +197,29 @@ impl Mesh {
     /// points and two combinations instead of two and four) is computed; any other quad is
     /// computed whole. (The teapot only: the cheap parametric grids would double their code in
     /// flash for little.)
-    #[inline(never)]
     pub fn quad_after(&self, q: u32, left: [Vec3; 2]) -> Option<[Vec3; 4]> {
+        let mut c = [Vec3::ZERO; 4];
+        self.quad_after_into(q, left, &mut c).then_some(c)
+    }
+
+    /// [`Mesh::quad`] into `out` (`false`, `out` unchanged, past the end): the corners are
+    /// stored where the caller keeps them rather than returned through a copy.
+    pub(crate) fn quad_into(&self, q: u32, out: &mut [Vec3; 4]) -> bool {
+        match self.quad(q) {
+            Some(c) => {
+                *out = c;
+                true
+            }
+            None => false,
+        }
+    }
+
+    /// [`Mesh::quad_after`] into `out` (`false`, `out` unchanged, past the end). Out of line:
+    /// one copy for every walk.
+    #[inline(never)]
+    pub(crate) fn quad_after_into(&self, q: u32, left: [Vec3; 2], out: &mut [Vec3; 4]) -> bool {
         if q == 0 || q >= self.quad_count() {
-            return self.quad(q);
+            return self.quad_into(q, out);
         }
         let edge = match *self {
             Mesh::Teapot { level } => {
@@ -208,13 +227,15 @@ impl Mesh {
                 let (patch, r) = divrem(q, n * n);
                 let (l, k) = divrem(r, n);
                 if k == 0 {
-                    return self.quad(q);
+                    return self.quad_into(q, out);
                 }
                 teapot_right_edge(patch as usize, n, k, l)
             }
-            _ => return self.quad(q),
+            _ => return self.quad_into(q, out),
         };
-        Some([left[0], edge[0], edge[1], left[1]])
+        let [a, b, c, d] = out;
+        (*a, *b, *c, *d) = (left[0], edge[0], edge[1], left[1]);
+        true
     }
 
     /// The triangles, in a fixed order.

@@ -532,18 +532,22 @@ impl Scene {
             store.clear();
             // The right edge of the last quad generated (`Mesh::quad_after`).
             let mut last: Option<(u32, [Vec3; 2])> = None;
+            // The corners of the quad being walked, written in place by the mesh.
+            let mut corners = [Vec3::ZERO; 4];
             for q in 0..quads {
                 let group = groups.wrapping_add(q as usize);
                 if !keep(group) {
                     continue;
                 }
-                let corners = match last {
-                    Some((lq, left)) if lq.wrapping_add(1) == q => o.mesh.quad_after(q, left),
-                    _ => o.mesh.quad(q),
+                let found = match last {
+                    Some((lq, left)) if lq.wrapping_add(1) == q => {
+                        o.mesh.quad_after_into(q, left, &mut corners)
+                    }
+                    _ => o.mesh.quad_into(q, &mut corners),
                 };
-                let Some(corners) = corners else {
+                if !found {
                     break;
-                };
+                }
                 last = Some((q, [corners[1], corners[2]]));
                 let halves = [[0usize, 1, 2], [0, 2, 3]];
                 let [c0, c1, c2, c3] = corners;
