@@ -492,12 +492,12 @@ fn list_triangle(
             let Some(q) = list.get_mut(*n) else {
                 return false;
             };
-            *q = FrameQuad {
-                group,
-                object,
-                rows: [u16::MAX, 0],
-                ..FrameQuad::EMPTY
-            };
+            // A fresh entry: no corner set (corners are read only where their bit is set, so
+            // the old values need no clearing).
+            q.group = group;
+            q.object = object;
+            q.flags = 0;
+            q.rows = [u16::MAX, 0];
             *n += 1;
             *n - 1
         }
