@@ -814,7 +814,7 @@ mod quad_group_tests {
                     });
                 assert_eq!(cs, cw, "{name} frame {frame}");
                 assert_eq!(screen.len(), with.len(), "{name} frame {frame}");
-                for ((g, o, t, c), (wg, wo, wt)) in screen.iter().zip(&with) {
+                for ((g, o, t, _), (wg, wo, wt)) in screen.iter().zip(&with) {
                     assert_eq!((g, o), (wg, wo), "{name} frame {frame}");
                     for (v, w) in t.iter().zip(wt) {
                         assert_eq!(v.tex.to_bits(), [0; 3], "{name} group {g}");
