@@ -257,9 +257,22 @@ impl Affine3 {
     /// saturates only past `i64`, for absurd inputs).
     #[inline]
     pub const fn apply_wide(&self, p: Vec3) -> [i64; 3] {
+        self.apply_wide_with(p, self.small())
+    }
+
+    /// Whether every matrix entry is small enough for [`Affine3::apply_wide`]'s `i64` products:
+    /// a property of the transform alone, for a caller that applies it to many points
+    /// ([`Affine3::saturating_apply_with`]).
+    pub(crate) const fn is_small(&self) -> bool {
+        self.small()
+    }
+
+    /// [`Affine3::apply_wide`] with `small` = [`Affine3::is_small`] found by the caller.
+    #[inline]
+    const fn apply_wide_with(&self, p: Vec3, small: bool) -> [i64; 3] {
         let p = [p.x as i64, p.y as i64, p.z as i64];
         let mut out = [0i64; 3];
-        if self.small() {
+        if small {
             let mut i = 0;
             while i < 3 {
                 let acc = self.mb(i, 0) as i64 * p[0]
@@ -289,6 +302,15 @@ impl Affine3 {
     #[inline]
     pub const fn saturating_apply(&self, p: Vec3) -> Vec3 {
         let w = self.apply_wide(p);
+        Vec3::new(sat_i32(w[0]), sat_i32(w[1]), sat_i32(w[2]))
+    }
+
+    /// [`Affine3::saturating_apply`] with `small` = [`Affine3::is_small`], found once by the
+    /// caller for all the points it transforms (the same values; the entries are not checked
+    /// again at every point).
+    #[inline]
+    pub(crate) const fn saturating_apply_with(&self, p: Vec3, small: bool) -> Vec3 {
+        let w = self.apply_wide_with(p, small);
         Vec3::new(sat_i32(w[0]), sat_i32(w[1]), sat_i32(w[2]))
     }
 
@@ -467,6 +489,50 @@ mod tests {
         let f2 = full.then(&full);
         assert_eq!(f2.matrix()[0][0].to_bits(), i32::MAX);
         assert_eq!(f2, then_reference(&full, &full));
+    }
+
+    /// The point transform with the entries' size found once is the checked one, for transforms
+    /// below and above the `i64` path's limit and points up to `i32`'s ends.
+    #[test]
+    fn saturating_apply_with_is_saturating_apply() {
+        let mut x = 0x9E37_79B9_7F4A_7C15u64;
+        let mut next = |limit: i64| {
+            x ^= x << 13;
+            x ^= x >> 7;
+            x ^= x << 17;
+            ((x as i64) % limit) as i32
+        };
+        let mut paths = [0usize; 2];
+        for round in 0..8000 {
+            let lim = [1i64 << 18, 1 << 29, 1 << 31, 1 << 32][round % 4];
+            let m = [(); 3].map(|_| [(); 3].map(|_| next(lim)));
+            let a = Affine3::from_bits(m, [(); 3].map(|_| next(1 << 32)));
+            let p = if round % 7 == 0 {
+                Vec3::new(i32::MIN, i32::MAX, next(1 << 32))
+            } else {
+                Vec3::new(next(1 << 32), next(1 << 20), next(1 << 24))
+            };
+            let small = a.is_small();
+            paths[usize::from(small)] += 1;
+            assert_eq!(
+                a.saturating_apply_with(p, small),
+                a.saturating_apply(p),
+                "{a:?} {p:?}"
+            );
+        }
+        assert!(paths[0] > 100 && paths[1] > 100, "{paths:?}");
+        // Sums past i64 (only the wide path holds them): saturated either way.
+        let big = Affine3::from_bits([[i32::MIN; 3]; 3], [i32::MIN; 3]);
+        let p = Vec3::new(i32::MIN, i32::MIN, i32::MIN);
+        assert!(!big.is_small());
+        assert_eq!(
+            big.saturating_apply_with(p, big.is_small()),
+            big.saturating_apply(p)
+        );
+        assert_eq!(
+            big.saturating_apply(p),
+            Vec3::new(i32::MAX, i32::MAX, i32::MAX)
+        );
     }
 
     #[test]

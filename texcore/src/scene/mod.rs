@@ -530,6 +530,10 @@ impl Scene {
             let mut edge: Option<[Vec3; 2]> = None;
             let mut at = [0usize; 4];
             store.clear();
+            let how = CornerHow {
+                tex,
+                small: o.transform.is_small(),
+            };
             // The right edge of the last quad generated (`Mesh::quad_after`).
             let mut last: Option<(u32, [Vec3; 2])> = None;
             // The corners of the quad being walked, written in place by the mesh.
@@ -568,7 +572,7 @@ impl Scene {
                     o,
                     &corners,
                     [reuse0, reuse3],
-                    tex,
+                    how,
                     &mut at,
                 );
                 edge = Some([c1, c2]);
@@ -648,7 +652,7 @@ fn store_quad(
     o: &Object,
     c: &[Vec3; 4],
     reuse: [bool; 2],
-    tex: bool,
+    how: CornerHow,
     at: &mut [usize; 4],
 ) {
     // The slots of the reused corners stay busy while the others are claimed.
@@ -668,7 +672,7 @@ fn store_quad(
             Some(i) => i,
             None => {
                 let i = store.claim(p, &busy);
-                walk_corner(view, o, p, tex, store.get_mut(i));
+                walk_corner(view, o, p, how, store.get_mut(i));
                 i
             }
         };
@@ -676,13 +680,21 @@ fn store_quad(
     *at = busy;
 }
 
+/// How a walk computes its corners: with texture coordinates (`tex`), and whether the object's
+/// transform takes the `i64` products (`small`: [`Affine3::is_small`], found once an object).
+#[derive(Clone, Copy)]
+struct CornerHow {
+    tex: bool,
+    small: bool,
+}
+
 /// The camera vertex and outcodes of object `o`'s object-space point `p` (not yet projected),
-/// into `out`; its texture coordinates zero unless `tex`.
+/// into `out`; its texture coordinates zero unless `how.tex`.
 #[inline(never)]
-fn walk_corner(view: &View, o: &Object, p: Vec3, tex: bool, out: &mut corners::WalkedCorner) {
+fn walk_corner(view: &View, o: &Object, p: Vec3, how: CornerHow, out: &mut corners::WalkedCorner) {
     out.cam = CamVertex {
-        p: view.to_camera(o.transform.saturating_apply(p)),
-        tex: if tex {
+        p: view.to_camera(o.transform.saturating_apply_with(p, how.small)),
+        tex: if how.tex {
             o.tex_map
                 .apply_point(crate::format::TexPoint::from_bits(p.x, p.y, p.z))
         } else {
