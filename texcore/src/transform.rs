@@ -443,6 +443,17 @@ mod tests {
         );
     }
 
+    /// A small xorshift from `seed`: each call a value in `(-limit, limit)`.
+    fn xorshift(seed: u64) -> impl FnMut(i64) -> i32 {
+        let mut x = seed;
+        move |limit: i64| {
+            x ^= x << 13;
+            x ^= x >> 7;
+            x ^= x << 17;
+            ((x as i64) % limit) as i32
+        }
+    }
+
     /// `other * self` with every product in i128 (the reference for both paths of `then`).
     fn then_reference(a: &Affine3, b: &Affine3) -> Affine3 {
         let (am, at, bm, bt) = (a.matrix(), a.translation(), b.matrix(), b.translation());
@@ -465,14 +476,8 @@ mod tests {
 
     #[test]
     fn composition_paths_agree_with_the_exact_product() {
-        // A small xorshift: entries around the fast-path limit, below and above it.
-        let mut x = 0x2545_F491_4F6C_DD1Du64;
-        let mut next = |limit: i64| {
-            x ^= x << 13;
-            x ^= x >> 7;
-            x ^= x << 17;
-            ((x as i64) % limit) as i32
-        };
+        // Entries around the fast-path limit, below and above it.
+        let mut next = xorshift(0x2545_F491_4F6C_DD1D);
         for round in 0..4000 {
             let lim = [1i64 << 18, 1 << 29, 1 << 31, 1 << 32][round % 4];
             let mut mk = || {
@@ -495,13 +500,7 @@ mod tests {
     /// below and above the `i64` path's limit and points up to `i32`'s ends.
     #[test]
     fn saturating_apply_with_is_saturating_apply() {
-        let mut x = 0x9E37_79B9_7F4A_7C15u64;
-        let mut next = |limit: i64| {
-            x ^= x << 13;
-            x ^= x >> 7;
-            x ^= x << 17;
-            ((x as i64) % limit) as i32
-        };
+        let mut next = xorshift(0x9E37_79B9_7F4A_7C15);
         let mut paths = [0usize; 2];
         for round in 0..8000 {
             let lim = [1i64 << 18, 1 << 29, 1 << 31, 1 << 32][round % 4];
