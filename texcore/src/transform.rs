@@ -153,8 +153,10 @@ impl Affine3 {
         self.m[i][j].to_bits()
     }
 
-    /// Whether every entry of `M` is below [`SMALL`] in magnitude.
-    const fn small(&self) -> bool {
+    /// Whether every entry of `M` is below [`SMALL`] in magnitude: [`Affine3::apply_wide`]'s
+    /// products then fit `i64`. A property of the transform alone, so a caller that applies it
+    /// to many points finds it once ([`Affine3::saturating_apply_with`]).
+    pub(crate) const fn small(&self) -> bool {
         let mut i = 0;
         while i < 3 {
             let mut j = 0;
@@ -260,14 +262,7 @@ impl Affine3 {
         self.apply_wide_with(p, self.small())
     }
 
-    /// Whether every matrix entry is small enough for [`Affine3::apply_wide`]'s `i64` products:
-    /// a property of the transform alone, for a caller that applies it to many points
-    /// ([`Affine3::saturating_apply_with`]).
-    pub(crate) const fn is_small(&self) -> bool {
-        self.small()
-    }
-
-    /// [`Affine3::apply_wide`] with `small` = [`Affine3::is_small`] found by the caller.
+    /// [`Affine3::apply_wide`] with `small` = [`Affine3::small`] found by the caller.
     #[inline]
     const fn apply_wide_with(&self, p: Vec3, small: bool) -> [i64; 3] {
         let p = [p.x as i64, p.y as i64, p.z as i64];
@@ -301,11 +296,10 @@ impl Affine3 {
     /// `M p + t` of a `Q16.16` point, saturated to `Q16.16` `i32`.
     #[inline]
     pub const fn saturating_apply(&self, p: Vec3) -> Vec3 {
-        let w = self.apply_wide(p);
-        Vec3::new(sat_i32(w[0]), sat_i32(w[1]), sat_i32(w[2]))
+        self.saturating_apply_with(p, self.small())
     }
 
-    /// [`Affine3::saturating_apply`] with `small` = [`Affine3::is_small`], found once by the
+    /// [`Affine3::saturating_apply`] with `small` = [`Affine3::small`], found once by the
     /// caller for all the points it transforms (the same values; the entries are not checked
     /// again at every point).
     #[inline]
@@ -511,7 +505,7 @@ mod tests {
             } else {
                 Vec3::new(next(1 << 32), next(1 << 20), next(1 << 24))
             };
-            let small = a.is_small();
+            let small = a.small();
             paths[usize::from(small)] += 1;
             assert_eq!(
                 a.saturating_apply_with(p, small),
@@ -523,9 +517,9 @@ mod tests {
         // Sums past i64 (only the wide path holds them): saturated either way.
         let big = Affine3::from_bits([[i32::MIN; 3]; 3], [i32::MIN; 3]);
         let p = Vec3::new(i32::MIN, i32::MIN, i32::MIN);
-        assert!(!big.is_small());
+        assert!(!big.small());
         assert_eq!(
-            big.saturating_apply_with(p, big.is_small()),
+            big.saturating_apply_with(p, big.small()),
             big.saturating_apply(p)
         );
         assert_eq!(

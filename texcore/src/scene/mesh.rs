@@ -233,8 +233,7 @@ impl Mesh {
             }
             _ => return self.quad_into(q, out),
         };
-        let [a, b, c, d] = out;
-        (*a, *b, *c, *d) = (left[0], edge[0], edge[1], left[1]);
+        *out = [left[0], edge[0], edge[1], left[1]];
         true
     }
 

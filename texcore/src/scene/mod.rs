@@ -532,7 +532,7 @@ impl Scene {
             store.clear();
             let how = CornerHow {
                 tex,
-                small: o.transform.is_small(),
+                small: o.transform.small(),
             };
             // The right edge of the last quad generated (`Mesh::quad_after`).
             let mut last: Option<(u32, [Vec3; 2])> = None;
@@ -681,7 +681,7 @@ fn store_quad(
 }
 
 /// How a walk computes its corners: with texture coordinates (`tex`), and whether the object's
-/// transform takes the `i64` products (`small`: [`Affine3::is_small`], found once an object).
+/// transform takes the `i64` products (`small`: [`Affine3::small`], found once an object).
 #[derive(Clone, Copy)]
 struct CornerHow {
     tex: bool,

@@ -525,10 +525,15 @@ struct Recip6 {
     shift: u32,
 }
 
+impl Recip6 {
+    /// No level (outside `1..=MAX_TEAPOT_LEVEL`).
+    const NONE: Recip6 = Recip6 { recip: 0, shift: 0 };
+}
+
 /// [`Recip6`] for every level `n` (index `n`; index 0 unused), computed at compile time: no
 /// 64-bit division a quad.
 const RECIP6: [Recip6; MAX_TEAPOT_LEVEL as usize + 1] = {
-    let mut t = [Recip6 { recip: 0, shift: 0 }; MAX_TEAPOT_LEVEL as usize + 1];
+    let mut t = [Recip6::NONE; MAX_TEAPOT_LEVEL as usize + 1];
     let mut n = 1;
     while n <= MAX_TEAPOT_LEVEL as i64 {
         let recip = div_round(1 << 62, n * n * n * n * n * n);
@@ -542,10 +547,7 @@ const RECIP6: [Recip6; MAX_TEAPOT_LEVEL as usize + 1] = {
 
 /// [`Recip6`] of a clamped level `n` (`1..=MAX_TEAPOT_LEVEL`; zero outside).
 fn recip6(n: i64) -> Recip6 {
-    RECIP6
-        .get(n as usize)
-        .copied()
-        .unwrap_or(Recip6 { recip: 0, shift: 0 })
+    RECIP6.get(n as usize).copied().unwrap_or(Recip6::NONE)
 }
 
 /// The point of patch `patch` at `u = k / n`, `v = l / n` (`k, l <= n`), rounded to `Q16.16`.
