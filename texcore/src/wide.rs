@@ -17,6 +17,46 @@
 //! meets in practice, a small bit-by-bit long division. Every path gives the exact quotient and
 //! remainder (tests compare them with the native operators over edge cases and random operands).
 
+/// `v.leading_zeros()`, for the set-up code's normalisations. rv32imc has no count-leading-zeros
+/// instruction (the Zbb extension adds one): the compiler's expansion there is about 30
+/// instructions, [`leading_zeros_by_table`] about 8, so rv32imc without Zbb takes the table.
+#[inline(always)]
+pub(crate) fn leading_zeros_u32(v: u32) -> u32 {
+    if cfg!(all(target_arch = "riscv32", not(target_feature = "zbb"))) {
+        leading_zeros_by_table(v)
+    } else {
+        v.leading_zeros()
+    }
+}
+
+/// The significant bits of each byte value.
+const BYTE_BITS: [u8; 256] = {
+    let mut t = [0u8; 256];
+    let mut i = 1;
+    while i < 256 {
+        t[i] = t[i / 2] + 1;
+        i += 1;
+    }
+    t
+};
+
+/// `v.leading_zeros()` from the byte holding `v`'s top set bit and a 256-entry table.
+#[inline(always)]
+fn leading_zeros_by_table(v: u32) -> u32 {
+    let shift = if v >> 16 != 0 {
+        if v >> 24 != 0 {
+            24
+        } else {
+            16
+        }
+    } else if v >> 8 != 0 {
+        8
+    } else {
+        0
+    };
+    32 - shift - u32::from(BYTE_BITS[((v >> shift) & 0xFF) as usize])
+}
+
 /// `a * b` exactly (the full product of two `i64`, below `2^126` in magnitude).
 ///
 /// 32-bit targets have no 64 x 64 -> 128 multiply instruction: the compiler expands every `i128`
@@ -222,7 +262,7 @@ impl Reciprocal32 {
         if d == 0 {
             return None;
         }
-        let s = d.leading_zeros();
+        let s = leading_zeros_u32(d);
         let d = d << s;
         // floor(((2^32 - 1 - d) 2^32 + 2^32 - 1) / d); !d < 2^31 <= d, as the long division needs.
         let (v, _) = div_rem_below_u32(!d, u32::MAX, d);
@@ -403,9 +443,9 @@ fn div_rem_u128_by_u64(n: u128, d: u64, lean: bool) -> Option<(u128, u64)> {
 /// over words of `$w` (half-words `$h` bits), by algorithm D with two half-word quotient digits.
 /// Each digit is estimated as `$est(top, vn1)` (`top / vn1`, with `vn1` the normalised divisor's
 /// top half-word; the estimate may exceed the digit, never fall short) and corrected at most
-/// twice.
+/// twice. `$lz` counts a word's leading zeros (the divisor's normalisation).
 macro_rules! div_rem_below {
-    ($name:ident, $w:ty, $h:literal, $est:expr, $doc:literal) => {
+    ($name:ident, $w:ty, $h:literal, $est:expr, $lz:expr, $doc:literal) => {
         #[doc = $doc]
         #[inline]
         fn $name(u1: $w, u0: $w, d: $w) -> ($w, $w) {
@@ -417,7 +457,8 @@ macro_rules! div_rem_below {
                 return (u0 / d, u0 % d);
             }
             // d > u1 >= 1, so the shift keeps every bit of d.
-            let s = d.leading_zeros();
+            let lz: fn($w) -> u32 = $lz;
+            let s = lz(d);
             let v = d << s;
             // v's top bit is set, so vn1 >= B / 2 (`max(1)` only states that it is not 0).
             let (vn1, vn0) = ((v >> $h).max(1), v & LO);
@@ -466,6 +507,7 @@ div_rem_below!(
         let vn1 = vn1.max(1);
         (top / vn1, top % vn1)
     },
+    leading_zeros_u32,
     "`(u1:u0 / d, u1:u0 % d)` for 32-bit words, `u1 < d`: the 32-bit hardware divide only."
 );
 
@@ -474,6 +516,7 @@ div_rem_below!(
     u64,
     32,
     est_u64_by_u32,
+    u64::leading_zeros,
     "`(u1:u0 / d, u1:u0 % d)` for 64-bit words, `u1 < d`: digit estimates by [`est_u64_by_u32`]."
 );
 
@@ -502,6 +545,22 @@ mod tests {
         assert_eq!(fast, div_rem_euclid_i128_shaped(n, d, true), "{n} / {d}");
         assert_eq!(fast, div_rem_euclid_i128(n, d), "{n} / {d}");
         fast
+    }
+
+    /// The table's count against the instruction's: every value below 2^16, every power of two
+    /// with its neighbours, and a stride through the rest.
+    #[test]
+    fn leading_zeros_by_table_is_leading_zeros() {
+        let mut check = |v: u32| assert_eq!(leading_zeros_by_table(v), v.leading_zeros(), "{v:#x}");
+        (0..=u32::from(u16::MAX)).for_each(&mut check);
+        for b in 0..32 {
+            let p = 1u32 << b;
+            [p - 1, p, p + 1, p | (p >> 1), u32::MAX >> b]
+                .into_iter()
+                .for_each(&mut check);
+        }
+        (0..=u32::MAX).step_by(65_537).for_each(&mut check);
+        assert_eq!(leading_zeros_u32(0x0001_2345), 15);
     }
 
     #[test]

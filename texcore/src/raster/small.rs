@@ -25,6 +25,7 @@
 use super::setup::{round_plane_shifted, Reject};
 use super::textured::homogeneous_texel;
 use super::{CullMode, DepthFunc, Perspective, Rect, ScreenVertex, TriangleOptions};
+use crate::wide::leading_zeros_u32;
 
 /// Raw coordinates of a *small* triangle lie in `(-SMALL, SMALL)` (1024 pixels either side of
 /// the origin): its edge walk fits `i32` (see [`EdgeWalker32::new`]).
@@ -244,10 +245,10 @@ pub(crate) enum Small {
     Ready(SmallSetup),
 }
 
-/// The number of significant bits of `v`.
+/// The number of significant bits of `v` (`wide::leading_zeros_u32`: a table on rv32imc).
 #[inline(always)]
-const fn bitlen(v: u32) -> u32 {
-    32 - v.leading_zeros()
+fn bitlen(v: u32) -> u32 {
+    32 - leading_zeros_u32(v)
 }
 
 impl Small {
