@@ -445,7 +445,7 @@ fn div_rem_u128_by_u64(n: u128, d: u64, lean: bool) -> Option<(u128, u64)> {
 /// top half-word; the estimate may exceed the digit, never fall short) and corrected at most
 /// twice. `$lz` counts a word's leading zeros (the divisor's normalisation).
 macro_rules! div_rem_below {
-    ($name:ident, $w:ty, $h:literal, $est:expr, $lz:expr, $doc:literal) => {
+    ($name:ident, $w:ty, $h:literal, $est:expr, $lz:path, $doc:literal) => {
         #[doc = $doc]
         #[inline]
         fn $name(u1: $w, u0: $w, d: $w) -> ($w, $w) {
@@ -457,8 +457,7 @@ macro_rules! div_rem_below {
                 return (u0 / d, u0 % d);
             }
             // d > u1 >= 1, so the shift keeps every bit of d.
-            let lz: fn($w) -> u32 = $lz;
-            let s = lz(d);
+            let s = $lz(d);
             let v = d << s;
             // v's top bit is set, so vn1 >= B / 2 (`max(1)` only states that it is not 0).
             let (vn1, vn0) = ((v >> $h).max(1), v & LO);
