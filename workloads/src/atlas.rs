@@ -445,6 +445,59 @@ impl FrameQuad {
 /// The quad corners of each half, in the walk's triangle order.
 const HALF_TRIANGLES: [[usize; 3]; 2] = [[0, 1, 2], [0, 2, 3]];
 
+/// The inset atlas corners (`AtlasTriangle::inset_corners`) of every quad half of a
+/// [`UniformLayout`], in the frame list's triangle order ([`HALF_TRIANGLES`]): quad 0's, moved
+/// by each quad's block (the blocks of a uniform layout differ by whole texels, so the corners
+/// move by whole texels too). The draw finds a listed half's corners with a division and two
+/// additions instead of building its `AtlasTriangle` in every band. Exactly
+/// `layout.triangle(q, half, _).inset_corners()` for every quad of the layout
+/// (`half_corners_are_the_triangles`).
+#[derive(Clone, Copy, Debug)]
+struct HalfCorners {
+    base: [[[i32; 2]; 3]; 2],
+    w: u32,
+    h: u32,
+    cols: u32,
+    quads: u32,
+}
+
+impl HalfCorners {
+    fn new(layout: &UniformLayout) -> Option<HalfCorners> {
+        let mut base = [[[0i32; 2]; 3]; 2];
+        for ((half, idx), (b, tri)) in HALF_CORNERS.iter().zip(base.iter_mut().zip(HALF_TRIANGLES))
+        {
+            let uv = layout
+                .triangle(0, *half, [TexPoint::ZERO; 3])?
+                .inset_corners();
+            for (corner, ci) in b.iter_mut().zip(tri) {
+                let j = idx.iter().position(|&i| i == ci)?;
+                *corner = *uv.get(j)?;
+            }
+        }
+        let (w, h) = layout.block();
+        Some(HalfCorners {
+            base,
+            w: u32::from(w),
+            h: u32::from(h),
+            cols: u32::from(layout.cols),
+            quads: layout.quads,
+        })
+    }
+
+    /// The corners of half `k` of quad `q` (`None` past the layout's quads).
+    #[inline(always)]
+    fn get(&self, q: u32, k: usize) -> Option<[[i32; 2]; 3]> {
+        if q >= self.quads {
+            return None;
+        }
+        let bx = q.checked_rem(self.cols)? * self.w;
+        let by = q.checked_div(self.cols)? * self.h;
+        let d = [(bx as i32).wrapping_shl(16), (by as i32).wrapping_shl(16)];
+        let base = self.base.get(k)?;
+        Some(base.map(|p| [p[0].wrapping_add(d[0]), p[1].wrapping_add(d[1])]))
+    }
+}
+
 /// Adds the walk's triangle `t` (quad corners `corners` of group `g`, object `obj`, rows `rows`
 /// as [`triangle_rows`]) to the frame list: to the last entry when that is the same quad and
 /// holds the same values at the corners they share, otherwise as a new entry (the walk
@@ -599,6 +652,9 @@ pub fn draw_scene_rows_with<O: FnMut(&[u16])>(
     let Some(texture) = Texture565::new(atlas, SIDE) else {
         return false;
     };
+    let Some(half_corners) = HalfCorners::new(&layout) else {
+        return false;
+    };
     let list = list.get(..listed).unwrap_or(&[]);
     let mut band = [0u16; DRAW_PIXELS];
     let mut raster = Rasterizer::new(Rect::from_size(w, h));
@@ -629,24 +685,20 @@ pub fn draw_scene_rows_with<O: FnMut(&[u16])>(
                 if q.rows[0] >= y1 || q.rows[1] < y0 {
                     continue;
                 }
-                for (k, (half, idx)) in HALF_CORNERS.iter().enumerate() {
+                for (k, [a, b, c]) in HALF_TRIANGLES.iter().copied().enumerate() {
                     if q.flags & (1 << k) == 0 {
                         continue;
                     }
                     // The atlas position of each corner of the half (its solid coordinates
                     // do not move it).
-                    let Some(t) = layout.triangle(u32::from(q.group), *half, [TexPoint::ZERO; 3])
-                    else {
+                    let Some([ua, ub, uc]) = half_corners.get(u32::from(q.group), k) else {
                         continue;
                     };
-                    let uv = t.inset_corners();
-                    let at = |ci: usize| {
-                        let j = idx.iter().position(|&i| i == ci).unwrap_or(0);
-                        uv.get(j).copied().unwrap_or([0, 0])
-                    };
-                    let [a, b, c] = HALF_TRIANGLES[k & 1];
-                    let corner = |ci: usize| q.corners[ci & 3].vertex(at(ci));
-                    draw(usize::from(q.object), &[corner(a), corner(b), corner(c)]);
+                    let corner = |ci: usize, uv: [i32; 2]| q.corners[ci & 3].vertex(uv);
+                    draw(
+                        usize::from(q.object),
+                        &[corner(a, ua), corner(b, ub), corner(c, uc)],
+                    );
                 }
             }
         } else {
@@ -713,4 +765,39 @@ pub fn draw_job(hash: HashKind, work: bool, bins: &mut [GroupRows]) -> u32 {
         return n;
     }
     draw_scene(&scene, atlas, bins)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// Every quad half's corners from [`HalfCorners`] against its `AtlasTriangle`'s, for layouts
+    /// of one quad up to the most the atlas holds.
+    #[test]
+    fn half_corners_are_the_triangles() {
+        let mut tried = 0;
+        for quads in [1u32, 2, 3, 7, 64, 515, 516, 1000, 2047, 4096] {
+            let Some(layout) = UniformLayout::new(quads) else {
+                continue;
+            };
+            let table = HalfCorners::new(&layout).expect("corners of quad 0");
+            for q in 0..quads {
+                for (k, ((half, idx), tri)) in HALF_CORNERS.iter().zip(HALF_TRIANGLES).enumerate() {
+                    let uv = layout
+                        .triangle(q, *half, [TexPoint::ZERO; 3])
+                        .expect("a quad of the layout")
+                        .inset_corners();
+                    let want = tri.map(|ci| uv[idx.iter().position(|&i| i == ci).unwrap()]);
+                    assert_eq!(
+                        table.get(q, k),
+                        Some(want),
+                        "quads {quads}, quad {q}, half {k}"
+                    );
+                }
+            }
+            assert_eq!(table.get(quads, 0), None);
+            tried += 1;
+        }
+        assert!(tried >= 8, "layouts tried: {tried}");
+    }
 }
