@@ -100,7 +100,8 @@ fn device_atlas_frame_resembles_the_procedural_frame() {
 /// the general way (every band walks the quads its bins name) draws: the marble frame seen from
 /// eight directions at three distances, the nearest cutting the teapot with the near plane (a
 /// clipped triangle sends the frame the general way), with a list large enough, with none, and
-/// with one too small for the frame.
+/// with one too small for the frame, each band's quads found through the band index, or (no
+/// index, or one too small) by scanning the list.
 #[test]
 fn frame_list_draws_what_the_walk_draws() {
     use atlas::FrameQuad;
@@ -119,20 +120,28 @@ fn frame_list_draws_what_the_walk_draws() {
             scene.camera.eye.x = target.x + ((dx * c - dz * s) * scale) as i32;
             scene.camera.eye.z = target.z + ((dx * s + dz * c) * scale) as i32;
             scene.camera.eye.y = target.y + (f64::from(eye.y - target.y) * scale) as i32;
-            let mut draw = |list: &mut [FrameQuad]| {
+            let mut draw = |list: &mut [FrameQuad], refs: &mut [u16]| {
                 let mut px = Vec::new();
                 assert!(atlas::draw_scene_rows_with(
                     &scene,
                     &texels,
                     &mut bins,
                     list,
+                    refs,
                     |r| px.extend_from_slice(r)
                 ));
                 px
             };
             let mut list = vec![FrameQuad::EMPTY; atlas::FRAME_QUADS];
-            let listed = draw(&mut list);
-            let walked = draw(&mut []);
+            let mut refs = vec![u16::MAX; atlas::FRAME_REFS];
+            let listed = draw(&mut list, &mut refs);
+            let walked = draw(&mut [], &mut []);
+            // The list scanned in every band (no band index, or one too small for the frame).
+            for n in [0, atlas::FRAME_REFS / 4] {
+                let mut list = vec![FrameQuad::EMPTY; atlas::FRAME_QUADS];
+                let what = format!("direction {k}, distance {scale}, {n} band refs");
+                assert_eq!(draw(&mut list, &mut vec![0; n]), walked, "{what}");
+            }
             let what = format!("direction {k}, distance {scale}");
             assert_eq!(listed.len(), 320 * 240, "{what}");
             assert_eq!(
@@ -142,7 +151,11 @@ fn frame_list_draws_what_the_walk_draws() {
             let used = list.iter().filter(|q| **q != FrameQuad::EMPTY).count();
             if used > 1 {
                 let mut small = vec![FrameQuad::EMPTY; used / 2];
-                assert_eq!(draw(&mut small), walked, "{what}: a list too small");
+                assert_eq!(
+                    draw(&mut small, &mut refs),
+                    walked,
+                    "{what}: a list too small"
+                );
             }
             // A frame with a clipped triangle cannot be listed exactly (the general way draws
             // it); the others are drawn from the list.
@@ -154,6 +167,12 @@ fn frame_list_draws_what_the_walk_draws() {
                 walked_frames += 1;
             } else {
                 assert!(used > 100, "{what}: {used} quads listed");
+                // The bands found their quads through the index (its entries were written).
+                let indexed = refs.iter().filter(|&&r| r != u16::MAX).count();
+                assert!(
+                    indexed >= used,
+                    "{what}: {indexed} band refs for {used} quads"
+                );
                 listed_frames += 1;
             }
         }

@@ -376,7 +376,71 @@ pub fn draw_scene(scene: &Scene, atlas: &AtlasTexels, bins: &mut [GroupRows]) ->
 /// Quads of the frame list ([`FrameQuad`]) that [`draw_scene_rows`] keeps (48 bytes each,
 /// 25.5 KB on the stack): the marble frame lists 516 (515 drawn quads, one of them in two
 /// entries). A frame that lists more is drawn the general way.
-pub const FRAME_QUADS: usize = 544;
+pub const FRAME_QUADS: usize = 528;
+
+/// Entries of the band index ([`BandIndex`]) that [`draw_scene_rows`] keeps (2 bytes each):
+/// a listed quad takes one in every band its rows touch (the marble frame: about 720). A frame
+/// that needs more scans the whole list in every band instead.
+pub const FRAME_REFS: usize = 800;
+
+/// Bands the band index can hold (frames up to `MAX_BANDS * DRAW_ROWS` rows; taller ones scan
+/// the list in every band).
+const MAX_BANDS: usize = 32;
+
+/// The listed quads of every band, in list order: `refs[start[b]..start[b + 1]]` are the
+/// indices of band `b`'s quads (a counting sort of the list by band, built once a frame), so a
+/// band visits only the quads that touch it instead of testing every listed quad.
+struct BandIndex<'a> {
+    refs: &'a [u16],
+    start: [u16; MAX_BANDS + 1],
+}
+
+impl<'a> BandIndex<'a> {
+    /// The index of `list` over `bands` bands in `refs`; `None` when the bands or the entries
+    /// do not fit (`refs` too short, more than [`MAX_BANDS`] bands or `u16::MAX` quads).
+    fn new(list: &[FrameQuad], bands: usize, refs: &'a mut [u16]) -> Option<BandIndex<'a>> {
+        if bands > MAX_BANDS || list.len() > usize::from(u16::MAX) {
+            return None;
+        }
+        // An entry whose triangles cover no row keeps bands [u8::MAX, 0]: none.
+        let span =
+            |q: &FrameQuad| usize::from(q.bands[0])..(usize::from(q.bands[1]) + 1).min(bands);
+        // Counts, shifted by one band, then their prefix sums: the first entry of each band.
+        let mut start = [0u16; MAX_BANDS + 1];
+        let mut total = 0usize;
+        for q in list {
+            for b in span(q) {
+                let c = start.get_mut(b + 1)?;
+                *c += 1;
+                total += 1;
+            }
+        }
+        if total > refs.len() {
+            return None;
+        }
+        for b in 1..start.len() {
+            let before = *start.get(b - 1)?;
+            *start.get_mut(b)? += before;
+        }
+        let mut next = start;
+        for (i, q) in list.iter().enumerate() {
+            for b in span(q) {
+                let n = next.get_mut(b)?;
+                *refs.get_mut(usize::from(*n))? = i as u16;
+                *n += 1;
+            }
+        }
+        Some(BandIndex { refs, start })
+    }
+
+    /// The indices of the quads of band `b`, in list order.
+    fn band(&self, b: usize) -> &[u16] {
+        let (Some(&s), Some(&e)) = (self.start.get(b), self.start.get(b + 1)) else {
+            return &[];
+        };
+        self.refs.get(usize::from(s)..usize::from(e)).unwrap_or(&[])
+    }
+}
 
 /// A screen vertex of the frame list, exactly as the scene's walk made it (the atlas position is
 /// the quad corner's, from the layout): sub-pixel position (`i16`: every vertex of a listed quad
@@ -421,8 +485,8 @@ pub struct FrameQuad {
     object: u8,
     /// Bit `k`: half `k` is drawn; bit `4 + i`: corner `i` is set.
     flags: u8,
-    /// First and last row the drawn halves can cover.
-    rows: [u16; 2],
+    /// First and last band (of [`DRAW_ROWS`] rows) the drawn halves can cover.
+    bands: [u8; 2],
     corners: [ListedVertex; 4],
 }
 
@@ -432,7 +496,7 @@ impl FrameQuad {
         group: 0,
         object: 0,
         flags: 0,
-        rows: [0, 0],
+        bands: [0, 0],
         corners: [ListedVertex {
             x: 0,
             y: 0,
@@ -502,9 +566,9 @@ impl HalfCorners {
 /// as [`triangle_rows`]) to the frame list: to the last entry when that is the same quad and
 /// holds the same values at the corners they share, otherwise as a new entry (the walk
 /// normalises `1/w` per triangle, so a quad's two halves can disagree at their shared corners;
-/// such a quad takes two entries). `false` when
-/// the triangle cannot be listed exactly (clipped, a vertex past `i16`, an object or group past
-/// the entry's fields, or the list full).
+/// such a quad takes two entries). `false` when the triangle cannot be listed exactly (clipped,
+/// a vertex past `i16`, an object or group past the entry's fields, or the list full). The
+/// frame has at most 4096 rows (its bands fit a byte).
 fn list_triangle(
     list: &mut [FrameQuad],
     n: &mut usize,
@@ -517,6 +581,8 @@ fn list_triangle(
     let Some(c) = corners else {
         return false;
     };
+    // The bands of the rows (below 256: the caller lists frames of at most 4096 rows only).
+    let bands = rows.map(|(r0, r1)| ((r0 / DRAW_ROWS) as u8, (r1 / DRAW_ROWS) as u8));
     let Some(half) = HALF_TRIANGLES.iter().position(|h| h.map(|i| i as u8) == c) else {
         return false;
     };
@@ -550,7 +616,7 @@ fn list_triangle(
             q.group = group;
             q.object = object;
             q.flags = 0;
-            q.rows = [u16::MAX, 0];
+            q.bands = [u8::MAX, 0];
             *n += 1;
             *n - 1
         }
@@ -564,8 +630,8 @@ fn list_triangle(
         q.flags |= 1 << (4 + i);
     }
     q.flags |= 1 << half;
-    if let Some((r0, r1)) = rows {
-        q.rows = [q.rows[0].min(r0), q.rows[1].max(r1)];
+    if let Some((b0, b1)) = bands {
+        q.bands = [q.bands[0].min(b0), q.bands[1].max(b1)];
     }
     true
 }
@@ -580,7 +646,8 @@ pub fn draw_scene_rows<O: FnMut(&[u16])>(
     out: O,
 ) -> bool {
     let mut list = [FrameQuad::EMPTY; FRAME_QUADS];
-    draw_scene_rows_with(scene, atlas, bins, &mut list, out)
+    let mut refs = [0u16; FRAME_REFS];
+    draw_scene_rows_with(scene, atlas, bins, &mut list, &mut refs, out)
 }
 
 /// Draws `scene` from `atlas` (laid out by [`scene_layout`]) in bands of [`DRAW_ROWS`] rows,
@@ -600,6 +667,7 @@ pub fn draw_scene_rows_with<O: FnMut(&[u16])>(
     atlas: &AtlasTexels,
     bins: &mut [GroupRows],
     list: &mut [FrameQuad],
+    refs: &mut [u16],
     mut out: O,
 ) -> bool {
     let Some(layout) = scene_layout(scene) else {
@@ -621,7 +689,8 @@ pub fn draw_scene_rows_with<O: FnMut(&[u16])>(
         *b = GroupRows::EMPTY;
     }
     let mut listed = 0usize;
-    let mut exact = true;
+    // A frame is listed only if its bands' numbers fit the entries' bytes.
+    let mut exact = usize::from(h.div_ceil(DRAW_ROWS)) <= usize::from(u8::MAX);
     scene.for_each_screen_triangle_with_corners(&mut |_| true, &mut |g, obj, tri, corners| {
         let rows = triangle_rows(tri, h);
         if let (Some(b), Some((r0, r1))) = (bins.get_mut(g), rows) {
@@ -656,6 +725,11 @@ pub fn draw_scene_rows_with<O: FnMut(&[u16])>(
         return false;
     };
     let list = list.get(..listed).unwrap_or(&[]);
+    let index = if exact {
+        BandIndex::new(list, usize::from(h.div_ceil(DRAW_ROWS)), refs)
+    } else {
+        None
+    };
     let mut band = [0u16; DRAW_PIXELS];
     let mut raster = Rasterizer::new(Rect::from_size(w, h));
     let mut cache: Option<(usize, QuadAtlas)> = None;
@@ -681,10 +755,7 @@ pub fn draw_scene_rows_with<O: FnMut(&[u16])>(
             }
         };
         if exact {
-            for q in list {
-                if q.rows[0] >= y1 || q.rows[1] < y0 {
-                    continue;
-                }
+            let mut draw_quad = |q: &FrameQuad| {
                 for (k, [a, b, c]) in HALF_TRIANGLES.iter().copied().enumerate() {
                     if q.flags & (1 << k) == 0 {
                         continue;
@@ -700,6 +771,21 @@ pub fn draw_scene_rows_with<O: FnMut(&[u16])>(
                         &[corner(a, ua), corner(b, ub), corner(c, uc)],
                     );
                 }
+            };
+            // The band's quads from the index, or (no index) every listed quad tested: one
+            // loop, one call site of the quad's draw (inlined).
+            let b = y0 / DRAW_ROWS;
+            let refs = index.as_ref().map(|ix| ix.band(usize::from(b)));
+            let n = refs.map_or(list.len(), <[u16]>::len);
+            for j in 0..n {
+                let i = refs.map_or(Some(j), |r| r.get(j).map(|&i| usize::from(i)));
+                let Some(q) = i.and_then(|i| list.get(i)) else {
+                    continue;
+                };
+                if refs.is_none() && !(u16::from(q.bands[0]) <= b && b <= u16::from(q.bands[1])) {
+                    continue;
+                }
+                draw_quad(q);
             }
         } else {
             let mut keep = |g: usize| bins.get(g).is_none_or(|b| b.touches(y0, y1));
@@ -769,6 +855,7 @@ pub fn draw_job(hash: HashKind, work: bool, bins: &mut [GroupRows]) -> u32 {
 
 #[cfg(test)]
 mod tests {
+    extern crate std;
     use super::*;
 
     /// Every quad half's corners from [`HalfCorners`] against its `AtlasTriangle`'s, for layouts
@@ -799,5 +886,61 @@ mod tests {
             tried += 1;
         }
         assert!(tried >= 8, "layouts tried: {tried}");
+    }
+
+    /// The band index against a scan of the list, for random band ranges (empty ones
+    /// included), and its refusals.
+    #[test]
+    fn band_index_is_the_scan() {
+        let mut seed = 0x2545_f491_u32;
+        let mut next = move || {
+            seed ^= seed << 13;
+            seed ^= seed >> 17;
+            seed ^= seed << 5;
+            seed
+        };
+        for round in 0..200 {
+            let bands = 1 + (next() % MAX_BANDS as u32) as usize;
+            let list: std::vec::Vec<FrameQuad> = (0..next() % 300)
+                .map(|_| {
+                    let b0 = (next() % (bands as u32 + 2)) as u8;
+                    let b1 = if next() % 8 == 0 {
+                        0
+                    } else {
+                        b0 + (next() % 4) as u8
+                    };
+                    FrameQuad {
+                        bands: if next() % 16 == 0 {
+                            [u8::MAX, 0]
+                        } else {
+                            [b0, b1]
+                        },
+                        ..FrameQuad::EMPTY
+                    }
+                })
+                .collect();
+            let mut refs = std::vec![0u16; 4 * list.len()];
+            let index = BandIndex::new(&list, bands, &mut refs).expect("refs enough");
+            let mut total = 0;
+            for b in 0..bands {
+                let scan: std::vec::Vec<u16> = (0..list.len() as u16)
+                    .filter(|&i| {
+                        let q = &list[usize::from(i)];
+                        usize::from(q.bands[0]) <= b && b <= usize::from(q.bands[1])
+                    })
+                    .collect();
+                assert_eq!(index.band(b), &scan[..], "round {round}, band {b}");
+                total += scan.len();
+            }
+            assert!(index.band(bands).is_empty());
+            if total > 0 {
+                let mut short = std::vec![0u16; total - 1];
+                assert!(
+                    BandIndex::new(&list, bands, &mut short).is_none(),
+                    "round {round}"
+                );
+            }
+        }
+        assert!(BandIndex::new(&[], MAX_BANDS + 1, &mut []).is_none());
     }
 }
