@@ -8,16 +8,16 @@
 //! perspective-correctly at every pixel, the nearest atlas texel written into the band).
 //!
 //! The frame is walked once: the scene's walk projects every quad, and the quads drawn are kept
-//! in a *frame list* ([`FrameQuad`]: projected corners, 48 bytes a quad) from which every band
-//! draws the quads that touch it, so no band walks the scene, generates a mesh quad or projects
-//! a corner again (a frame the list cannot hold exactly takes the general way: every band walks
+//! in a *frame list* ([`FrameQuad`]: projected corners, 46 bytes a quad) from which every band
+//! draws the quads that touch it (found through a band index, `BandIndex`), so no band walks
+//! the scene, generates a mesh quad or projects a corner again (a frame the list cannot hold exactly takes the general way: every band walks
 //! the quads its bins name, as the procedural renderer does).
 //!
 //! Memory: the atlas is caller-owned frame memory like the band buffers (32 KB for 128 x 128
 //! RGB565, on the job's stack), not texture-unit state; the RGB565 band and its depth band
 //! ([`DRAW_PIXELS`] x 2 bytes each, taller bands than the procedural renderer's: a triangle is
-//! set up once per band it touches) and the frame list ([`FRAME_QUADS`] entries, 25.5 KB) are
-//! on the stack too, the quad bins are the suite's. On the Cortex-M4F the draw job peaks at
+//! set up once per band it touches), the frame list ([`FRAME_QUADS`] entries, 23.7 KB) and its
+//! band index ([`FRAME_REFS`] entries, 1.6 KB) are on the stack too, the quad bins are the suite's. On the Cortex-M4F the draw job peaks at
 //! about 102 KB of the 109 KB stack (the scene walk's corner store included): bands of 24 rows
 //! with the list would not fit.
 //!
@@ -373,12 +373,12 @@ pub fn draw_scene(scene: &Scene, atlas: &AtlasTexels, bins: &mut [GroupRows]) ->
     }
 }
 
-/// Quads of the frame list ([`FrameQuad`]) that [`draw_scene_rows`] keeps (48 bytes each,
-/// 25.5 KB on the stack): the marble frame lists 516 (515 drawn quads, one of them in two
+/// Quads of the frame list ([`FrameQuad`]) that [`draw_scene_rows`] keeps (46 bytes each,
+/// 23.7 KB on the stack): the marble frame lists 516 (515 drawn quads, one of them in two
 /// entries). A frame that lists more is drawn the general way.
 pub const FRAME_QUADS: usize = 528;
 
-/// Entries of the band index ([`BandIndex`]) that [`draw_scene_rows`] keeps (2 bytes each):
+/// Entries of the band index (`BandIndex`) that [`draw_scene_rows`] keeps (2 bytes each):
 /// a listed quad takes one in every band its rows touch (the marble frame: about 720). A frame
 /// that needs more scans the whole list in every band instead.
 pub const FRAME_REFS: usize = 800;
@@ -638,7 +638,7 @@ fn list_triangle(
 
 /// Draws `scene` from `atlas` (laid out by [`scene_layout`]) in bands of [`DRAW_ROWS`] rows,
 /// handing every RGB565 row to `out`, top to bottom: [`draw_scene_rows_with`] with a frame list
-/// of [`FRAME_QUADS`] quads on the stack.
+/// of [`FRAME_QUADS`] quads and a band index of [`FRAME_REFS`] entries on the stack.
 pub fn draw_scene_rows<O: FnMut(&[u16])>(
     scene: &Scene,
     atlas: &AtlasTexels,
@@ -656,7 +656,9 @@ pub fn draw_scene_rows<O: FnMut(&[u16])>(
 ///
 /// One walk over the scene lists every drawn quad with its projected corners in `list` (a
 /// *frame list*: the quad's atlas positions come from the layout, so nothing of the walk is
-/// repeated), then every band draws the listed quads that touch it, in the walk's order. A frame
+/// repeated), then every band draws the listed quads that touch it, in the walk's order: those
+/// the band index in `refs` names (`BandIndex`), or, when `refs` cannot hold the index, every
+/// listed quad whose bands include the band. A frame
 /// the list cannot hold exactly (a clipped triangle, a vertex past 2048 pixels, more quads than
 /// `list`) is drawn the general way instead: the walk bins its quads into `bins` (one per quad;
 /// quads past the bins are walked in every band), and every band walks the quads that touch it
