@@ -45,19 +45,34 @@ impl Board {
 
     /// Where its release ELF lands.
     pub fn elf(&self, workspace: &Path) -> PathBuf {
-        workspace
-            .join("target/boards")
+        self.elf_in(&workspace.join("target/boards"))
+    }
+
+    /// Where its release ELF lands when built into `target_dir`.
+    pub fn elf_in(&self, target_dir: &Path) -> PathBuf {
+        target_dir
             .join(self.target)
             .join("release")
             .join(format!("texcore-board-{}", self.name))
     }
 
-    /// Builds the example (release, `--locked`); returns its ELF, or cargo's diagnostics.
+    /// Builds the example (release, `--locked`) into `target/boards`; returns its ELF, or
+    /// cargo's diagnostics.
     pub fn build(&self, cargo: &Path, workspace: &Path) -> Result<PathBuf, String> {
+        self.build_in(cargo, workspace, &workspace.join("target/boards"))
+    }
+
+    /// [`Board::build`] into the target directory `target_dir`.
+    pub fn build_in(
+        &self,
+        cargo: &Path,
+        workspace: &Path,
+        target_dir: &Path,
+    ) -> Result<PathBuf, String> {
         let mut cmd = Command::new(cargo);
         cmd.current_dir(self.dir(workspace))
             .args(["build", "--release", "--locked", "--target-dir"])
-            .arg(workspace.join("target/boards"));
+            .arg(target_dir);
         // The board's own configuration decides the build, not the calling cargo's environment
         // (its target and target directory included).
         crate::device::isolate_cargo_env(&mut cmd, &["CARGO_BUILD_TARGET", "CARGO_TARGET_DIR"]);
@@ -74,7 +89,7 @@ impl Board {
                 String::from_utf8_lossy(&out.stderr)
             ));
         }
-        let elf = self.elf(workspace);
+        let elf = self.elf_in(target_dir);
         if elf.is_file() {
             Ok(elf)
         } else {
