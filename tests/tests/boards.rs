@@ -50,7 +50,7 @@ fn build_and_check(name: &str, machine: u16, target_dir: &Path) -> PathBuf {
 /// The boards build into `target/boards` (as `.ci/boards.sh` and `texsim report size` do), where
 /// the next run finds them. With `TEXCORE_CI_FREE_DISK=1` (set by `.ci/run`: a CI machine may
 /// have only a few GB of disk) each board builds into a directory of its own instead, removed as
-/// soon as its checks pass, so that at most one board's build (up to about 0.6 GB) is on disk.
+/// soon as its checks pass, so that at most one board's build (up to about 0.9 GB) is on disk.
 #[test]
 fn boards_build_and_the_m0_example_runs() {
     let free = std::env::var_os("TEXCORE_CI_FREE_DISK").is_some_and(|v| v == "1");

@@ -10,16 +10,17 @@
 //! The frame is walked once: the scene's walk projects every quad, and the quads drawn are kept
 //! in a *frame list* ([`FrameQuad`]: projected corners, 46 bytes a quad) from which every band
 //! draws the quads that touch it (found through a band index, `BandIndex`), so no band walks
-//! the scene, generates a mesh quad or projects a corner again (a frame the list cannot hold exactly takes the general way: every band walks
-//! the quads its bins name, as the procedural renderer does).
+//! the scene, generates a mesh quad or projects a corner again (a frame the list cannot hold
+//! exactly takes the general way: every band walks the quads its bins name, as the procedural
+//! renderer does).
 //!
 //! Memory: the atlas is caller-owned frame memory like the band buffers (32 KB for 128 x 128
 //! RGB565, on the job's stack), not texture-unit state; the RGB565 band and its depth band
 //! ([`DRAW_PIXELS`] x 2 bytes each, taller bands than the procedural renderer's: a triangle is
 //! set up once per band it touches), the frame list ([`FRAME_QUADS`] entries, 23.7 KB) and its
-//! band index ([`FRAME_REFS`] entries, 1.6 KB) are on the stack too, the quad bins are the suite's. On the Cortex-M4F the draw job peaks at
-//! about 102 KB of the 109 KB stack (the scene walk's corner store included): bands of 24 rows
-//! with the list would not fit.
+//! band index ([`FRAME_REFS`] entries, 1.6 KB) are on the stack too, the quad bins are the
+//! suite's. On the Cortex-M4F the draw job peaks at about 102 KB of the 109 KB stack (the scene
+//! walk's corner store included): bands of 24 rows with the list would not fit.
 //!
 //! Atlas coordinates of a screen vertex: the scene's walk hands over screen triangles whose
 //! vertices carry solid coordinates. A vertex of an unclipped triangle carries exactly the solid
@@ -402,9 +403,10 @@ impl<'a> BandIndex<'a> {
         if bands > MAX_BANDS || list.len() > usize::from(u16::MAX) {
             return None;
         }
-        // An entry whose triangles cover no row keeps bands [u8::MAX, 0]: none.
-        let span =
-            |q: &FrameQuad| usize::from(q.bands[0])..(usize::from(q.bands[1]) + 1).min(bands);
+        let span = |q: &FrameQuad| {
+            let s = q.band_span();
+            s.start..s.end.min(bands)
+        };
         // Counts, shifted by one band, then their prefix sums: the first entry of each band.
         let mut start = [0u16; MAX_BANDS + 1];
         let mut total = 0usize;
@@ -504,6 +506,13 @@ impl FrameQuad {
             inv_w: [0, 0],
         }; 4],
     };
+
+    /// The bands the entry's drawn halves can cover (empty for an entry whose triangles cover
+    /// no row: its bands stay `[u8::MAX, 0]`).
+    #[inline(always)]
+    fn band_span(&self) -> core::ops::Range<usize> {
+        usize::from(self.bands[0])..usize::from(self.bands[1]) + 1
+    }
 }
 
 /// The quad corners of each half, in the walk's triangle order.
@@ -692,7 +701,8 @@ pub fn draw_scene_rows_with<O: FnMut(&[u16])>(
     }
     let mut listed = 0usize;
     // A frame is listed only if its bands' numbers fit the entries' bytes.
-    let mut exact = usize::from(h.div_ceil(DRAW_ROWS)) <= usize::from(u8::MAX);
+    let bands = usize::from(h.div_ceil(DRAW_ROWS));
+    let mut exact = bands <= usize::from(u8::MAX);
     scene.for_each_screen_triangle_with_corners(&mut |_| true, &mut |g, obj, tri, corners| {
         let rows = triangle_rows(tri, h);
         if let (Some(b), Some((r0, r1))) = (bins.get_mut(g), rows) {
@@ -728,7 +738,7 @@ pub fn draw_scene_rows_with<O: FnMut(&[u16])>(
     };
     let list = list.get(..listed).unwrap_or(&[]);
     let index = if exact {
-        BandIndex::new(list, usize::from(h.div_ceil(DRAW_ROWS)), refs)
+        BandIndex::new(list, bands, refs)
     } else {
         None
     };
@@ -776,15 +786,15 @@ pub fn draw_scene_rows_with<O: FnMut(&[u16])>(
             };
             // The band's quads from the index, or (no index) every listed quad tested: one
             // loop, one call site of the quad's draw (inlined).
-            let b = y0 / DRAW_ROWS;
-            let refs = index.as_ref().map(|ix| ix.band(usize::from(b)));
-            let n = refs.map_or(list.len(), <[u16]>::len);
+            let b = usize::from(y0 / DRAW_ROWS);
+            let band_refs = index.as_ref().map(|ix| ix.band(b));
+            let n = band_refs.map_or(list.len(), <[u16]>::len);
             for j in 0..n {
-                let i = refs.map_or(Some(j), |r| r.get(j).map(|&i| usize::from(i)));
+                let i = band_refs.map_or(Some(j), |r| r.get(j).map(|&i| usize::from(i)));
                 let Some(q) = i.and_then(|i| list.get(i)) else {
                     continue;
                 };
-                if refs.is_none() && !(u16::from(q.bands[0]) <= b && b <= u16::from(q.bands[1])) {
+                if band_refs.is_none() && !q.band_span().contains(&b) {
                     continue;
                 }
                 draw_quad(q);
