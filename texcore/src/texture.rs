@@ -20,7 +20,8 @@ use crate::format::FilterWidth;
 use crate::material::{MaterialEvaluator, PerturbedMaterial};
 use crate::model::TextureModel;
 use crate::span::{
-    EvalMode, EvalOptions, SampleChunk, Span, SpanEvaluator, SpanStats, SAMPLE_CHUNK,
+    EvalMode, EvalOptions, PlaneSetup, SampleChunk, Span, SpanEvaluator, SpanPlane, SpanStats,
+    SAMPLE_CHUNK,
 };
 
 mod rows;
@@ -246,6 +247,62 @@ impl<const T: usize, const N: usize> TextureEvaluator<'_, T, N> {
     }
 }
 
+impl<'t, const T: usize, const N: usize> TextureEvaluator<'t, T, N> {
+    /// The terms of the texture's model set up once for every span of `plane`
+    /// ([`PlaneSetup`]), for [`TextureEvaluator::shade_plane`]; `None` for a perturbed material
+    /// (whose spans [`TextureEvaluator::shade`] sets up).
+    pub fn plane_setup(&self, plane: &SpanPlane) -> Option<PlaneSetup<'t, T>> {
+        match &self.inner {
+            Inner::Model(e) => Some(e.plane_setup(plane)),
+            #[cfg(feature = "perturb")]
+            Inner::Perturbed(_) => None,
+        }
+    }
+
+    /// [`TextureEvaluator::shade`] of the span of `len` pixels at `(x, y)` of `plane`'s
+    /// [`SpanPlane`], its terms' set-up taken from `plane`: the same colours and counters, bit
+    /// for bit (a perturbed material, or a `plane` set up by another texture, shades the span as
+    /// `shade` does). Nothing is shaded when the span is not inside the plane's rectangle.
+    #[cfg_attr(
+        not(feature = "perturb"),
+        allow(unused_variables, clippy::infallible_destructuring_match)
+    )]
+    pub fn shade_plane<F: FnMut(Rgba8888)>(
+        &mut self,
+        plane: &PlaneSetup<'_, T>,
+        x: u16,
+        y: u16,
+        len: u16,
+        mut emit: F,
+    ) {
+        let Some(span) = plane.plane().span(x, y, len) else {
+            return;
+        };
+        let stage = &self.tex.stage;
+        let e = match &mut self.inner {
+            Inner::Model(e) => e,
+            #[cfg(feature = "perturb")]
+            Inner::Perturbed(_) => return self.shade(&span, emit),
+        };
+        let n = u64::from(len);
+        if stage.antialias() == Antialias::None {
+            self.plain_lookups += n;
+            e.eval_plane_chunks(plane, x, y, len, &mut |c: &SampleChunk| {
+                for &f in c.f() {
+                    emit(stage.shade_unfiltered(f));
+                }
+            });
+            return;
+        }
+        self.filter_lookups += n;
+        let mut widths = WidthStream::new(self.tex.norm, log2(N));
+        let mut w = [FilterWidth::ZERO; SAMPLE_CHUNK];
+        e.eval_plane_chunks(plane, x, y, len, &mut |c: &SampleChunk| {
+            shade_chunk(stage, &mut widths, &mut w, c, &mut emit);
+        });
+    }
+}
+
 /// The colours of a chunk of samples with gradients: each pixel's filter width (the chunk's
 /// culled width in quadrature) into `w` (scratch kept across a span's chunks, so that it is not
 /// cleared for each), then the colours with the filter chosen once.
@@ -333,6 +390,83 @@ mod tests {
                 let c = shade_both_shapes(&tex, &span);
                 assert_eq!(c.len(), 150);
             }
+        }
+    }
+
+    /// [`TextureEvaluator::shade_plane`] shades a plane's spans as [`TextureEvaluator::shade`]
+    /// shades them, colours and counters, with every filter; a perturbed material has no plane
+    /// set-up and shades through a model's plane as `shade` does.
+    #[test]
+    fn plane_spans_shade_as_their_spans() {
+        use crate::span::SpanPlane;
+        let plane = SpanPlane::new(
+            TexPoint::from_f64(0.3, -0.2, 0.9),
+            TexPoint::from_f64(0.004, 0.001, -0.002),
+            TexPoint::from_f64(0.0, 0.004, 0.003),
+            200,
+            100,
+        )
+        .unwrap();
+        let model = crate::presets::marble(HashKind::Integer).model;
+        let filters = [
+            Antialias::None,
+            Antialias::Mip,
+            Antialias::Csat,
+            Antialias::Csat3,
+        ];
+        for aa in filters.into_iter().filter(|a| a.is_available()) {
+            let tex = Texture::new(
+                Shader::Model(model.clone()),
+                stage(aa),
+                GradientNorm::L2,
+                EvalMode::Auto,
+            );
+            let (mut ev, mut direct) = (tex.evaluator(), tex.evaluator());
+            let setup = ev.plane_setup(&plane).unwrap();
+            for (x, y, len) in [
+                (0, 0, 16),
+                (16, 0, 16),
+                (37, 99, 1),
+                (100, 50, 100),
+                (3, 7, 0),
+            ] {
+                let (mut got, mut want) = (Vec::new(), Vec::new());
+                ev.shade_plane(&setup, x, y, len, |c| got.push(c));
+                direct.shade(&plane.span(x, y, len).unwrap(), |c| want.push(c));
+                assert_eq!(got, want, "{aa:?} {x} {y} {len}");
+                assert_eq!(ev.stats(), direct.stats(), "{aa:?}");
+            }
+            // Outside the rectangle: nothing.
+            let mut any = false;
+            ev.shade_plane(&setup, 150, 0, 51, |_| any = true);
+            assert!(!any);
+            assert_eq!(ev.stats(), direct.stats());
+        }
+        #[cfg(feature = "perturb")]
+        {
+            let mn = crate::presets::mn_marble(HashKind::Integer);
+            let m = PerturbedMaterial::<8>::new(&mn, crate::table::TableWrap::Mod).unwrap();
+            let aa = Antialias::None;
+            let tex = Texture::new(
+                Shader::Perturbed(m),
+                stage(aa),
+                GradientNorm::L2,
+                EvalMode::Auto,
+            );
+            let (mut ev, mut direct) = (tex.evaluator(), tex.evaluator());
+            assert!(ev.plane_setup(&plane).is_none());
+            // A model's plane set-up, handed to a perturbed material, is not used.
+            let other = Texture::new(
+                Shader::Model(model),
+                stage(aa),
+                GradientNorm::L2,
+                EvalMode::Auto,
+            );
+            let setup = other.evaluator().plane_setup(&plane).unwrap();
+            let (mut got, mut want) = (Vec::new(), Vec::new());
+            ev.shade_plane(&setup, 5, 6, 40, |c| got.push(c));
+            direct.shade(&plane.span(5, 6, 40).unwrap(), |c| want.push(c));
+            assert_eq!(got, want);
         }
     }
 }

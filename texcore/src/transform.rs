@@ -205,14 +205,36 @@ impl Affine3 {
     /// `round(M s + t)` for a point (raw 16.16), wrapped to lattice coordinates.
     #[inline]
     pub fn apply_point(&self, s: TexPoint) -> [i32; 3] {
+        self.point_sums(s).map(|acc| round_32_to_16(acc) as i32)
+    }
+
+    /// `M s + t` for a point (raw 16.16) before [`Affine3::apply_point`]'s rounding: 32 fraction
+    /// bits, wrapping modulo 2^64 (so the sums of two points are the sum of their points'
+    /// sums, less one `t`).
+    #[inline(always)]
+    pub(crate) fn point_sums(&self, s: TexPoint) -> [i64; 3] {
         let b = s.to_bits();
-        let mut out = [0i32; 3];
+        let mut out = [0i64; 3];
         for ((o, row), t) in out.iter_mut().zip(&self.m).zip(&self.t) {
             let mut acc: i64 = i64::from(t.to_bits()) << 16;
             for (m, bk) in row.iter().zip(&b) {
                 acc = acc.wrapping_add(i64::from(m.to_bits()) * i64::from(*bk));
             }
-            *o = round_32_to_16(acc) as i32;
+            *o = acc;
+        }
+        out
+    }
+
+    /// `M d` for a vector (raw 16.16) before [`Affine3::apply_vector`]'s rounding: 32 fraction
+    /// bits, wrapping modulo 2^64. Out of line: the plane set-up calls it three times a term.
+    #[inline(never)]
+    pub(crate) fn vector_sums(&self, d: TexPoint) -> [i64; 3] {
+        let b = d.to_bits();
+        let mut out = [0i64; 3];
+        for (o, row) in out.iter_mut().zip(&self.m) {
+            for (m, bk) in row.iter().zip(&b) {
+                *o = o.wrapping_add(i64::from(m.to_bits()) * i64::from(*bk));
+            }
         }
         out
     }

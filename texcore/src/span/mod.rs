@@ -108,6 +108,7 @@ mod lanes;
 mod merged;
 mod passes;
 mod plan;
+mod plane;
 mod quad;
 mod rows;
 mod setup;
@@ -116,6 +117,7 @@ pub use chunk::{SampleChunk, SAMPLE_CHUNK};
 pub use face_cache::FaceCache;
 pub use plan::AUTO_FD_PIXELS;
 pub(crate) use plan::GRADIENTS;
+pub use plane::{PlaneSetup, SpanPlane, SpanPlaneError};
 pub use rows::{PlaneRows, RowCache};
 pub(crate) use setup::{Setup, TermSetup};
 
@@ -125,6 +127,7 @@ use cubic::*;
 use direct::*;
 use passes::*;
 use plan::*;
+use plane::SetupFrom;
 use quad::*;
 use setup::*;
 
@@ -493,14 +496,25 @@ impl<'m, const T: usize> SpanEvaluator<'m, T> {
 
     /// Evaluates `span`, handing the samples to `out` in order, in chunks of at most
     /// [`SAMPLE_CHUNK`] (every chunk but the last of a span is full).
-    #[inline(never)]
+    #[inline(always)]
     pub fn eval_chunks(&mut self, span: &Span, out: &mut dyn FnMut(&SampleChunk)) -> SpanInfo {
+        self.eval_chunks_from(span, SetupFrom::Span, out)
+    }
+
+    /// [`SpanEvaluator::eval_chunks`] with the set-up from `from`.
+    #[inline(never)]
+    fn eval_chunks_from(
+        &mut self,
+        span: &Span,
+        from: SetupFrom<'_, '_, T>,
+        out: &mut dyn FnMut(&SampleChunk),
+    ) -> SpanInfo {
         let mut chunk = SampleChunk::new();
         let mut sink = ChunkSink {
             chunk: &mut chunk,
             out,
         };
-        let info = self.core.eval_inner(span, &mut sink);
+        let info = self.core.eval_inner(span, from, &mut sink);
         sink.finish();
         info
     }
@@ -598,7 +612,9 @@ impl<'m, const T: usize> SpanEvaluator<'m, T> {
         };
         let grads = self.core.opts.gradients;
         self.core.opts.gradients = false;
-        let info = self.core.eval_values(&span, out, faces);
+        let info = self
+            .core
+            .eval_values_from(&span, SetupFrom::Span, out, faces);
         self.core.opts.gradients = grads;
         info
     }
@@ -623,9 +639,11 @@ impl<'m, const T: usize> EvalCore<'m, T> {
     /// [`SpanEvaluator::eval_values`] (gradients off, `out` exactly `span.len` long): the lane
     /// kernel straight into `out` where it takes the span, otherwise the chunks' `f` copied.
     #[cfg_attr(texcore_lean, allow(unused_variables))]
-    fn eval_values(
+    #[inline(never)]
+    fn eval_values_from(
         &mut self,
         span: &Span,
+        from: SetupFrom<'_, '_, T>,
         out: &mut [TexValue],
         faces: &mut [face_cache::FaceEntry],
     ) -> SpanInfo {
@@ -633,7 +651,7 @@ impl<'m, const T: usize> EvalCore<'m, T> {
         #[cfg(not(texcore_lean))]
         if FD && !self.lean() && !self.multipass() {
             let mut setup = Setup::empty();
-            let (info, strategies) = self.begin_planned(span, &mut setup);
+            let (info, strategies) = self.begin_planned(span, from, &mut setup);
             let Some(strategies) = strategies else {
                 return info;
             };
@@ -641,7 +659,7 @@ impl<'m, const T: usize> EvalCore<'m, T> {
             return info;
         }
         let mut info = SpanInfo::default();
-        copy_values(out, |sink| info = self.eval_inner(span, sink));
+        copy_values(out, |sink| info = self.eval_inner(span, from, sink));
         info
     }
 
@@ -704,8 +722,8 @@ impl<'m, const T: usize> EvalCore<'m, T> {
     /// The span's set-up into `setup` (empty, as [`Setup::empty`]) and its counters, and the
     /// span's facts: what every evaluation of a span starts with.
     #[inline(always)]
-    fn begin(&mut self, span: &Span, setup: &mut Setup<T>) -> SpanInfo {
-        self.setup(span, setup);
+    fn begin(&mut self, span: &Span, from: SetupFrom<'_, '_, T>, setup: &mut Setup<T>) -> SpanInfo {
+        self.setup_from(span, from, setup);
         self.stats.spans += 1;
         self.stats.pixels += u64::from(span.len);
         SpanInfo {
@@ -714,9 +732,14 @@ impl<'m, const T: usize> EvalCore<'m, T> {
     }
 
     /// The evaluation proper.
-    fn eval_inner(&mut self, span: &Span, sink: &mut ChunkSink<'_, '_>) -> SpanInfo {
+    fn eval_inner(
+        &mut self,
+        span: &Span,
+        from: SetupFrom<'_, '_, T>,
+        sink: &mut ChunkSink<'_, '_>,
+    ) -> SpanInfo {
         let mut setup = Setup::empty();
-        let info = self.begin(span, &mut setup);
+        let info = self.begin(span, from, &mut setup);
         sink.chunk.extra_width48 = setup.extra_width48;
         // An empty span sets nothing up (in either loop).
         if span.len == 0 {

@@ -186,9 +186,10 @@ impl<'m, const T: usize> EvalCore<'m, T> {
     pub(super) fn begin_planned(
         &mut self,
         span: &Span,
+        from: SetupFrom<'_, '_, T>,
         setup: &mut Setup<T>,
     ) -> (SpanInfo, Option<[Strategy; T]>) {
-        let info = self.begin(span, setup);
+        let info = self.begin(span, from, setup);
         if span.len == 0 {
             return (info, None);
         }

@@ -41,10 +41,17 @@ pub(super) fn dot(v: &[i64; 4], w: &[i128; 4]) -> i128 {
     let mut acc: i128 = 0;
     for (&a, &b) in v.iter().zip(w) {
         if a != 0 && b != 0 {
-            acc = acc.wrapping_add(b.wrapping_mul(i128::from(a)));
+            acc = acc.wrapping_add(mul_i64(b, a));
         }
     }
     acc
+}
+
+/// `b a`, wrapping: out of line in the fast shape (a set-up has up to twenty such products:
+/// one copy instead of one each).
+#[cfg_attr(not(texcore_lean), inline(never))]
+pub(super) fn mul_i64(b: i128, a: i64) -> i128 {
+    b.wrapping_mul(i128::from(a))
 }
 
 /// The quadric (48 fraction bits) and its two screen derivatives along a span, stepped in i64.

@@ -42,10 +42,10 @@ pub(crate) struct Setup<const T: usize> {
     /// The quadric along the span, `None` when it is zero (fast shape: an empty set-up writes a
     /// tag, not the 120 bytes of a zero quadric).
     #[cfg(not(texcore_lean))]
-    quadric: Option<QuadSetup>,
+    pub(super) quadric: Option<QuadSetup>,
     /// The quadric along the span (size-lean shape: zero in an empty set-up).
     #[cfg(texcore_lean)]
-    quadric: QuadSetup,
+    pub(super) quadric: QuadSetup,
     /// The span's extra filter width ([`SpanInfo::extra_width48`]).
     pub(super) extra_width48: i64,
 }
@@ -62,7 +62,7 @@ pub(crate) struct QuadSetup {
 }
 
 /// The zero quadric.
-const ZERO_QUAD: QuadSetup = QuadSetup {
+pub(super) const ZERO_QUAD: QuadSetup = QuadSetup {
     quad: QuadraticSpan { c: [0; 3] },
     gqx: [0; 2],
     gqy: [0; 2],
@@ -165,7 +165,18 @@ pub(super) fn lattice_steps(term: &NoiseTerm, span: &Span) -> ([i32; 3], [i32; 3
 
 impl<'m, const T: usize> EvalCore<'m, T> {
     /// Fills `out` (empty, as [`Setup::empty`]) for `span`; in place, as the set-up is large.
+    /// Out of line in the fast shape: one copy for the span's and the plane's callers.
+    #[cfg_attr(not(texcore_lean), inline(never))]
     pub(super) fn setup(&mut self, span: &Span, out: &mut Setup<T>) {
+        self.quadric_setup(span, out);
+        self.term_setup(span, out);
+    }
+
+    /// The quadric part of [`Self::setup`] (`out.quadric`; nothing for a zero quadric). Out of
+    /// line in the fast shape: one copy for the span's and the plane's set-up.
+    #[cfg_attr(not(texcore_lean), inline(never))]
+    #[cfg_attr(texcore_lean, inline(always))]
+    pub(super) fn quadric_setup(&mut self, span: &Span, out: &mut Setup<T>) {
         let m = self.model;
         let s0 = exact(span.s0);
         let ds = exact(span.ds);
@@ -197,6 +208,13 @@ impl<'m, const T: usize> EvalCore<'m, T> {
                 q.gqy = [dot(&yh, &qx).wrapping_mul(2), dot(&yh, &qd).wrapping_mul(2)];
             }
         }
+    }
+
+    /// The terms' part of [`Self::setup`] (`out.terms`, `out.extra_width48` and the counters).
+    #[inline(always)]
+    fn term_setup(&mut self, span: &Span, out: &mut Setup<T>) {
+        let m = self.model;
+        let grads = GRADIENTS && self.opts.gradients;
         // A vector, not an array: nothing is written for the slots past the model's terms.
         let terms = &mut out.terms;
         let stats = &mut self.stats;

@@ -340,7 +340,7 @@ impl<'m, const T: usize> EvalCore<'m, T> {
         #[cfg(not(texcore_lean))]
         if FD && !self.lean() && !self.multipass() {
             let mut setup = Setup::empty();
-            let (info, strategies) = self.begin_planned(span, &mut setup);
+            let (info, strategies) = self.begin_planned(span, SetupFrom::Span, &mut setup);
             let Some(strategies) = strategies else {
                 return info;
             };
@@ -354,7 +354,7 @@ impl<'m, const T: usize> EvalCore<'m, T> {
         }
         #[cfg(texcore_lean)]
         let _ = weights;
-        self.eval_values(span, out, &mut [])
+        self.eval_values_from(span, SetupFrom::Span, out, &mut [])
     }
 
     /// A row of [`PlaneRows::next_chunks`]: through the schedule `state` / `events` where it
@@ -369,7 +369,7 @@ impl<'m, const T: usize> EvalCore<'m, T> {
         #[cfg(not(texcore_lean))]
         if FD && !self.lean() && !self.multipass() {
             let mut setup = Setup::empty();
-            let (info, strategies) = self.begin_planned(span, &mut setup);
+            let (info, strategies) = self.begin_planned(span, SetupFrom::Span, &mut setup);
             sink.chunk.extra_width48 = info.extra_width48;
             let Some(strategies) = strategies else {
                 return info;
@@ -384,7 +384,7 @@ impl<'m, const T: usize> EvalCore<'m, T> {
         }
         #[cfg(texcore_lean)]
         let _ = (state, events);
-        self.eval_inner(span, sink)
+        self.eval_inner(span, SetupFrom::Span, sink)
     }
 
     /// Whether the row schedule can serve a span of `len` pixels set up as `setup` with

@@ -29,7 +29,10 @@ use crate::hash::HashKind;
 use crate::model::{Octaves, TextureModel};
 use crate::noise::NoiseBasis;
 use crate::quadric::Quadric;
-use crate::span::{FaceCache, RowCache, Sample, SampleChunk, Span, SpanEvaluator};
+use crate::span::{
+    FaceCache, PlaneSetup, RowCache, Sample, SampleChunk, Span, SpanEvaluator, SpanPlane,
+    SpanPlaneError,
+};
 use crate::table::TableWrap;
 use crate::transform::Affine3;
 
@@ -266,11 +269,54 @@ pub fn value_plane<const T: usize>(
             whole_rows(ev, w, rows, line, &mut cache, each);
         }
     } else {
+        // The spans' terms set up once for the plane (`PlaneSetup`; the plane is always valid,
+        // `the_plane_is_valid`).
+        let Ok(p) = plane() else {
+            return;
+        };
+        let setup = ev.plane_setup(&p);
         let mut faces = FaceCache::new();
         for y in 0..rows {
-            value_row(ev, w, y, line, &mut faces);
+            value_row_in(ev, &setup, w, y, line, &mut faces);
             each(y, line);
         }
+    }
+}
+
+/// The workloads' plane: span `(x, y)` is [`span`]`(y, x, len)`, inside [`SIZE`] x [`SIZE`].
+pub fn plane() -> Result<SpanPlane, SpanPlaneError> {
+    let s = span(0, 0, 0);
+    SpanPlane::new(s.s0, s.ds, s.dsdy, SIZE, SIZE)
+}
+
+/// [`value_row`] through `plane` (the spans' terms set up once, [`PlaneSetup`]): the same
+/// values.
+#[inline(always)]
+pub fn value_row_in<const T: usize>(
+    ev: &mut SpanEvaluator<'_, T>,
+    plane: &PlaneSetup<'_, T>,
+    w: Workload,
+    y: u16,
+    line: &mut [TexValue],
+    faces: &mut FaceCache<FACES>,
+) {
+    let len = w.span_len();
+    let Some(line) = line.get_mut(..usize::from(SIZE)) else {
+        return;
+    };
+    let gradients = w.gradients();
+    let mut x0 = 0;
+    for chunk in line.chunks_mut(usize::from(len)) {
+        if gradients {
+            let mut x = 0;
+            let n = chunk.len() as u16;
+            ev.eval_plane_chunks(plane, x0, y, n, &mut |c: &SampleChunk| {
+                store_grad_words(chunk, &mut x, c)
+            });
+        } else {
+            ev.eval_plane_values(plane, x0, y, chunk, faces);
+        }
+        x0 += len;
     }
 }
 
@@ -359,10 +405,43 @@ pub fn marble_plane<const T: usize, const N: usize>(
             each(y, line);
         }
     } else {
+        // The spans' terms set up once for the plane (`PlaneSetup`; the plane is always valid,
+        // `the_plane_is_valid`, and the marble is a model, not a perturbed material).
+        let Some(setup) = plane().ok().and_then(|p| ev.plane_setup(&p)) else {
+            return;
+        };
         for y in 0..rows {
-            marble_row(ev, w, y, line);
+            marble_row_in(ev, &setup, w, y, line);
             each(y, line);
         }
+    }
+}
+
+/// [`marble_row`] through `plane` (the spans' terms set up once, [`PlaneSetup`]): the same
+/// colours.
+#[cfg(feature = "csat")]
+#[inline(always)]
+pub fn marble_row_in<const T: usize, const N: usize>(
+    ev: &mut super::super::TextureEvaluator<'_, T, N>,
+    plane: &PlaneSetup<'_, T>,
+    w: Workload,
+    y: u16,
+    line: &mut [u32],
+) {
+    let len = w.span_len();
+    let Some(line) = line.get_mut(..usize::from(SIZE)) else {
+        return;
+    };
+    let mut x0 = 0;
+    for chunk in line.chunks_mut(usize::from(len)) {
+        let mut px = chunk.iter_mut();
+        let n = px.len() as u16;
+        ev.shade_plane(plane, x0, y, n, |c| {
+            if let Some(p) = px.next() {
+                *p = u32::from(c.to_rgb565().to_bits());
+            }
+        });
+        x0 += len;
     }
 }
 
