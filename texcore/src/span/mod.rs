@@ -76,7 +76,9 @@
 //! - `rows` (fast shape only; a row at a time otherwise): [`PlaneRows`], the rows of a plane
 //!   with their cell schedule kept across rows (values, gradients, the smooth fade, gradient
 //!   noise's corner gradients);
-//! - `quad`: the quadric along the span.
+//! - `quad`: the quadric along the span;
+//! - `plane`: [`SpanPlane`] and [`PlaneSetup`], the spans of one plane with their terms and
+//!   quadric set up once.
 //!
 //! # Planes
 //!
@@ -85,6 +87,12 @@
 //! same pixels, and [`PlaneRows`] keeps that schedule and each cell's start and slope as
 //! functions of the row, so a row costs one multiplication pair per cell it crosses and an
 //! addition a pixel; any other plane is evaluated span by span, with the same values.
+//!
+//! A caller handing a plane over in short spans (tiles, a display driver's line buffer of 16
+//! pixels) should set the plane's terms up once ([`SpanEvaluator::plane_setup`]) and evaluate
+//! its spans through [`SpanEvaluator::eval_plane_values`], [`SpanEvaluator::eval_plane_chunks`]
+//! or [`crate::texture::TextureEvaluator::shade_plane`]: each span's set-up is then a few
+//! products a term instead of the terms' transforms and the band decision (the same values).
 
 use crate::bandlimit::{build_spread_width48, term_band, BandLimit};
 use crate::format::{TexPoint, TexValue};

@@ -35,6 +35,52 @@ use crate::format::round_32_to_16;
 ///
 /// Checked at construction ([`SpanPlane::new`]): every such start is representable (raw 16.16
 /// without wrapping), so [`SpanPlane::span`] never fails for spans inside the rectangle.
+///
+/// A 64 x 32 field of four octaves of value noise in 16-pixel spans, the terms set up once:
+///
+/// ```
+/// use texcore::format::{Amplitude, MatrixEntry, TexPoint, TexValue};
+/// use texcore::hash::HashKind;
+/// use texcore::model::{Octaves, TextureModel};
+/// use texcore::noise::NoiseBasis;
+/// use texcore::quadric::Quadric;
+/// use texcore::span::{EvalOptions, FaceCache, SpanEvaluator, SpanPlane};
+/// use texcore::table::TableWrap;
+/// use texcore::transform::Affine3;
+///
+/// let mut model: TextureModel<4> = TextureModel::new(Quadric::ZERO, TableWrap::Mod);
+/// model.push_octaves(&Octaves {
+///     count: 4,
+///     base: Affine3::scale(MatrixEntry::ONE),
+///     amplitude: Amplitude::ONE,
+///     rotate: false,
+///     basis: NoiseBasis::trilinear(HashKind::Integer),
+///     turbulence: false,
+/// })?;
+/// let opts = EvalOptions { gradients: false, ..Default::default() };
+/// let mut ev = SpanEvaluator::new(&model, opts);
+/// let plane = SpanPlane::new(
+///     TexPoint::from_f64(0.0, 0.0, 0.5),
+///     TexPoint::from_f64(1.0 / 8.0, 0.0, 0.0),
+///     TexPoint::from_f64(0.0, 1.0 / 8.0, 0.0),
+///     64,
+///     32,
+/// )?;
+/// let setup = ev.plane_setup(&plane);
+/// let mut faces = FaceCache::<64>::new();
+/// let mut field = [[TexValue::ZERO; 64]; 32];
+/// for (y, row) in (0u16..).zip(field.iter_mut()) {
+///     for (x, tile) in (0u16..).step_by(16).zip(row.chunks_mut(16)) {
+///         ev.eval_plane_values(&setup, x, y, tile, &mut faces);
+///     }
+/// }
+/// // The same values as each span set up on its own.
+/// let mut tile = [TexValue::ZERO; 16];
+/// let span = plane.span(16, 5, 16).unwrap();
+/// SpanEvaluator::new(&model, opts).eval_values(&span, &mut tile);
+/// assert_eq!(tile, field[5][16..32]);
+/// # Ok::<(), Box<dyn std::error::Error>>(())
+/// ```
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 #[cfg_attr(feature = "defmt", derive(defmt::Format))]
 pub struct SpanPlane {
@@ -68,6 +114,8 @@ impl core::fmt::Display for SpanPlaneError {
         }
     }
 }
+
+impl core::error::Error for SpanPlaneError {}
 
 impl SpanPlane {
     /// The plane through `origin` with steps `ds` (along a span) and `dsdy` (to the next row),
