@@ -11,7 +11,7 @@ use texcore::material::PerturbedParams;
 use texcore::model::{Precision, TextureModel};
 use texcore::presets::{self, CheckPlane, Key, PRESET_TERMS};
 use texcore::ready::{Material, MaterialError, TextureOptions};
-use texcore::span::{EvalMode, Span};
+use texcore::span::{EvalMode, Span, SpanPlane};
 use texcore::table::{ColorTable, KeySpacing, TableError, TableLookup, TableWrap};
 use texcore::texture::{ShadeStats, Shader, Texture};
 
@@ -234,6 +234,16 @@ pub fn plane_span(p: &CheckPlane, x0: u32, y: u32, len: u32) -> Span {
     }
 }
 
+/// The spans of the `size x size` image of a check plane as a [`SpanPlane`] (span `(x0, y)` of it
+/// is [`plane_span`]`(p, x0, y, len)`: for `x0, y >= 0` the half-pixel offsets round once, in
+/// the origin); `None` when the image is larger than `u16::MAX` or a start would leave the
+/// coordinate range.
+pub fn span_plane(p: &CheckPlane, size: u32) -> Option<SpanPlane> {
+    let size = u16::try_from(size).ok()?;
+    let s = plane_span(p, 0, 0, 0);
+    SpanPlane::new(s.s0, s.ds, s.dsdy, size, size).ok()
+}
+
 /// The spans of row `y` of a check plane `width` pixels wide, [`PLANE_SEGMENT`] pixels each.
 pub fn plane_row(p: &CheckPlane, y: u32, width: u32) -> impl Iterator<Item = Span> + '_ {
     (0..width)
@@ -260,9 +270,18 @@ fn render_plane_n<const N: usize>(
     let tex = texture::<N>(m, cfg)?;
     let mut ev = tex.evaluator();
     let mut pixels = Vec::with_capacity((size * size) as usize);
+    // A model's spans through the plane's set-up (the device's path, `workloads::planes`; the
+    // same colours as each span set up on its own).
+    let setup = span_plane(plane, size).and_then(|p| ev.plane_setup(&p));
     for y in 0..size {
-        for span in plane_row(plane, y, size) {
-            ev.shade(&span, |c| pixels.push(c.to_array()));
+        for x0 in (0..size).step_by(PLANE_SEGMENT as usize) {
+            let len = PLANE_SEGMENT.min(size - x0);
+            let emit = |c: texcore::color::Rgba8888| pixels.push(c.to_array());
+            match &setup {
+                // size <= u16::MAX (`span_plane`).
+                Some(s) => ev.shade_plane(s, x0 as u16, y as u16, len as u16, emit),
+                None => ev.shade(&plane_span(plane, x0, y, len), emit),
+            }
         }
     }
     Ok((
@@ -403,4 +422,49 @@ pub fn check_material(
         config: *cfg,
         metrics,
     })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// [`render_plane`] (a model's spans through the plane's set-up) gives every preset's check
+    /// plane exactly as its spans set up one by one ([`plane_row`]), in each evaluation mode,
+    /// filter and precision, at sizes with a short last span.
+    #[test]
+    fn plane_renders_equal_their_spans() {
+        let configs = [
+            UnitConfig::default(),
+            UnitConfig {
+                mode: EvalMode::Direct,
+                aa: Antialias::None,
+                ..UnitConfig::default()
+            },
+            UnitConfig {
+                mode: EvalMode::Fd,
+                aa: Antialias::Mip,
+                cull: false,
+                precision: Precision::new(10, 12).unwrap(),
+                ..UnitConfig::default()
+            },
+        ];
+        for name in presets::NAMES {
+            let m = preset_material(name, HashKind::Integer).unwrap();
+            for cfg in &configs {
+                for size in [24, 37] {
+                    let (img, _) = render_plane(&m, cfg, size).unwrap();
+                    let plane = scaled_plane(&m.plane, size);
+                    let tex = texture::<256>(&m, cfg).unwrap();
+                    let mut ev = tex.evaluator();
+                    let mut want = Vec::new();
+                    for y in 0..size {
+                        for span in plane_row(&plane, y, size) {
+                            ev.shade(&span, |c| want.push(c.to_array()));
+                        }
+                    }
+                    assert_eq!(img.pixels, want, "{name} {cfg:?} {size}");
+                }
+            }
+        }
+    }
 }

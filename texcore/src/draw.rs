@@ -43,7 +43,7 @@
 use core::marker::PhantomData;
 
 use embedded_graphics::draw_target::DrawTarget;
-use embedded_graphics::geometry::{Point, Size};
+use embedded_graphics::geometry::{Dimensions, Point, Size};
 use embedded_graphics::pixelcolor::{PixelColor, Rgb888};
 use embedded_graphics::primitives::{
     Circle, Ellipse, PointsIter, Rectangle, RoundedRectangle, StyledDrawable, Triangle,
@@ -57,7 +57,7 @@ use crate::presets::CheckPlane;
 use crate::render::{RenderError, RenderStats, Renderer, TriangleSource};
 use crate::scene::math::{isqrt_u128, sin_cos, Angle};
 use crate::sink::PixelSink;
-use crate::span::Span;
+use crate::span::{PlaneSetup, Span, SpanPlane};
 use crate::texture::{Texture, TextureEvaluator};
 
 /// Pixels shaded per span call (a row run longer than this is shaded in pieces of this length;
@@ -232,6 +232,57 @@ impl PlaneMapping {
             len,
         }
     }
+
+    /// The spans of the display rectangle `area` as a [`SpanPlane`] (span `(x, y)` of it is
+    /// [`PlaneMapping::span`]`(area.x + x, area.y + y, len)`): a span start is the plane's
+    /// origin plus whole steps (`floor((2 x + 1) s / 2) = x s + floor(s / 2)`), so the plane's
+    /// points are the mapping's, wrapped alike. `None` when `area` is wider or taller than
+    /// `u16::MAX` or a start inside it would leave the coordinate range without wrapping.
+    pub fn span_plane(&self, area: &Rectangle) -> Option<SpanPlane> {
+        let w = u16::try_from(area.size.width).ok()?;
+        let h = u16::try_from(area.size.height).ok()?;
+        let s = self.span(area.top_left.x, area.top_left.y, 0);
+        SpanPlane::new(s.s0, s.ds, s.dsdy, w, h).ok()
+    }
+}
+
+/// A texture evaluator shading the spans of one display rectangle through its plane's set-up
+/// ([`PlaneMapping::span_plane`], [`TextureEvaluator::shade_plane`]) when it has one, span by
+/// span otherwise: the same colours either way.
+struct AreaShader<'t, 'm, const T: usize, const N: usize> {
+    ev: TextureEvaluator<'t, T, N>,
+    mapping: &'m PlaneMapping,
+    /// The plane's set-up and the rectangle's top-left pixel.
+    plane: Option<(PlaneSetup<'t, T>, Point)>,
+}
+
+impl<'t, 'm, const T: usize, const N: usize> AreaShader<'t, 'm, T, N> {
+    fn new(texture: &'t Texture<T, N>, mapping: &'m PlaneMapping, area: &Rectangle) -> Self {
+        let ev = texture.evaluator();
+        let plane = mapping
+            .span_plane(area)
+            .and_then(|p| ev.plane_setup(&p))
+            .map(|s| (s, area.top_left));
+        AreaShader { ev, mapping, plane }
+    }
+
+    /// Shades the `len` pixels of display row `y` from column `x` (inside the rectangle, or
+    /// shaded span by span).
+    fn shade(&mut self, x: i32, y: i32, len: u16, emit: impl FnMut(Rgba8888)) {
+        if let Some((setup, at)) = &self.plane {
+            let (dx, dy) = (
+                u16::try_from(i64::from(x) - i64::from(at.x)),
+                u16::try_from(i64::from(y) - i64::from(at.y)),
+            );
+            if let (Ok(dx), Ok(dy)) = (dx, dy) {
+                if setup.plane().span(dx, dy, len).is_some() {
+                    self.ev.shade_plane(setup, dx, dy, len, emit);
+                    return;
+                }
+            }
+        }
+        self.ev.shade(&self.mapping.span(x, y, len), emit);
+    }
 }
 
 /// `x` rounded to the nearest integer, ties away from zero, saturating to `i64`; NaN is 0.
@@ -340,8 +391,7 @@ impl<'t, C, const T: usize, const N: usize> TextureStyle<'t, C, T, N> {
 /// Shades a row run `x .. x + len` of row `y` and writes it with `fill_contiguous`, in pieces
 /// of at most [`RUN_CHUNK`] pixels.
 fn fill_run<D, const T: usize, const N: usize>(
-    ev: &mut TextureEvaluator<'_, T, N>,
-    mapping: &PlaneMapping,
+    ev: &mut AreaShader<'_, '_, T, N>,
     (x, y, len): (i32, i32, u32),
     target: &mut D,
 ) -> Result<(), D::Error>
@@ -355,7 +405,7 @@ where
         let n = (len - done).min(RUN_CHUNK as u32);
         let x0 = x.saturating_add(done as i32);
         let mut i = 0;
-        ev.shade(&mapping.span(x0, y, n as u16), |c| {
+        ev.shade(x0, y, n as u16, |c| {
             if let Some(b) = buf.get_mut(i) {
                 *b = c;
             }
@@ -384,6 +434,7 @@ fn clip_run(clip: &Rectangle, y: i32, x0: i32, x1: i32) -> Option<(i32, i32, u32
 /// one span) with the style's texture.
 fn fill_points<D, I, const T: usize, const N: usize>(
     points: I,
+    bounds: Rectangle,
     style: &TextureStyle<'_, D::Color, T, N>,
     target: &mut D,
 ) -> Result<(), D::Error>
@@ -393,7 +444,7 @@ where
     I: Iterator<Item = Point>,
 {
     let clip = target.bounding_box();
-    let mut ev = style.texture.evaluator();
+    let mut ev = AreaShader::new(style.texture, &style.mapping, &bounds.intersection(&clip));
     // The open run: row, first column, one past the last column.
     let mut run: Option<(i32, i32, i32)> = None;
     for p in points {
@@ -404,7 +455,7 @@ where
             _ => {
                 if let Some((y, x0, x1)) = run {
                     if let Some(r) = clip_run(&clip, y, x0, x1) {
-                        fill_run(&mut ev, &style.mapping, r, target)?;
+                        fill_run(&mut ev, r, target)?;
                     }
                 }
                 run = Some((p.y, p.x, p.x.saturating_add(1)));
@@ -413,7 +464,7 @@ where
     }
     if let Some((y, x0, x1)) = run {
         if let Some(r) = clip_run(&clip, y, x0, x1) {
-            fill_run(&mut ev, &style.mapping, r, target)?;
+            fill_run(&mut ev, r, target)?;
         }
     }
     Ok(())
@@ -422,8 +473,7 @@ where
 /// The colours of a rectangle's rows, shaded [`RUN_CHUNK`] pixels at a time (the iterator of
 /// the rectangle's single `fill_contiguous` call).
 struct RectColors<'e, 't, 'm, C, const T: usize, const N: usize> {
-    ev: &'e mut TextureEvaluator<'t, T, N>,
-    mapping: &'m PlaneMapping,
+    ev: &'e mut AreaShader<'t, 'm, T, N>,
     area: Rectangle,
     /// Next pixel to shade (relative to the area).
     x: u32,
@@ -448,7 +498,7 @@ impl<C: From<Rgb888>, const T: usize, const N: usize> Iterator for RectColors<'_
             let py = self.area.top_left.y.saturating_add(self.y as i32);
             let buf = &mut self.buf;
             let mut i = 0;
-            self.ev.shade(&self.mapping.span(px, py, n as u16), |c| {
+            self.ev.shade(px, py, n as u16, |c| {
                 if let Some(b) = buf.get_mut(i) {
                     *b = c;
                 }
@@ -488,10 +538,9 @@ where
         if area.size.width == 0 || area.size.height == 0 {
             return Ok(());
         }
-        let mut ev = style.texture.evaluator();
+        let mut ev = AreaShader::new(style.texture, &style.mapping, &area);
         let colors = RectColors {
             ev: &mut ev,
-            mapping: &style.mapping,
             area,
             x: 0,
             y: 0,
@@ -523,7 +572,7 @@ macro_rules! textured_by_points {
             where
                 D: DrawTarget<Color = C>,
             {
-                fill_points(self.points(), style, target)
+                fill_points(self.points(), self.bounding_box(), style, target)
             }
         }
     )*};
@@ -805,6 +854,55 @@ mod tests {
                 assert_eq!(d.get_pixel(Point::new(x, y)), Some(display_color(c)));
                 if let Some(gc) = g.get_pixel(Point::new(x, y)) {
                     assert_eq!(gc, display_color::<Gray8>(c));
+                }
+            }
+        }
+    }
+
+    /// Shapes drawn through their area's plane set-up equal their rows shaded span by span,
+    /// also where the mapping's coordinates wrap inside the area (no plane: the spans are set
+    /// up one by one) or come within a pixel of wrapping (a plane whose origin has wrapped).
+    #[test]
+    fn plane_set_up_areas_equal_their_spans() {
+        let marble = Material::preset(PresetName::Marble)
+            .texture::<256>(Antialias::Csat)
+            .unwrap();
+        // 40 pixels a texture unit: about 1600 raw units a pixel.
+        let base = PlaneMapping::scaled(40).rotated(Angle::from_degrees(10));
+        let (w, h) = (40i32, 30i32);
+        for (origin, anchor, plane) in [
+            ([0, 0, 0], 2, true),
+            ([i32::MAX - 70_000, -(1 << 20), 7], 2, true),
+            // Every pixel of the area past the wrap: the plane's origin has wrapped.
+            ([i32::MAX - 100_000, 0, 0], -100, true),
+            ([i32::MAX - 30_000, 0, 0], 2, false),
+            ([0, i32::MAX - 10_000, 0], 2, false),
+        ] {
+            let mapping = base.with_origin(origin).at(Point::new(anchor, 3));
+            let area = Rectangle::new(Point::zero(), Size::new(w as u32, h as u32));
+            assert_eq!(mapping.span_plane(&area).is_some(), plane, "{origin:?}");
+            let mut want = Vec::new();
+            for y in 0..h {
+                marble
+                    .evaluator()
+                    .shade(&mapping.span(0, y, w as u16), |c| want.push(c));
+            }
+            let mut d = MockDisplay::<Rgb888>::new();
+            area.into_styled(TextureStyle::new(&marble, mapping))
+                .draw(&mut d)
+                .unwrap();
+            let mut e = MockDisplay::<Rgb888>::new();
+            Circle::new(Point::new(1, 0), 29)
+                .into_styled(TextureStyle::new(&marble, mapping))
+                .draw(&mut e)
+                .unwrap();
+            for y in 0..h {
+                for x in 0..w {
+                    let c = display_color(want[(y * w + x) as usize]);
+                    assert_eq!(d.get_pixel(Point::new(x, y)), Some(c), "{origin:?}");
+                    if let Some(ec) = e.get_pixel(Point::new(x, y)) {
+                        assert_eq!(ec, c, "{origin:?} {x} {y}");
+                    }
                 }
             }
         }

@@ -20,8 +20,8 @@ use crate::format::FilterWidth;
 use crate::material::{MaterialEvaluator, PerturbedMaterial};
 use crate::model::TextureModel;
 use crate::span::{
-    EvalMode, EvalOptions, PlaneSetup, SampleChunk, Span, SpanEvaluator, SpanPlane, SpanStats,
-    SAMPLE_CHUNK,
+    EvalMode, EvalOptions, PlaneSetup, SampleChunk, SetupFrom, Span, SpanEvaluator, SpanPlane,
+    SpanStats, SAMPLE_CHUNK,
 };
 
 mod rows;
@@ -197,21 +197,36 @@ impl<const T: usize, const N: usize> TextureEvaluator<'_, T, N> {
     #[cfg_attr(not(texcore_lean), allow(unused_mut))]
     pub fn shade<F: FnMut(Rgba8888)>(&mut self, span: &Span, mut emit: F) {
         #[cfg(texcore_lean)]
-        self.shade_with(span, &mut emit as &mut dyn FnMut(Rgba8888));
+        self.shade_with(span, SetupFrom::Span, &mut emit as &mut dyn FnMut(Rgba8888));
         #[cfg(not(texcore_lean))]
-        self.shade_with(span, emit);
+        self.shade_with(span, SetupFrom::Span, emit);
     }
 
-    /// [`TextureEvaluator::shade`] with `emit` as given (a trait object in the size-lean shape).
-    fn shade_with<F: FnMut(Rgba8888)>(&mut self, span: &Span, mut emit: F) {
+    /// [`TextureEvaluator::shade`] with `emit` as given (a trait object in the size-lean shape),
+    /// the model's set-up from `from` (the fast shape; the size-lean shape sets every span up
+    /// from scratch, with the same colours).
+    #[cfg_attr(texcore_lean, allow(unused_variables))]
+    fn shade_with<F: FnMut(Rgba8888)>(
+        &mut self,
+        span: &Span,
+        from: SetupFrom<'_, '_, T>,
+        mut emit: F,
+    ) {
         let stage = &self.tex.stage;
         let n = u64::from(span.len);
         if stage.antialias() == Antialias::None {
             self.plain_lookups += n;
-            let f = |s: crate::span::Sample| emit(stage.shade_unfiltered(s.f));
+            let mut f = |s: crate::span::Sample| emit(stage.shade_unfiltered(s.f));
             match &mut self.inner {
                 Inner::Model(e) => {
+                    #[cfg(texcore_lean)]
                     e.eval(span, f);
+                    #[cfg(not(texcore_lean))]
+                    e.eval_chunks_from(span, from, &mut |c: &SampleChunk| {
+                        for s in c.iter() {
+                            f(s);
+                        }
+                    });
                 }
                 #[cfg(feature = "perturb")]
                 Inner::Perturbed(e) => {
@@ -232,9 +247,13 @@ impl<const T: usize, const N: usize> TextureEvaluator<'_, T, N> {
                 // chunk, then its colours with the filter chosen once. Each chunk carries its
                 // span's culled width (the span's set-up computed it once).
                 let mut w = [FilterWidth::ZERO; SAMPLE_CHUNK];
-                e.eval_chunks(span, &mut |c: &SampleChunk| {
+                let mut each = |c: &SampleChunk| {
                     shade_chunk(stage, &mut widths, &mut w, c, &mut emit);
-                });
+                };
+                #[cfg(texcore_lean)]
+                e.eval_chunks(span, &mut each);
+                #[cfg(not(texcore_lean))]
+                e.eval_chunks_from(span, from, &mut each);
             }
             #[cfg(feature = "perturb")]
             Inner::Perturbed(e) => {
@@ -273,33 +292,18 @@ impl<'t, const T: usize, const N: usize> TextureEvaluator<'t, T, N> {
         x: u16,
         y: u16,
         len: u16,
-        mut emit: F,
+        emit: F,
     ) {
         let Some(span) = plane.plane().span(x, y, len) else {
             return;
         };
-        let stage = &self.tex.stage;
-        let e = match &mut self.inner {
-            Inner::Model(e) => e,
-            #[cfg(feature = "perturb")]
-            Inner::Perturbed(_) => return self.shade(&span, emit),
-        };
-        let n = u64::from(len);
-        if stage.antialias() == Antialias::None {
-            self.plain_lookups += n;
-            e.eval_plane_chunks(plane, x, y, len, &mut |c: &SampleChunk| {
-                for &f in c.f() {
-                    emit(stage.shade_unfiltered(f));
-                }
-            });
-            return;
-        }
-        self.filter_lookups += n;
-        let mut widths = WidthStream::new(self.tex.norm, log2(N));
-        let mut w = [FilterWidth::ZERO; SAMPLE_CHUNK];
-        e.eval_plane_chunks(plane, x, y, len, &mut |c: &SampleChunk| {
-            shade_chunk(stage, &mut widths, &mut w, c, &mut emit);
-        });
+        // The fast shape takes the plane's set-up (a perturbed material's spans, and spans of a
+        // plane set up for another texture, are set up from scratch); the size-lean shape sets
+        // every span up from scratch. The same colours either way.
+        #[cfg(texcore_lean)]
+        self.shade(&span, emit);
+        #[cfg(not(texcore_lean))]
+        self.shade_with(&span, SetupFrom::Plane(plane, x, y), emit);
     }
 }
 
@@ -345,10 +349,11 @@ mod tests {
     /// the size-lean shape's) and through [`TextureEvaluator::shade`]; all must agree.
     fn shade_both_shapes(tex: &Texture<8, 256>, span: &Span) -> Vec<Rgba8888> {
         let mut direct = Vec::new();
-        tex.evaluator().shade_with(span, |c| direct.push(c));
+        tex.evaluator()
+            .shade_with(span, SetupFrom::Span, |c| direct.push(c));
         let mut dynamic = Vec::new();
         let emit: &mut dyn FnMut(Rgba8888) = &mut |c| dynamic.push(c);
-        tex.evaluator().shade_with(span, emit);
+        tex.evaluator().shade_with(span, SetupFrom::Span, emit);
         let mut public = Vec::new();
         tex.evaluator().shade(span, |c| public.push(c));
         assert_eq!(direct, dynamic);

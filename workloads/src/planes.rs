@@ -12,13 +12,14 @@
 //! parameter: the Cortex-M4F firmware uses the permutation hash, the rv32imc firmware the
 //! table-free integer hash.
 
+use texcore::color::Rgba8888;
 use texcore::filter::Antialias;
 use texcore::format::{TexPoint, TexValue};
 use texcore::hash::HashKind;
 use texcore::presets::{self, CheckPlane, PRESET_TERMS};
 pub use texcore::ready::Material;
 use texcore::sink::ChecksumSink;
-use texcore::span::Span;
+use texcore::span::{Span, SpanPlane};
 use texcore::texture::Texture;
 
 /// Colour-table entries of every device texture.
@@ -81,18 +82,38 @@ pub fn plane_span(p: &CheckPlane, x0: u32, y: u32, len: u32) -> Span {
 /// Shades the `size x size` image of `plane` with `tex`, rows top to bottom, spans of
 /// [`SEGMENT`] pixels, into a checksum.
 #[inline(never)]
+///
+/// A model's spans go through the plane's set-up ([`span_plane`], `TextureEvaluator::shade_plane`:
+/// the terms set up once for the plane, the same colours); a perturbed material's are set up one
+/// by one.
 pub fn shade_plane(tex: &DeviceTexture, plane: &CheckPlane, size: u32) -> ChecksumSink {
     let mut sink = ChecksumSink::new();
     let mut ev = tex.evaluator();
+    let setup = span_plane(plane, size).and_then(|p| ev.plane_setup(&p));
     for y in 0..size {
         let mut x0 = 0;
         while x0 < size {
-            let span = plane_span(plane, x0, y, SEGMENT.min(size - x0));
-            ev.shade(&span, |c| sink.add_rgb565(c.to_rgb565().to_bits()));
+            let len = SEGMENT.min(size - x0);
+            let emit = |c: Rgba8888| sink.add_rgb565(c.to_rgb565().to_bits());
+            match &setup {
+                // x0 + len <= size <= u16::MAX (`span_plane`).
+                Some(s) => ev.shade_plane(s, x0 as u16, y as u16, len as u16, emit),
+                None => ev.shade(&plane_span(plane, x0, y, len), emit),
+            }
             x0 += SEGMENT;
         }
     }
     sink
+}
+
+/// The spans of the `size x size` image of a check plane as a [`SpanPlane`]: span `(x0, y)` of
+/// it is [`plane_span`]`(p, x0, y, len)` (for `x0, y >= 0` each start is the plane's origin plus
+/// `x0` steps along and `y` steps down, the half-pixel offsets rounded once, in the origin); `None`
+/// when the image is larger than `u16::MAX` or a start would leave the coordinate range.
+pub fn span_plane(p: &CheckPlane, size: u32) -> Option<SpanPlane> {
+    let size = u16::try_from(size).ok()?;
+    let s = plane_span(p, 0, 0, 0);
+    SpanPlane::new(s.s0, s.ds, s.dsdy, size, size).ok()
 }
 
 /// The set-up part of [`plane_checksum`] alone: builds the same texture (kept alive with

@@ -135,7 +135,7 @@ use cubic::*;
 use direct::*;
 use passes::*;
 use plan::*;
-use plane::SetupFrom;
+pub(crate) use plane::SetupFrom;
 use quad::*;
 use setup::*;
 
@@ -511,7 +511,7 @@ impl<'m, const T: usize> SpanEvaluator<'m, T> {
 
     /// [`SpanEvaluator::eval_chunks`] with the set-up from `from`.
     #[inline(never)]
-    fn eval_chunks_from(
+    pub(crate) fn eval_chunks_from(
         &mut self,
         span: &Span,
         from: SetupFrom<'_, '_, T>,

@@ -228,7 +228,9 @@ struct PlaneQuad {
 }
 
 impl PlaneQuad {
-    /// The quadric of `plane` under the quadric matrix `qm` with nonzero entries `mask`.
+    /// The quadric of `plane` under the quadric matrix `qm` with nonzero entries `mask` (out of
+    /// line, once a plane).
+    #[inline(never)]
     fn new(qm: &[[i32; 4]; 4], mask: u16, plane: &SpanPlane) -> PlaneQuad {
         let (o, d, e) = (exact(plane.origin), exact(plane.ds), exact(plane.dsdy));
         let oh = [o[0], o[1], o[2], 1 << 16];
@@ -278,62 +280,47 @@ impl<'m, const T: usize> SpanEvaluator<'m, T> {
     /// The terms of this evaluator's model set up for every span of `plane` (see
     /// [`PlaneSetup`]).
     pub fn plane_setup(&self, plane: &SpanPlane) -> PlaneSetup<'m, T> {
-        let core = &self.core;
-        let m = core.model;
-        let cb = m.precision().coord_bits();
+        let m = self.core.model;
+        // The span set-up of the plane's origin gives every term's steps and band decision
+        // (the same for every span of the plane), its gradient flag taken before the
+        // evaluator's option (a core of its own, with gradients on, counts the culled and
+        // faded terms).
+        let opts = EvalOptions {
+            gradients: true,
+            ..self.core.opts
+        };
+        let mut core = EvalCore::new(m, opts);
         let span = Span {
             s0: plane.origin,
             ds: plane.ds,
             dsdy: plane.dsdy,
             len: 0,
         };
+        let mut setup = Setup::empty();
+        core.setup(&span, &mut setup);
         let mut terms = heapless::Vec::new();
-        let (mut culled, mut faded) = (0u8, 0u8);
-        let mut each =
-            |term: &NoiseTerm, du: &[i32; 3], dy: &[i32; 3], band: Option<(i32, bool)>| {
-                let tr = &term.transform;
-                let setup = match band {
-                    None => {
-                        culled += 1;
-                        TermSetup::default()
-                    }
-                    Some((amp, gradient)) => {
-                        if amp != term.amplitude.to_bits() {
-                            faded += 1;
-                        }
-                        TermSetup {
-                            u0: [0; 3],
-                            du: if cb < 16 {
-                                du.map(|c| quantize_coord(c, cb))
-                            } else {
-                                *du
-                            },
-                            dy: *dy,
-                            active: true,
-                            gradient,
-                            amp,
-                        }
-                    }
-                };
-                // At most T terms: never full.
-                let _ = terms.push(PlaneTerm {
-                    at0: tr.point_sums(plane.origin),
-                    along: tr.vector_sums(plane.ds),
-                    down: tr.vector_sums(plane.dsdy),
-                    setup,
-                });
-            };
-        let extra_width48 = band_terms(m, &span, core.opts.band(), each_term(&mut each));
+        for (term, ts) in m.terms().iter().zip(setup.terms.iter()) {
+            let tr = &term.transform;
+            // At most T terms: never full.
+            let _ = terms.push(PlaneTerm {
+                at0: tr.point_sums(plane.origin),
+                along: tr.vector_sums(plane.ds),
+                down: tr.vector_sums(plane.dsdy),
+                setup: TermSetup { u0: [0; 3], ..*ts },
+            });
+        }
         let quad = (core.qmask != 0)
             .then(|| PlaneQuad::new(&quadric_matrix(m.quadric()), core.qmask, plane));
+        // At most T <= 255 terms in a model.
+        let count = |n: u64| n.min(255) as u8;
         PlaneSetup {
             plane: *plane,
             model: m,
-            band: core.opts.band().copied(),
+            band: opts.band().copied(),
             terms,
-            extra_width48,
-            culled,
-            faded,
+            extra_width48: setup.extra_width48,
+            culled: count(core.stats.culled_octaves),
+            faded: count(core.stats.faded_octaves),
             quad,
         }
     }
@@ -388,7 +375,7 @@ impl<'m, const T: usize> SpanEvaluator<'m, T> {
 /// Where a span's set-up comes from: the span itself, or a [`PlaneSetup`] and the span's
 /// pixel `(x, y)` on its plane.
 #[derive(Clone, Copy)]
-pub(super) enum SetupFrom<'p, 'q, const T: usize> {
+pub(crate) enum SetupFrom<'p, 'q, const T: usize> {
     Span,
     Plane(&'p PlaneSetup<'q, T>, u16, u16),
 }
