@@ -35,6 +35,10 @@
 //!   span of the span evaluator (cut into [`RUN_CHUNK`]-pixel spans, which give the same colours
 //!   in every exact mode) and one `fill_contiguous` call; a rectangle is one `fill_contiguous`
 //!   call for all its visible pixels. Only pixels inside the target's bounding box are shaded.
+//!   The spans of one shape share its visible area's plane set-up
+//!   ([`PlaneMapping::span_plane`], [`crate::span::PlaneSetup`]): the texture's terms are
+//!   transformed once a shape, not once a span (the same colours; an area whose texture
+//!   coordinates would wrap is set up span by span).
 //! - Display errors are returned as `D::Error`; no panic, no allocation, no floating point in
 //!   the pixel path (the `f32` set-up conveniences of [`PlaneMapping`] only convert to fixed
 //!   point, through `micromath`'s bit-exact `fract`,
