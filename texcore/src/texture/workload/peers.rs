@@ -269,17 +269,30 @@ pub fn value_plane<const T: usize>(
             whole_rows(ev, w, rows, line, &mut cache, each);
         }
     } else {
-        // The spans' terms set up once for the plane (`PlaneSetup`; the plane is always valid,
-        // `the_plane_is_valid`).
-        let Ok(p) = plane() else {
-            return;
-        };
-        let setup = ev.plane_setup(&p);
-        let mut faces = FaceCache::new();
-        for y in 0..rows {
-            value_row_in(ev, &setup, w, y, line, &mut faces);
-            each(y, line);
-        }
+        span_rows(ev, w, rows, line, &mut each);
+    }
+}
+
+/// Rows `0..rows` of the 16-pixel-span workload `w` (see [`value_plane`]); out of line, so that
+/// the whole-row loop's code is the same with and without it.
+#[inline(never)]
+fn span_rows<const T: usize>(
+    ev: &mut SpanEvaluator<'_, T>,
+    w: Workload,
+    rows: u16,
+    line: &mut [TexValue],
+    each: &mut impl FnMut(u16, &[TexValue]),
+) {
+    // The spans' terms set up once for the plane (`PlaneSetup`; the plane is always valid,
+    // `the_plane_is_valid`).
+    let Ok(p) = plane() else {
+        return;
+    };
+    let setup = ev.plane_setup(&p);
+    let mut faces = FaceCache::new();
+    for y in 0..rows {
+        value_row_in(ev, &setup, w, y, line, &mut faces);
+        each(y, line);
     }
 }
 
@@ -536,6 +549,18 @@ mod tests {
             });
             assert_eq!(seen, 40);
         }
+    }
+
+    /// The workloads' plane is valid and its spans are [`span`]'s (the 16-pixel-span workloads
+    /// take it without a fallback).
+    #[test]
+    fn the_plane_is_valid() {
+        let p = plane().unwrap();
+        assert_eq!((p.width(), p.height()), (SIZE, SIZE));
+        for (x, y, len) in [(0, 0, 16), (240, 255, 16), (17, 100, 1), (0, 255, SIZE)] {
+            assert_eq!(p.span(x, y, len), Some(span(y, x, len)));
+        }
+        assert_eq!(p.span(241, 0, 16), None);
     }
 
     #[test]
