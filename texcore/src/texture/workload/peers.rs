@@ -313,24 +313,7 @@ pub fn value_row_in<const T: usize>(
     line: &mut [TexValue],
     faces: &mut FaceCache<FACES>,
 ) {
-    let len = w.span_len();
-    let Some(line) = line.get_mut(..usize::from(SIZE)) else {
-        return;
-    };
-    let gradients = w.gradients();
-    let mut x0 = 0;
-    for chunk in line.chunks_mut(usize::from(len)) {
-        if gradients {
-            let mut x = 0;
-            let n = chunk.len() as u16;
-            ev.eval_plane_chunks(plane, x0, y, n, &mut |c: &SampleChunk| {
-                store_grad_words(chunk, &mut x, c)
-            });
-        } else {
-            ev.eval_plane_values(plane, x0, y, chunk, faces);
-        }
-        x0 += len;
-    }
+    row_spans(ev, Some(plane), w, y, line, faces);
 }
 
 /// Rows `0..rows` of whole-row workload `w` through [`SpanEvaluator::rows`] with `cache` (see
@@ -369,6 +352,19 @@ pub fn value_row<const T: usize>(
     line: &mut [TexValue],
     faces: &mut FaceCache<FACES>,
 ) {
+    row_spans(ev, None, w, y, line, faces);
+}
+
+/// [`value_row`] (`plane` `None`: each span set up on its own) and [`value_row_in`].
+#[inline(always)]
+fn row_spans<const T: usize>(
+    ev: &mut SpanEvaluator<'_, T>,
+    plane: Option<&PlaneSetup<'_, T>>,
+    w: Workload,
+    y: u16,
+    line: &mut [TexValue],
+    faces: &mut FaceCache<FACES>,
+) {
     let len = w.span_len();
     let Some(line) = line.get_mut(..usize::from(SIZE)) else {
         return;
@@ -379,11 +375,16 @@ pub fn value_row<const T: usize>(
         let span = span(y, x0, len);
         if gradients {
             let mut x = 0;
-            ev.eval_chunks(&span, &mut |c: &SampleChunk| {
-                store_grad_words(chunk, &mut x, c)
-            });
+            let mut store = |c: &SampleChunk| store_grad_words(chunk, &mut x, c);
+            match plane {
+                Some(p) => ev.eval_plane_chunks(p, x0, y, len, &mut store),
+                None => ev.eval_chunks(&span, &mut store),
+            };
         } else {
-            ev.eval_values_cached(&span, chunk, faces);
+            match plane {
+                Some(p) => ev.eval_plane_values(p, x0, y, chunk, faces),
+                None => ev.eval_values_cached(&span, chunk, faces),
+            };
         }
         x0 += len;
     }
