@@ -216,6 +216,7 @@ impl<const T: usize, const N: usize> TextureEvaluator<'_, T, N> {
         let n = u64::from(span.len);
         if stage.antialias() == Antialias::None {
             self.plain_lookups += n;
+            #[cfg_attr(texcore_lean, allow(unused_mut))]
             let mut f = |s: crate::span::Sample| emit(stage.shade_unfiltered(s.f));
             match &mut self.inner {
                 Inner::Model(e) => {

@@ -26,6 +26,9 @@
 //! - Capacity in the type: a [`PlaneSetup<'_, T>`] holds `T` terms (about 100 bytes each), on
 //!   the caller's stack; no allocation, never panics.
 
+// The size-lean shape sets every span up from scratch: the plane's set-up is built but unused.
+#![cfg_attr(texcore_lean, allow(dead_code))]
+
 use super::*;
 use crate::format::round_32_to_16;
 
@@ -382,7 +385,8 @@ pub(crate) enum SetupFrom<'p, 'q, const T: usize> {
 
 impl<'m, const T: usize> EvalCore<'m, T> {
     /// The set-up of `span` (empty `out`, as [`Setup::empty`]) from `from`: the plane's terms
-    /// when `from` is a plane set up for this evaluator, otherwise [`Self::setup`].
+    /// when `from` is a plane set up for this evaluator, otherwise [`Self::setup`]. The
+    /// size-lean shape sets every span up from scratch (the same set-up; no plane code linked).
     #[inline(always)]
     pub(super) fn setup_from(
         &mut self,
@@ -390,10 +394,13 @@ impl<'m, const T: usize> EvalCore<'m, T> {
         from: SetupFrom<'_, '_, T>,
         out: &mut Setup<T>,
     ) {
-        match from {
-            SetupFrom::Plane(p, x, y) => self.plane_setup_of(span, p, x, y, out),
-            SetupFrom::Span => self.setup(span, out),
+        #[cfg(not(texcore_lean))]
+        if let SetupFrom::Plane(p, x, y) = from {
+            return self.plane_setup_of(span, p, x, y, out);
         }
+        #[cfg(texcore_lean)]
+        let _ = from;
+        self.setup(span, out)
     }
 
     /// [`Self::setup_from`] a plane (out of line: one copy for every caller).
