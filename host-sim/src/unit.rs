@@ -11,7 +11,7 @@ use texcore::material::PerturbedParams;
 use texcore::model::{Precision, TextureModel};
 use texcore::presets::{self, CheckPlane, Key, PRESET_TERMS};
 use texcore::ready::{Material, MaterialError, TextureOptions};
-use texcore::span::{EvalMode, Span, SpanPlane};
+use texcore::span::{EvalMode, Span};
 use texcore::table::{ColorTable, KeySpacing, TableError, TableLookup, TableWrap};
 use texcore::texture::{ShadeStats, Shader, Texture};
 
@@ -234,16 +234,6 @@ pub fn plane_span(p: &CheckPlane, x0: u32, y: u32, len: u32) -> Span {
     }
 }
 
-/// The spans of the `size x size` image of a check plane as a [`SpanPlane`] (span `(x0, y)` of it
-/// is [`plane_span`]`(p, x0, y, len)`: for `x0, y >= 0` the half-pixel offsets round once, in
-/// the origin); `None` when the image is larger than `u16::MAX` or a start would leave the
-/// coordinate range.
-pub fn span_plane(p: &CheckPlane, size: u32) -> Option<SpanPlane> {
-    let size = u16::try_from(size).ok()?;
-    let s = plane_span(p, 0, 0, 0);
-    SpanPlane::new(s.s0, s.ds, s.dsdy, size, size).ok()
-}
-
 /// The spans of row `y` of a check plane `width` pixels wide, [`PLANE_SEGMENT`] pixels each.
 pub fn plane_row(p: &CheckPlane, y: u32, width: u32) -> impl Iterator<Item = Span> + '_ {
     (0..width)
@@ -272,13 +262,13 @@ fn render_plane_n<const N: usize>(
     let mut pixels = Vec::with_capacity((size * size) as usize);
     // A model's spans through the plane's set-up (the device's path, `workloads::planes`; the
     // same colours as each span set up on its own).
-    let setup = span_plane(plane, size).and_then(|p| ev.plane_setup(&p));
+    let setup = workloads::planes::span_plane(plane, size).and_then(|p| ev.plane_setup(&p));
     for y in 0..size {
         for x0 in (0..size).step_by(PLANE_SEGMENT as usize) {
             let len = PLANE_SEGMENT.min(size - x0);
             let emit = |c: texcore::color::Rgba8888| pixels.push(c.to_array());
             match &setup {
-                // size <= u16::MAX (`span_plane`).
+                // size <= u16::MAX (`workloads::planes::span_plane`).
                 Some(s) => ev.shade_plane(s, x0 as u16, y as u16, len as u16, emit),
                 None => ev.shade(&plane_span(plane, x0, y, len), emit),
             }

@@ -279,7 +279,7 @@ impl<'t, 'm, const T: usize, const N: usize> AreaShader<'t, 'm, T, N> {
                 u16::try_from(i64::from(y) - i64::from(at.y)),
             );
             if let (Ok(dx), Ok(dy)) = (dx, dy) {
-                if setup.plane().span(dx, dy, len).is_some() {
+                if setup.plane().contains(dx, dy, len) {
                     self.ev.shade_plane(setup, dx, dy, len, emit);
                     return;
                 }

@@ -205,8 +205,8 @@ impl Affine3 {
     /// `round(M s + t)` for a point (raw 16.16), wrapped to lattice coordinates.
     #[inline]
     pub fn apply_point(&self, s: TexPoint) -> [i32; 3] {
-        // `point_sums` rounded in the same loop (the sums stay in registers; rounding the
-        // array measured dearer on rv32imc).
+        // The sums of `point_sums`, rounded in the same loop (the sums stay in registers;
+        // rounding `point_sums`' array measured dearer on rv32imc).
         let b = s.to_bits();
         let mut out = [0i32; 3];
         for ((o, row), t) in out.iter_mut().zip(&self.m).zip(&self.t) {
@@ -220,20 +220,14 @@ impl Affine3 {
     }
 
     /// `M s + t` for a point (raw 16.16) before [`Affine3::apply_point`]'s rounding: 32 fraction
-    /// bits, wrapping modulo 2^64 (so the sums of two points are the sum of their points'
-    /// sums, less one `t`).
-    #[inline(always)]
+    /// bits, wrapping modulo 2^64 ([`Affine3::vector_sums`] plus `t`: the same sums in another
+    /// order).
     pub(crate) fn point_sums(&self, s: TexPoint) -> [i64; 3] {
-        let b = s.to_bits();
-        let mut out = [0i64; 3];
-        for ((o, row), t) in out.iter_mut().zip(&self.m).zip(&self.t) {
-            let mut acc: i64 = i64::from(t.to_bits()) << 16;
-            for (m, bk) in row.iter().zip(&b) {
-                acc = acc.wrapping_add(i64::from(m.to_bits()) * i64::from(*bk));
-            }
-            *o = acc;
+        let mut v = self.vector_sums(s);
+        for (o, t) in v.iter_mut().zip(&self.t) {
+            *o = o.wrapping_add(i64::from(t.to_bits()) << 16);
         }
-        out
+        v
     }
 
     /// `M d` for a vector (raw 16.16) before [`Affine3::apply_vector`]'s rounding: 32 fraction

@@ -151,9 +151,15 @@ impl SpanPlane {
         })
     }
 
-    /// The span of `len` pixels at `(x, y)`; `None` unless `x + len <= width` and `y < height`.
+    /// Whether the span of `len` pixels at `(x, y)` lies inside the rectangle: `x + len <= width`
+    /// and `y < height`.
+    pub fn contains(&self, x: u16, y: u16, len: u16) -> bool {
+        u32::from(x) + u32::from(len) <= u32::from(self.width) && y < self.height
+    }
+
+    /// The span of `len` pixels at `(x, y)`; `None` unless [`SpanPlane::contains`] it.
     pub fn span(&self, x: u16, y: u16, len: u16) -> Option<Span> {
-        if u32::from(x) + u32::from(len) > u32::from(self.width) || y >= self.height {
+        if !self.contains(x, y, len) {
             return None;
         }
         let (o, d, e) = (
