@@ -25,10 +25,14 @@
 //!   compared), so a cache may be shared by any evaluators and models, and a collision only
 //!   costs the recomputation.
 //! - Capacity in the type: `N` entries of 32 bytes, `N` a power of two (checked at compile
-//!   time); no allocation, never panics.
+//!   time), and the lanes of up to `L` terms (`lanes`: a span that goes on along the row of
+//!   the span before reuses the face blends its cells already hold); no allocation, never
+//!   panics.
 
 #[cfg(not(texcore_lean))]
 use super::axis::{face_bits, others};
+#[cfg(not(texcore_lean))]
+use super::lanes::{Carried, ValueLane};
 #[cfg(not(texcore_lean))]
 use crate::hash::HashKind;
 
@@ -49,19 +53,52 @@ impl FaceEntry {
 }
 
 /// Face blends of single-axis trilinear terms kept across spans (see the module
-/// documentation): `N` entries of 32 bytes, `N` a power of two (checked at compile time).
+/// documentation): `N` entries of 32 bytes, `N` a power of two (checked at compile time), and
+/// the lanes of the last span of up to `L` terms (about 100 bytes a lane; see
+/// [`SpanEvaluator::eval_values_cached`](crate::span::SpanEvaluator::eval_values_cached)).
 ///
 /// Give one to [`SpanEvaluator::eval_values_cached`](crate::span::SpanEvaluator::eval_values_cached) for the rows of a plane: from the second
-/// row on, every face the rows share is read back instead of hashed and blended again. The
-/// values are those of [`SpanEvaluator::eval_values`](crate::span::SpanEvaluator::eval_values), bit for bit, whatever the cache holds.
+/// row on, every face the rows share is read back instead of hashed and blended again, and a
+/// span that goes on along the row of the span before starts from the cells that span ended
+/// in. The values are those of [`SpanEvaluator::eval_values`](crate::span::SpanEvaluator::eval_values), bit for bit, whatever the cache holds.
 /// Size it to the faces one row crosses (for `k` octaves of `2^i c` cells across a row about
-/// `c 2^k` entries; 128 covers four octaves of 8 cells).
+/// `c 2^k` entries; 128 covers four octaves of 8 cells), and `L` to the model's terms.
 #[derive(Clone, Debug)]
-pub struct FaceCache<const N: usize> {
+pub struct FaceCache<const N: usize, const L: usize = 4> {
     entries: [FaceEntry; N],
+    /// The lanes of the last span (fast shape only).
+    #[cfg(not(texcore_lean))]
+    lanes: [ValueLane; L],
+    #[cfg(not(texcore_lean))]
+    carried: Carried,
 }
 
-impl<const N: usize> FaceCache<N> {
+/// The parts of a face cache as the kernels take them (`entries` empty and no lanes: no
+/// cache).
+#[cfg_attr(texcore_lean, allow(dead_code))]
+pub(super) struct Faces<'a> {
+    pub(super) entries: &'a mut [FaceEntry],
+    /// The carried lanes' slots and what they hold.
+    #[cfg(not(texcore_lean))]
+    pub(super) lanes: &'a mut [ValueLane],
+    #[cfg(not(texcore_lean))]
+    pub(super) carried: Option<&'a mut Carried>,
+}
+
+impl Faces<'_> {
+    /// No cache.
+    pub(super) fn none() -> Faces<'static> {
+        Faces {
+            entries: &mut [],
+            #[cfg(not(texcore_lean))]
+            lanes: &mut [],
+            #[cfg(not(texcore_lean))]
+            carried: None,
+        }
+    }
+}
+
+impl<const N: usize, const L: usize> FaceCache<N, L> {
     const POWER_OF_TWO: () = assert!(
         N.is_power_of_two(),
         "FaceCache capacity must be a power of two"
@@ -73,27 +110,38 @@ impl<const N: usize> FaceCache<N> {
         let () = Self::POWER_OF_TWO;
         FaceCache {
             entries: [FaceEntry::EMPTY; N],
+            #[cfg(not(texcore_lean))]
+            lanes: [ValueLane::IDLE; L],
+            #[cfg(not(texcore_lean))]
+            carried: Carried::NONE,
         }
     }
 
-    /// Number of entries.
+    /// Number of face entries.
     pub const fn capacity(&self) -> usize {
         N
     }
 
-    /// Forgets every entry (never needed for correctness: entries are found by their full key).
+    /// Forgets every entry and the carried lanes (never needed for correctness: entries are
+    /// found by their full key, and a lane is carried only into the cells it describes).
     pub fn clear(&mut self) {
-        self.entries = [FaceEntry::EMPTY; N];
+        *self = Self::new();
     }
 
-    /// The entries, as the kernels take them.
+    /// The parts, as the kernels take them.
     #[cfg_attr(texcore_lean, allow(dead_code))]
-    pub(super) fn entries(&mut self) -> &mut [FaceEntry] {
-        &mut self.entries
+    pub(super) fn parts(&mut self) -> Faces<'_> {
+        Faces {
+            entries: &mut self.entries,
+            #[cfg(not(texcore_lean))]
+            lanes: &mut self.lanes,
+            #[cfg(not(texcore_lean))]
+            carried: Some(&mut self.carried),
+        }
     }
 }
 
-impl<const N: usize> Default for FaceCache<N> {
+impl<const N: usize, const L: usize> Default for FaceCache<N, L> {
     fn default() -> Self {
         Self::new()
     }
@@ -134,6 +182,15 @@ pub(super) struct FaceKey {
 
 #[cfg(not(texcore_lean))]
 impl FaceKey {
+    /// The key of an idle lane (never used to read the cache).
+    pub(super) const NONE: FaceKey = FaceKey {
+        w0: 0,
+        words: [0; 3],
+        fa: 0,
+        base: 0,
+        mask: 0,
+    };
+
     /// The constant part of the keys of a term moving along `k` through cells `cell` (the
     /// coordinate along `k` ignored) with fractions `frac`, hash, amplitude and precision;
     /// the term's share of the cache is the `share` entries from `base` ([`FaceKey::share`]).
@@ -324,7 +381,7 @@ mod tests {
             16,
         );
         let v = cached_phi(
-            c.entries(),
+            &mut c.entries,
             &key,
             0,
             HashKind::Integer,

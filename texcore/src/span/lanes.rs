@@ -17,13 +17,30 @@
 //! as the merged state's, so the sums (in any order of the terms) and the samples are the
 //! merged loop's, and so are the counters (tested against `Direct`, the merged loop of the
 //! size-lean shape and the axial kernel with gradients).
+//!
+//! # Carried lanes
+//!
+//! Through a [`FaceCache`](super::FaceCache) with room for the span's lanes, the lanes live in
+//! the cache and stay there after the span, each lattice start moved on to the pixel after
+//! the span. The next span takes them as they are when, term by term, they are what its own
+//! set-up would build: the same moving axis and step, the same lattice point at pixel 0, the
+//! same cell and fractions on the two other axes, hash, amplitude, noise fraction bits and
+//! value precision (`Carried::resumes`). A lane's state is a function of exactly these: `v`
+//! and `s` are the cell polynomial at the current fraction (the same sum modulo 2^64 whether
+//! stepped or set up), `left` counts the pixels to the cell's end either way, and the face
+//! blends are the cell's. A lane that ended on its cell's last pixel moves into the next cell
+//! first, as an event at pixel 0 (a cell set-up, counted as such). So a row handed over in
+//! short spans, one after the other, sets up the cells the whole row in one span does (tested:
+//! the same values as each span on its own and as `Direct`, and the same `cell_setups` as the
+//! whole row), while any other span is set up from scratch. Nothing is carried past a span
+//! that was not walked to its end.
 
-use super::face_cache::{cached_phi, FaceEntry, FaceKey};
+use super::face_cache::{cached_phi, FaceEntry, FaceKey, Faces};
 use super::*;
 
 /// One term of the lane kernel.
 #[derive(Clone, Copy, Debug)]
-struct ValueLane {
+pub(super) struct ValueLane {
     /// Pixels before the term's next cell event.
     left: u32,
     /// The term's value at the next pixel, and its step a pixel.
@@ -43,6 +60,69 @@ struct ValueLane {
     amp: i32,
     /// The constant part of the face cache's keys.
     key: FaceKey,
+}
+
+/// What the lane slots of a [`FaceCache`] hold: the `n` lanes of the last span, made for `fv`
+/// noise fraction bits and value precision `vb` (`n = 0`: none).
+#[derive(Clone, Copy, Debug)]
+pub(crate) struct Carried {
+    n: u8,
+    fv: u32,
+    vb: u32,
+}
+
+impl Carried {
+    /// Nothing carried.
+    pub(super) const NONE: Carried = Carried { n: 0, fv: 0, vb: 0 };
+
+    /// Whether the carried `lanes` are the lanes of a span set up as `setup` (with
+    /// `strategies`, for `model`): for every term in order, the same moving axis and step, the
+    /// same lattice point at pixel 0 (the lane's `u0` moved on to the pixel after its span),
+    /// the same cell and fractions on the two other axes, hash and amplitude, and the same
+    /// noise fraction bits and value precision. A lane's state (`v`, `s`, `left`, the cell and
+    /// its blends, the cache key) is a function of these alone, so such a lane is the fresh
+    /// one, except when it has walked to the end of its cell (`left = 0`): the caller then
+    /// moves it into the next cell.
+    #[inline(always)]
+    fn resumes<const T: usize>(
+        &self,
+        lanes: &[ValueLane],
+        model: &TextureModel<T>,
+        strategies: &[Strategy; T],
+        setup: &Setup<T>,
+        fv: u32,
+        vb: u32,
+    ) -> bool {
+        if usize::from(self.n) != lanes.len() || self.fv != fv || self.vb != vb {
+            return false;
+        }
+        let mut lanes = lanes.iter();
+        for ((term, st), ts) in model.terms().iter().zip(strategies).zip(setup.terms.iter()) {
+            if *st == Strategy::Off {
+                continue;
+            }
+            let (Some(k), Some(t)) = (single_axis(ts.du), lanes.next()) else {
+                return false;
+            };
+            let k = k.min(2);
+            let (a, c) = others(k);
+            let other = |i: usize| {
+                let u = (u32::from(t.cell[i]) << 16) | t.frac[i];
+                ts.u0.get(i).is_some_and(|&w| w as u32 == u)
+            };
+            if t.k != k
+                || t.d != ts.du[k]
+                || t.u0 != ts.u0[k]
+                || t.amp != ts.amp
+                || t.hash != term.basis.hash
+                || !other(a)
+                || !other(c)
+            {
+                return false;
+            }
+        }
+        lanes.next().is_none()
+    }
 }
 
 /// The blend `Phi` of face `b` of `cell` for a lane moving along `k` (constant fractions `frac`
@@ -100,6 +180,22 @@ fn value_and_step(phi: [i64; 2], fk: u32, d: i32) -> (i64, i64) {
 }
 
 impl ValueLane {
+    /// A slot that holds no lane.
+    pub(super) const IDLE: ValueLane = ValueLane {
+        left: 0,
+        v: 0,
+        s: 0,
+        k: 0,
+        u0: 0,
+        d: 0,
+        cell: [0; 3],
+        frac: [0; 3],
+        phi: [0; 2],
+        hash: HashKind::Integer,
+        amp: 0,
+        key: FaceKey::NONE,
+    };
+
     /// The blend of face `b` of the current cell (through `faces` when it has entries).
     #[inline(always)]
     fn blend(&self, b: usize, fv: u32, vb: u32, faces: &mut [FaceEntry]) -> i64 {
@@ -332,7 +428,13 @@ impl<'m, const T: usize> EvalCore<'m, T> {
         strategies: &[Strategy; T],
         sink: &mut ChunkSink<'_, '_>,
     ) {
-        self.run_lanes(len, setup, strategies, &mut LaneOut::Chunk(sink), &mut []);
+        self.run_lanes(
+            len,
+            setup,
+            strategies,
+            &mut LaneOut::Chunk(sink),
+            &mut Faces::none(),
+        );
     }
 
     /// [`Self::run_axial_direct`] into a chunk sink (out of line, as [`Self::run_lanes_into`]).
@@ -358,7 +460,7 @@ impl<'m, const T: usize> EvalCore<'m, T> {
         setup: &Setup<T>,
         strategies: &[Strategy; T],
         sink: &mut LaneOut<'_, '_, '_>,
-        faces: &mut [FaceEntry],
+        faces: &mut Faces<'_>,
     ) {
         let m = self.model;
         let fv = m.noise_frac_bits();
@@ -368,60 +470,100 @@ impl<'m, const T: usize> EvalCore<'m, T> {
         // 0: zero quadric, 1: affine, 2: curved.
         let (mut q, quad) = QuadStep::value_kind(setup);
 
-        let mut lanes: heapless::Vec<ValueLane, T> = heapless::Vec::new();
-        // The face cache's shares: in proportion to the terms' steps ([`FaceKey::share`]).
-        let steps: u64 = strategies
-            .iter()
-            .zip(setup.terms.iter())
-            .filter(|(st, _)| **st != Strategy::Off)
-            .filter_map(|(_, ts)| single_axis(ts.du).map(|k| ts.du[k.min(2)]))
-            .map(|d| u64::from(d.unsigned_abs()))
-            .sum();
-        let mut base = 0usize;
-        for ((term, st), ts) in m.terms().iter().zip(strategies).zip(setup.terms.iter()) {
-            if *st == Strategy::Off {
-                continue;
+        let Faces {
+            entries: faces,
+            lanes: slots,
+            carried,
+        } = faces;
+        // The lanes live in the cache's slots when it has room for them all (and are then
+        // carried to the next span), otherwise here.
+        let nl = strategies.iter().filter(|st| **st != Strategy::Off).count();
+        let mut local: heapless::Vec<ValueLane, T> = heapless::Vec::new();
+        let (slots, carried) = match (slots.get_mut(..nl), carried.as_deref_mut()) {
+            (Some(sl), Some(c)) => (sl, Some(c)),
+            _ => (&mut [][..], None),
+        };
+        let mut setups = 0u64;
+        let resumed = carried
+            .as_deref()
+            .is_some_and(|c| c.resumes(slots, m, strategies, setup, fv, vb));
+        let lanes: &mut [ValueLane] = if resumed {
+            // The span goes on from where the last one ended: each lane is in the state a
+            // fresh one would be in, but for a cell it has yet to enter.
+            for t in slots.iter_mut().filter(|t| t.left == 0) {
+                t.event(0, fv, vb, faces);
+                setups += 1;
             }
-            let Some(k) = single_axis(ts.du) else {
-                continue;
-            };
-            let k = k.min(2);
-            let (cell, frac) = split(ts.u0);
-            let d = ts.du[k];
-            let (hash, amp) = (term.basis.hash, ts.amp);
-            let share = FaceKey::share(faces.len(), d.unsigned_abs(), steps);
-            let key = FaceKey::new(base, share, k, hash, cell, frac, amp, fv, vb);
-            base = base.wrapping_add(share);
-            let phi = [
-                lane_phi(faces, &key, k, hash, cell, frac, 0, amp, fv, vb),
-                lane_phi(faces, &key, k, hash, cell, frac, 1, amp, fv, vb),
-            ];
-            let (v, s) = value_and_step(phi, frac[k], d);
-            let lane = ValueLane {
-                left: pixels_in_cell_axis(frac[k], d),
-                v,
-                s,
-                k,
-                u0: ts.u0[k],
-                d,
-                cell,
-                frac,
-                phi,
-                hash,
-                amp,
-                key,
-            };
-            // At most T terms: never full.
-            let _ = lanes.push(lane);
-        }
+            slots
+        } else {
+            let carrying = carried.is_some();
+            // The face cache's shares: in proportion to the terms' steps ([`FaceKey::share`]).
+            let steps: u64 = strategies
+                .iter()
+                .zip(setup.terms.iter())
+                .filter(|(st, _)| **st != Strategy::Off)
+                .filter_map(|(_, ts)| single_axis(ts.du).map(|k| ts.du[k.min(2)]))
+                .map(|d| u64::from(d.unsigned_abs()))
+                .sum();
+            let mut base = 0usize;
+            let mut li = 0usize;
+            for ((term, st), ts) in m.terms().iter().zip(strategies).zip(setup.terms.iter()) {
+                if *st == Strategy::Off {
+                    continue;
+                }
+                let Some(k) = single_axis(ts.du) else {
+                    continue;
+                };
+                let k = k.min(2);
+                let (cell, frac) = split(ts.u0);
+                let d = ts.du[k];
+                let (hash, amp) = (term.basis.hash, ts.amp);
+                let share = FaceKey::share(faces.len(), d.unsigned_abs(), steps);
+                let key = FaceKey::new(base, share, k, hash, cell, frac, amp, fv, vb);
+                base = base.wrapping_add(share);
+                let phi = [
+                    lane_phi(faces, &key, k, hash, cell, frac, 0, amp, fv, vb),
+                    lane_phi(faces, &key, k, hash, cell, frac, 1, amp, fv, vb),
+                ];
+                let (v, s) = value_and_step(phi, frac[k], d);
+                let lane = ValueLane {
+                    left: pixels_in_cell_axis(frac[k], d),
+                    v,
+                    s,
+                    k,
+                    u0: ts.u0[k],
+                    d,
+                    cell,
+                    frac,
+                    phi,
+                    hash,
+                    amp,
+                    key,
+                };
+                if carrying {
+                    if let Some(slot) = slots.get_mut(li) {
+                        *slot = lane;
+                    }
+                } else {
+                    // At most T terms: never full.
+                    let _ = local.push(lane);
+                }
+                li += 1;
+                setups += 1;
+            }
+            if carrying {
+                slots.get_mut(..li).unwrap_or_default()
+            } else {
+                &mut local
+            }
+        };
         let nl = lanes.len();
-        let mut setups = nl as u64;
         let clear = sink.clears();
 
         let mut i = 0u32;
         // One lane, no quadric, room for the whole span (the caller's slice of values): one walk
         // a cell, straight into the output.
-        if let ([t], 0, true) = (lanes.as_mut_slice(), quad, sink.room(1) >= len as usize) {
+        if let ([t], 0, true) = (&mut *lanes, quad, sink.room(1) >= len as usize) {
             if let Some((out, _)) = sink.slots(len as usize) {
                 let mut j = 0usize;
                 let mut rest = out;
@@ -429,6 +571,7 @@ impl<'m, const T: usize> EvalCore<'m, T> {
                     let (r, tail) = rest.split_at_mut((t.left as usize).min(rest.len()));
                     walk_out::<false, false, true, true>(r, &mut [], fvs, &mut t.v, t.s, &mut q);
                     j += r.len();
+                    t.left -= r.len() as u32;
                     if tail.is_empty() {
                         break;
                     }
@@ -479,6 +622,22 @@ impl<'m, const T: usize> EvalCore<'m, T> {
             i += n as u32;
         }
 
+        // Carried to the next span: every lane's `u0` moved on to the pixel after this span
+        // (only when the whole span was walked).
+        if let Some(c) = carried {
+            let done = i >= len;
+            if done {
+                for t in lanes.iter_mut() {
+                    t.u0 = t.u0.wrapping_add(t.d.wrapping_mul(len as i32));
+                }
+            }
+            *c = Carried {
+                n: if done { nl as u8 } else { 0 },
+                fv,
+                vb,
+            };
+        }
+
         let px = u64::from(len);
         let st = &mut self.stats;
         st.cell_setups += setups;
@@ -488,5 +647,173 @@ impl<'m, const T: usize> EvalCore<'m, T> {
         {
             self.axial_spans += 1;
         }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    extern crate std;
+    use std::vec;
+
+    use super::*;
+    use crate::format::{Amplitude, MatrixEntry};
+    use crate::model::Octaves;
+    use crate::noise::NoiseBasis;
+    use crate::quadric::Quadric;
+    use crate::span::FaceCache;
+    use crate::transform::Affine3;
+
+    fn model(octaves: u8, zoom: u32, amp: f64, hash: HashKind, wrap: TableWrap) -> TextureModel<8> {
+        let mut m: TextureModel<8> = TextureModel::new(Quadric::ZERO, wrap);
+        m.push_octaves(&Octaves {
+            count: octaves,
+            base: Affine3::scale(MatrixEntry::from_num(1u32 << zoom)),
+            amplitude: Amplitude::from_num(amp),
+            rotate: false,
+            basis: NoiseBasis::trilinear(hash),
+            turbulence: false,
+        })
+        .unwrap();
+        m
+    }
+
+    fn opts(mode: EvalMode) -> EvalOptions {
+        EvalOptions {
+            mode,
+            gradients: false,
+            cull: true,
+            ..Default::default()
+        }
+    }
+
+    /// `len` pixels of the row through `s0` with step `ds`, starting `x` pixels in.
+    fn piece(s0: [i32; 3], ds: [i32; 3], x: u16, len: u16) -> Span {
+        let at = |i: usize| s0[i].wrapping_add(ds[i].wrapping_mul(i32::from(x)));
+        Span {
+            s0: TexPoint::from_bits(at(0), at(1), at(2)),
+            ds: TexPoint::from_bits(ds[0], ds[1], ds[2]),
+            dsdy: TexPoint::from_bits(0, 0, 0),
+            len,
+        }
+    }
+
+    proptest::proptest! {
+        #![proptest_config(proptest::prelude::ProptestConfig::with_cases(64))]
+        /// A row cut into pieces of random lengths and evaluated piece after piece through a
+        /// face cache (the lanes carried from piece to piece) gives every piece's values as
+        /// evaluated on its own and by `Direct`, whatever comes in between (a span elsewhere,
+        /// another model through the same cache); and, the pieces being contiguous, it sets up
+        /// as many cells as the whole row in one span (so the lanes were carried, not rebuilt).
+        #[test]
+        fn carried_lanes_are_fresh_lanes(
+            s0 in proptest::array::uniform3(-4_000_000i32..4_000_000),
+            step in 1i32..40_000,
+            negative: bool,
+            axis in 0usize..3,
+            across in 1usize..3,
+            row in -9_000i32..9_000,
+            octaves in 1u8..7,
+            zoom in 0u32..3,
+            cuts in proptest::collection::vec(1u16..40, 1..12),
+            interleave: bool,
+            clamp: bool,
+        ) {
+            let wrap = if clamp { TableWrap::Clamp } else { TableWrap::Mod };
+            let m = model(octaves, zoom, 0.6, HashKind::Integer, wrap);
+            let other_m = model(3, 1, -0.35, HashKind::default(), TableWrap::Mod);
+            let mut ds = [0; 3];
+            let d = step >> (2 * zoom) | 1;
+            ds[axis] = if negative { -d } else { d };
+            let mut c4 = FaceCache::<64>::new();
+            let mut c8 = FaceCache::<64, 8>::new();
+            let mut fd4 = SpanEvaluator::new(&m, opts(EvalMode::Fd));
+            let mut fd8 = SpanEvaluator::new(&m, opts(EvalMode::Fd));
+            let mut plain = SpanEvaluator::new(&m, opts(EvalMode::Fd));
+            let mut direct = SpanEvaluator::new(&m, opts(EvalMode::Direct));
+            let mut other = SpanEvaluator::new(&other_m, opts(EvalMode::Fd));
+            let total: u16 = cuts.iter().sum();
+            for y in 0..3 {
+                let mut s = s0;
+                let o = (axis + across) % 3;
+                s[o] = s[o].wrapping_add(row.wrapping_mul(y));
+                let (before4, before8) = (fd4.stats().cell_setups, fd8.stats().cell_setups);
+                let mut x = 0u16;
+                for (i, &n) in cuts.iter().enumerate() {
+                    let sp = piece(s, ds, x, n);
+                    let k = usize::from(n);
+                    let mut want = vec![TexValue::ZERO; k];
+                    let mut d_ = vec![TexValue::ZERO; k];
+                    plain.eval_values(&sp, &mut want);
+                    direct.eval_values(&sp, &mut d_);
+                    proptest::prop_assert_eq!(&want, &d_);
+                    let (mut a, mut b) = (vec![TexValue::ZERO; k], vec![TexValue::ZERO; k]);
+                    fd4.eval_values_cached(&sp, &mut a, &mut c4);
+                    fd8.eval_values_cached(&sp, &mut b, &mut c8);
+                    proptest::prop_assert_eq!(&a, &want, "row {} piece {}", y, i);
+                    proptest::prop_assert_eq!(&b, &want, "row {} piece {}", y, i);
+                    if interleave && i % 3 == 1 {
+                        // Something else through the same caches in between.
+                        let away = piece([s[0] ^ 0x5_0000, s[1], s[2]], ds, 7, 9);
+                        let mut e = [TexValue::ZERO; 9];
+                        let mut f = [TexValue::ZERO; 9];
+                        other.eval_values_cached(&away, &mut e, &mut c4);
+                        SpanEvaluator::new(&other_m, opts(EvalMode::Direct)).eval_values(&away, &mut f);
+                        proptest::prop_assert_eq!(e, f);
+                        fd8.eval_values_cached(&away, &mut e, &mut c8);
+                        SpanEvaluator::new(&m, opts(EvalMode::Direct)).eval_values(&away, &mut f);
+                        proptest::prop_assert_eq!(e, f);
+                    }
+                    x += n;
+                }
+                if !interleave {
+                    // The whole row in one span sets up the same cells (the lane kernel takes
+                    // the pieces whenever it takes the row).
+                    let mut whole = SpanEvaluator::new(&m, opts(EvalMode::Fd));
+                    let mut w = vec![TexValue::ZERO; usize::from(total)];
+                    whole.eval_values(&piece(s, ds, 0, total), &mut w);
+                    let cells = whole.stats().cell_setups;
+                    if whole.core.axial_spans == 1 && fd8.core.axial_spans > 0 {
+                        proptest::prop_assert_eq!(fd8.stats().cell_setups - before8, cells);
+                        if octaves <= 4 {
+                            proptest::prop_assert_eq!(fd4.stats().cell_setups - before4, cells);
+                        }
+                    }
+                }
+            }
+        }
+    }
+
+    /// With no cache, or one with fewer lane slots than the span has lanes, nothing is carried:
+    /// every piece is set up on its own.
+    #[test]
+    fn lanes_past_the_slots_are_not_carried() {
+        let m = model(6, 0, 0.5, HashKind::Integer, TableWrap::Mod);
+        let ds = [2048, 0, 0];
+        let s0 = [12_345, 67_890, 24_248];
+        let setups = |cache: Option<&mut FaceCache<64>>| {
+            let mut ev = SpanEvaluator::new(&m, opts(EvalMode::Fd));
+            let mut out = [TexValue::ZERO; 16];
+            let mut c = cache;
+            for x in (0..256).step_by(16) {
+                match c.as_deref_mut() {
+                    Some(c) => ev.eval_values_cached(&piece(s0, ds, x, 16), &mut out, c),
+                    None => ev.eval_values(&piece(s0, ds, x, 16), &mut out),
+                };
+            }
+            ev.stats().cell_setups
+        };
+        let alone = setups(None);
+        assert_eq!(setups(Some(&mut FaceCache::new())), alone);
+        let m4 = model(4, 0, 0.5, HashKind::Integer, TableWrap::Mod);
+        let mut ev = SpanEvaluator::new(&m4, opts(EvalMode::Fd));
+        let mut c = FaceCache::<64>::new();
+        let mut out = [TexValue::ZERO; 16];
+        for x in (0..256).step_by(16) {
+            ev.eval_values_cached(&piece(s0, ds, x, 16), &mut out, &mut c);
+        }
+        let mut whole = SpanEvaluator::new(&m4, opts(EvalMode::Fd));
+        whole.eval_values(&piece(s0, ds, 0, 256), &mut [TexValue::ZERO; 256]);
+        assert_eq!(ev.stats().cell_setups, whole.stats().cell_setups);
+        assert!(whole.stats().cell_setups < alone);
     }
 }

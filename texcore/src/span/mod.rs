@@ -72,7 +72,8 @@
 //!   chunk of samples (no merged state, no segment loop);
 //! - `direct`: trilinear terms evaluated per pixel inside the merged loop (one cell set-up per
 //!   cell, then the cell's monomial form, or the face blends of a single-axis term);
-//! - `face_cache` (fast shape only): [`FaceCache`], face blends kept across spans;
+//! - `face_cache` (fast shape only): [`FaceCache`], face blends and the lane kernel's lanes
+//!   kept across spans;
 //! - `rows` (fast shape only; a row at a time otherwise): [`PlaneRows`], the rows of a plane
 //!   with their cell schedule kept across rows (values, gradients, the smooth fade, gradient
 //!   noise's corner gradients);
@@ -93,6 +94,9 @@
 //! its spans through [`SpanEvaluator::eval_plane_values`], [`SpanEvaluator::eval_plane_chunks`]
 //! or [`crate::texture::TextureEvaluator::shade_plane`]: each span's set-up is then a few
 //! products a term instead of the terms' transforms and the band decision (the same values).
+//! Handed over left to right through a [`FaceCache`], the spans of a row also go on from the
+//! cells the span before ended in (`lanes`, "Carried lanes": the lane kernel's state kept in
+//! the cache) instead of setting up every term's cell again.
 
 use crate::bandlimit::{build_spread_width48, term_band, BandLimit};
 use crate::format::{TexPoint, TexValue};
@@ -536,14 +540,18 @@ impl<'m, const T: usize> SpanEvaluator<'m, T> {
     /// and the counters count what was evaluated); the rest of `out` is left as it is. Returns
     /// the span's facts.
     pub fn eval_values(&mut self, span: &Span, out: &mut [TexValue]) -> SpanInfo {
-        self.values_through(span, out, &mut [])
+        self.values_through(span, out, &mut face_cache::Faces::none())
     }
 
     /// [`SpanEvaluator::eval_values`] with the face blends of single-axis trilinear terms kept
     /// in `cache` across calls ([`FaceCache`]): the same values, bit for bit; the rows of an
     /// axis-aligned plane after the first read the faces they share with the rows before
-    /// instead of hashing and blending them again. Spans the lane kernel does not take (and the
-    /// size-lean code shape) do not use the cache.
+    /// instead of hashing and blending them again, and a span that goes on along the row of the
+    /// span before it (the next pixels of the same row, through the same cache) starts from
+    /// the cells that span ended in when the cache has a lane slot for each of its terms
+    /// (`FaceCache<N, L>`, `L` slots). Spans the lane kernel does not take (and the size-lean
+    /// code shape) do not use the cache. The counters count what was done: a span that goes
+    /// on counts only the cells it enters.
     ///
     /// A 64 x 64 field of four octaves of value noise, row by row (8 lattice cells across):
     ///
@@ -594,13 +602,13 @@ impl<'m, const T: usize> SpanEvaluator<'m, T> {
     /// assert_eq!(row, field[5]);
     /// # Ok::<(), texcore::model::ModelError>(())
     /// ```
-    pub fn eval_values_cached<const N: usize>(
+    pub fn eval_values_cached<const N: usize, const L: usize>(
         &mut self,
         span: &Span,
         out: &mut [TexValue],
-        cache: &mut FaceCache<N>,
+        cache: &mut FaceCache<N, L>,
     ) -> SpanInfo {
-        self.values_through(span, out, cache.entries())
+        self.values_through(span, out, &mut cache.parts())
     }
 
     /// [`SpanEvaluator::eval_values`] through the face cache entries `faces` (none: no cache).
@@ -608,7 +616,7 @@ impl<'m, const T: usize> SpanEvaluator<'m, T> {
         &mut self,
         span: &Span,
         out: &mut [TexValue],
-        faces: &mut [face_cache::FaceEntry],
+        faces: &mut face_cache::Faces<'_>,
     ) -> SpanInfo {
         let n = usize::from(span.len).min(out.len());
         let span = Span {
@@ -653,7 +661,7 @@ impl<'m, const T: usize> EvalCore<'m, T> {
         span: &Span,
         from: SetupFrom<'_, '_, T>,
         out: &mut [TexValue],
-        faces: &mut [face_cache::FaceEntry],
+        faces: &mut face_cache::Faces<'_>,
     ) -> SpanInfo {
         // Only the forward-differencing modes can take the lane kernel (fast shape only).
         #[cfg(not(texcore_lean))]
@@ -682,7 +690,7 @@ impl<'m, const T: usize> EvalCore<'m, T> {
         setup: &Setup<T>,
         strategies: &[Strategy; T],
         out: &mut [TexValue],
-        faces: &mut [face_cache::FaceEntry],
+        faces: &mut face_cache::Faces<'_>,
     ) {
         let merged = self.merged_takes(u32::from(len), setup, strategies);
         if merged && self.axial_takes(setup, strategies) {

@@ -336,15 +336,16 @@ impl<'m, const T: usize> SpanEvaluator<'m, T> {
 
     /// [`SpanEvaluator::eval_values_cached`] of the span of `out.len()` pixels at `(x, y)` of
     /// `plane`'s [`SpanPlane`], its terms' set-up taken from `plane`: the same values, facts and
-    /// counters, bit for bit. Nothing is evaluated (and the default facts are returned) when the
-    /// span is not inside the plane's rectangle or is longer than `u16::MAX`.
-    pub fn eval_plane_values<const N: usize>(
+    /// counters (through the same cache), bit for bit. Nothing is evaluated (and the default
+    /// facts are returned) when the span is not inside the plane's rectangle or is longer than
+    /// `u16::MAX`.
+    pub fn eval_plane_values<const N: usize, const L: usize>(
         &mut self,
         plane: &PlaneSetup<'_, T>,
         x: u16,
         y: u16,
         out: &mut [TexValue],
-        faces: &mut FaceCache<N>,
+        faces: &mut FaceCache<N, L>,
     ) -> SpanInfo {
         let Ok(len) = u16::try_from(out.len()) else {
             return SpanInfo::default();
@@ -357,7 +358,7 @@ impl<'m, const T: usize> SpanEvaluator<'m, T> {
         let from = SetupFrom::Plane(plane, x, y);
         let info = self
             .core
-            .eval_values_from(&span, from, out, faces.entries());
+            .eval_values_from(&span, from, out, &mut faces.parts());
         self.core.opts.gradients = grads;
         info
     }

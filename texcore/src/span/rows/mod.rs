@@ -346,7 +346,13 @@ impl<'m, const T: usize> EvalCore<'m, T> {
             };
             if !self.row_schedule(span, &setup, &strategies, state, events, true) {
                 state.used = 0;
-                self.values_planned(span.len, &setup, &strategies, out, &mut []);
+                self.values_planned(
+                    span.len,
+                    &setup,
+                    &strategies,
+                    out,
+                    &mut super::face_cache::Faces::none(),
+                );
                 return info;
             }
             self.run_row(span.len, &setup, state, events, weights, out);
@@ -354,7 +360,12 @@ impl<'m, const T: usize> EvalCore<'m, T> {
         }
         #[cfg(texcore_lean)]
         let _ = weights;
-        self.eval_values_from(span, SetupFrom::Span, out, &mut [])
+        self.eval_values_from(
+            span,
+            SetupFrom::Span,
+            out,
+            &mut super::face_cache::Faces::none(),
+        )
     }
 
     /// A row of [`PlaneRows::next_chunks`]: through the schedule `state` / `events` where it
