@@ -34,6 +34,8 @@ use super::axis::{face_bits, others};
 #[cfg(not(texcore_lean))]
 use super::lanes::{Carried, ValueLane};
 #[cfg(not(texcore_lean))]
+use super::SAMPLE_CHUNK;
+#[cfg(not(texcore_lean))]
 use crate::hash::HashKind;
 
 /// One cached face: its key (`0` when empty) and the blend's `A` and `B`.
@@ -53,9 +55,10 @@ impl FaceEntry {
 }
 
 /// Face blends of single-axis trilinear terms kept across spans (see the module
-/// documentation): `N` entries of 32 bytes, `N` a power of two (checked at compile time), and
-/// the lanes of the last span of up to `L` terms (about 100 bytes a lane; see
-/// [`SpanEvaluator::eval_values_cached`](crate::span::SpanEvaluator::eval_values_cached)).
+/// documentation): `N` entries of 32 bytes, `N` a power of two (checked at compile time), the
+/// lanes of the last span of up to `L` terms (128 bytes a lane; see
+/// [`SpanEvaluator::eval_values_cached`](crate::span::SpanEvaluator::eval_values_cached)) and the
+/// lane kernel's accumulators for a short span (128 bytes, so that no span clears its own).
 ///
 /// Give one to [`SpanEvaluator::eval_values_cached`](crate::span::SpanEvaluator::eval_values_cached) for the rows of a plane: from the second
 /// row on, every face the rows share is read back instead of hashed and blended again, and a
@@ -71,6 +74,9 @@ pub struct FaceCache<const N: usize, const L: usize = 4> {
     lanes: [ValueLane; L],
     #[cfg(not(texcore_lean))]
     carried: Carried,
+    /// The lane kernel's accumulators for a short span (written before they are read).
+    #[cfg(not(texcore_lean))]
+    acc: [i64; SAMPLE_CHUNK],
 }
 
 /// The parts of a face cache as the kernels take them (`entries` empty and no lanes: no
@@ -83,6 +89,9 @@ pub(super) struct Faces<'a> {
     pub(super) lanes: &'a mut [ValueLane],
     #[cfg(not(texcore_lean))]
     pub(super) carried: Option<&'a mut Carried>,
+    /// Accumulators for the lane kernel's short spans (any contents; empty: none).
+    #[cfg(not(texcore_lean))]
+    pub(super) acc: &'a mut [i64],
 }
 
 impl Faces<'_> {
@@ -94,6 +103,8 @@ impl Faces<'_> {
             lanes: &mut [],
             #[cfg(not(texcore_lean))]
             carried: None,
+            #[cfg(not(texcore_lean))]
+            acc: &mut [],
         }
     }
 }
@@ -114,6 +125,8 @@ impl<const N: usize, const L: usize> FaceCache<N, L> {
             lanes: [ValueLane::IDLE; L],
             #[cfg(not(texcore_lean))]
             carried: Carried::NONE,
+            #[cfg(not(texcore_lean))]
+            acc: [0; SAMPLE_CHUNK],
         }
     }
 
@@ -137,6 +150,8 @@ impl<const N: usize, const L: usize> FaceCache<N, L> {
             lanes: &mut self.lanes,
             #[cfg(not(texcore_lean))]
             carried: Some(&mut self.carried),
+            #[cfg(not(texcore_lean))]
+            acc: &mut self.acc,
         }
     }
 }

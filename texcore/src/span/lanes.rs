@@ -51,6 +51,10 @@ pub(super) struct ValueLane {
     /// The lattice coordinate along `k` at pixel 0 of the span, and its step a pixel.
     u0: i32,
     d: i32,
+    /// The term's set-up the lane was made for: its lattice point at pixel 0 (moved on to the
+    /// pixel after the span once the span is walked) and its lattice step.
+    at: [i32; 3],
+    du: [i32; 3],
     /// The current cell and fractions (the two axes other than `k` never change).
     cell: [u16; 3],
     frac: [u32; 3],
@@ -76,13 +80,13 @@ impl Carried {
     pub(super) const NONE: Carried = Carried { n: 0, fv: 0, vb: 0 };
 
     /// Whether the carried `lanes` are the lanes of a span set up as `setup` (with
-    /// `strategies`, for `model`): for every term in order, the same moving axis and step, the
-    /// same lattice point at pixel 0 (the lane's `u0` moved on to the pixel after its span),
-    /// the same cell and fractions on the two other axes, hash and amplitude, and the same
-    /// noise fraction bits and value precision. A lane's state (`v`, `s`, `left`, the cell and
-    /// its blends, the cache key) is a function of these alone, so such a lane is the fresh
-    /// one, except when it has walked to the end of its cell (`left = 0`): the caller then
-    /// moves it into the next cell.
+    /// `strategies`, for `model`): for every active term in order, the same lattice point at
+    /// pixel 0 (the lane's `at`, moved on to the pixel after its span), lattice step,
+    /// amplitude and hash, and the same noise fraction bits and value precision. A lane's
+    /// state (moving axis, `v`, `s`, `left`, the cell and its blends, the cache key) is a
+    /// function of these alone (the cache key's share too: the steps of all the lanes), so
+    /// such a lane is the fresh one, except when it has walked to the end of its cell
+    /// (`left = 0`): the caller then moves it into the next cell.
     #[inline(always)]
     fn resumes<const T: usize>(
         &self,
@@ -101,23 +105,19 @@ impl Carried {
             if *st == Strategy::Off {
                 continue;
             }
-            let (Some(k), Some(t)) = (single_axis(ts.du), lanes.next()) else {
+            let Some(t) = lanes.next() else {
                 return false;
             };
-            let k = k.min(2);
-            let (a, c) = others(k);
-            let other = |i: usize| {
-                let u = (u32::from(t.cell[i]) << 16) | t.frac[i];
-                ts.u0.get(i).is_some_and(|&w| w as u32 == u)
-            };
-            if t.k != k
-                || t.d != ts.du[k]
-                || t.u0 != ts.u0[k]
-                || t.amp != ts.amp
-                || t.hash != term.basis.hash
-                || !other(a)
-                || !other(c)
-            {
+            // Word by word (an array comparison is a library call on the devices).
+            let (u, d) = (&ts.u0, &ts.du);
+            let differ = (u[0] ^ t.at[0])
+                | (u[1] ^ t.at[1])
+                | (u[2] ^ t.at[2])
+                | (d[0] ^ t.du[0])
+                | (d[1] ^ t.du[1])
+                | (d[2] ^ t.du[2])
+                | (ts.amp ^ t.amp);
+            if differ != 0 || t.hash != term.basis.hash {
                 return false;
             }
         }
@@ -188,6 +188,8 @@ impl ValueLane {
         k: 0,
         u0: 0,
         d: 0,
+        at: [0; 3],
+        du: [0; 3],
         cell: [0; 3],
         frac: [0; 3],
         phi: [0; 2],
@@ -474,6 +476,7 @@ impl<'m, const T: usize> EvalCore<'m, T> {
             entries: faces,
             lanes: slots,
             carried,
+            ..
         } = faces;
         // The lanes live in the cache's slots when it has room for them all (and are then
         // carried to the next span), otherwise here.
@@ -533,6 +536,8 @@ impl<'m, const T: usize> EvalCore<'m, T> {
                     k,
                     u0: ts.u0[k],
                     d,
+                    at: ts.u0,
+                    du: ts.du,
                     cell,
                     frac,
                     phi,
@@ -629,6 +634,9 @@ impl<'m, const T: usize> EvalCore<'m, T> {
             if done {
                 for t in lanes.iter_mut() {
                     t.u0 = t.u0.wrapping_add(t.d.wrapping_mul(len as i32));
+                    for (a, d) in t.at.iter_mut().zip(t.du) {
+                        *a = a.wrapping_add(d.wrapping_mul(len as i32));
+                    }
                 }
             }
             *c = Carried {

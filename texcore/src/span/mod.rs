@@ -697,12 +697,17 @@ impl<'m, const T: usize> EvalCore<'m, T> {
             // Accumulators only for several lanes, no longer than the span needs (each array
             // is cleared only on its own branch).
             let lanes = strategies.iter().filter(|s| **s != Strategy::Off).count();
+            // A short span's accumulators from the face cache when it has them (no array
+            // cleared a span: the first lane writes them before any is read).
+            let cached = core::mem::take(&mut faces.acc);
             let mut go = |acc: &mut [i64]| {
                 let mut values = lanes::LaneOut::Values(lanes::ValuesOut::new(out, acc));
                 self.run_lanes(len, setup, strategies, &mut values, faces);
             };
             if lanes <= 1 {
                 go(&mut []);
+            } else if usize::from(len) <= cached.len() {
+                go(cached);
             } else if len <= SAMPLE_CHUNK as u16 {
                 go(&mut [0i64; SAMPLE_CHUNK]);
             } else {
