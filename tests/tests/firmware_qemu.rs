@@ -575,7 +575,7 @@ fn peers_bound(target: DeviceTarget, workload: &str) -> u64 {
         "value-1oct" => (13, 20),
         "value-4oct" => (78, 86),
         "value-4oct-grad" => (151, 169),
-        "value-4oct-span16" => (293, 330),
+        "value-4oct-span16" => (279, 326),
         "value-1oct-direct" => (44, 54),
         "smooth-1oct" => (21, 27),
         "perlin-1oct" => (684, 1093),

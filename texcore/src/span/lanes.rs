@@ -161,6 +161,9 @@ fn lane_phi(
     fv: u32,
     vb: u32,
 ) -> i64 {
+    if faces.is_empty() {
+        return face_phi(k, hash, cell, frac, b, amp, fv, vb);
+    }
     match cached_phi(faces, key, k, hash, cell, b, amp, fv, vb) {
         Some(phi) => phi,
         None => face_phi(k, hash, cell, frac, b, amp, fv, vb),
@@ -203,6 +206,13 @@ impl ValueLane {
     fn blend(&self, b: usize, fv: u32, vb: u32, faces: &mut [FaceEntry]) -> i64 {
         let (k, h, c, f, a) = (self.k, self.hash, self.cell, self.frac, self.amp);
         lane_phi(faces, &self.key, k, h, c, f, b, a, fv, vb)
+    }
+
+    /// The cell event at the span's pixel 0 (a carried lane that ended on its cell's last
+    /// pixel); out of line: rare, and one copy of the event fewer in the kernel.
+    #[inline(never)]
+    fn enter_next(&mut self, fv: u32, vb: u32, faces: &mut [FaceEntry]) {
+        self.event(0, fv, vb, faces);
     }
 
     /// The cell event at span pixel `i`: into the next cell along `k` (the shared face kept).
@@ -430,7 +440,7 @@ impl<'m, const T: usize> EvalCore<'m, T> {
         strategies: &[Strategy; T],
         sink: &mut ChunkSink<'_, '_>,
     ) {
-        self.run_lanes(
+        self.run_lanes::<false>(
             len,
             setup,
             strategies,
@@ -452,11 +462,73 @@ impl<'m, const T: usize> EvalCore<'m, T> {
     }
 }
 
+/// The walk of a span's `lanes` over `len` pixels into `sink` (the quadric stepped from `q`,
+/// `quad` its kind: 0 zero, 1 affine, 2 curved), each lane's cell events through `faces`.
+/// Returns the pixels walked and the cell events. Out of line: one copy for the kernel with a
+/// cache and the one without.
+#[allow(clippy::too_many_arguments)]
+#[inline(never)]
+fn walk_lanes(
+    lanes: &mut [ValueLane],
+    len: u32,
+    mut q: [i64; 3],
+    quad: u8,
+    fv: u32,
+    vb: u32,
+    sink: &mut LaneOut<'_, '_, '_>,
+    faces: &mut [FaceEntry],
+) -> (u32, u64) {
+    let nl = lanes.len();
+    let fvs = fv & 31;
+    let mut events = 0u64;
+    let clear = sink.clears();
+    let mut i = 0u32;
+    while i < len {
+        let n = ((len - i) as usize).min(sink.room(nl));
+        // A chunk's accumulators are its gradient slots, zero without gradients: they are
+        // zeroed again as they are read, before the chunk is handed over.
+        let Some((out, acc)) = sink.slots(n) else {
+            break;
+        };
+        if n == 0 {
+            break;
+        }
+        for (li, t) in lanes.iter_mut().enumerate() {
+            let role = match (li == 0, li + 1 == nl) {
+                (true, true) => Role::Only,
+                (true, false) => Role::First,
+                (false, true) => Role::Last,
+                (false, false) => Role::Add,
+            };
+            let mut j = 0usize;
+            loop {
+                let run = (n - j).min(t.left as usize);
+                if let Some(o) = out.get_mut(j..j + run) {
+                    let a = acc.get_mut(j..j + run).unwrap_or_default();
+                    walk(clear, role, quad, a, o, fvs, &mut t.v, t.s, &mut q);
+                }
+                j += run;
+                t.left -= run as u32;
+                if t.left == 0 && i + (j as u32) < len {
+                    t.event(i + j as u32, fv, vb, faces);
+                    events += 1;
+                }
+                if j >= n {
+                    break;
+                }
+            }
+        }
+        sink.advance(n);
+        i += n as u32;
+    }
+    (i, events)
+}
+
 impl<'m, const T: usize> EvalCore<'m, T> {
     /// The axial kernel without gradients, lane by lane (see the module documentation); the
     /// span must have been accepted by `merged_takes` and `axial_takes`.
     #[inline(never)]
-    pub(super) fn run_lanes(
+    pub(super) fn run_lanes<const CACHE: bool>(
         &mut self,
         len: u16,
         setup: &Setup<T>,
@@ -466,23 +538,29 @@ impl<'m, const T: usize> EvalCore<'m, T> {
     ) {
         let m = self.model;
         let fv = m.noise_frac_bits();
-        let fvs = fv & 31;
         let vb = m.precision().value_bits();
         let len = u32::from(len);
         // 0: zero quadric, 1: affine, 2: curved.
-        let (mut q, quad) = QuadStep::value_kind(setup);
+        let q = QuadStep::value_kind(setup);
 
         let Faces {
-            entries: faces,
+            entries,
             lanes: slots,
             carried,
             ..
         } = faces;
+        // Without a cache (`CACHE` false: the chunk path) the set-up is compiled for empty
+        // entries and no lane slots (no look-ups, no shares, no carrying).
+        let (faces, slots, carried): (&mut [FaceEntry], &mut [ValueLane], _) = if CACHE {
+            (entries, slots, carried.as_deref_mut())
+        } else {
+            (&mut [], &mut [], None)
+        };
         // The lanes live in the cache's slots when it has room for them all (and are then
         // carried to the next span), otherwise here.
         let nl = strategies.iter().filter(|st| **st != Strategy::Off).count();
         let mut local: heapless::Vec<ValueLane, T> = heapless::Vec::new();
-        let (slots, carried) = match (slots.get_mut(..nl), carried.as_deref_mut()) {
+        let (slots, carried) = match (slots.get_mut(..nl), carried) {
             (Some(sl), Some(c)) => (sl, Some(c)),
             _ => (&mut [][..], None),
         };
@@ -494,20 +572,25 @@ impl<'m, const T: usize> EvalCore<'m, T> {
             // The span goes on from where the last one ended: each lane is in the state a
             // fresh one would be in, but for a cell it has yet to enter.
             for t in slots.iter_mut().filter(|t| t.left == 0) {
-                t.event(0, fv, vb, faces);
+                t.enter_next(fv, vb, faces);
                 setups += 1;
             }
             slots
         } else {
             let carrying = carried.is_some();
             // The face cache's shares: in proportion to the terms' steps ([`FaceKey::share`]).
-            let steps: u64 = strategies
-                .iter()
-                .zip(setup.terms.iter())
-                .filter(|(st, _)| **st != Strategy::Off)
-                .filter_map(|(_, ts)| single_axis(ts.du).map(|k| ts.du[k.min(2)]))
-                .map(|d| u64::from(d.unsigned_abs()))
-                .sum();
+            // (Without a cache every share is 1: no sum.)
+            let steps: u64 = if faces.is_empty() {
+                0
+            } else {
+                strategies
+                    .iter()
+                    .zip(setup.terms.iter())
+                    .filter(|(st, _)| **st != Strategy::Off)
+                    .filter_map(|(_, ts)| single_axis(ts.du).map(|k| ts.du[k.min(2)]))
+                    .map(|d| u64::from(d.unsigned_abs()))
+                    .sum()
+            };
             let mut base = 0usize;
             let mut li = 0usize;
             for ((term, st), ts) in m.terms().iter().zip(strategies).zip(setup.terms.iter()) {
@@ -563,18 +646,19 @@ impl<'m, const T: usize> EvalCore<'m, T> {
             }
         };
         let nl = lanes.len();
-        let clear = sink.clears();
-
-        let mut i = 0u32;
-        // One lane, no quadric, room for the whole span (the caller's slice of values): one walk
-        // a cell, straight into the output.
-        if let ([t], 0, true) = (&mut *lanes, quad, sink.room(1) >= len as usize) {
+        // One lane, no quadric, room for the whole span (the caller's slice of values or a
+        // chunk): one walk a cell, straight into the output (inline in each kernel: the
+        // spans of one octave); any other span through the shared walk.
+        let mut one = None;
+        if let ([t], 0, true) = (&mut *lanes, q.1, sink.room(1) >= len as usize) {
             if let Some((out, _)) = sink.slots(len as usize) {
+                let fvs = fv & 31;
+                let mut qs = q.0;
                 let mut j = 0usize;
                 let mut rest = out;
                 loop {
                     let (r, tail) = rest.split_at_mut((t.left as usize).min(rest.len()));
-                    walk_out::<false, false, true, true>(r, &mut [], fvs, &mut t.v, t.s, &mut q);
+                    walk_out::<false, false, true, true>(r, &mut [], fvs, &mut t.v, t.s, &mut qs);
                     j += r.len();
                     t.left -= r.len() as u32;
                     if tail.is_empty() {
@@ -585,47 +669,19 @@ impl<'m, const T: usize> EvalCore<'m, T> {
                     setups += 1;
                 }
                 sink.advance(len as usize);
-                i = len;
+                one = Some(len);
             }
         }
-        while i < len {
-            let n = ((len - i) as usize).min(sink.room(nl));
-            // A chunk's accumulators are its gradient slots, zero without gradients: they are
-            // zeroed again as they are read, before the chunk is handed over.
-            let Some((out, acc)) = sink.slots(n) else {
-                break;
-            };
-            if n == 0 {
-                break;
+        let i = match one {
+            Some(i) => i,
+            None => {
+                // The faces hidden from the optimiser: one copy of the walk for both kernels.
+                let faces = core::hint::black_box(&mut *faces);
+                let (i, events) = walk_lanes(lanes, len, q.0, q.1, fv, vb, sink, faces);
+                setups += events;
+                i
             }
-            for (li, t) in lanes.iter_mut().enumerate() {
-                let role = match (li == 0, li + 1 == nl) {
-                    (true, true) => Role::Only,
-                    (true, false) => Role::First,
-                    (false, true) => Role::Last,
-                    (false, false) => Role::Add,
-                };
-                let mut j = 0usize;
-                loop {
-                    let run = (n - j).min(t.left as usize);
-                    if let Some(o) = out.get_mut(j..j + run) {
-                        let a = acc.get_mut(j..j + run).unwrap_or_default();
-                        walk(clear, role, quad, a, o, fvs, &mut t.v, t.s, &mut q);
-                    }
-                    j += run;
-                    t.left -= run as u32;
-                    if t.left == 0 && i + (j as u32) < len {
-                        t.event(i + j as u32, fv, vb, faces);
-                        setups += 1;
-                    }
-                    if j >= n {
-                        break;
-                    }
-                }
-            }
-            sink.advance(n);
-            i += n as u32;
-        }
+        };
 
         // Carried to the next span: every lane's `u0` moved on to the pixel after this span
         // (only when the whole span was walked).

@@ -702,7 +702,7 @@ impl<'m, const T: usize> EvalCore<'m, T> {
             let cached = core::mem::take(&mut faces.acc);
             let mut go = |acc: &mut [i64]| {
                 let mut values = lanes::LaneOut::Values(lanes::ValuesOut::new(out, acc));
-                self.run_lanes(len, setup, strategies, &mut values, faces);
+                self.run_lanes::<true>(len, setup, strategies, &mut values, faces);
             };
             if lanes <= 1 {
                 go(&mut []);
