@@ -570,7 +570,8 @@ fn peers_bound(target: DeviceTarget, workload: &str) -> u64 {
     // (Cortex-M4F, rv32imc); measured in the job-suite firmware (fourteenth round, the row
     // schedule of `texcore::span::PlaneRows` for the whole-row workloads) at 11.6 / 18.2,
     // 70.4 / 79.4, 134.4 / 155.0, 325.8 / 379.7, 39.2 / 48.4, 17.7 / 25.5 and 621.1 / 993.1;
-    // the 16-pixel spans through the plane set-up (twenty-fifth round) at 284.9 / 327.7.
+    // the 16-pixel spans through the plane set-up (twenty-fifth round) at 284.9 / 327.7, with
+    // their lanes carried from span to span (twenty-sixth round) at 253.3 / 295.8.
     let (m4f, rv) = match workload {
         "value-1oct" => (13, 20),
         "value-4oct" => (78, 86),
