@@ -442,17 +442,31 @@ impl<'m, const T: usize> EvalCore<'m, T> {
             .wrapping_add(mul_u32(k[5], y * y));
         let c1 = linear(&pq.dqh, x, y).wrapping_mul(2);
         let c2 = pq.dqh[1];
+        let (gqx, gqy) = if grads {
+            (
+                [c1, c2.wrapping_mul(2)],
+                [
+                    linear(&pq.eqh, x, y).wrapping_mul(2),
+                    pq.eqh[1].wrapping_mul(2),
+                ],
+            )
+        } else {
+            ([0; 2], [0; 2])
+        };
+        // Written whole (not a zero quadric written and then overwritten: a 120-byte clear a
+        // span).
+        let q = QuadSetup {
+            quad: QuadraticSpan { c: [c0, c1, c2] },
+            gqx,
+            gqy,
+        };
         #[cfg(not(texcore_lean))]
-        let q = out.quadric.insert(ZERO_QUAD);
+        {
+            out.quadric = Some(q);
+        }
         #[cfg(texcore_lean)]
-        let q = &mut out.quadric;
-        q.quad = QuadraticSpan { c: [c0, c1, c2] };
-        if grads {
-            q.gqx = [c1, c2.wrapping_mul(2)];
-            q.gqy = [
-                linear(&pq.eqh, x, y).wrapping_mul(2),
-                pq.eqh[1].wrapping_mul(2),
-            ];
+        {
+            out.quadric = q;
         }
     }
 
