@@ -193,8 +193,10 @@ pub(super) fn linear_sub(sum: &mut Cubic, c: &CubicPoly, l: u32, grads: bool) {
 /// The face blends of a single-axis term's current cell, kept across its cell events.
 #[derive(Clone, Copy, Debug, Default)]
 pub(super) struct AxisFaces {
-    /// Cell the faces belong to (`None`: none yet).
-    cell: Option<[u16; 3]>,
+    /// Cell the faces belong to (when `known`; not an `Option`: with every byte defined a new
+    /// set of faces is a plain clear, not a copy of undefined bytes through `memcpy`).
+    cell: [u16; 3],
+    known: bool,
     faces: [Face; 2],
 }
 
@@ -232,9 +234,10 @@ impl AxisFaces {
         face_of: impl Fn([u16; 3], usize) -> [i32; 4],
     ) {
         let k = k.min(2); // always 0..=2: lets the compiler drop the bounds checks
-        let step = match self.cell {
-            Some(prev) if same_but(prev, cell, k) => cell[k].wrapping_sub(prev[k]),
-            _ => 0,
+        let step = if self.known && same_but(self.cell, cell, k) {
+            cell[k].wrapping_sub(self.cell[k])
+        } else {
+            0
         };
         let blend = |b: usize| face(&face_of(cell, b), k, frac, dy, grads);
         // A step of +1 along k: the old face 1 is the new face 0, and -1 the reverse.
@@ -243,7 +246,8 @@ impl AxisFaces {
             0xFFFF => [blend(0), self.faces[0]],
             _ => [blend(0), blend(1)],
         };
-        self.cell = Some(cell);
+        self.cell = cell;
+        self.known = true;
     }
 
     /// The term's value at fraction `fk` along the moving axis of the current cell:

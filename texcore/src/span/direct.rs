@@ -14,8 +14,10 @@ pub(super) struct DirectTerm {
     pub(super) u: [i32; 3],
     pub(super) du: [i32; 3],
     pub(super) dy: [i32; 3],
-    /// The cell `poly` belongs to (`None` before the first pixel).
-    pub(super) cell: Option<[u16; 3]>,
+    /// The cell `poly` belongs to, once `entered` (not an `Option`: with every byte defined the
+    /// term's set-up stores no undefined bytes, which the compiler copied through `memcpy`).
+    pub(super) cell: [u16; 3],
+    pub(super) entered: bool,
     pub(super) poly: CellPoly,
     pub(super) along: CellDirection,
     pub(super) across: CellDirection,
@@ -38,12 +40,13 @@ impl DirectTerm {
         let (cell, frac) = split(self.u);
         if let Some(k) = self.axis {
             let k = k.min(2); // always 0..=2: lets the compiler drop the bounds checks
-            if self.cell != Some(cell) {
+            if !self.entered || self.cell != cell {
                 let (hash, amp) = (self.hash, self.amp);
                 self.faces.blend(cell, frac, k, self.dy, false, |c, b| {
                     face_bits(k, hash, c, b, amp, fv, vb)
                 });
-                self.cell = Some(cell);
+                self.cell = cell;
+                self.entered = true;
             }
             let mut p = self.faces.value_at(frac[k]);
             if self.turbulence && ((p < 0) != self.neg) {
@@ -56,14 +59,15 @@ impl DirectTerm {
             ];
             return (p, 0, 0);
         }
-        if self.cell != Some(cell) {
+        if !self.entered || self.cell != cell {
             let v = scaled_corners_bits(self.hash, cell, self.amp, fv, vb);
             self.poly = CellPoly::new(&v);
             if self.grads {
                 self.along = self.poly.direction(self.du);
                 self.across = self.poly.direction(self.dy);
             }
-            self.cell = Some(cell);
+            self.cell = cell;
+            self.entered = true;
         }
         let mut p = self.poly.value(frac);
         let (mut a, mut b) = if self.grads {

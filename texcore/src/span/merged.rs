@@ -145,7 +145,8 @@ impl<'m, const T: usize> EvalCore<'m, T> {
                     let _ = direct.push(DirectTerm {
                         u: ts.u0,
                         du: ts.du,
-                        cell: None,
+                        cell: [0; 3],
+                        entered: false,
                         poly: CellPoly::default(),
                         along: CellDirection::default(),
                         across: CellDirection::default(),
