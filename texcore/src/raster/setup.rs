@@ -630,7 +630,11 @@ impl TriangleSetup {
             Ok(pre) => pre,
             Err(e) => return Err(*e),
         };
-        pre.complete(&mut Counters::default());
+        // Completed without counters (a zeroed `Counters` a triangle only to be dropped).
+        if !pre.done {
+            pre.fill_interp();
+            pre.done = true;
+        }
         Ok(pre.setup)
     }
 
