@@ -208,11 +208,11 @@ impl ValueLane {
         lane_phi(faces, &self.key, k, h, c, f, b, a, fv, vb)
     }
 
-    /// The cell event at the span's pixel 0 (a carried lane that ended on its cell's last
-    /// pixel); out of line: rare, and one copy of the event fewer in the kernel.
+    /// [`ValueLane::event`] out of line: for the events of one-lane spans and of carried lanes
+    /// that ended on their cell's last pixel (one copy; the shared walk keeps its own inline).
     #[inline(never)]
-    fn enter_next(&mut self, fv: u32, vb: u32, faces: &mut [FaceEntry]) {
-        self.event(0, fv, vb, faces);
+    fn event_apart(&mut self, i: u32, fv: u32, vb: u32, faces: &mut [FaceEntry]) {
+        self.event(i, fv, vb, faces);
     }
 
     /// The cell event at span pixel `i`: into the next cell along `k` (the shared face kept).
@@ -570,9 +570,10 @@ impl<'m, const T: usize> EvalCore<'m, T> {
             .is_some_and(|c| c.resumes(slots, m, strategies, setup, fv, vb));
         let lanes: &mut [ValueLane] = if resumed {
             // The span goes on from where the last one ended: each lane is in the state a
-            // fresh one would be in, but for a cell it has yet to enter.
+            // fresh one would be in, but for a cell it has yet to enter (`left = 0`: that
+            // lane's cell event at pixel 0).
             for t in slots.iter_mut().filter(|t| t.left == 0) {
-                t.enter_next(fv, vb, faces);
+                t.event_apart(0, fv, vb, faces);
                 setups += 1;
             }
             slots
@@ -646,11 +647,14 @@ impl<'m, const T: usize> EvalCore<'m, T> {
             }
         };
         let nl = lanes.len();
-        // One lane, no quadric, room for the whole span (the caller's slice of values or a
-        // chunk): one walk a cell, straight into the output (inline in each kernel: the
-        // spans of one octave); any other span through the shared walk.
+        // One lane, room for the whole span (the caller's slice of values or a chunk): one walk
+        // a cell, straight into the output (inline in each kernel: the spans of one octave);
+        // any other span through the shared walk. Without a quadric, or (without a cache: the
+        // chunk path's shading) with an affine one; more forms would not fit the Cortex-M4F
+        // job-suite firmware's flash.
         let mut one = None;
-        if let ([t], 0, true) = (&mut *lanes, q.1, sink.room(1) >= len as usize) {
+        let inline = q.1 == 0 || (!CACHE && q.1 == 1);
+        if let ([t], true, true) = (&mut *lanes, inline, sink.room(1) >= len as usize) {
             if let Some((out, _)) = sink.slots(len as usize) {
                 let fvs = fv & 31;
                 let mut qs = q.0;
@@ -658,14 +662,31 @@ impl<'m, const T: usize> EvalCore<'m, T> {
                 let mut rest = out;
                 loop {
                     let (r, tail) = rest.split_at_mut((t.left as usize).min(rest.len()));
-                    walk_out::<false, false, true, true>(r, &mut [], fvs, &mut t.v, t.s, &mut qs);
+                    match q.1 {
+                        0 => walk_out::<false, false, true, true>(
+                            r,
+                            &mut [],
+                            fvs,
+                            &mut t.v,
+                            t.s,
+                            &mut qs,
+                        ),
+                        _ => walk_out::<false, false, false, true>(
+                            r,
+                            &mut [],
+                            fvs,
+                            &mut t.v,
+                            t.s,
+                            &mut qs,
+                        ),
+                    }
                     j += r.len();
                     t.left -= r.len() as u32;
                     if tail.is_empty() {
                         break;
                     }
                     rest = tail;
-                    t.event(j as u32, fv, vb, faces);
+                    t.event_apart(j as u32, fv, vb, faces);
                     setups += 1;
                 }
                 sink.advance(len as usize);
