@@ -516,12 +516,21 @@ impl Prepared {
     /// The complete set-up, computing the texture interpolation on the first call.
     /// Counts it in `ctr.texture_setups`.
     pub(crate) fn complete(&mut self, ctr: &mut Counters) -> &TriangleSetup {
-        if !self.done {
-            self.fill_interp();
-            self.done = true;
+        if self.fill_once() {
             ctr.texture_setups = ctr.texture_setups.wrapping_add(1);
         }
         &self.setup
+    }
+
+    /// Computes the texture interpolation unless it is done; whether it computed it.
+    #[inline(always)]
+    fn fill_once(&mut self) -> bool {
+        if self.done {
+            return false;
+        }
+        self.fill_interp();
+        self.done = true;
+        true
     }
 
     /// Computes the texture interpolation (affine or perspective planes) into the set-up, plane
@@ -631,10 +640,7 @@ impl TriangleSetup {
             Err(e) => return Err(*e),
         };
         // Completed without counters (a zeroed `Counters` a triangle only to be dropped).
-        if !pre.done {
-            pre.fill_interp();
-            pre.done = true;
-        }
+        pre.fill_once();
         Ok(pre.setup)
     }
 
