@@ -577,19 +577,7 @@ mod tests {
             clamp: bool,
         ) {
             let wrap = if clamp { TableWrap::Clamp } else { TableWrap::Mod };
-            let model = |amp: f64, hash| {
-                let mut m: TextureModel<8> = TextureModel::new(Quadric::ZERO, wrap);
-                m.push_octaves(&Octaves {
-                    count: octaves,
-                    base: Affine3::scale(MatrixEntry::from_num(1u32 << zoom)),
-                    amplitude: Amplitude::from_num(amp),
-                    rotate: false,
-                    basis: NoiseBasis::trilinear(hash),
-                    turbulence: false,
-                })
-                .unwrap();
-                m
-            };
+            let model = |amp: f64, hash| super::super::lanes::tests::model(octaves, zoom, amp, hash, wrap);
             let (m1, m2) = (model(0.6, HashKind::Integer), model(-0.35, HashKind::default()));
             let other = (axis + across) % 3;
             let mut ds = [0; 3];

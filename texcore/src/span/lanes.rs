@@ -736,7 +736,7 @@ impl<'m, const T: usize> EvalCore<'m, T> {
 }
 
 #[cfg(test)]
-mod tests {
+pub(super) mod tests {
     extern crate std;
     use std::vec;
 
@@ -748,7 +748,15 @@ mod tests {
     use crate::span::FaceCache;
     use crate::transform::Affine3;
 
-    fn model(octaves: u8, zoom: u32, amp: f64, hash: HashKind, wrap: TableWrap) -> TextureModel<8> {
+    /// `octaves` trilinear value-noise octaves scaled by `2^zoom` (no rotation, no quadric), of
+    /// amplitude `amp` and `hash`: the single-axis models of the lane and axial kernels' tests.
+    pub(in crate::span) fn model(
+        octaves: u8,
+        zoom: u32,
+        amp: f64,
+        hash: HashKind,
+        wrap: TableWrap,
+    ) -> TextureModel<8> {
         let mut m: TextureModel<8> = TextureModel::new(Quadric::ZERO, wrap);
         m.push_octaves(&Octaves {
             count: octaves,
