@@ -130,7 +130,7 @@ pub use face_cache::FaceCache;
 pub use plan::AUTO_FD_PIXELS;
 pub(crate) use plan::GRADIENTS;
 pub use plane::{PlaneSetup, SpanPlane, SpanPlaneError};
-pub use rows::{PlaneRows, RowCache};
+pub use rows::{PlaneRows, PlaneSpans, RowCache};
 pub(crate) use setup::{Setup, TermSetup};
 
 use axis::*;

@@ -283,6 +283,27 @@ impl<const T: usize> PlaneSetup<'_, T> {
     pub fn plane(&self) -> &SpanPlane {
         &self.plane
     }
+
+    /// Whether `core` takes its spans' set-up from this plane (its model and band-limiting
+    /// setting: `plane_setup_of`'s test).
+    pub(super) fn serves(&self, core: &EvalCore<'_, T>) -> bool {
+        core::ptr::eq(self.model, core.model) && self.band.as_ref() == core.opts.band()
+    }
+
+    /// Whether every active term's step along a span is a whole number of the lattice's raw
+    /// 16.16 units (`M ds` has no bits below the rounding): then the set-up of span `(x, y)`
+    /// is that of span `(0, y)` moved on by `x` pixels (`u0 + x du`, wrapping), for every `x`.
+    pub(super) fn whole_steps(&self) -> bool {
+        self.terms
+            .iter()
+            .all(|t| !t.setup.active || t.along.iter().all(|a| a & 0xFFFF == 0))
+    }
+
+    /// The band-limiting counters of every span of the plane (terms culled, faded) and its
+    /// extra filter width.
+    pub(super) fn span_facts(&self) -> (u8, u8, i64) {
+        (self.culled, self.faded, self.extra_width48)
+    }
 }
 
 impl<'m, const T: usize> SpanEvaluator<'m, T> {

@@ -46,12 +46,15 @@ mod fused;
 mod gradient;
 #[cfg(not(texcore_lean))]
 mod schedule;
+mod spans;
 #[cfg(not(texcore_lean))]
 mod walk;
 #[cfg(not(texcore_lean))]
 use schedule::*;
 #[cfg(not(texcore_lean))]
 use walk::*;
+
+pub use spans::PlaneSpans;
 
 /// One entry of a row schedule: at pixel `at`, term `lane` enters a new cell, and the row's
 /// value and slope change by `dv[0] + dv[1] f_m` and `ds[0] + ds[1] f_m` (`f_m` that term's
@@ -340,12 +343,12 @@ impl<'m, const T: usize> EvalCore<'m, T> {
         #[cfg(not(texcore_lean))]
         if FD && !self.lean() && !self.multipass() {
             let mut setup = Setup::empty();
-            let (info, strategies) = self.begin_planned(span, SetupFrom::Span, &mut setup);
+            let (info, strategies, served) =
+                self.row_begin(span, SetupFrom::Span, &mut setup, state, events, true);
             let Some(strategies) = strategies else {
                 return info;
             };
-            if !self.row_schedule(span, &setup, &strategies, state, events, true) {
-                state.used = 0;
+            if !served {
                 self.values_planned(
                     span.len,
                     &setup,
@@ -366,6 +369,32 @@ impl<'m, const T: usize> EvalCore<'m, T> {
             out,
             &mut super::face_cache::Faces::none(),
         )
+    }
+
+    /// The set-up of the row `span` (from `from`) into `setup` (empty), its plan, and whether
+    /// the schedule `state` / `events` serves it (`row_schedule`; `smooth` as there). A row it
+    /// does not serve leaves no entries in use. Out of line: the rows of values and
+    /// [`PlaneSpans`] share it.
+    #[cfg(not(texcore_lean))]
+    #[inline(never)]
+    fn row_begin(
+        &mut self,
+        span: &Span,
+        from: SetupFrom<'_, '_, T>,
+        setup: &mut Setup<T>,
+        state: &mut RowsState<T>,
+        events: &mut [RowEvent],
+        smooth: bool,
+    ) -> (SpanInfo, Option<[Strategy; T]>, bool) {
+        let (info, strategies) = self.begin_planned(span, from, setup);
+        let served = match &strategies {
+            Some(st) => self.row_schedule(span, setup, st, state, events, smooth),
+            None => false,
+        };
+        if !served {
+            state.used = 0;
+        }
+        (info, strategies, served)
     }
 
     /// A row of [`PlaneRows::next_chunks`]: through the schedule `state` / `events` where it
@@ -613,8 +642,8 @@ impl<'m, const T: usize> EvalCore<'m, T> {
             return;
         }
         let fvs = self.model.noise_frac_bits() & 31;
-        let (fm, smooth) = row_weights(setup, state);
-        if smooth {
+        let mut w = RowWalk::new(q);
+        if row_weights(setup, state, w.weights_mut()) {
             // One smooth term: its fades along the row (the same in every row the schedule
             // serves) kept in the weights when they hold the row.
             let table = if state.lanes.len() == 1 {
@@ -624,12 +653,12 @@ impl<'m, const T: usize> EvalCore<'m, T> {
             } else {
                 None
             };
-            smooth_walk(events, &state.lanes, &fm, fvs, out, &mut q, table);
+            smooth_walk(events, &state.lanes, w.weights(), fvs, out, &mut q, table);
         } else {
+            // An affine quadric is stepped as curved (it adds zeros: one code shape fewer).
             match quad {
-                0 => row_walk::<true, true, T>(events, &fm, fvs, out, &mut q),
-                1 => row_walk::<false, true, T>(events, &fm, fvs, out, &mut q),
-                _ => row_walk::<false, false, T>(events, &fm, fvs, out, &mut q),
+                0 => walk_part::<true, true, T>(&mut w, events, fvs, out),
+                _ => walk_part::<false, false, T>(&mut w, events, fvs, out),
             }
         }
         self.count_row(len, state, false);
@@ -671,7 +700,8 @@ impl<'m, const T: usize> EvalCore<'m, T> {
     ) {
         let grads = GRADIENTS && self.opts.gradients;
         let fvs = self.model.noise_frac_bits() & 31;
-        let (fm, _) = row_weights(setup, state);
+        let mut fm = [0i64; T];
+        row_weights(setup, state, &mut fm);
         let mut quad = QuadStep::new(setup);
         let q = &quad;
         let noq = (q.q | q.dq | q.ddq | q.gx | q.dgx | q.gy | q.dgy) == 0;
@@ -702,7 +732,7 @@ mod tests {
 
     /// A model of `octaves` unrotated trilinear octaves (zoom `2^zoom`) with quadric kind
     /// `quadric` (zero, affine, curved).
-    fn model(
+    pub(super) fn model(
         octaves: u8,
         zoom: u32,
         quadric: u32,

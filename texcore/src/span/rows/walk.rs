@@ -8,14 +8,16 @@
 use super::*;
 
 /// Each term's weight along its row axis `m` in the row set up as `setup` (the fraction, or
-/// its smooth fade): what the entries' `A + B w_m` take; and whether a term has the smooth fade.
+/// its smooth fade) into `wm` (lane by lane; the others untouched): what the entries'
+/// `A + B w_m` take; and whether a term has the smooth fade. Out of line: once a row, for the
+/// rows and the spans of a plane.
 #[cfg(not(texcore_lean))]
-#[inline(always)]
+#[inline(never)]
 pub(super) fn row_weights<const T: usize>(
     setup: &Setup<T>,
     state: &RowsState<T>,
-) -> ([i64; T], bool) {
-    let mut wm = [0i64; T];
+    wm: &mut [i64; T],
+) -> bool {
     let mut smooth = false;
     for (w, lane) in wm.iter_mut().zip(state.lanes.iter()) {
         if let Some(ts) = setup.terms.get(lane.term) {
@@ -23,7 +25,7 @@ pub(super) fn row_weights<const T: usize>(
         }
         smooth |= lane.smooth;
     }
-    (wm, smooth)
+    smooth
 }
 
 /// The samples of a row from its schedule's `events` into `sink` (as [`row_walk`]; `GRADS`:
@@ -106,30 +108,138 @@ pub(super) fn row_chunks<const GRADS: bool, const NOQ: bool, const AFFINE: bool,
     }
 }
 
-/// The samples of a row from its schedule's `events` (each term's `f_m` in `fm`): at each
-/// entry the merged value and slope change, then the entry's `run` pixels are written
-/// (`lanes::walk_out`, the lane kernel's pixel loop, with the quadric `q`: `NOQ` zero, `AFFINE`
-/// a constant step).
+/// Where the walk of a row stands between two of its pixels: the next schedule entry, the
+/// pixels left in the run of the last entry applied, the merged value and slope, the quadric's
+/// forward differences, and each term's `f_m` (fixed along the row). A row is walked from
+/// pixel 0 in one piece ([`PlaneRows`]) or span by span ([`PlaneSpans`]).
 #[cfg(not(texcore_lean))]
-#[inline(always)]
-pub(super) fn row_walk<const NOQ: bool, const AFFINE: bool, const T: usize>(
+#[derive(Clone, Copy, Debug)]
+pub(super) struct RowWalk<const T: usize> {
+    entry: usize,
+    left: u16,
+    v: i64,
+    s: i64,
+    q: [i64; 3],
+    fm: [i64; T],
+}
+
+#[cfg(not(texcore_lean))]
+impl<const T: usize> RowWalk<T> {
+    /// The walk at pixel 0 of a row (no entry applied yet), with the quadric's differences `q`
+    /// there and every term's `f_m` zero ([`RowWalk::weights_mut`] sets them).
+    #[inline(always)]
+    pub(super) fn new(q: [i64; 3]) -> Self {
+        RowWalk {
+            entry: 0,
+            left: 0,
+            v: 0,
+            s: 0,
+            q,
+            fm: [0; T],
+        }
+    }
+
+    /// Each term's `f_m` ([`row_weights`]).
+    #[inline(always)]
+    pub(super) fn weights(&self) -> &[i64; T] {
+        &self.fm
+    }
+
+    /// Each term's `f_m`, to be set.
+    #[inline(always)]
+    pub(super) fn weights_mut(&mut self) -> &mut [i64; T] {
+        &mut self.fm
+    }
+
+    /// The next entry's index.
+    #[inline(always)]
+    pub(super) fn entry(&self) -> usize {
+        self.entry
+    }
+
+    /// Applies the next entry: the merged value and slope change by its `A + B f_m`, and its
+    /// run begins. `false` past the last entry.
+    #[inline(always)]
+    fn apply(&mut self, events: &[RowEvent]) -> bool {
+        let Some(e) = events.get(self.entry) else {
+            return false;
+        };
+        let f = self.fm.get(usize::from(e.lane)).copied().unwrap_or(0);
+        self.v = wadd(self.v, wadd(e.dv[0], wmul(e.dv[1], f)));
+        self.s = wadd(self.s, wadd(e.ds[0], wmul(e.ds[1], f)));
+        self.left = e.run;
+        self.entry += 1;
+        true
+    }
+
+    /// Moves on by `n` pixels without writing them, and applies the entries at the pixel it
+    /// reaches (the cells that pixel starts in). Every step is the walk's own sum in the ring of
+    /// 64-bit integers: `m` pixels of a run add `m s` to the value, and the quadric's
+    /// differences move on by their closed form (`q + m dq + m (m - 1) / 2 ddq`, `dq + m ddq`).
+    #[inline(never)]
+    pub(super) fn skip(&mut self, events: &[RowEvent], mut n: u16) {
+        loop {
+            while self.left == 0 {
+                if !self.apply(events) {
+                    return;
+                }
+            }
+            if n == 0 {
+                return;
+            }
+            let m = self.left.min(n);
+            let mi = i64::from(m);
+            self.v = wadd(self.v, wmul(self.s, mi));
+            let [q, dq, ddq] = self.q;
+            let tri = i64::from(u32::from(m) * u32::from(m.saturating_sub(1)) / 2);
+            self.q = [
+                wadd(q, wadd(wmul(dq, mi), wmul(ddq, tri))),
+                wadd(dq, wmul(ddq, mi)),
+                ddq,
+            ];
+            self.left -= m;
+            n -= m;
+        }
+    }
+}
+
+/// The next `out.len()` samples of a row from its schedule's `events` (`lanes::walk_out`, the
+/// lane kernel's pixel loop, between the entries; the quadric `NOQ` zero, `AFFINE` a constant
+/// step), leaving the entries at the pixel after them to the next part. Out of line: the rows
+/// and the spans of a plane share it.
+#[cfg(not(texcore_lean))]
+#[inline(never)]
+pub(super) fn walk_part<const NOQ: bool, const AFFINE: bool, const T: usize>(
+    w: &mut RowWalk<T>,
     events: &[RowEvent],
-    fm: &[i64; T],
     fvs: u32,
     out: &mut [TexValue],
-    q: &mut [i64; 3],
 ) {
-    let (mut v, mut s) = (0i64, 0i64);
+    // The walk in registers (written back at the end): the rest of the run in progress, then
+    // entry after entry.
+    let (entry, mut left, mut v, mut s, mut q) = (w.entry, w.left, w.v, w.s, w.q);
+    let fm = &w.fm;
     let mut rest = out;
-    for e in events {
+    let mut next = events.get(entry..).unwrap_or_default().iter();
+    loop {
+        let n = usize::from(left).min(rest.len());
+        let (run, tail) = core::mem::take(&mut rest).split_at_mut(n);
+        lanes::walk_out::<false, false, NOQ, AFFINE>(run, &mut [], fvs, &mut v, s, &mut q);
+        left -= n as u16;
+        rest = tail;
+        if rest.is_empty() {
+            break;
+        }
+        let Some(e) = next.next() else {
+            break;
+        };
         let f = fm.get(usize::from(e.lane)).copied().unwrap_or(0);
         v = wadd(v, wadd(e.dv[0], wmul(e.dv[1], f)));
         s = wadd(s, wadd(e.ds[0], wmul(e.ds[1], f)));
-        let n = usize::from(e.run).min(rest.len());
-        let (run, tail) = core::mem::take(&mut rest).split_at_mut(n);
-        lanes::walk_out::<false, false, NOQ, AFFINE>(run, &mut [], fvs, &mut v, s, q);
-        rest = tail;
+        left = e.run;
     }
+    let entry = events.len() - next.len();
+    (w.entry, w.left, w.v, w.s, w.q) = (entry, left, v, s, q);
 }
 
 /// Whether `b` is value noise with the smooth fade (the row schedule's non-linear cells).

@@ -274,7 +274,10 @@ pub fn value_plane<const T: usize>(
 }
 
 /// Rows `0..rows` of the 16-pixel-span workload `w` (see [`value_plane`]); out of line, so that
-/// the whole-row loop's code is the same with and without it.
+/// the whole-row loop's code is the same with and without it. The values are handed over
+/// through [`PlaneSpans`](crate::span::PlaneSpans) (the rows' cell schedule kept in a [`RowCache`] of [`ROW_EVENTS`]
+/// entries, each row walked from span to span); with gradients, each span through
+/// [`SpanEvaluator::eval_plane_chunks`].
 #[inline(never)]
 fn span_rows<const T: usize>(
     ev: &mut SpanEvaluator<'_, T>,
@@ -289,9 +292,27 @@ fn span_rows<const T: usize>(
         return;
     };
     let setup = ev.plane_setup(&p);
-    let mut faces = FaceCache::new();
+    let Some(line) = line.get_mut(..usize::from(SIZE)) else {
+        return;
+    };
+    let len = usize::from(w.span_len());
+    if w.gradients() {
+        for y in 0..rows {
+            for (x, chunk) in (0u16..).step_by(len).zip(line.chunks_mut(len)) {
+                let (n, mut at) = (chunk.len() as u16, 0);
+                let mut store = |c: &SampleChunk| store_grad_words(chunk, &mut at, c);
+                ev.eval_plane_chunks(&setup, x, y, n, &mut store);
+            }
+            each(y, line);
+        }
+        return;
+    }
+    let mut cache = RowCache::<ROW_EVENTS>::new();
+    let mut spans = ev.plane_spans(&setup, &mut cache);
     for y in 0..rows {
-        value_row_in(ev, &setup, w, y, line, &mut faces);
+        for (x, chunk) in (0u16..).step_by(len).zip(line.chunks_mut(len)) {
+            spans.values(x, y, chunk);
+        }
         each(y, line);
     }
 }
@@ -300,20 +321,6 @@ fn span_rows<const T: usize>(
 pub fn plane() -> Result<SpanPlane, SpanPlaneError> {
     let s = span(0, 0, 0);
     SpanPlane::new(s.s0, s.ds, s.dsdy, SIZE, SIZE)
-}
-
-/// [`value_row`] through `plane` (the spans' terms set up once, [`PlaneSetup`]): the same
-/// values.
-#[inline(always)]
-pub fn value_row_in<const T: usize>(
-    ev: &mut SpanEvaluator<'_, T>,
-    plane: &PlaneSetup<'_, T>,
-    w: Workload,
-    y: u16,
-    line: &mut [TexValue],
-    faces: &mut FaceCache<FACES>,
-) {
-    row_spans(ev, Some(plane), w, y, line, faces);
 }
 
 /// Rows `0..rows` of whole-row workload `w` through [`SpanEvaluator::rows`] with `cache` (see

@@ -1,0 +1,565 @@
+//! A plane's rows handed over a span at a time: [`PlaneSpans`].
+//!
+//! A rasteriser or a tiled fill draws a plane in short spans (16 pixels, a tile's width), left
+//! to right along each row. Evaluated on its own, every such span sets its terms up and enters
+//! its cells again; [`PlaneRows`] serves whole rows from a cell schedule kept across rows, at a
+//! few additions a pixel and two products a cell event. [`PlaneSpans`] serves the spans of a
+//! [`PlaneSetup`]'s plane from the same schedule: each row `y` is set up once as the span
+//! `(0, y)` across the plane's whole width, and its walk (the merged value and slope, the
+//! schedule entry, the quadric's differences) is kept between the spans. A span that starts
+//! where the last one of its row ended goes on from there; one further along the row moves the
+//! walk on (a product per entry passed, no pixel written); any other span starts its row again.
+//!
+//! The set-up of span `(x, y)` is that of span `(0, y)` moved on by `x` pixels exactly when each
+//! term's step along a span has no bits below the lattice's raw 16.16 units (`M ds`: the plane's
+//! set-up keeps it with 32 fraction bits; [`PlaneSetup`]'s `whole_steps`): the rounded start of
+//! `(x, y)` is then the rounded start of `(0, y)` plus `x` rounded steps, modulo 2^32, and the
+//! quadric's polynomial along the row is the span's, shifted, as an identity of integers. Planes
+//! of such steps (power-of-two octaves of a step that is a whole number of raw units, as every
+//! axis-aligned fill of the peers' workloads) are walked; any other plane, model or span is
+//! evaluated span by span.
+//!
+//! # Guarantees
+//!
+//! - **Exact**: every span's values and facts are those of
+//!   [`SpanEvaluator::eval_plane_values`] of the same span, bit for bit, in every mode, for any
+//!   order of spans (the unit tests compare them, and with `Direct`, on random planes, models,
+//!   cuts of the rows into pieces, gaps and spans out of order).
+//! - **Counters**: a walked span counts its span, pixels, band-limited terms and samples as the
+//!   span evaluated on its own; its cell set-ups are the cells it enters, as through a
+//!   [`FaceCache`] whose lanes are carried from span to span: a span that goes on from the last
+//!   one counts the cell events at its pixels, any other span one cell a term plus the events
+//!   after its first pixel (a row cut into contiguous spans sets up exactly the cells of the
+//!   whole row). The row's plan decides the terms' strategies, so in [`EvalMode::Auto`] a
+//!   walked span counts the row's forward-differenced pixels.
+//! - Nothing is assumed about the spans: a span outside the plane's rectangle is not evaluated
+//!   (the default facts are returned, as `eval_plane_values` does), and a row the schedule does
+//!   not serve (a model the row schedule does not take, a schedule longer than the cache, the
+//!   size-lean code shape) has its spans evaluated one by one.
+//! - Capacity in the type: the entries are the caller's [`RowCache<N>`]; no allocation, never
+//!   panics.
+
+use super::*;
+
+/// The row being walked and where its walk stands.
+#[derive(Clone, Copy, Debug)]
+#[cfg_attr(texcore_lean, allow(dead_code))]
+struct Cursor<const T: usize> {
+    /// The row set up last (`None`: none yet).
+    row: Option<u16>,
+    /// The schedule serves that row (otherwise its spans are evaluated one by one).
+    served: bool,
+    /// The next pixel of the row.
+    x: u16,
+    /// The quadric's kind (`QuadStep::value_kind`: 0 zero, 1 affine, 2 curved).
+    kind: u8,
+    /// The walk at pixel `x` (fast shape only).
+    #[cfg(not(texcore_lean))]
+    walk: RowWalk<T>,
+}
+
+/// The spans of one plane, evaluated from its rows' cell schedule (see the module
+/// documentation): made by [`SpanEvaluator::plane_spans`].
+///
+/// A 64 x 32 field of four octaves of value noise in 16-pixel spans:
+///
+/// ```
+/// use texcore::format::{Amplitude, MatrixEntry, TexPoint, TexValue};
+/// use texcore::hash::HashKind;
+/// use texcore::model::{Octaves, TextureModel};
+/// use texcore::noise::NoiseBasis;
+/// use texcore::quadric::Quadric;
+/// use texcore::span::{EvalMode, EvalOptions, RowCache, SpanEvaluator, SpanPlane};
+/// use texcore::table::TableWrap;
+/// use texcore::transform::Affine3;
+///
+/// let mut model: TextureModel<4> = TextureModel::new(Quadric::ZERO, TableWrap::Mod);
+/// model.push_octaves(&Octaves {
+///     count: 4,
+///     base: Affine3::scale(MatrixEntry::ONE),
+///     amplitude: Amplitude::ONE,
+///     rotate: false,
+///     basis: NoiseBasis::trilinear(HashKind::Integer),
+///     turbulence: false,
+/// })?;
+/// let opts = EvalOptions { mode: EvalMode::Fd, gradients: false, ..Default::default() };
+/// let mut ev = SpanEvaluator::new(&model, opts);
+/// let plane = SpanPlane::new(
+///     TexPoint::from_f64(0.0, 0.0, 0.5),
+///     TexPoint::from_f64(1.0 / 8.0, 0.0, 0.0),
+///     TexPoint::from_f64(0.0, 1.0 / 8.0, 0.0),
+///     64,
+///     32,
+/// )?;
+/// let setup = ev.plane_setup(&plane);
+/// let mut cache = RowCache::<64>::new();
+/// let mut field = [[TexValue::ZERO; 64]; 32];
+/// let mut spans = ev.plane_spans(&setup, &mut cache);
+/// for (y, row) in (0u16..).zip(field.iter_mut()) {
+///     for (x, tile) in (0u16..).step_by(16).zip(row.chunks_mut(16)) {
+///         spans.values(x, y, tile);
+///     }
+/// }
+/// // The same values as each span set up on its own.
+/// let mut tile = [TexValue::ZERO; 16];
+/// let span = plane.span(16, 5, 16).unwrap();
+/// SpanEvaluator::new(&model, opts).eval_values(&span, &mut tile);
+/// assert_eq!(tile, field[5][16..32]);
+/// # Ok::<(), Box<dyn std::error::Error>>(())
+/// ```
+#[derive(Debug)]
+#[cfg_attr(texcore_lean, allow(dead_code))]
+pub struct PlaneSpans<'e, 'm, 'c, const T: usize> {
+    ev: &'e mut SpanEvaluator<'m, T>,
+    plane: &'c PlaneSetup<'m, T>,
+    events: &'c mut [RowEvent],
+    state: RowsState<T>,
+    cursor: Cursor<T>,
+    /// The plane's spans can be walked from their rows (evaluator, plane and build allow it).
+    walks: bool,
+}
+
+impl<'m, const T: usize> SpanEvaluator<'m, T> {
+    /// The spans of `plane` (made by [`SpanEvaluator::plane_setup`]), served from its rows' cell
+    /// schedule in `cache` (see [`PlaneSpans`]): the same values as
+    /// [`SpanEvaluator::eval_plane_values`] of each span, bit for bit.
+    pub fn plane_spans<'e, 'c, const N: usize, const W: usize>(
+        &'e mut self,
+        plane: &'c PlaneSetup<'m, T>,
+        cache: &'c mut RowCache<N, W>,
+    ) -> PlaneSpans<'e, 'm, 'c, T> {
+        let core = &self.core;
+        #[cfg(not(texcore_lean))]
+        let walks = FD
+            && !core.lean()
+            && !core.multipass()
+            && plane.serves(core)
+            && plane.whole_steps()
+            && core.model.precision().coord_bits() >= 16;
+        #[cfg(texcore_lean)]
+        let walks = {
+            let _ = core;
+            false
+        };
+        PlaneSpans {
+            ev: self,
+            plane,
+            events: &mut cache.events,
+            state: RowsState {
+                used: 0,
+                len: 0,
+                grads: false,
+                weights: 0,
+                lanes: heapless::Vec::new(),
+            },
+            cursor: Cursor {
+                row: None,
+                served: false,
+                x: 0,
+                kind: 0,
+                #[cfg(not(texcore_lean))]
+                walk: RowWalk::new([0; 3]),
+            },
+            walks,
+        }
+    }
+}
+
+impl<const T: usize> PlaneSpans<'_, '_, '_, T> {
+    /// The evaluator's counters so far.
+    pub fn stats(&self) -> &SpanStats {
+        self.ev.stats()
+    }
+
+    /// The span of `out.len()` pixels at `(x, y)` of the plane into `out`, as
+    /// [`SpanEvaluator::eval_plane_values`] gives it (see [`PlaneSpans`] for the counters).
+    /// Nothing is evaluated (and the default facts are returned) when the span is not inside
+    /// the plane's rectangle or is longer than `u16::MAX`. Out of line (a call a span; the
+    /// walk's three shapes once).
+    #[inline(never)]
+    pub fn values(&mut self, x: u16, y: u16, out: &mut [TexValue]) -> SpanInfo {
+        let Ok(len) = u16::try_from(out.len()) else {
+            return SpanInfo::default();
+        };
+        let Some(span) = self.plane.plane().span(x, y, len) else {
+            return SpanInfo::default();
+        };
+        #[cfg(not(texcore_lean))]
+        if self.walks && len > 0 {
+            let c = &self.cursor;
+            if c.row != Some(y) || c.x > x {
+                self.start_row(y);
+            }
+            if self.cursor.served {
+                return self.walk(x, out);
+            }
+        }
+        let core = &mut self.ev.core;
+        let grads = core.opts.gradients;
+        core.opts.gradients = false;
+        let from = SetupFrom::Plane(self.plane, x, y);
+        let info = core.eval_values_from(&span, from, out, &mut super::face_cache::Faces::none());
+        core.opts.gradients = grads;
+        info
+    }
+
+    /// Sets row `y` up across the plane's width (`(0, y)`) and makes the schedule serve it when
+    /// it can: the cursor at its pixel 0. The row's set-up is not counted (its spans are).
+    #[cfg(not(texcore_lean))]
+    #[inline(never)]
+    fn start_row(&mut self, y: u16) {
+        // Not served until the schedule is made: every span of the row is then evaluated on
+        // its own, without trying again (the cursor at pixel 0, before every span).
+        self.cursor.row = Some(y);
+        self.cursor.served = false;
+        self.cursor.x = 0;
+        let plane = self.plane.plane();
+        let Some(span) = plane.span(0, y, plane.width()) else {
+            return;
+        };
+        let core = &mut self.ev.core;
+        let (stats, grads) = (core.stats, core.opts.gradients);
+        core.opts.gradients = false;
+        let mut setup = Setup::empty();
+        let from = SetupFrom::Plane(self.plane, 0, y);
+        let (_, _, served) =
+            core.row_begin(&span, from, &mut setup, &mut self.state, self.events, false);
+        core.opts.gradients = grads;
+        core.stats = stats;
+        // Smooth-fade and gradient-noise terms are never served without `smooth`.
+        if !served {
+            return;
+        }
+        // The walk at the row's pixel 0, made in place.
+        let (q, kind) = QuadStep::value_kind(&setup);
+        let c = &mut self.cursor;
+        c.walk = RowWalk::new(q);
+        row_weights(&setup, &self.state, c.walk.weights_mut());
+        (c.served, c.kind) = (true, kind);
+    }
+
+    /// Span `x` of the row the cursor stands on (`x` at or after the cursor, inside the row),
+    /// walked from the schedule, and its counters.
+    #[cfg(not(texcore_lean))]
+    fn walk(&mut self, x: u16, out: &mut [TexValue]) -> SpanInfo {
+        let events = self.events.get(..self.state.used).unwrap_or_default();
+        let fvs = self.ev.core.model.noise_frac_bits() & 31;
+        let c = &mut self.cursor;
+        let fresh = c.x != x;
+        let w = &mut c.walk;
+        if fresh {
+            w.skip(events, x.wrapping_sub(c.x));
+        }
+        let first = w.entry();
+        // An affine quadric is stepped as curved (it adds zeros: one code shape fewer).
+        match c.kind {
+            0 => walk_part::<true, true, T>(w, events, fvs, out),
+            _ => walk_part::<false, false, T>(w, events, fvs, out),
+        }
+        let walked = w.entry() - first;
+        let len = out.len() as u16;
+        c.x = x.wrapping_add(len);
+        // Counters: as the span on its own, its cells as the module documentation states.
+        let lanes = self.state.lanes.len() as u64;
+        let entered = walked as u64 + if fresh { lanes } else { 0 };
+        let (culled, faded, extra_width48) = self.plane.span_facts();
+        let px = u64::from(len);
+        let st = &mut self.ev.core.stats;
+        st.spans += 1;
+        st.pixels += px;
+        st.culled_octaves += u64::from(culled);
+        st.faded_octaves += u64::from(faded);
+        st.cell_setups += entered;
+        st.noise_evaluations += px * lanes;
+        if self.state.lanes.iter().any(|l| l.fd) {
+            st.fd_pixels += px;
+        }
+        #[cfg(test)]
+        {
+            self.ev.core.row_spans += 1;
+        }
+        SpanInfo { extra_width48 }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use std::vec::Vec;
+
+    use super::*;
+    use crate::format::{Amplitude, MatrixEntry};
+    use crate::model::Octaves;
+    use crate::noise::NoiseBasis;
+    use crate::transform::Affine3;
+
+    /// `model` of the rows' tests, or (`odd`) its octaves at a zoom of 1.3 (steps with bits
+    /// below the lattice's units: never walked).
+    fn model(
+        octaves: u8,
+        zoom: u32,
+        quadric: u32,
+        clamp: bool,
+        basis: u8,
+        odd: bool,
+    ) -> TextureModel<8> {
+        let hash = HashKind::Integer;
+        let mut m = super::super::tests::model(octaves, zoom, quadric, clamp, hash, basis);
+        if odd {
+            let mut o: TextureModel<8> = TextureModel::new(*m.quadric(), m.wrap());
+            o.push_octaves(&Octaves {
+                count: octaves,
+                base: Affine3::scale(MatrixEntry::from_num(1.3)),
+                amplitude: Amplitude::from_num(0.6),
+                rotate: false,
+                basis: NoiseBasis::trilinear(hash),
+                turbulence: false,
+            })
+            .unwrap();
+            m = o;
+        }
+        m
+    }
+
+    /// The spans asked for: every row of `height` cut at `cuts` (pixels, any order), every
+    /// `gap`-th piece left out, and (`back`) an earlier piece of the row asked for again after
+    /// its last one.
+    fn pieces(
+        width: u16,
+        height: u16,
+        cuts: &[u16],
+        gap: usize,
+        back: bool,
+    ) -> Vec<(u16, u16, u16)> {
+        let mut at: Vec<u16> = cuts.iter().map(|c| c % width.max(1)).collect();
+        at.push(0);
+        at.push(width);
+        at.sort_unstable();
+        at.dedup();
+        let mut out = Vec::new();
+        for y in 0..height {
+            let row: Vec<(u16, u16, u16)> = at.windows(2).map(|w| (w[0], y, w[1] - w[0])).collect();
+            for (i, p) in row.iter().enumerate() {
+                if gap == 0 || (i + usize::from(y)) % gap != gap - 1 {
+                    out.push(*p);
+                }
+            }
+            if back && row.len() > 1 {
+                out.push(row[row.len() / 2]);
+            }
+        }
+        out
+    }
+
+    /// Every piece through [`PlaneSpans`] against `eval_plane_values` (through a face cache
+    /// carrying lanes, values, facts and, where the span was walked in `Fd`, the counters'
+    /// changes) and `Direct`; the number of spans walked.
+    fn compare(
+        m: &TextureModel<8>,
+        opts: EvalOptions,
+        plane: &SpanPlane,
+        pieces: &[(u16, u16, u16)],
+    ) -> Result<u64, proptest::test_runner::TestCaseError> {
+        let mut ev = SpanEvaluator::new(m, opts);
+        let mut reference = SpanEvaluator::new(m, opts);
+        let mut direct = SpanEvaluator::new(
+            m,
+            EvalOptions {
+                mode: EvalMode::Direct,
+                ..opts
+            },
+        );
+        let setup = ev.plane_setup(plane);
+        let ref_setup = reference.plane_setup(plane);
+        let mut faces = FaceCache::<64, 8>::new();
+        let mut cache = RowCache::<400>::new();
+        let mut spans = ev.plane_spans(&setup, &mut cache);
+        let marker = TexValue::from_bits(0x5A5A_5A5A);
+        for (i, &(x, y, len)) in pieces.iter().enumerate() {
+            let n = usize::from(len);
+            let mut got = std::vec![marker; n + 1];
+            let (before, walked) = (*spans.stats(), spans.ev.core.row_spans);
+            let info = spans.values(x, y, &mut got[..n]);
+            let mut want = std::vec![marker; n + 1];
+            let ref_before = *reference.stats();
+            let want_info =
+                reference.eval_plane_values(&ref_setup, x, y, &mut want[..n], &mut faces);
+            proptest::prop_assert_eq!(&got, &want, "span {:?}", (x, y, len));
+            proptest::prop_assert_eq!(info, want_info);
+            if i % 3 == 0 {
+                let mut d = std::vec![marker; n + 1];
+                direct.eval_values(&plane.span(x, y, len).unwrap(), &mut d[..n]);
+                proptest::prop_assert_eq!(&got, &d, "span {:?} against Direct", (x, y, len));
+            }
+            if spans.ev.core.row_spans > walked && opts.mode == EvalMode::Fd {
+                let delta = |a: &SpanStats, b: &SpanStats| {
+                    [
+                        a.pixels - b.pixels,
+                        a.spans - b.spans,
+                        a.cell_setups - b.cell_setups,
+                        a.noise_evaluations - b.noise_evaluations,
+                        a.culled_octaves - b.culled_octaves,
+                        a.faded_octaves - b.faded_octaves,
+                        a.gradient_evaluations - b.gradient_evaluations,
+                        a.fd_pixels - b.fd_pixels,
+                    ]
+                };
+                proptest::prop_assert_eq!(
+                    delta(spans.stats(), &before),
+                    delta(reference.stats(), &ref_before),
+                    "counters of span {:?}",
+                    (x, y, len)
+                );
+            }
+        }
+        let walked = spans.ev.core.row_spans;
+        drop(spans);
+        proptest::prop_assert_eq!(ev.options(), opts, "the options are restored");
+        Ok(walked)
+    }
+
+    proptest::proptest! {
+        #![proptest_config(proptest::prelude::ProptestConfig::with_cases(96))]
+        /// The spans of a plane through [`PlaneSpans`] are `eval_plane_values`' and `Direct`'s
+        /// (values and facts; in `Fd` the counters of every walked span), for planes anywhere in
+        /// the coordinate range stepping along any axis (short and long cells, both signs), rows
+        /// stepping along another axis or none, rows cut into pieces of any lengths, with gaps
+        /// and pieces asked for again out of order, any quadric, `mod` and `clamp`, every mode,
+        /// gradients asked for or not, 1 to 5 octaves, the smooth fade and gradient noise (never
+        /// walked), octaves whose steps have bits below the lattice's units (never walked); and
+        /// every span of a walkable plane in `Fd` is walked when the schedule holds its rows.
+        #[test]
+        fn plane_spans_are_their_spans(
+            origin in proptest::array::uniform3(-2_000_000_000i32..2_000_000_000),
+            step in -90_000i32..90_000,
+            axis in 0usize..3,
+            across: bool,
+            dyv in -30_000i32..30_000,
+            width in 1u16..300,
+            height in 1u16..5,
+            cuts in proptest::collection::vec(0u16..300, 0..12),
+            gap in 0usize..4,
+            back: bool,
+            clamp: bool,
+            quadric in 0u32..3,
+            gradients: bool,
+            octaves in 1u8..6,
+            zoom in 0u32..3,
+            mode in 0usize..3,
+            basis in 0u8..4,
+            odd: bool,
+        ) {
+            let m = model(octaves, zoom, quadric, clamp, basis, odd);
+            let mut ds = [0; 3];
+            ds[axis] = (step >> (2 * zoom)) | 1;
+            let mut dy = [0; 3];
+            if across {
+                dy[(axis + 1) % 3] = dyv;
+            }
+            let bits = |v: [i32; 3]| TexPoint::from_bits(v[0], v[1], v[2]);
+            let plane = SpanPlane::new(bits(origin), bits(ds), bits(dy), width, height);
+            proptest::prop_assume!(plane.is_ok());
+            let plane = plane.unwrap();
+            let mode = [EvalMode::Fd, EvalMode::Auto, EvalMode::Direct][mode];
+            let opts = EvalOptions { mode, gradients, cull: true, ..Default::default() };
+            let pieces = pieces(width, height, &cuts, gap, back);
+            let walked = compare(&m, opts, &plane, &pieces)?;
+            // Every span walked: trilinear octaves of whole steps (powers of two), resolved
+            // cells, `Fd`, a `mod` table (a `clamp` one needs the row's quadric in range), in
+            // the fast shape.
+            let resolved = (ds[axis] << (zoom + u32::from(octaves) - 1)).unsigned_abs() < NYQUIST_STEP as u32;
+            if FD && !cfg!(texcore_lean) && mode == EvalMode::Fd && basis == 0 && !odd && !clamp && resolved {
+                proptest::prop_assert_eq!(walked, pieces.len() as u64);
+            }
+            if odd || (basis != 0 && cfg!(any(feature = "smooth-fade", feature = "gradient-noise"))) {
+                proptest::prop_assert_eq!(walked, 0);
+            }
+        }
+    }
+
+    /// Four octaves on a 256-pixel plane in 16-pixel spans, as a tiled fill hands them over:
+    /// every span walked, the values of the whole rows, and the rows' cell set-ups.
+    #[test]
+    fn sixteen_pixel_spans_are_the_rows() {
+        let m = model(4, 0, 0, false, 0, false);
+        let opts = EvalOptions {
+            mode: EvalMode::Fd,
+            gradients: false,
+            ..Default::default()
+        };
+        let step = 65536 / 32;
+        let plane = SpanPlane::new(
+            TexPoint::from_bits(0, 0, 24_248),
+            TexPoint::from_bits(step, 0, 0),
+            TexPoint::from_bits(0, step, 0),
+            256,
+            6,
+        )
+        .unwrap();
+        let mut ev = SpanEvaluator::new(&m, opts);
+        let setup = ev.plane_setup(&plane);
+        let mut cache = RowCache::<128>::new();
+        let mut spans = ev.plane_spans(&setup, &mut cache);
+        let mut rows_ev = SpanEvaluator::new(&m, opts);
+        for y in 0..6 {
+            let mut got = [TexValue::ZERO; 256];
+            let before = spans.stats().cell_setups;
+            for (x, tile) in (0u16..).step_by(16).zip(got.chunks_mut(16)) {
+                spans.values(x, y, tile);
+            }
+            let mut want = [TexValue::ZERO; 256];
+            let rb = rows_ev.stats().cell_setups;
+            rows_ev.eval_values(&plane.span(0, y, 256).unwrap(), &mut want);
+            assert_eq!(got, want, "row {y}");
+            // Walked (the fast shape with forward differencing), the spans set up the cells of
+            // the whole row; otherwise each span sets up its own.
+            if FD && !cfg!(texcore_lean) {
+                assert_eq!(
+                    spans.stats().cell_setups - before,
+                    rows_ev.stats().cell_setups - rb,
+                    "row {y}: the cells of the whole row"
+                );
+            }
+        }
+        let walked = spans.ev.core.row_spans;
+        if FD && !cfg!(texcore_lean) {
+            assert_eq!(walked, 6 * 16);
+        }
+    }
+
+    /// A span outside the plane's rectangle is not evaluated: the default facts, its output
+    /// untouched, no counter moved; the spans around it are.
+    #[test]
+    fn spans_outside_the_plane_are_not_evaluated() {
+        let m = model(2, 0, 2, false, 0, false);
+        let opts = EvalOptions::default();
+        let plane = SpanPlane::new(
+            TexPoint::from_f64(1.0, 2.0, 0.5),
+            TexPoint::from_f64(1.0 / 16.0, 0.0, 0.0),
+            TexPoint::from_f64(0.0, 1.0 / 16.0, 0.0),
+            40,
+            3,
+        )
+        .unwrap();
+        let mut ev = SpanEvaluator::new(&m, opts);
+        let setup = ev.plane_setup(&plane);
+        let mut cache = RowCache::<32>::new();
+        let mut spans = ev.plane_spans(&setup, &mut cache);
+        let marker = TexValue::from_bits(0x1234_5678);
+        let mut out = [TexValue::ZERO; 16];
+        spans.values(0, 1, &mut out);
+        for (x, y, n) in [(30, 1, 16), (0, 3, 4), (40, 0, 1), (u16::MAX, 0, 2)] {
+            let mut o = [marker; 16];
+            let before = *spans.stats();
+            let info = spans.values(x, y, &mut o[..n]);
+            assert_eq!(info, SpanInfo::default());
+            assert_eq!(o, [marker; 16], "{x} {y} {n}");
+            assert_eq!(*spans.stats(), before);
+        }
+        // The row goes on where it stood.
+        let mut next = [TexValue::ZERO; 16];
+        spans.values(16, 1, &mut next);
+        let mut want = [TexValue::ZERO; 16];
+        SpanEvaluator::new(&m, opts).eval_values(&plane.span(16, 1, 16).unwrap(), &mut want);
+        assert_eq!(next, want);
+    }
+}
