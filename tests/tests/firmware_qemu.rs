@@ -571,12 +571,13 @@ fn peers_bound(target: DeviceTarget, workload: &str) -> u64 {
     // schedule of `texcore::span::PlaneRows` for the whole-row workloads) at 11.6 / 18.2,
     // 70.4 / 79.4, 134.4 / 155.0, 325.8 / 379.7, 39.2 / 48.4, 17.7 / 25.5 and 621.1 / 993.1;
     // the 16-pixel spans through the plane set-up (twenty-fifth round) at 284.9 / 327.7, with
-    // their lanes carried from span to span (twenty-sixth round) at 253.3 / 295.8.
+    // their lanes carried from span to span (twenty-sixth round) at 253.3 / 295.8, through the
+    // rows' cell schedule, `span::PlaneSpans` (twenty-seventh round), at 82.7 / 93.2.
     let (m4f, rv) = match workload {
         "value-1oct" => (13, 20),
         "value-4oct" => (78, 86),
         "value-4oct-grad" => (151, 169),
-        "value-4oct-span16" => (279, 326),
+        "value-4oct-span16" => (91, 103),
         "value-1oct-direct" => (44, 54),
         "smooth-1oct" => (21, 27),
         "perlin-1oct" => (684, 1093),

@@ -76,7 +76,8 @@
 //!   kept across spans;
 //! - `rows` (fast shape only; a row at a time otherwise): [`PlaneRows`], the rows of a plane
 //!   with their cell schedule kept across rows (values, gradients, the smooth fade, gradient
-//!   noise's corner gradients);
+//!   noise's corner gradients), and [`PlaneSpans`], the short spans of a plane served from the
+//!   same schedule, each row's walk kept from span to span;
 //! - `quad`: the quadric along the span;
 //! - `plane`: [`SpanPlane`] and [`PlaneSetup`], the spans of one plane with their terms and
 //!   quadric set up once.

@@ -22,6 +22,10 @@
 //! `gradient`), and their pixels are interpolated one by one, the fade along the row read from
 //! the cache's weights when the row has one such term.
 //!
+//! The spans of a plane handed over a few pixels at a time (a rasteriser's or a tiled fill's)
+//! are served from the same schedule by [`PlaneSpans`] (`spans`): each row is set up once across
+//! the plane, and its walk (`walk::RowWalk`) is kept from span to span.
+//!
 //! # Guarantees
 //!
 //! - **Exact**: every sample is the one [`SpanEvaluator::eval_values`] gives for the row's span,

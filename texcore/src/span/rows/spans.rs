@@ -130,9 +130,11 @@ impl<'m, const T: usize> SpanEvaluator<'m, T> {
     ) -> PlaneSpans<'e, 'm, 'c, T> {
         let core = &self.core;
         #[cfg(not(texcore_lean))]
+        // `Direct` never forward differences: its rows are never served (not even tried).
         let walks = FD
             && !core.lean()
             && !core.multipass()
+            && compiled_mode(core.opts.mode) != EvalMode::Direct
             && plane.serves(core)
             && plane.whole_steps()
             && core.model.precision().coord_bits() >= 16;

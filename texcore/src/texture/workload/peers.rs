@@ -247,8 +247,9 @@ pub const ROW_WEIGHTS_4: usize = 4 * SIZE as usize;
 /// handed to `each(y, line)`: the whole-row workloads through [`SpanEvaluator::rows`] (their
 /// schedule kept across rows in a [`RowCache`] of [`ROW_EVENTS`] entries and [`ROW_WEIGHTS`]
 /// or [`ROW_WEIGHTS_4`] fade weights; values, or [`grad_word`]s of the samples with gradients), the
-/// 16-pixel-span ones row by row through [`value_row`] with a face cache kept across rows.
-/// `ev` must have been built for `w`'s model with `gradients = w.gradients()`.
+/// 16-pixel-span ones span by span, left to right along each row, through
+/// [`PlaneSpans`](crate::span::PlaneSpans) (each row's walk kept from span to span, the rows'
+/// schedule in a [`RowCache`] of [`ROW_EVENTS`] entries). `ev` must have been built for `w`'s model with `gradients = w.gradients()`.
 #[inline(always)]
 pub fn value_plane<const T: usize>(
     ev: &mut SpanEvaluator<'_, T>,
@@ -359,14 +360,14 @@ pub fn value_row<const T: usize>(
     line: &mut [TexValue],
     faces: &mut FaceCache<FACES>,
 ) {
-    row_spans(ev, None, w, y, line, faces);
+    row_spans(ev, w, y, line, faces);
 }
 
-/// [`value_row`] (`plane` `None`: each span set up on its own) and [`value_row_in`].
+/// [`value_row`]: each span of the row set up on its own, its face blends and lanes through
+/// `faces`.
 #[inline(always)]
 fn row_spans<const T: usize>(
     ev: &mut SpanEvaluator<'_, T>,
-    plane: Option<&PlaneSetup<'_, T>>,
     w: Workload,
     y: u16,
     line: &mut [TexValue],
@@ -383,15 +384,9 @@ fn row_spans<const T: usize>(
         if gradients {
             let mut x = 0;
             let mut store = |c: &SampleChunk| store_grad_words(chunk, &mut x, c);
-            match plane {
-                Some(p) => ev.eval_plane_chunks(p, x0, y, len, &mut store),
-                None => ev.eval_chunks(&span, &mut store),
-            };
+            ev.eval_chunks(&span, &mut store);
         } else {
-            match plane {
-                Some(p) => ev.eval_plane_values(p, x0, y, chunk, faces),
-                None => ev.eval_values_cached(&span, chunk, faces),
-            };
+            ev.eval_values_cached(&span, chunk, faces);
         }
         x0 += len;
     }
