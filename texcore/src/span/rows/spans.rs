@@ -528,6 +528,63 @@ mod tests {
         }
     }
 
+    /// A 4000-pixel plane in 16-pixel spans, its rows' schedule held by the cache (about 940
+    /// entries: walked) or not (64 entries: every span on its own), near the top of the
+    /// coordinate range with negative steps along `t`: the same values either way.
+    #[test]
+    fn long_rows_past_the_cache_are_evaluated_span_by_span() {
+        let m = model(4, 0, 1, false, 0, false);
+        let opts = EvalOptions {
+            mode: EvalMode::Fd,
+            gradients: false,
+            ..Default::default()
+        };
+        let plane = SpanPlane::new(
+            TexPoint::from_bits(-5, i32::MAX - 70_000, 1 << 30),
+            TexPoint::from_bits(0, -1024, 0),
+            TexPoint::from_bits(3, 0, 0),
+            4000,
+            2,
+        )
+        .unwrap();
+        fn field<const N: usize>(
+            m: &TextureModel<8>,
+            opts: EvalOptions,
+            plane: &SpanPlane,
+        ) -> (Vec<TexValue>, u64) {
+            let mut ev = SpanEvaluator::new(m, opts);
+            let setup = ev.plane_setup(plane);
+            let mut cache = RowCache::<N>::new();
+            let mut spans = ev.plane_spans(&setup, &mut cache);
+            let mut out = std::vec![TexValue::ZERO; 8000];
+            for (i, tile) in out.chunks_mut(16).enumerate() {
+                let (x, y) = ((i % 250 * 16) as u16, (i / 250) as u16);
+                spans.values(x, y, tile);
+            }
+            (out, spans.ev.core.row_spans)
+        }
+        let (big, walked) = field::<2048>(&m, opts, &plane);
+        let (small, none) = field::<64>(&m, opts, &plane);
+        let mut want = std::vec![TexValue::ZERO; 4000];
+        let mut direct = SpanEvaluator::new(
+            &m,
+            EvalOptions {
+                mode: EvalMode::Direct,
+                ..opts
+            },
+        );
+        for y in 0..2u16 {
+            direct.eval_values(&plane.span(0, y, 4000).unwrap(), &mut want);
+            let row = usize::from(y) * 4000..usize::from(y + 1) * 4000;
+            assert_eq!(big[row.clone()], want[..], "row {y}, walked");
+            assert_eq!(small[row], want[..], "row {y}, span by span");
+        }
+        assert_eq!(none, 0);
+        if FD && !cfg!(texcore_lean) {
+            assert_eq!(walked, 500);
+        }
+    }
+
     /// A span outside the plane's rectangle is not evaluated: the default facts, its output
     /// untouched, no counter moved; the spans around it are.
     #[test]
