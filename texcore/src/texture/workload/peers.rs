@@ -30,8 +30,7 @@ use crate::model::{Octaves, TextureModel};
 use crate::noise::NoiseBasis;
 use crate::quadric::Quadric;
 use crate::span::{
-    FaceCache, PlaneSetup, RowCache, Sample, SampleChunk, Span, SpanEvaluator, SpanPlane,
-    SpanPlaneError,
+    FaceCache, RowCache, Sample, SampleChunk, Span, SpanEvaluator, SpanPlane, SpanPlaneError,
 };
 use crate::table::TableWrap;
 use crate::transform::Affine3;
@@ -433,13 +432,13 @@ pub fn marble_plane<const T: usize, const N: usize>(
     }
 }
 
-/// [`marble_row`] through `plane` (the spans' terms set up once, [`PlaneSetup`]): the same
-/// colours.
+/// [`marble_row`] through `plane` (the spans' terms set up once,
+/// [`PlaneSetup`](crate::span::PlaneSetup)): the same colours.
 #[cfg(feature = "csat")]
 #[inline(always)]
 pub fn marble_row_in<const T: usize, const N: usize>(
     ev: &mut super::super::TextureEvaluator<'_, T, N>,
-    plane: &PlaneSetup<'_, T>,
+    plane: &crate::span::PlaneSetup<'_, T>,
     w: Workload,
     y: u16,
     line: &mut [u32],
