@@ -20,8 +20,8 @@ use crate::format::FilterWidth;
 use crate::material::{MaterialEvaluator, PerturbedMaterial};
 use crate::model::TextureModel;
 use crate::span::{
-    EvalMode, EvalOptions, PlaneSetup, SampleChunk, SetupFrom, Span, SpanEvaluator, SpanPlane,
-    SpanStats, SAMPLE_CHUNK,
+    EvalMode, EvalOptions, PlaneSetup, PlaneWalk, RowCache, SampleChunk, SetupFrom, Span,
+    SpanEvaluator, SpanPlane, SpanStats, SAMPLE_CHUNK,
 };
 
 mod rows;
@@ -174,7 +174,7 @@ const fn log2(n: usize) -> u32 {
     usize::BITS - 1 - n.leading_zeros()
 }
 
-impl<const T: usize, const N: usize> TextureEvaluator<'_, T, N> {
+impl<'t, const T: usize, const N: usize> TextureEvaluator<'t, T, N> {
     /// Counters so far.
     pub fn stats(&self) -> ShadeStats {
         let span = match &self.inner {
@@ -205,11 +205,11 @@ impl<const T: usize, const N: usize> TextureEvaluator<'_, T, N> {
     /// [`TextureEvaluator::shade`] with `emit` as given (a trait object in the size-lean shape),
     /// the model's set-up from `from` (the fast shape; the size-lean shape sets every span up
     /// from scratch, with the same colours).
-    #[cfg_attr(texcore_lean, allow(unused_variables))]
-    fn shade_with<F: FnMut(Rgba8888)>(
+    #[cfg_attr(texcore_lean, allow(unused_variables, unused_mut))]
+    fn shade_with<F: FnMut(Rgba8888), S: Source<'t, T>>(
         &mut self,
         span: &Span,
-        from: SetupFrom<'_, '_, T>,
+        mut from: S,
         mut emit: F,
     ) {
         let stage = &self.tex.stage;
@@ -223,7 +223,7 @@ impl<const T: usize, const N: usize> TextureEvaluator<'_, T, N> {
                     #[cfg(texcore_lean)]
                     e.eval(span, f);
                     #[cfg(not(texcore_lean))]
-                    e.eval_chunks_from(span, from, &mut |c: &SampleChunk| {
+                    from.chunks(e, span, &mut |c: &SampleChunk| {
                         for s in c.iter() {
                             f(s);
                         }
@@ -254,7 +254,7 @@ impl<const T: usize, const N: usize> TextureEvaluator<'_, T, N> {
                 #[cfg(texcore_lean)]
                 e.eval_chunks(span, &mut each);
                 #[cfg(not(texcore_lean))]
-                e.eval_chunks_from(span, from, &mut each);
+                from.chunks(e, span, &mut each);
             }
             #[cfg(feature = "perturb")]
             Inner::Perturbed(e) => {
@@ -276,6 +276,20 @@ impl<'t, const T: usize, const N: usize> TextureEvaluator<'t, T, N> {
             Inner::Model(e) => Some(e.plane_setup(plane)),
             #[cfg(feature = "perturb")]
             Inner::Perturbed(_) => None,
+        }
+    }
+
+    /// The spans of `plane` (made by [`TextureEvaluator::plane_setup`]) shaded from its rows'
+    /// cell schedule in `cache` ([`TextureSpans`]; [`PlaneSpans`](crate::span::PlaneSpans) for
+    /// the schedule): [`TextureEvaluator::shade_plane`]'s colours, span by span.
+    pub fn plane_spans<'e, 'c, const R: usize, const W: usize>(
+        &'e mut self,
+        plane: &'c PlaneSetup<'t, T>,
+        cache: &'c mut RowCache<R, W>,
+    ) -> TextureSpans<'e, 't, 'c, T, N> {
+        TextureSpans {
+            ev: self,
+            walk: PlaneWalk::new(plane, cache),
         }
     }
 
@@ -305,6 +319,83 @@ impl<'t, const T: usize, const N: usize> TextureEvaluator<'t, T, N> {
         self.shade(&span, emit);
         #[cfg(not(texcore_lean))]
         self.shade_with(&span, SetupFrom::Plane(plane, x, y), emit);
+    }
+}
+
+/// Where a shaded span's samples come from: the span evaluator from a set-up ([`SetupFrom`]),
+/// or the walk of a plane's rows ([`TextureSpans`]) at pixel `(x, y)`. A type per source, so
+/// that the shading of spans from set-ups links no walk.
+#[cfg_attr(texcore_lean, allow(dead_code))]
+trait Source<'m, const T: usize> {
+    /// The samples of `span` by `e` into `out`, in chunks.
+    fn chunks(
+        &mut self,
+        e: &mut SpanEvaluator<'m, T>,
+        span: &Span,
+        out: &mut dyn FnMut(&SampleChunk),
+    );
+}
+
+impl<'m, const T: usize> Source<'m, T> for SetupFrom<'_, '_, T> {
+    #[inline(always)]
+    fn chunks(
+        &mut self,
+        e: &mut SpanEvaluator<'m, T>,
+        span: &Span,
+        out: &mut dyn FnMut(&SampleChunk),
+    ) {
+        #[cfg(texcore_lean)]
+        e.eval_chunks(span, out);
+        #[cfg(not(texcore_lean))]
+        e.eval_chunks_from(span, *self, out);
+    }
+}
+
+/// A plane's walk at pixel `(x, y)`.
+#[cfg_attr(texcore_lean, allow(dead_code))]
+struct Walk<'a, 'c, 'm, const T: usize>(&'a mut PlaneWalk<'c, 'm, T>, u16, u16);
+
+impl<'m, const T: usize> Source<'m, T> for Walk<'_, '_, 'm, T> {
+    #[inline(always)]
+    fn chunks(
+        &mut self,
+        e: &mut SpanEvaluator<'m, T>,
+        span: &Span,
+        out: &mut dyn FnMut(&SampleChunk),
+    ) {
+        self.0.chunks(e, self.1, self.2, span.len, out);
+    }
+}
+
+/// The spans of one plane shaded from its rows' cell schedule, as [`PlaneSpans`] evaluates
+/// them: made by [`TextureEvaluator::plane_spans`]. Each span's colours and counters are those
+/// of [`TextureEvaluator::shade_plane`] of the same span, bit for bit (see [`PlaneSpans`] for
+/// the counters of the spans walked); a perturbed material shades each span as `shade` does.
+///
+/// [`PlaneSpans`]: crate::span::PlaneSpans
+#[derive(Debug)]
+pub struct TextureSpans<'e, 't, 'c, const T: usize, const N: usize> {
+    ev: &'e mut TextureEvaluator<'t, T, N>,
+    walk: PlaneWalk<'c, 't, T>,
+}
+
+impl<const T: usize, const N: usize> TextureSpans<'_, '_, '_, T, N> {
+    /// The evaluator's counters so far.
+    pub fn stats(&self) -> ShadeStats {
+        self.ev.stats()
+    }
+
+    /// Shades the span of `len` pixels at `(x, y)` of the plane, calling `emit` with each
+    /// pixel's colour in order: [`TextureEvaluator::shade_plane`]'s colours. Nothing is shaded
+    /// when the span is not inside the plane's rectangle.
+    pub fn shade<F: FnMut(Rgba8888)>(&mut self, x: u16, y: u16, len: u16, emit: F) {
+        let Some(span) = self.walk.plane().plane().span(x, y, len) else {
+            return;
+        };
+        #[cfg(texcore_lean)]
+        self.ev.shade(&span, emit);
+        #[cfg(not(texcore_lean))]
+        self.ev.shade_with(&span, Walk(&mut self.walk, x, y), emit);
     }
 }
 
@@ -395,6 +486,63 @@ mod tests {
                 let tex = Texture::new(shader.clone(), stage(aa), GradientNorm::L2, EvalMode::Auto);
                 let c = shade_both_shapes(&tex, &span);
                 assert_eq!(c.len(), 150);
+            }
+        }
+    }
+
+    /// [`TextureSpans`] shades a plane's spans as [`TextureEvaluator::shade_plane`] does, with
+    /// every filter and whole rows cut into 16-pixel spans, spans out of order and spans outside
+    /// the rectangle; walked from the rows' schedule, the 16-pixel rows set up fewer cells.
+    #[test]
+    fn texture_spans_shade_as_shade_plane() {
+        use crate::span::{RowCache, SpanPlane};
+        let plane = SpanPlane::new(
+            TexPoint::from_bits(0, 32_768, 0),
+            TexPoint::from_bits(512, 0, 0),
+            TexPoint::from_bits(0, 0, 512),
+            96,
+            6,
+        )
+        .unwrap();
+        let model = crate::presets::marble(HashKind::Integer).model;
+        let filters = [
+            Antialias::None,
+            Antialias::Mip,
+            Antialias::Csat,
+            Antialias::Csat3,
+        ];
+        for aa in filters.into_iter().filter(|a| a.is_available()) {
+            let tex = Texture::new(
+                Shader::Model(model.clone()),
+                stage(aa),
+                GradientNorm::L2,
+                EvalMode::Fd,
+            );
+            let (mut ev, mut plain) = (tex.evaluator(), tex.evaluator());
+            let setup = ev.plane_setup(&plane).unwrap();
+            let mut cache = RowCache::<64>::new();
+            let mut spans = ev.plane_spans(&setup, &mut cache);
+            let mut pieces: Vec<(u16, u16, u16)> = Vec::new();
+            for y in 0..6 {
+                pieces.extend((0..96).step_by(16).map(|x| (x, y, 16)));
+            }
+            pieces.extend([(40, 2, 9), (0, 5, 96), (90, 0, 7), (95, 5, 1), (90, 1, 10)]);
+            for &(x, y, len) in &pieces {
+                let (mut got, mut want) = (Vec::new(), Vec::new());
+                spans.shade(x, y, len, |c| got.push(c));
+                plain.shade_plane(&setup, x, y, len, |c| want.push(c));
+                assert_eq!(got, want, "{aa:?} {x} {y} {len}");
+            }
+            let (a, b) = (spans.stats(), plain.stats());
+            assert_eq!(
+                (a.span.pixels, a.filter_lookups, a.plain_lookups),
+                (b.span.pixels, b.filter_lookups, b.plain_lookups)
+            );
+            if cfg!(feature = "fd") && !cfg!(texcore_lean) {
+                assert!(
+                    a.span.cell_setups < b.span.cell_setups,
+                    "{aa:?}: {a:?} {b:?}"
+                );
             }
         }
     }

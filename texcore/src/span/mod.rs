@@ -131,6 +131,7 @@ pub use face_cache::FaceCache;
 pub use plan::AUTO_FD_PIXELS;
 pub(crate) use plan::GRADIENTS;
 pub use plane::{PlaneSetup, SpanPlane, SpanPlaneError};
+pub(crate) use rows::PlaneWalk;
 pub use rows::{PlaneRows, PlaneSpans, RowCache};
 pub(crate) use setup::{Setup, TermSetup};
 

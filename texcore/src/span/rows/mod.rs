@@ -59,6 +59,7 @@ use schedule::*;
 use walk::*;
 
 pub use spans::PlaneSpans;
+pub(crate) use spans::PlaneWalk;
 
 /// One entry of a row schedule: at pixel `at`, term `lane` enters a new cell, and the row's
 /// value and slope change by `dv[0] + dv[1] f_m` and `ds[0] + ds[1] f_m` (`f_m` that term's
@@ -646,7 +647,7 @@ impl<'m, const T: usize> EvalCore<'m, T> {
             return;
         }
         let fvs = self.model.noise_frac_bits() & 31;
-        let mut w = RowWalk::new(q);
+        let mut w = RowWalk::new(QuadStep::new(setup));
         if row_weights(setup, state, w.weights_mut()) {
             // One smooth term: its fades along the row (the same in every row the schedule
             // serves) kept in the weights when they hold the row.

@@ -22,11 +22,15 @@
 //! # Guarantees
 //!
 //! - **Exact**: every span's values and facts are those of
-//!   [`SpanEvaluator::eval_plane_values`] of the same span, bit for bit, in every mode, for any
-//!   order of spans (the unit tests compare them, and with `Direct`, on random planes, models,
-//!   cuts of the rows into pieces, gaps and spans out of order).
+//!   [`SpanEvaluator::eval_plane_values`] of the same span, its samples (gradients included)
+//!   those of [`SpanEvaluator::eval_plane_chunks`], and its colours through
+//!   [`TextureEvaluator::plane_spans`](crate::texture::TextureEvaluator::plane_spans) those of
+//!   `shade_plane`, bit for bit, in every mode, for any order of spans (the unit tests compare
+//!   them, and with `Direct`, on random planes, models, cuts of the rows into pieces, gaps and
+//!   spans out of order).
 //! - **Counters**: a walked span counts its span, pixels, band-limited terms and samples as the
-//!   span evaluated on its own; its cell set-ups are the cells it enters, as through a
+//!   span evaluated on its own (with gradients, its gradient samples too); its cell set-ups are
+//!   the cells it enters, as through a
 //!   [`FaceCache`] whose lanes are carried from span to span: a span that goes on from the last
 //!   one counts the cell events at its pixels, any other span one cell a term plus the events
 //!   after its first pixel (a row cut into contiguous spans sets up exactly the cells of the
@@ -49,6 +53,8 @@ struct Cursor<const T: usize> {
     row: Option<u16>,
     /// The schedule serves that row (otherwise its spans are evaluated one by one).
     served: bool,
+    /// The row was set up for samples with their gradients (the entries' derivative parts).
+    grads: bool,
     /// The next pixel of the row.
     x: u16,
     /// The quadric's kind (`QuadStep::value_kind`: 0 zero, 1 affine, 2 curved).
@@ -56,6 +62,233 @@ struct Cursor<const T: usize> {
     /// The walk at pixel `x` (fast shape only).
     #[cfg(not(texcore_lean))]
     walk: RowWalk<T>,
+}
+
+/// The state of a plane's spans walked from its rows' schedule, apart from the evaluator that
+/// walks them: [`PlaneSpans`] and the texture evaluator's spans hold one with their evaluator.
+#[derive(Debug)]
+#[cfg_attr(texcore_lean, allow(dead_code))]
+pub(crate) struct PlaneWalk<'c, 'm, const T: usize> {
+    plane: &'c PlaneSetup<'m, T>,
+    events: &'c mut [RowEvent],
+    state: RowsState<T>,
+    cursor: Cursor<T>,
+}
+
+impl<'c, 'm, const T: usize> PlaneWalk<'c, 'm, T> {
+    /// No row set up yet, the schedule's entries in `cache`.
+    pub(crate) fn new<const N: usize, const W: usize>(
+        plane: &'c PlaneSetup<'m, T>,
+        cache: &'c mut RowCache<N, W>,
+    ) -> Self {
+        PlaneWalk {
+            plane,
+            events: &mut cache.events,
+            state: RowsState {
+                used: 0,
+                len: 0,
+                grads: false,
+                weights: 0,
+                lanes: heapless::Vec::new(),
+            },
+            cursor: Cursor {
+                row: None,
+                served: false,
+                grads: false,
+                x: 0,
+                kind: 0,
+                #[cfg(not(texcore_lean))]
+                walk: RowWalk::new(QuadStep {
+                    q: 0,
+                    dq: 0,
+                    ddq: 0,
+                    gx: 0,
+                    dgx: 0,
+                    gy: 0,
+                    dgy: 0,
+                }),
+            },
+        }
+    }
+
+    /// The plane.
+    pub(crate) fn plane(&self) -> &'c PlaneSetup<'m, T> {
+        self.plane
+    }
+
+    /// Whether the span at `(x, y)` is walked (the row set up first when the walk does not
+    /// stand at or before `x` on row `y`, for samples with gradients when `grads`).
+    #[cfg(not(texcore_lean))]
+    #[inline(always)]
+    fn walks(&mut self, ev: &mut SpanEvaluator<'m, T>, x: u16, y: u16, grads: bool) -> bool {
+        let c = &self.cursor;
+        if c.row != Some(y) || c.x > x || c.grads != grads {
+            self.start_row(ev, y, grads);
+        }
+        self.cursor.served
+    }
+
+    /// [`PlaneSpans::values`] by `ev`.
+    pub(crate) fn values(
+        &mut self,
+        ev: &mut SpanEvaluator<'m, T>,
+        x: u16,
+        y: u16,
+        out: &mut [TexValue],
+    ) -> SpanInfo {
+        let Ok(len) = u16::try_from(out.len()) else {
+            return SpanInfo::default();
+        };
+        let Some(span) = self.plane.plane().span(x, y, len) else {
+            return SpanInfo::default();
+        };
+        #[cfg(not(texcore_lean))]
+        if len > 0 && self.walks(ev, x, y, false) {
+            return self.walk(ev, x, len, false, |w, events, fvs, kind, _| match kind {
+                // An affine quadric is stepped as curved (it adds zeros: one code shape fewer).
+                0 => walk_part::<true, true, T>(w, events, fvs, out),
+                _ => walk_part::<false, false, T>(w, events, fvs, out),
+            });
+        }
+        let core = &mut ev.core;
+        let grads = core.opts.gradients;
+        core.opts.gradients = false;
+        let from = SetupFrom::Plane(self.plane, x, y);
+        let info = core.eval_values_from(&span, from, out, &mut super::face_cache::Faces::none());
+        core.opts.gradients = grads;
+        info
+    }
+
+    /// [`PlaneSpans::chunks`] by `ev`.
+    pub(crate) fn chunks(
+        &mut self,
+        ev: &mut SpanEvaluator<'m, T>,
+        x: u16,
+        y: u16,
+        len: u16,
+        out: &mut dyn FnMut(&SampleChunk),
+    ) -> SpanInfo {
+        let Some(span) = self.plane.plane().span(x, y, len) else {
+            return SpanInfo::default();
+        };
+        #[cfg(not(texcore_lean))]
+        if len > 0 && self.walks(ev, x, y, GRADIENTS && ev.core.opts.gradients) {
+            let (_, _, extra_width48) = self.plane.span_facts();
+            let mut chunk = SampleChunk::new();
+            chunk.extra_width48 = extra_width48;
+            let mut sink = ChunkSink {
+                chunk: &mut chunk,
+                out,
+            };
+            let n = usize::from(len);
+            let info = self.walk(ev, x, len, true, |w, events, fvs, _, grads| {
+                walk_chunks(w, events, fvs, n, grads, &mut sink)
+            });
+            sink.finish();
+            return info;
+        }
+        ev.eval_chunks_from(&span, SetupFrom::Plane(self.plane, x, y), out)
+    }
+
+    /// Sets row `y` up across the plane's width (`(0, y)`, gradients when `grads`) and makes
+    /// the schedule serve it when the plane, the evaluator and the row allow it: the cursor at
+    /// its pixel 0. The row's set-up is not counted (its spans are).
+    #[cfg(not(texcore_lean))]
+    #[inline(never)]
+    fn start_row(&mut self, ev: &mut SpanEvaluator<'m, T>, y: u16, grads: bool) {
+        // Not served until the schedule is made: every span of the row is then evaluated on
+        // its own, without trying again (the cursor at pixel 0, before every span).
+        let c = &mut self.cursor;
+        (c.row, c.served, c.grads, c.x) = (Some(y), false, grads, 0);
+        let core = &mut ev.core;
+        let plane = self.plane;
+        // `Direct` never forward differences: its rows are never served (not even tried).
+        let walkable = FD
+            && !core.lean()
+            && !core.multipass()
+            && compiled_mode(core.opts.mode) != EvalMode::Direct
+            && plane.serves(core)
+            && plane.whole_steps()
+            && core.model.precision().coord_bits() >= 16;
+        let Some(span) = plane.plane().span(0, y, plane.plane().width()) else {
+            return;
+        };
+        if !walkable {
+            return;
+        }
+        let (stats, opt) = (core.stats, core.opts.gradients);
+        core.opts.gradients = grads;
+        let mut setup = Setup::empty();
+        let from = SetupFrom::Plane(plane, 0, y);
+        let (_, _, served) =
+            core.row_begin(&span, from, &mut setup, &mut self.state, self.events, false);
+        core.opts.gradients = opt;
+        core.stats = stats;
+        // Smooth-fade and gradient-noise terms are never served without `smooth`.
+        if !served {
+            return;
+        }
+        // The walk at the row's pixel 0, made in place.
+        let (_, kind) = QuadStep::value_kind(&setup);
+        let c = &mut self.cursor;
+        c.walk = RowWalk::new(QuadStep::new(&setup));
+        row_weights(&setup, &self.state, c.walk.weights_mut());
+        (c.served, c.kind) = (true, kind);
+    }
+
+    /// Span `x` (`len > 0` pixels) of the row the cursor stands on (`x` at or after the
+    /// cursor, inside the row), walked from the schedule by `part` (given the walk, the
+    /// entries, the noise fraction bits, the quadric's kind and whether the row has its
+    /// gradients), and its counters (`samples`: the span's samples are handed over, with their
+    /// gradients when the row has them). One copy per `part`: a values-only user links no
+    /// sample code.
+    #[cfg(not(texcore_lean))]
+    #[inline(never)]
+    fn walk(
+        &mut self,
+        ev: &mut SpanEvaluator<'m, T>,
+        x: u16,
+        len: u16,
+        samples: bool,
+        part: impl FnOnce(&mut RowWalk<T>, &[RowEvent], u32, u8, bool),
+    ) -> SpanInfo {
+        let events = self.events.get(..self.state.used).unwrap_or_default();
+        let fvs = ev.core.model.noise_frac_bits() & 31;
+        let c = &mut self.cursor;
+        let fresh = c.x != x;
+        let w = &mut c.walk;
+        if fresh {
+            w.skip(events, x.wrapping_sub(c.x));
+        }
+        let first = w.entry();
+        let grads = c.grads;
+        part(w, events, fvs, c.kind, grads);
+        let walked = w.entry() - first;
+        c.x = x.wrapping_add(len);
+        // Counters: as the span on its own, its cells as the module documentation states.
+        let lanes = self.state.lanes.len() as u64;
+        let entered = walked as u64 + if fresh { lanes } else { 0 };
+        let (culled, faded, extra_width48) = self.plane.span_facts();
+        let px = u64::from(len);
+        let st = &mut ev.core.stats;
+        st.spans += 1;
+        st.pixels += px;
+        st.culled_octaves += u64::from(culled);
+        st.faded_octaves += u64::from(faded);
+        st.cell_setups += entered;
+        st.noise_evaluations += px * lanes;
+        if samples && grads {
+            st.gradient_evaluations += px * (1 + lanes);
+        }
+        if self.state.lanes.iter().any(|l| l.fd) {
+            st.fd_pixels += px;
+        }
+        #[cfg(test)]
+        {
+            ev.core.row_spans += 1;
+        }
+        SpanInfo { extra_width48 }
+    }
 }
 
 /// The spans of one plane, evaluated from its rows' cell schedule (see the module
@@ -108,61 +341,24 @@ struct Cursor<const T: usize> {
 /// # Ok::<(), Box<dyn std::error::Error>>(())
 /// ```
 #[derive(Debug)]
-#[cfg_attr(texcore_lean, allow(dead_code))]
 pub struct PlaneSpans<'e, 'm, 'c, const T: usize> {
     ev: &'e mut SpanEvaluator<'m, T>,
-    plane: &'c PlaneSetup<'m, T>,
-    events: &'c mut [RowEvent],
-    state: RowsState<T>,
-    cursor: Cursor<T>,
-    /// The plane's spans can be walked from their rows (evaluator, plane and build allow it).
-    walks: bool,
+    walk: PlaneWalk<'c, 'm, T>,
 }
 
 impl<'m, const T: usize> SpanEvaluator<'m, T> {
     /// The spans of `plane` (made by [`SpanEvaluator::plane_setup`]), served from its rows' cell
-    /// schedule in `cache` (see [`PlaneSpans`]): the same values as
-    /// [`SpanEvaluator::eval_plane_values`] of each span, bit for bit.
+    /// schedule in `cache` (see [`PlaneSpans`]): the same values and samples as
+    /// [`SpanEvaluator::eval_plane_values`] and [`SpanEvaluator::eval_plane_chunks`] of each
+    /// span, bit for bit.
     pub fn plane_spans<'e, 'c, const N: usize, const W: usize>(
         &'e mut self,
         plane: &'c PlaneSetup<'m, T>,
         cache: &'c mut RowCache<N, W>,
     ) -> PlaneSpans<'e, 'm, 'c, T> {
-        let core = &self.core;
-        #[cfg(not(texcore_lean))]
-        // `Direct` never forward differences: its rows are never served (not even tried).
-        let walks = FD
-            && !core.lean()
-            && !core.multipass()
-            && compiled_mode(core.opts.mode) != EvalMode::Direct
-            && plane.serves(core)
-            && plane.whole_steps()
-            && core.model.precision().coord_bits() >= 16;
-        #[cfg(texcore_lean)]
-        let walks = {
-            let _ = core;
-            false
-        };
         PlaneSpans {
             ev: self,
-            plane,
-            events: &mut cache.events,
-            state: RowsState {
-                used: 0,
-                len: 0,
-                grads: false,
-                weights: 0,
-                lanes: heapless::Vec::new(),
-            },
-            cursor: Cursor {
-                row: None,
-                served: false,
-                x: 0,
-                kind: 0,
-                #[cfg(not(texcore_lean))]
-                walk: RowWalk::new([0; 3]),
-            },
-            walks,
+            walk: PlaneWalk::new(plane, cache),
         }
     }
 }
@@ -176,114 +372,26 @@ impl<const T: usize> PlaneSpans<'_, '_, '_, T> {
     /// The span of `out.len()` pixels at `(x, y)` of the plane into `out`, as
     /// [`SpanEvaluator::eval_plane_values`] gives it (see [`PlaneSpans`] for the counters).
     /// Nothing is evaluated (and the default facts are returned) when the span is not inside
-    /// the plane's rectangle or is longer than `u16::MAX`. Out of line (a call a span; the
-    /// walk's three shapes once).
-    #[inline(never)]
+    /// the plane's rectangle or is longer than `u16::MAX`.
     pub fn values(&mut self, x: u16, y: u16, out: &mut [TexValue]) -> SpanInfo {
-        let Ok(len) = u16::try_from(out.len()) else {
-            return SpanInfo::default();
-        };
-        let Some(span) = self.plane.plane().span(x, y, len) else {
-            return SpanInfo::default();
-        };
-        #[cfg(not(texcore_lean))]
-        if self.walks && len > 0 {
-            let c = &self.cursor;
-            if c.row != Some(y) || c.x > x {
-                self.start_row(y);
-            }
-            if self.cursor.served {
-                return self.walk(x, out);
-            }
-        }
-        let core = &mut self.ev.core;
-        let grads = core.opts.gradients;
-        core.opts.gradients = false;
-        let from = SetupFrom::Plane(self.plane, x, y);
-        let info = core.eval_values_from(&span, from, out, &mut super::face_cache::Faces::none());
-        core.opts.gradients = grads;
-        info
+        self.walk.values(self.ev, x, y, out)
     }
 
-    /// Sets row `y` up across the plane's width (`(0, y)`) and makes the schedule serve it when
-    /// it can: the cursor at its pixel 0. The row's set-up is not counted (its spans are).
-    #[cfg(not(texcore_lean))]
-    #[inline(never)]
-    fn start_row(&mut self, y: u16) {
-        // Not served until the schedule is made: every span of the row is then evaluated on
-        // its own, without trying again (the cursor at pixel 0, before every span).
-        self.cursor.row = Some(y);
-        self.cursor.served = false;
-        self.cursor.x = 0;
-        let plane = self.plane.plane();
-        let Some(span) = plane.span(0, y, plane.width()) else {
-            return;
-        };
-        let core = &mut self.ev.core;
-        let (stats, grads) = (core.stats, core.opts.gradients);
-        core.opts.gradients = false;
-        let mut setup = Setup::empty();
-        let from = SetupFrom::Plane(self.plane, 0, y);
-        let (_, _, served) =
-            core.row_begin(&span, from, &mut setup, &mut self.state, self.events, false);
-        core.opts.gradients = grads;
-        core.stats = stats;
-        // Smooth-fade and gradient-noise terms are never served without `smooth`.
-        if !served {
-            return;
-        }
-        // The walk at the row's pixel 0, made in place.
-        let (q, kind) = QuadStep::value_kind(&setup);
-        let c = &mut self.cursor;
-        c.walk = RowWalk::new(q);
-        row_weights(&setup, &self.state, c.walk.weights_mut());
-        (c.served, c.kind) = (true, kind);
-    }
-
-    /// Span `x` of the row the cursor stands on (`x` at or after the cursor, inside the row),
-    /// walked from the schedule, and its counters.
-    #[cfg(not(texcore_lean))]
-    fn walk(&mut self, x: u16, out: &mut [TexValue]) -> SpanInfo {
-        let events = self.events.get(..self.state.used).unwrap_or_default();
-        let fvs = self.ev.core.model.noise_frac_bits() & 31;
-        let c = &mut self.cursor;
-        let fresh = c.x != x;
-        let w = &mut c.walk;
-        if fresh {
-            w.skip(events, x.wrapping_sub(c.x));
-        }
-        let first = w.entry();
-        // An affine quadric is stepped as curved (it adds zeros: one code shape fewer).
-        match c.kind {
-            0 => walk_part::<true, true, T>(w, events, fvs, out),
-            _ => walk_part::<false, false, T>(w, events, fvs, out),
-        }
-        let walked = w.entry() - first;
-        let len = out.len() as u16;
-        c.x = x.wrapping_add(len);
-        // Counters: as the span on its own, its cells as the module documentation states.
-        let lanes = self.state.lanes.len() as u64;
-        let entered = walked as u64 + if fresh { lanes } else { 0 };
-        let (culled, faded, extra_width48) = self.plane.span_facts();
-        let px = u64::from(len);
-        let st = &mut self.ev.core.stats;
-        st.spans += 1;
-        st.pixels += px;
-        st.culled_octaves += u64::from(culled);
-        st.faded_octaves += u64::from(faded);
-        st.cell_setups += entered;
-        st.noise_evaluations += px * lanes;
-        if self.state.lanes.iter().any(|l| l.fd) {
-            st.fd_pixels += px;
-        }
-        #[cfg(test)]
-        {
-            self.ev.core.row_spans += 1;
-        }
-        SpanInfo { extra_width48 }
+    /// The samples of the span of `len` pixels at `(x, y)` of the plane, with their gradients
+    /// when the evaluator's options ask for them, handed to `out` in chunks of at most
+    /// [`SAMPLE_CHUNK`], as [`SpanEvaluator::eval_plane_chunks`] gives them (see [`PlaneSpans`]
+    /// for the counters). Nothing is evaluated (and the default facts are returned) when the
+    /// span is not inside the plane's rectangle.
+    pub fn chunks(
+        &mut self,
+        x: u16,
+        y: u16,
+        len: u16,
+        out: &mut dyn FnMut(&SampleChunk),
+    ) -> SpanInfo {
+        self.walk.chunks(self.ev, x, y, len, out)
     }
 }
-
 #[cfg(test)]
 mod tests {
     use std::vec::Vec;
@@ -292,6 +400,7 @@ mod tests {
     use crate::format::{Amplitude, MatrixEntry};
     use crate::model::Octaves;
     use crate::noise::NoiseBasis;
+    use crate::span::Sample;
     use crate::transform::Affine3;
 
     /// `model` of the rows' tests, or (`odd`) its octaves at a zoom of 1.3 (steps with bits
@@ -419,6 +528,77 @@ mod tests {
         Ok(walked)
     }
 
+    /// A span's samples as its chunks: each chunk's length, samples and culled width.
+    type Chunks = Vec<(usize, Vec<Sample>, i64)>;
+
+    /// Collects the chunks handed to it into `v`.
+    fn collect(v: &mut Chunks) -> impl FnMut(&SampleChunk) + '_ {
+        |c: &SampleChunk| v.push((c.len(), c.iter().collect(), c.extra_width48()))
+    }
+
+    /// Every piece's samples through [`PlaneSpans::chunks`] against `eval_plane_chunks` (and
+    /// `Direct`'s), chunk by chunk, and in `Fd` the counters' changes of every walked span but
+    /// its cells (the values' test counts those) against the span on its own; the number of
+    /// spans walked.
+    fn compare_chunks(
+        m: &TextureModel<8>,
+        opts: EvalOptions,
+        plane: &SpanPlane,
+        pieces: &[(u16, u16, u16)],
+    ) -> Result<u64, proptest::test_runner::TestCaseError> {
+        let mut ev = SpanEvaluator::new(m, opts);
+        let mut reference = SpanEvaluator::new(m, opts);
+        let mut direct = SpanEvaluator::new(
+            m,
+            EvalOptions {
+                mode: EvalMode::Direct,
+                ..opts
+            },
+        );
+        let setup = ev.plane_setup(plane);
+        let ref_setup = reference.plane_setup(plane);
+        let mut cache = RowCache::<400>::new();
+        let mut spans = ev.plane_spans(&setup, &mut cache);
+        for (i, &(x, y, len)) in pieces.iter().enumerate() {
+            let (mut got, mut want): (Chunks, Chunks) = (Vec::new(), Vec::new());
+            let (before, walked) = (*spans.stats(), spans.ev.core.row_spans);
+            let info = spans.chunks(x, y, len, &mut collect(&mut got));
+            let ref_before = *reference.stats();
+            let want_info =
+                reference.eval_plane_chunks(&ref_setup, x, y, len, &mut collect(&mut want));
+            proptest::prop_assert_eq!(&got, &want, "span {:?}", (x, y, len));
+            proptest::prop_assert_eq!(info, want_info);
+            if i % 3 == 0 {
+                let mut d = Vec::new();
+                direct.eval_chunks(&plane.span(x, y, len).unwrap(), &mut collect(&mut d));
+                proptest::prop_assert_eq!(&got, &d, "span {:?} against Direct", (x, y, len));
+            }
+            if spans.ev.core.row_spans > walked && opts.mode == EvalMode::Fd {
+                let delta = |a: &SpanStats, b: &SpanStats| {
+                    [
+                        a.pixels - b.pixels,
+                        a.spans - b.spans,
+                        a.noise_evaluations - b.noise_evaluations,
+                        a.culled_octaves - b.culled_octaves,
+                        a.faded_octaves - b.faded_octaves,
+                        a.gradient_evaluations - b.gradient_evaluations,
+                        a.fd_pixels - b.fd_pixels,
+                    ]
+                };
+                proptest::prop_assert_eq!(
+                    delta(spans.stats(), &before),
+                    delta(reference.stats(), &ref_before),
+                    "counters of span {:?}",
+                    (x, y, len)
+                );
+            }
+        }
+        let walked = spans.ev.core.row_spans;
+        drop(spans);
+        proptest::prop_assert_eq!(ev.options(), opts, "the options are restored");
+        Ok(walked)
+    }
+
     proptest::proptest! {
         #![proptest_config(proptest::prelude::ProptestConfig::with_cases(96))]
         /// The spans of a plane through [`PlaneSpans`] are `eval_plane_values`' and `Direct`'s
@@ -465,6 +645,11 @@ mod tests {
             let opts = EvalOptions { mode, gradients, cull: true, ..Default::default() };
             let pieces = pieces(width, height, &cuts, gap, back);
             let walked = compare(&m, opts, &plane, &pieces)?;
+            let walked_chunks = compare_chunks(&m, opts, &plane, &pieces)?;
+            if !(GRADIENTS && gradients) {
+                // Without gradients the samples' rows are the values'.
+                proptest::prop_assert_eq!(walked_chunks, walked);
+            }
             // Every span walked: trilinear octaves of whole steps (powers of two), resolved
             // cells, `Fd`, a `mod` table (a `clamp` one needs the row's quadric in range), in
             // the fast shape.
@@ -473,7 +658,7 @@ mod tests {
                 proptest::prop_assert_eq!(walked, pieces.len() as u64);
             }
             if odd || (basis != 0 && cfg!(any(feature = "smooth-fade", feature = "gradient-noise"))) {
-                proptest::prop_assert_eq!(walked, 0);
+                proptest::prop_assert_eq!((walked, walked_chunks), (0, 0));
             }
         }
     }
@@ -525,6 +710,61 @@ mod tests {
         let walked = spans.ev.core.row_spans;
         if FD && !cfg!(texcore_lean) {
             assert_eq!(walked, 6 * 16);
+        }
+    }
+
+    /// The same with gradients, the marble preset's model (a quadric along `r`, the rows
+    /// stepping along it) on its own plane: every span walked, the samples of the whole rows
+    /// through [`PlaneRows`], and the rows' cell set-ups and gradient samples.
+    #[test]
+    fn sixteen_pixel_spans_with_gradients_are_the_rows() {
+        let preset = crate::presets::marble(HashKind::Integer);
+        let m = preset.model;
+        let opts = EvalOptions {
+            mode: EvalMode::Fd,
+            gradients: true,
+            ..Default::default()
+        };
+        let plane = SpanPlane::new(
+            TexPoint::from_bits(0, 32_768, 0),
+            TexPoint::from_bits(512, 0, 0),
+            TexPoint::from_bits(0, 0, 512),
+            128,
+            5,
+        )
+        .unwrap();
+        let mut ev = SpanEvaluator::new(&m, opts);
+        let setup = ev.plane_setup(&plane);
+        let mut cache = RowCache::<128>::new();
+        let mut spans = ev.plane_spans(&setup, &mut cache);
+        let mut rows_ev = SpanEvaluator::new(&m, opts);
+        let mut rows_cache = RowCache::<128>::new();
+        let mut rows = rows_ev.rows(&plane.span(0, 0, 128).unwrap(), &mut rows_cache);
+        for y in 0..5 {
+            let before = *spans.stats();
+            let mut got = Vec::new();
+            for x in (0u16..128).step_by(16) {
+                spans.chunks(x, y, 16, &mut |c: &SampleChunk| got.extend(c.iter()));
+            }
+            let rb = *rows.stats();
+            let mut want = Vec::new();
+            rows.next(|s| want.push(s));
+            assert_eq!(got, want, "row {y}");
+            if FD && GRADIENTS && !cfg!(texcore_lean) {
+                let (a, b) = (spans.stats(), rows.stats());
+                assert_eq!(
+                    a.cell_setups - before.cell_setups,
+                    b.cell_setups - rb.cell_setups
+                );
+                assert_eq!(
+                    a.gradient_evaluations - before.gradient_evaluations,
+                    b.gradient_evaluations - rb.gradient_evaluations
+                );
+            }
+        }
+        let walked = spans.ev.core.row_spans;
+        if FD && !cfg!(texcore_lean) {
+            assert_eq!(walked, 5 * 8);
         }
     }
 

@@ -19,8 +19,9 @@ pub(super) fn row_weights<const T: usize>(
     wm: &mut [i64; T],
 ) -> bool {
     let mut smooth = false;
-    for (w, lane) in wm.iter_mut().zip(state.lanes.iter()) {
-        if let Some(ts) = setup.terms.get(lane.term) {
+    // Over the lanes in use (a loop, not unrolled over the `T` slots).
+    for (i, lane) in state.lanes.iter().enumerate() {
+        if let (Some(w), Some(ts)) = (wm.get_mut(i), setup.terms.get(lane.term)) {
             *w = i64::from(weight(lane.smooth, split(ts.u0).1[lane.m.min(2)]));
         }
         smooth |= lane.smooth;
@@ -28,115 +29,63 @@ pub(super) fn row_weights<const T: usize>(
     smooth
 }
 
-/// The samples of a row from its schedule's `events` into `sink` (as [`row_walk`]; `GRADS`:
-/// with the derivatives, `gx = q_x + (S >> fv)` the merged slope, `gy = q_y + (G >> fv)` the
-/// merged derivative across the rows, as the axial kernel's passes write them; without, the
-/// chunk's gradient slots are left zero).
-#[cfg(not(texcore_lean))]
-#[inline(always)]
-pub(super) fn row_chunks<const GRADS: bool, const NOQ: bool, const AFFINE: bool, const T: usize>(
-    events: &[RowEvent],
-    fm: &[i64; T],
-    fvs: u32,
-    sink: &mut ChunkSink<'_, '_>,
-    q: &mut QuadStep,
-) {
-    let (mut v, mut s, mut g, mut gs) = (0i64, 0i64, 0i64, 0i64);
-    for e in events {
-        let f = fm.get(usize::from(e.lane)).copied().unwrap_or(0);
-        v = wadd(v, wadd(e.dv[0], wmul(e.dv[1], f)));
-        s = wadd(s, wadd(e.ds[0], wmul(e.ds[1], f)));
-        if GRADS {
-            g = wadd(g, e.dg[0]);
-            gs = wadd(gs, e.dg[1]);
-        }
-        let mut left = usize::from(e.run);
-        while left > 0 {
-            let n = left.min(sink.room());
-            let c = &mut *sink.chunk;
-            let at = c.len;
-            if let Some(fo) = c.f.get_mut(at..at + n) {
-                let mut qq = *q;
-                for o in fo.iter_mut() {
-                    *o = TexValue::from_bits(if NOQ {
-                        (v >> (fvs + 32)) as i32
-                    } else {
-                        (qq.q.wrapping_add(v >> fvs) >> 32) as i32
-                    });
-                    v = v.wrapping_add(s);
-                    if !NOQ {
-                        qq.q = qq.q.wrapping_add(qq.dq);
-                        if !AFFINE {
-                            qq.dq = qq.dq.wrapping_add(qq.ddq);
-                        }
-                    }
-                }
-                if GRADS {
-                    if let (Some(ox), Some(oy)) =
-                        (c.gx.get_mut(at..at + n), c.gy.get_mut(at..at + n))
-                    {
-                        let sx = s >> fvs;
-                        let mut qx = q.gx;
-                        for o in ox.iter_mut() {
-                            *o = if NOQ { sx } else { qx.wrapping_add(sx) };
-                            if !AFFINE {
-                                qx = qx.wrapping_add(q.dgx);
-                            }
-                        }
-                        let mut qy = q.gy;
-                        for o in oy.iter_mut() {
-                            *o = if NOQ {
-                                g >> fvs
-                            } else {
-                                qy.wrapping_add(g >> fvs)
-                            };
-                            g = g.wrapping_add(gs);
-                            if !AFFINE {
-                                qy = qy.wrapping_add(q.dgy);
-                            }
-                        }
-                        q.gx = qx;
-                        q.gy = qy;
-                    }
-                }
-                q.q = qq.q;
-                q.dq = qq.dq;
-            }
-            sink.advance(n);
-            left -= n;
-        }
-    }
-}
-
 /// Where the walk of a row stands between two of its pixels: the next schedule entry, the
-/// pixels left in the run of the last entry applied, the merged value and slope, the quadric's
-/// forward differences, and each term's `f_m` (fixed along the row). A row is walked from
-/// pixel 0 in one piece ([`PlaneRows`]) or span by span ([`PlaneSpans`]).
+/// pixels left in the run of the last entry applied, the merged value and slope, the merged
+/// derivative across the rows and its slope, the quadric's forward differences and gradients,
+/// and each term's `f_m` (fixed along the row). A row is walked from pixel 0 in one piece
+/// ([`PlaneRows`]) or span by span ([`PlaneSpans`]).
 #[cfg(not(texcore_lean))]
-#[derive(Clone, Copy, Debug)]
+#[derive(Clone, Copy)]
 pub(super) struct RowWalk<const T: usize> {
     entry: usize,
     left: u16,
     v: i64,
     s: i64,
-    q: [i64; 3],
+    g: i64,
+    gs: i64,
+    q: QuadStep,
     fm: [i64; T],
 }
 
 #[cfg(not(texcore_lean))]
+impl<const T: usize> core::fmt::Debug for RowWalk<T> {
+    fn fmt(&self, f: &mut core::fmt::Formatter<'_>) -> core::fmt::Result {
+        f.debug_struct("RowWalk")
+            .field("entry", &self.entry)
+            .field("left", &self.left)
+            .finish_non_exhaustive()
+    }
+}
+
+#[cfg(not(texcore_lean))]
 impl<const T: usize> RowWalk<T> {
-    /// The walk at pixel 0 of a row (no entry applied yet), with the quadric's differences `q`
-    /// there and every term's `f_m` zero ([`RowWalk::weights_mut`] sets them).
+    /// The walk at pixel 0 of a row (no entry applied yet), with the quadric `q` there and
+    /// every term's `f_m` zero ([`RowWalk::weights_mut`] sets them).
     #[inline(always)]
-    pub(super) fn new(q: [i64; 3]) -> Self {
+    pub(super) fn new(q: QuadStep) -> Self {
         RowWalk {
             entry: 0,
             left: 0,
             v: 0,
             s: 0,
+            g: 0,
+            gs: 0,
             q,
             fm: [0; T],
         }
+    }
+
+    /// Whether the quadric and its gradients are zero along the row (word by word).
+    #[inline(always)]
+    pub(super) fn quadric_is_zero(&self) -> bool {
+        let q = &self.q;
+        (q.q | q.dq | q.ddq | q.gx | q.dgx | q.gy | q.dgy) == 0
+    }
+
+    /// The next entry's index.
+    #[inline(always)]
+    pub(super) fn entry(&self) -> usize {
+        self.entry
     }
 
     /// Each term's `f_m` ([`row_weights`]).
@@ -151,14 +100,8 @@ impl<const T: usize> RowWalk<T> {
         &mut self.fm
     }
 
-    /// The next entry's index.
-    #[inline(always)]
-    pub(super) fn entry(&self) -> usize {
-        self.entry
-    }
-
-    /// Applies the next entry: the merged value and slope change by its `A + B f_m`, and its
-    /// run begins. `false` past the last entry.
+    /// Applies the next entry: the merged value, slope and derivative across the rows change
+    /// by its parts, and its run begins. `false` past the last entry.
     #[inline(always)]
     fn apply(&mut self, events: &[RowEvent]) -> bool {
         let Some(e) = events.get(self.entry) else {
@@ -167,6 +110,8 @@ impl<const T: usize> RowWalk<T> {
         let f = self.fm.get(usize::from(e.lane)).copied().unwrap_or(0);
         self.v = wadd(self.v, wadd(e.dv[0], wmul(e.dv[1], f)));
         self.s = wadd(self.s, wadd(e.ds[0], wmul(e.ds[1], f)));
+        self.g = wadd(self.g, e.dg[0]);
+        self.gs = wadd(self.gs, e.dg[1]);
         self.left = e.run;
         self.entry += 1;
         true
@@ -174,8 +119,9 @@ impl<const T: usize> RowWalk<T> {
 
     /// Moves on by `n` pixels without writing them, and applies the entries at the pixel it
     /// reaches (the cells that pixel starts in). Every step is the walk's own sum in the ring of
-    /// 64-bit integers: `m` pixels of a run add `m s` to the value, and the quadric's
-    /// differences move on by their closed form (`q + m dq + m (m - 1) / 2 ddq`, `dq + m ddq`).
+    /// 64-bit integers: `m` pixels of a run add `m s` to the value and `m g_s` to the
+    /// derivative across the rows, and the quadric moves on by its closed form
+    /// (`q + m dq + m (m - 1) / 2 ddq`, `dq + m ddq`, each gradient `+ m` its step).
     #[inline(never)]
     pub(super) fn skip(&mut self, events: &[RowEvent], mut n: u16) {
         loop {
@@ -190,13 +136,13 @@ impl<const T: usize> RowWalk<T> {
             let m = self.left.min(n);
             let mi = i64::from(m);
             self.v = wadd(self.v, wmul(self.s, mi));
-            let [q, dq, ddq] = self.q;
+            self.g = wadd(self.g, wmul(self.gs, mi));
+            let q = &mut self.q;
             let tri = i64::from(u32::from(m) * u32::from(m.saturating_sub(1)) / 2);
-            self.q = [
-                wadd(q, wadd(wmul(dq, mi), wmul(ddq, tri))),
-                wadd(dq, wmul(ddq, mi)),
-                ddq,
-            ];
+            q.q = wadd(q.q, wadd(wmul(q.dq, mi), wmul(q.ddq, tri)));
+            q.dq = wadd(q.dq, wmul(q.ddq, mi));
+            q.gx = wadd(q.gx, wmul(q.dgx, mi));
+            q.gy = wadd(q.gy, wmul(q.dgy, mi));
             self.left -= m;
             n -= m;
         }
@@ -217,7 +163,8 @@ pub(super) fn walk_part<const NOQ: bool, const AFFINE: bool, const T: usize>(
 ) {
     // The walk in registers (written back at the end): the rest of the run in progress, then
     // entry after entry.
-    let (entry, mut left, mut v, mut s, mut q) = (w.entry, w.left, w.v, w.s, w.q);
+    let (entry, mut left, mut v, mut s) = (w.entry, w.left, w.v, w.s);
+    let mut q = [w.q.q, w.q.dq, w.q.ddq];
     let fm = &w.fm;
     let mut rest = out;
     let mut next = events.get(entry..).unwrap_or_default().iter();
@@ -239,7 +186,200 @@ pub(super) fn walk_part<const NOQ: bool, const AFFINE: bool, const T: usize>(
         left = e.run;
     }
     let entry = events.len() - next.len();
-    (w.entry, w.left, w.v, w.s, w.q) = (entry, left, v, s, q);
+    (w.entry, w.left, w.v, w.s) = (entry, left, v, s);
+    [w.q.q, w.q.dq, w.q.ddq] = q;
+}
+
+/// `k` samples of a run into chunk `c` from slot `at` (`k` at most its room): the merged value
+/// `v` stepped by `s` with the quadric `q` (`NOQ` zero, `AFFINE` a constant step) and, with
+/// `GRADS`, the derivatives: `gx = q_x + (S >> fv)` the merged slope, `gy = q_y + (G >> fv)`
+/// the merged derivative across the rows (`g` stepped by `gs`), as the axial kernel's passes
+/// write them; without, the chunk's gradient slots are left as they are. The pixel loops of
+/// [`row_chunks`] and [`chunk_fill`].
+#[cfg(not(texcore_lean))]
+#[allow(clippy::too_many_arguments)]
+#[inline(always)]
+fn run_samples<const GRADS: bool, const NOQ: bool, const AFFINE: bool>(
+    c: &mut SampleChunk,
+    at: usize,
+    k: usize,
+    fvs: u32,
+    v: &mut i64,
+    s: i64,
+    g: &mut i64,
+    gs: i64,
+    q: &mut QuadStep,
+) {
+    let Some(fo) = c.f.get_mut(at..at + k) else {
+        return;
+    };
+    let mut qq = *q;
+    let mut x = *v;
+    for o in fo.iter_mut() {
+        *o = TexValue::from_bits(if NOQ {
+            (x >> (fvs + 32)) as i32
+        } else {
+            (qq.q.wrapping_add(x >> fvs) >> 32) as i32
+        });
+        x = x.wrapping_add(s);
+        if !NOQ {
+            qq.q = qq.q.wrapping_add(qq.dq);
+            if !AFFINE {
+                qq.dq = qq.dq.wrapping_add(qq.ddq);
+            }
+        }
+    }
+    *v = x;
+    if GRADS {
+        if let (Some(ox), Some(oy)) = (c.gx.get_mut(at..at + k), c.gy.get_mut(at..at + k)) {
+            let sx = s >> fvs;
+            let mut qx = q.gx;
+            for o in ox.iter_mut() {
+                *o = if NOQ { sx } else { qx.wrapping_add(sx) };
+                if !AFFINE {
+                    qx = qx.wrapping_add(q.dgx);
+                }
+            }
+            let mut qy = q.gy;
+            let mut gg = *g;
+            for o in oy.iter_mut() {
+                *o = if NOQ {
+                    gg >> fvs
+                } else {
+                    qy.wrapping_add(gg >> fvs)
+                };
+                gg = gg.wrapping_add(gs);
+                if !AFFINE {
+                    qy = qy.wrapping_add(q.dgy);
+                }
+            }
+            *g = gg;
+            q.gx = qx;
+            q.gy = qy;
+        }
+    }
+    q.q = qq.q;
+    q.dq = qq.dq;
+}
+
+/// The samples of a whole row from its schedule's `events` into `sink` ([`run_samples`] run
+/// by run, a chunk's room at a time; `GRADS`: with the derivatives). Inlined into the rows'
+/// loop, which hands each chunk to its one consumer (the spans of a plane take
+/// [`chunk_fill`]).
+#[cfg(not(texcore_lean))]
+#[inline(always)]
+pub(super) fn row_chunks<const GRADS: bool, const NOQ: bool, const AFFINE: bool, const T: usize>(
+    events: &[RowEvent],
+    fm: &[i64; T],
+    fvs: u32,
+    sink: &mut ChunkSink<'_, '_>,
+    q: &mut QuadStep,
+) {
+    let (mut v, mut s, mut g, mut gs) = (0i64, 0i64, 0i64, 0i64);
+    for e in events {
+        let f = fm.get(usize::from(e.lane)).copied().unwrap_or(0);
+        v = wadd(v, wadd(e.dv[0], wmul(e.dv[1], f)));
+        s = wadd(s, wadd(e.ds[0], wmul(e.ds[1], f)));
+        if GRADS {
+            g = wadd(g, e.dg[0]);
+            gs = wadd(gs, e.dg[1]);
+        }
+        let mut left = usize::from(e.run);
+        while left > 0 {
+            let n = left.min(sink.room());
+            let at = sink.chunk.len;
+            run_samples::<GRADS, NOQ, AFFINE>(sink.chunk, at, n, fvs, &mut v, s, &mut g, gs, q);
+            sink.advance(n);
+            left -= n;
+        }
+    }
+}
+
+/// The next `n` samples of a row from its walk `w` into `chunk` from its length on (`n` at
+/// most its room; the caller hands it over), with the derivatives ([`run_samples`]), leaving
+/// the entries at the pixel after them to the next part. Out of line, a chunk at a time, for
+/// the spans of a plane.
+#[cfg(not(texcore_lean))]
+#[inline(never)]
+pub(super) fn chunk_fill<const NOQ: bool, const AFFINE: bool, const T: usize>(
+    w: &mut RowWalk<T>,
+    events: &[RowEvent],
+    fvs: u32,
+    chunk: &mut SampleChunk,
+    n: usize,
+) {
+    let RowWalk {
+        entry,
+        left,
+        v,
+        s,
+        g,
+        gs,
+        q,
+        fm,
+    } = w;
+    let mut rest = n;
+    let mut at = chunk.len;
+    let mut next = events.get(*entry..).unwrap_or_default().iter();
+    loop {
+        // The pixels of the run in progress (at most `rest`).
+        let k = usize::from(*left).min(rest);
+        *left -= k as u16;
+        rest -= k;
+        run_samples::<true, NOQ, AFFINE>(chunk, at, k, fvs, v, *s, g, *gs, q);
+        at += k;
+        if rest == 0 {
+            break;
+        }
+        let Some(e) = next.next() else {
+            break;
+        };
+        let f = fm.get(usize::from(e.lane)).copied().unwrap_or(0);
+        *v = wadd(*v, wadd(e.dv[0], wmul(e.dv[1], f)));
+        *s = wadd(*s, wadd(e.ds[0], wmul(e.ds[1], f)));
+        *g = wadd(*g, e.dg[0]);
+        *gs = wadd(*gs, e.dg[1]);
+        *left = e.run;
+    }
+    *entry = events.len() - next.len();
+}
+
+/// The next `n` samples of a row from its walk `w` into `sink`, with their derivatives when
+/// `grads` ([`chunk_fill`]) or without (the chunk's gradient slots left as they are: zero;
+/// [`walk_part`] into each chunk's values), a chunk at a time, each handed over here.
+#[cfg(not(texcore_lean))]
+#[inline(always)]
+pub(super) fn walk_chunks<const T: usize>(
+    w: &mut RowWalk<T>,
+    events: &[RowEvent],
+    fvs: u32,
+    n: usize,
+    grads: bool,
+    sink: &mut ChunkSink<'_, '_>,
+) {
+    let noq = w.quadric_is_zero();
+    let noq_value = (w.q.q | w.q.dq | w.q.ddq) == 0;
+    let mut k = n;
+    while k > 0 {
+        let m = k.min(sink.room());
+        let c = &mut *sink.chunk;
+        // A quadric is stepped as curved (an affine one adds zeros: one code shape fewer).
+        if grads {
+            if noq {
+                chunk_fill::<true, true, T>(w, events, fvs, c, m);
+            } else {
+                chunk_fill::<false, false, T>(w, events, fvs, c, m);
+            }
+        } else if let Some(fo) = c.f.get_mut(c.len..c.len + m) {
+            if noq_value {
+                walk_part::<true, true, T>(w, events, fvs, fo);
+            } else {
+                walk_part::<false, false, T>(w, events, fvs, fo);
+            }
+        }
+        sink.advance(m);
+        k -= m;
+    }
 }
 
 /// Whether `b` is value noise with the smooth fade (the row schedule's non-linear cells).

@@ -394,7 +394,9 @@ fn row_spans<const T: usize>(
 /// Rows `0..rows` of the marble workload `w`, each into `line` (each pixel's colour as RGB565,
 /// zero-extended) and then handed to `each(y, line)`: the whole-row workload through
 /// [`super::super::TextureEvaluator::rows`] (the span evaluator's row schedule in a
-/// [`RowCache`] of [`ROW_EVENTS`] entries), the 16-pixel-span one row by row ([`marble_row`]).
+/// [`RowCache`] of [`ROW_EVENTS`] entries), the 16-pixel-span one span by span, left to right
+/// along each row, through [`TextureSpans`](crate::texture::TextureSpans) (the same schedule,
+/// each row's walk kept from span to span).
 #[cfg(feature = "csat")]
 #[inline(always)]
 pub fn marble_plane<const T: usize, const N: usize>(
@@ -421,42 +423,29 @@ pub fn marble_plane<const T: usize, const N: usize>(
         }
     } else {
         // The spans' terms set up once for the plane (`PlaneSetup`; the plane is always valid,
-        // `the_plane_is_valid`, and the marble is a model, not a perturbed material).
+        // `the_plane_is_valid`, and the marble is a model, not a perturbed material), shaded
+        // span by span from the rows' schedule (`TextureSpans`).
         let Some(setup) = plane().ok().and_then(|p| ev.plane_setup(&p)) else {
             return;
         };
+        let Some(line) = line.get_mut(..usize::from(SIZE)) else {
+            return;
+        };
+        let len = usize::from(w.span_len());
+        let mut cache = RowCache::<ROW_EVENTS>::new();
+        let mut spans = ev.plane_spans(&setup, &mut cache);
         for y in 0..rows {
-            marble_row_in(ev, &setup, w, y, line);
+            for (x, chunk) in (0u16..).step_by(len).zip(line.chunks_mut(len)) {
+                let mut px = chunk.iter_mut();
+                let n = px.len() as u16;
+                spans.shade(x, y, n, |c| {
+                    if let Some(p) = px.next() {
+                        *p = u32::from(c.to_rgb565().to_bits());
+                    }
+                });
+            }
             each(y, line);
         }
-    }
-}
-
-/// [`marble_row`] through `plane` (the spans' terms set up once,
-/// [`PlaneSetup`](crate::span::PlaneSetup)): the same colours.
-#[cfg(feature = "csat")]
-#[inline(always)]
-pub fn marble_row_in<const T: usize, const N: usize>(
-    ev: &mut super::super::TextureEvaluator<'_, T, N>,
-    plane: &crate::span::PlaneSetup<'_, T>,
-    w: Workload,
-    y: u16,
-    line: &mut [u32],
-) {
-    let len = w.span_len();
-    let Some(line) = line.get_mut(..usize::from(SIZE)) else {
-        return;
-    };
-    let mut x0 = 0;
-    for chunk in line.chunks_mut(usize::from(len)) {
-        let mut px = chunk.iter_mut();
-        let n = px.len() as u16;
-        ev.shade_plane(plane, x0, y, n, |c| {
-            if let Some(p) = px.next() {
-                *p = u32::from(c.to_rgb565().to_bits());
-            }
-        });
-        x0 += len;
     }
 }
 
