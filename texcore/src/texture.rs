@@ -490,6 +490,29 @@ mod tests {
         }
     }
 
+    /// Every filter compiled in.
+    pub(super) fn filters() -> impl Iterator<Item = Antialias> {
+        [
+            Antialias::None,
+            Antialias::Mip,
+            Antialias::Csat,
+            Antialias::Csat3,
+        ]
+        .into_iter()
+        .filter(|a| a.is_available())
+    }
+
+    /// The marble preset's model as a texture of `mode` with each filter compiled in.
+    fn marble_textures(
+        mode: EvalMode,
+    ) -> impl Iterator<Item = (Antialias, Texture<{ crate::presets::PRESET_TERMS }, 256>)> {
+        let model = crate::presets::marble(HashKind::Integer).model;
+        filters().map(move |aa| {
+            let shader = Shader::Model(model.clone());
+            (aa, Texture::new(shader, stage(aa), GradientNorm::L2, mode))
+        })
+    }
+
     /// [`TextureSpans`] shades a plane's spans as [`TextureEvaluator::shade_plane`] does, with
     /// every filter and whole rows cut into 16-pixel spans, spans out of order and spans outside
     /// the rectangle; walked from the rows' schedule, the 16-pixel rows set up fewer cells.
@@ -504,20 +527,7 @@ mod tests {
             6,
         )
         .unwrap();
-        let model = crate::presets::marble(HashKind::Integer).model;
-        let filters = [
-            Antialias::None,
-            Antialias::Mip,
-            Antialias::Csat,
-            Antialias::Csat3,
-        ];
-        for aa in filters.into_iter().filter(|a| a.is_available()) {
-            let tex = Texture::new(
-                Shader::Model(model.clone()),
-                stage(aa),
-                GradientNorm::L2,
-                EvalMode::Fd,
-            );
+        for (aa, tex) in marble_textures(EvalMode::Fd) {
             let (mut ev, mut plain) = (tex.evaluator(), tex.evaluator());
             let setup = ev.plane_setup(&plane).unwrap();
             let mut cache = RowCache::<64>::new();
@@ -562,19 +572,7 @@ mod tests {
         )
         .unwrap();
         let model = crate::presets::marble(HashKind::Integer).model;
-        let filters = [
-            Antialias::None,
-            Antialias::Mip,
-            Antialias::Csat,
-            Antialias::Csat3,
-        ];
-        for aa in filters.into_iter().filter(|a| a.is_available()) {
-            let tex = Texture::new(
-                Shader::Model(model.clone()),
-                stage(aa),
-                GradientNorm::L2,
-                EvalMode::Auto,
-            );
+        for (aa, tex) in marble_textures(EvalMode::Auto) {
             let (mut ev, mut direct) = (tex.evaluator(), tex.evaluator());
             let setup = ev.plane_setup(&plane).unwrap();
             for (x, y, len) in [

@@ -194,15 +194,7 @@ mod tests {
             },
         ];
         for shader in &shaders {
-            for aa in [
-                Antialias::None,
-                Antialias::Mip,
-                Antialias::Csat,
-                Antialias::Csat3,
-            ]
-            .into_iter()
-            .filter(|a| a.is_available())
-            {
+            for aa in super::super::tests::filters() {
                 let stage = crate::ready::Material::preset_with_hash(
                     crate::ready::PresetName::Marble,
                     HashKind::Integer,

@@ -461,6 +461,45 @@ mod tests {
         out
     }
 
+    /// Three evaluators of `m` with `opts`: the spans', the reference's and (in `Direct`) the
+    /// model's own.
+    fn evaluators(m: &TextureModel<8>, opts: EvalOptions) -> [SpanEvaluator<'_, 8>; 3] {
+        let direct = EvalOptions {
+            mode: EvalMode::Direct,
+            ..opts
+        };
+        [opts, opts, direct].map(|o| SpanEvaluator::new(m, o))
+    }
+
+    /// The counters' changes of a walked span (`got` from `got0`) are the span's on its own
+    /// (`want` from `want0`), its cell set-ups too when `cells`.
+    fn same_counters(
+        got: &SpanStats,
+        got0: &SpanStats,
+        want: &SpanStats,
+        want0: &SpanStats,
+        cells: bool,
+    ) -> Result<(), proptest::test_runner::TestCaseError> {
+        let delta = |a: &SpanStats, b: &SpanStats| {
+            [
+                a.pixels - b.pixels,
+                a.spans - b.spans,
+                if cells {
+                    a.cell_setups - b.cell_setups
+                } else {
+                    0
+                },
+                a.noise_evaluations - b.noise_evaluations,
+                a.culled_octaves - b.culled_octaves,
+                a.faded_octaves - b.faded_octaves,
+                a.gradient_evaluations - b.gradient_evaluations,
+                a.fd_pixels - b.fd_pixels,
+            ]
+        };
+        proptest::prop_assert_eq!(delta(got, got0), delta(want, want0));
+        Ok(())
+    }
+
     /// Every piece through [`PlaneSpans`] against `eval_plane_values` (through a face cache
     /// carrying lanes, values, facts and, where the span was walked in `Fd`, the counters'
     /// changes) and `Direct`; the number of spans walked.
@@ -470,15 +509,7 @@ mod tests {
         plane: &SpanPlane,
         pieces: &[(u16, u16, u16)],
     ) -> Result<u64, proptest::test_runner::TestCaseError> {
-        let mut ev = SpanEvaluator::new(m, opts);
-        let mut reference = SpanEvaluator::new(m, opts);
-        let mut direct = SpanEvaluator::new(
-            m,
-            EvalOptions {
-                mode: EvalMode::Direct,
-                ..opts
-            },
-        );
+        let [mut ev, mut reference, mut direct] = evaluators(m, opts);
         let setup = ev.plane_setup(plane);
         let ref_setup = reference.plane_setup(plane);
         let mut faces = FaceCache::<64, 8>::new();
@@ -502,24 +533,7 @@ mod tests {
                 proptest::prop_assert_eq!(&got, &d, "span {:?} against Direct", (x, y, len));
             }
             if spans.ev.core.row_spans > walked && opts.mode == EvalMode::Fd {
-                let delta = |a: &SpanStats, b: &SpanStats| {
-                    [
-                        a.pixels - b.pixels,
-                        a.spans - b.spans,
-                        a.cell_setups - b.cell_setups,
-                        a.noise_evaluations - b.noise_evaluations,
-                        a.culled_octaves - b.culled_octaves,
-                        a.faded_octaves - b.faded_octaves,
-                        a.gradient_evaluations - b.gradient_evaluations,
-                        a.fd_pixels - b.fd_pixels,
-                    ]
-                };
-                proptest::prop_assert_eq!(
-                    delta(spans.stats(), &before),
-                    delta(reference.stats(), &ref_before),
-                    "counters of span {:?}",
-                    (x, y, len)
-                );
+                same_counters(spans.stats(), &before, reference.stats(), &ref_before, true)?;
             }
         }
         let walked = spans.ev.core.row_spans;
@@ -546,15 +560,7 @@ mod tests {
         plane: &SpanPlane,
         pieces: &[(u16, u16, u16)],
     ) -> Result<u64, proptest::test_runner::TestCaseError> {
-        let mut ev = SpanEvaluator::new(m, opts);
-        let mut reference = SpanEvaluator::new(m, opts);
-        let mut direct = SpanEvaluator::new(
-            m,
-            EvalOptions {
-                mode: EvalMode::Direct,
-                ..opts
-            },
-        );
+        let [mut ev, mut reference, mut direct] = evaluators(m, opts);
         let setup = ev.plane_setup(plane);
         let ref_setup = reference.plane_setup(plane);
         let mut cache = RowCache::<400>::new();
@@ -574,23 +580,13 @@ mod tests {
                 proptest::prop_assert_eq!(&got, &d, "span {:?} against Direct", (x, y, len));
             }
             if spans.ev.core.row_spans > walked && opts.mode == EvalMode::Fd {
-                let delta = |a: &SpanStats, b: &SpanStats| {
-                    [
-                        a.pixels - b.pixels,
-                        a.spans - b.spans,
-                        a.noise_evaluations - b.noise_evaluations,
-                        a.culled_octaves - b.culled_octaves,
-                        a.faded_octaves - b.faded_octaves,
-                        a.gradient_evaluations - b.gradient_evaluations,
-                        a.fd_pixels - b.fd_pixels,
-                    ]
-                };
-                proptest::prop_assert_eq!(
-                    delta(spans.stats(), &before),
-                    delta(reference.stats(), &ref_before),
-                    "counters of span {:?}",
-                    (x, y, len)
-                );
+                same_counters(
+                    spans.stats(),
+                    &before,
+                    reference.stats(),
+                    &ref_before,
+                    false,
+                )?;
             }
         }
         let walked = spans.ev.core.row_spans;
