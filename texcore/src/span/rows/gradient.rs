@@ -341,7 +341,7 @@ pub(super) fn gradient_row<const T: usize>(
     gradient_walk(events, &state.lanes, &setup.terms, out, q, table);
 }
 
-/// The samples of a row whose terms are all gradient noise (as `row_walk`): at each entry the
+/// The samples of a row whose terms are all gradient noise (as `walk_part`): at each entry the
 /// entering term's corner dot products for this row, then per pixel every term's staged lerps
 /// and the quadric `q`, the fades along the row from `table` when it holds every term's
 /// (`Fades`).

@@ -5,8 +5,8 @@
 //! its cells again; [`PlaneRows`] serves whole rows from a cell schedule kept across rows, at a
 //! few additions a pixel and two products a cell event. [`PlaneSpans`] serves the spans of a
 //! [`PlaneSetup`]'s plane from the same schedule: each row `y` is set up once as the span
-//! `(0, y)` across the plane's whole width, and its walk (the merged value and slope, the
-//! schedule entry, the quadric's differences) is kept between the spans. A span that starts
+//! `(0, y)` across the plane's whole width, and its walk (the merged value, slope and derivative
+//! across the rows, the schedule entry, the quadric's differences) is kept between the spans. A span that starts
 //! where the last one of its row ended goes on from there; one further along the row moves the
 //! walk on (a product per entry passed, no pixel written); any other span starts its row again.
 //!
@@ -30,11 +30,10 @@
 //!   spans out of order).
 //! - **Counters**: a walked span counts its span, pixels, band-limited terms and samples as the
 //!   span evaluated on its own (with gradients, its gradient samples too); its cell set-ups are
-//!   the cells it enters, as through a
-//!   [`FaceCache`] whose lanes are carried from span to span: a span that goes on from the last
-//!   one counts the cell events at its pixels, any other span one cell a term plus the events
-//!   after its first pixel (a row cut into contiguous spans sets up exactly the cells of the
-//!   whole row). The row's plan decides the terms' strategies, so in [`EvalMode::Auto`] a
+//!   the cells it enters, as through a [`FaceCache`] whose lanes are carried from span to span:
+//!   a span that goes on from the last one counts the cell events at its pixels, any other span
+//!   one cell a term plus the events after its first pixel (a row cut into contiguous spans
+//!   sets up exactly the cells of the whole row). The row's plan decides the terms' strategies, so in [`EvalMode::Auto`] a
 //!   walked span counts the row's forward-differenced pixels.
 //! - Nothing is assumed about the spans: a span outside the plane's rectangle is not evaluated
 //!   (the default facts are returned, as `eval_plane_values` does), and a row the schedule does

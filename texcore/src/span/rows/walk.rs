@@ -466,7 +466,7 @@ pub(super) fn smooth_fade(a: u32) -> i64 {
     ((p + (1 << 31)) >> 32) as i64
 }
 
-/// The samples of a row with smooth-fade terms (as [`row_walk`]): the linear terms' merged
+/// The samples of a row with smooth-fade terms (as [`walk_part`]): the linear terms' merged
 /// value and slope, plus each smooth term's `D w(j)`, `w(j)` the fade of its fraction along `k`
 /// ([`smooth_fade`]), the lattice coordinate stepped a pixel at a time; a row of one smooth term
 /// without quadric reads its fades from `table` when it holds them.
