@@ -72,6 +72,10 @@ pub(crate) struct PlaneWalk<'c, 'm, const T: usize> {
     events: &'c mut [RowEvent],
     state: RowsState<T>,
     cursor: Cursor<T>,
+    /// The chunk the walked spans' samples are handed over in, kept from span to span (not
+    /// cleared for each: every slot handed over is written first; an evaluator's options do not
+    /// change, so samples without gradients find the gradient slots as made, zero).
+    chunk: SampleChunk,
 }
 
 impl<'c, 'm, const T: usize> PlaneWalk<'c, 'm, T> {
@@ -90,6 +94,7 @@ impl<'c, 'm, const T: usize> PlaneWalk<'c, 'm, T> {
                 weights: 0,
                 lanes: heapless::Vec::new(),
             },
+            chunk: SampleChunk::new(),
             cursor: Cursor {
                 row: None,
                 served: false,
@@ -143,7 +148,7 @@ impl<'c, 'm, const T: usize> PlaneWalk<'c, 'm, T> {
         };
         #[cfg(not(texcore_lean))]
         if len > 0 && self.walks(ev, x, y, false) {
-            return self.walk(ev, x, len, false, |w, events, fvs, kind, _| match kind {
+            return self.walk(ev, x, len, false, |w, events, fvs, kind, _, _| match kind {
                 // An affine quadric is stepped as curved (it adds zeros: one code shape fewer).
                 0 => walk_part::<true, true, T>(w, events, fvs, out),
                 _ => walk_part::<false, false, T>(w, events, fvs, out),
@@ -173,18 +178,14 @@ impl<'c, 'm, const T: usize> PlaneWalk<'c, 'm, T> {
         #[cfg(not(texcore_lean))]
         if len > 0 && self.walks(ev, x, y, GRADIENTS && ev.core.opts.gradients) {
             let (_, _, extra_width48) = self.plane.span_facts();
-            let mut chunk = SampleChunk::new();
-            chunk.extra_width48 = extra_width48;
-            let mut sink = ChunkSink {
-                chunk: &mut chunk,
-                out,
-            };
+            self.chunk.len = 0;
+            self.chunk.extra_width48 = extra_width48;
             let n = usize::from(len);
-            let info = self.walk(ev, x, len, true, |w, events, fvs, _, grads| {
-                walk_chunks(w, events, fvs, n, grads, &mut sink)
+            return self.walk(ev, x, len, true, |w, events, fvs, _, grads, chunk| {
+                let mut sink = ChunkSink { chunk, out };
+                walk_chunks(w, events, fvs, n, grads, &mut sink);
+                sink.finish();
             });
-            sink.finish();
-            return info;
         }
         ev.eval_chunks_from(&span, SetupFrom::Plane(self.plane, x, y), out)
     }
@@ -237,8 +238,8 @@ impl<'c, 'm, const T: usize> PlaneWalk<'c, 'm, T> {
 
     /// Span `x` (`len > 0` pixels) of the row the cursor stands on (`x` at or after the
     /// cursor, inside the row), walked from the schedule by `part` (given the walk, the
-    /// entries, the noise fraction bits, the quadric's kind and whether the row has its
-    /// gradients), and its counters (`samples`: the span's samples are handed over, with their
+    /// entries, the noise fraction bits, the quadric's kind, whether the row has its gradients
+    /// and the walk's chunk), and its counters (`samples`: the span's samples are handed over, with their
     /// gradients when the row has them). One copy per `part`: a values-only user links no
     /// sample code.
     #[cfg(not(texcore_lean))]
@@ -249,7 +250,7 @@ impl<'c, 'm, const T: usize> PlaneWalk<'c, 'm, T> {
         x: u16,
         len: u16,
         samples: bool,
-        part: impl FnOnce(&mut RowWalk<T>, &[RowEvent], u32, u8, bool),
+        part: impl FnOnce(&mut RowWalk<T>, &[RowEvent], u32, u8, bool, &mut SampleChunk),
     ) -> SpanInfo {
         let events = self.events.get(..self.state.used).unwrap_or_default();
         let fvs = ev.core.model.noise_frac_bits() & 31;
@@ -261,7 +262,7 @@ impl<'c, 'm, const T: usize> PlaneWalk<'c, 'm, T> {
         }
         let first = w.entry();
         let grads = c.grads;
-        part(w, events, fvs, c.kind, grads);
+        part(w, events, fvs, c.kind, grads, &mut self.chunk);
         let walked = w.entry() - first;
         c.x = x.wrapping_add(len);
         // Counters: as the span on its own, its cells as the module documentation states.
