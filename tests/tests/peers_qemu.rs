@@ -40,8 +40,8 @@ const BOUNDS: &[(&str, &str, f64, f64)] = &[
     ("marble-csat-rgb565", "texcore-fd", 396.0, 434.0), // 359.7 / 394.2
     ("marble-csat-rgb565", "texcore-auto", 397.0, 435.0), // 360.2 / 394.6
     ("marble-csat-rgb565", "texcore-direct", 1520.0, 2111.0), // 1381.6 / 1918.2
-    ("marble-csat-rgb565-span16", "texcore-fd", 464.0, 503.0), // 421.4 / 457.1
-    ("marble-csat-rgb565-span16", "texcore-auto", 465.0, 504.0), // 421.9 / 457.6
+    ("marble-csat-rgb565-span16", "texcore-fd", 453.0, 484.0), // 411.6 / 439.8
+    ("marble-csat-rgb565-span16", "texcore-auto", 454.0, 485.0), // 412.1 / 440.2
     (
         "marble-csat-rgb565-span16",
         "texcore-direct",
