@@ -441,7 +441,7 @@ impl<'m, const T: usize> EvalCore<'m, T> {
         y: u16,
         out: &mut Setup<T>,
     ) {
-        if core::ptr::eq(p.model, self.model) && p.band.as_ref() == self.opts.band() {
+        if p.serves(self) {
             if let Some(pq) = &p.quad {
                 self.plane_quadric(pq, x, y, out);
             }
