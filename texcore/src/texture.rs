@@ -571,7 +571,6 @@ mod tests {
             100,
         )
         .unwrap();
-        let model = crate::presets::marble(HashKind::Integer).model;
         for (aa, tex) in marble_textures(EvalMode::Auto) {
             let (mut ev, mut direct) = (tex.evaluator(), tex.evaluator());
             let setup = ev.plane_setup(&plane).unwrap();
@@ -608,6 +607,7 @@ mod tests {
             let (mut ev, mut direct) = (tex.evaluator(), tex.evaluator());
             assert!(ev.plane_setup(&plane).is_none());
             // A model's plane set-up, handed to a perturbed material, is not used.
+            let model = crate::presets::marble(HashKind::Integer).model;
             let other = Texture::new(
                 Shader::Model(model),
                 stage(aa),
