@@ -1,11 +1,18 @@
-//! Gradient lattice noise (Perlin's improved noise and Olano's corner-gradient mNoise):
-//! staged interpolation of corner dot products, with the analytic gradient.
+//! Gradient lattice noise (Perlin's improved noise and Olano's corner-gradient mNoise): the
+//! corner dot products interpolated in one exact blend, with the analytic gradient.
 //!
-//! Values are in units of 2^-16 (`n16`), computed by the seven staged lerps of `docs/model.md` 4.3,
-//! each `p + ((q - p) * w) >> 16` (arithmetic shift). The gradient is computed alongside by the
-//! product rule through the same stages, so it is the analytic gradient of the fixed-point
-//! interpolant up to the rounding of each stage. Both are total functions of their inputs: no
-//! overflow is possible (every intermediate is bounded by a few times 2^18 before scaling).
+//! Values are in units of 2^-16 (`n16`), the blend of `docs/model.md` 4.3 ([`blend`]): the dot
+//! products blended exactly along y and z into two sums `A_0`, `A_1` (the corners at x = 0 and
+//! x = 1, scaled by `2^32`), then `floor(A_0 / 2^32) + floor(floor(4 (A_1 - A_0) / 2^32) (w_x
+//! 2^14) / 2^32)`: one product along x. Along a row of the lattice's x axis `A_0` and `A_1` are
+//! linear in the pixel, so the row schedule steps them by additions and a pixel is one
+//! high-word product (`span::rows`); the value is within three units below the exact trilinear
+//! value `R` (`(R - 3, R]`: the floors lose less than one unit, a quarter and one).
+//!
+//! The gradient is computed by the product rule through staged lerps (x first, then y, then
+//! z), the analytic gradient of the interpolant up to the rounding of each stage: it only sets
+//! the filter width. Both are total functions of their inputs: no overflow is possible (every
+//! intermediate is bounded by a few times 2^18 before scaling, `2^53` after).
 
 use super::fade::{Fade, ONE};
 
@@ -62,47 +69,71 @@ fn offsets(frac: [u32; 3], c: usize) -> [i64; 3] {
     [f(0), f(1), f(2)]
 }
 
-/// The interpolated value in units of 2^-16 (not yet normalised).
-///
-/// The size-lean shape (`cfg(texcore_lean)`) takes it from the one out-of-line
-/// [`value_and_gradient`] (the same value stages, bit for bit; tested) instead of compiling a
-/// second staged interpolation.
-#[inline]
-pub fn value(grads: &[Grad; 8], frac: [u32; 3], fade: Fade) -> i64 {
-    if cfg!(texcore_lean) {
-        value_and_gradient(grads, frac, fade).0
-    } else {
-        value_unrolled(grads, frac, fade)
-    }
-}
-
-/// [`value`] with the seven lerps written out.
+/// The blend of `docs/model.md` 4.3 of the corner dot products `d` (corner `c` at bit 0 = x,
+/// bit 1 = y, bit 2 = z; `|d_c| < 2^18`) with the fades `w` (`0..=2^16`) along x, y and z, in
+/// units of 2^-16: `A_b = sum (2^16 - w_y or w_y) (2^16 - w_z or w_z) d_c` over the four corners
+/// whose x bit is `b` (exact: `|A_b| < 2^50`), then
+/// `floor(A_0 / 2^32) + floor(floor(4 (A_1 - A_0) / 2^32) (w_x 2^14) / 2^32)`
+/// (`|4 (A_1 - A_0)| < 2^53`; the product of its high word and `w_x 2^14 <= 2^30` is within
+/// `2^51`). The row schedule makes the same two sums by additions and the same last step
+/// (`span::rows`).
 #[cfg_attr(not(texcore_lean), inline(always))]
-fn value_unrolled(grads: &[Grad; 8], frac: [u32; 3], fade: Fade) -> i64 {
-    let w = [
-        fade.apply(frac[0]),
-        fade.apply(frac[1]),
-        fade.apply(frac[2]),
-    ];
-    let d = |c: usize| dot(grads[c], offsets(frac, c));
-    let e = |c: usize| lerp16(d(c), d(c + 1), w[0]);
-    let f0 = lerp16(e(0), e(2), w[1]);
-    let f1 = lerp16(e(4), e(6), w[1]);
-    lerp16(f0, f1, w[2])
+pub fn blend(d: [i32; 8], w: [i32; 3]) -> i32 {
+    // `2^16 p + w (q - p)`: the exact blend of two values along one axis, of two dot products
+    // (`|q - p| < 2^19`: one 32 x 32-bit product) and of two such blends (`|.| < 2^35`).
+    let along_y = |p: i32, q: i32| (i64::from(p) << 16) + i64::from(w[1]) * i64::from(q - p);
+    let along_z = |p: i64, q: i64| (p << 16).wrapping_add(i64::from(w[2]).wrapping_mul(q - p));
+    let a0 = along_z(along_y(d[0], d[2]), along_y(d[4], d[6]));
+    let a1 = along_z(along_y(d[1], d[3]), along_y(d[5], d[7]));
+    last_step(a0, a1.wrapping_sub(a0).wrapping_mul(4), w[0] << 14)
 }
 
-/// Value and analytic gradient (`dn/du`, units 2^-16 per cell) of the interpolant.
+/// The last step of [`blend`] from `A_0`, `d4 = 4 (A_1 - A_0)` and `w14 = w_x 2^14`:
+/// `floor(A_0 / 2^32) + floor(floor(d4 / 2^32) w14 / 2^32)`, one signed high-word product
+/// (`smmul`, `mulh`).
+#[inline(always)]
+pub(crate) fn last_step(a0: i64, d4: i64, w14: i32) -> i32 {
+    let (ah, dh) = ((a0 >> 32) as i32, (d4 >> 32) as i32);
+    ah.wrapping_add(((i64::from(dh) * i64::from(w14)) >> 32) as i32)
+}
+
+/// The interpolated value in units of 2^-16 (not yet normalised): the corners' dot products
+/// and the fades, then [`blend`]. Out of line: one copy for every evaluation path that takes
+/// a pixel's value on its own (the rows of the lattice's x axis step [`blend`]'s sums instead).
+#[inline(never)]
+pub fn value(grads: &[Grad; 8], frac: [u32; 3], fade: Fade) -> i64 {
+    let w = [
+        fade.apply(frac[0]) as i32,
+        fade.apply(frac[1]) as i32,
+        fade.apply(frac[2]) as i32,
+    ];
+    // The offsets along each axis from corners 0 and 1 (`|o| <= 2^16`), and the dot products
+    // in `i32` (`|d_c| <= 3 2^16`).
+    let o: [[i32; 2]; 3] = core::array::from_fn(|a| {
+        let f = (frac[a] & 0xFFFF) as i32;
+        [f, f - ONE as i32]
+    });
+    let d: [i32; 8] = core::array::from_fn(|c| {
+        let g = grads[c];
+        let at = |a: usize| o[a][(c >> a) & 1];
+        i32::from(g[0]) * at(0) + i32::from(g[1]) * at(1) + i32::from(g[2]) * at(2)
+    });
+    i64::from(blend(d, w))
+}
+
+/// The analytic gradient (`dn/du`, units 2^-16 per cell) of the interpolant, through staged
+/// lerps (x first, then y, then z) by the product rule.
 ///
 /// The size-lean shape (`cfg(texcore_lean)`) keeps one out-of-line copy that runs the stages as a
 /// loop over the axes (`value_and_gradient_looped`); the fast one writes them out. Both give the
 /// same result (tested).
 #[cfg_attr(texcore_lean, inline(never))]
 #[cfg_attr(not(texcore_lean), inline)]
-pub fn value_and_gradient(grads: &[Grad; 8], frac: [u32; 3], fade: Fade) -> (i64, [i64; 3]) {
+pub fn gradient(grads: &[Grad; 8], frac: [u32; 3], fade: Fade) -> [i64; 3] {
     if cfg!(texcore_lean) {
-        value_and_gradient_looped(grads, frac, fade)
+        value_and_gradient_looped(grads, frac, fade).1
     } else {
-        value_and_gradient_unrolled(grads, frac, fade)
+        value_and_gradient_unrolled(grads, frac, fade).1
     }
 }
 
@@ -130,7 +161,7 @@ fn stage(p: [i64; 4], q: [i64; 4], axis: usize, w: i64, dw: i64) -> [i64; 4] {
     out
 }
 
-/// [`value_and_gradient`] with the stages as loops: the eight corners, then per axis the pairs
+/// [`gradient`]'s stages as loops: the eight corners, then per axis the pairs
 /// of the previous stage (adjacent along that axis) into half as many.
 fn value_and_gradient_looped(grads: &[Grad; 8], frac: [u32; 3], fade: Fade) -> (i64, [i64; 3]) {
     let mut s = [[0i64; 4]; 8];
@@ -150,7 +181,7 @@ fn value_and_gradient_looped(grads: &[Grad; 8], frac: [u32; 3], fade: Fade) -> (
     (v, [gx, gy, gz])
 }
 
-/// [`value_and_gradient`] with the seven stages written out.
+/// [`gradient`]'s seven stages written out.
 #[cfg_attr(not(texcore_lean), inline(always))]
 fn value_and_gradient_unrolled(grads: &[Grad; 8], frac: [u32; 3], fade: Fade) -> (i64, [i64; 3]) {
     let w = [
@@ -222,6 +253,25 @@ mod tests {
         v
     }
 
+    /// The exact trilinear value of the dot products with the fades, times `2^48`.
+    fn exact48(grads: &[Grad; 8], frac: [u32; 3], fade: Fade) -> i128 {
+        let w = [0, 1, 2].map(|a| i128::from(fade.apply(frac[a])));
+        (0..8)
+            .map(|c| {
+                let wc: i128 = (0..3)
+                    .map(|a| {
+                        if (c >> a) & 1 == 1 {
+                            w[a]
+                        } else {
+                            65_536 - w[a]
+                        }
+                    })
+                    .product();
+                wc * i128::from(dot(grads[c], offsets(frac, c)))
+            })
+            .sum()
+    }
+
     proptest::proptest! {
         #[test]
         fn both_shapes_agree(
@@ -235,15 +285,69 @@ mod tests {
             for fade in fades() {
                 let want = value_and_gradient_unrolled(&grads, frac, fade);
                 proptest::prop_assert_eq!(value_and_gradient_looped(&grads, frac, fade), want);
-                proptest::prop_assert_eq!(value_and_gradient(&grads, frac, fade), want);
-                proptest::prop_assert_eq!(value_unrolled(&grads, frac, fade), want.0);
-                proptest::prop_assert_eq!(value(&grads, frac, fade), want.0);
+                proptest::prop_assert_eq!(gradient(&grads, frac, fade), want.1);
+            }
+        }
+
+        /// The blend is within three units below the exact trilinear value `R`, `(R - 3, R]`,
+        /// for any gradients (components -1, 0, 1: Perlin's and Olano's) and fraction.
+        #[test]
+        fn the_blend_is_within_three_units_below_the_exact_value(
+            g in proptest::collection::vec(-1i8..=1, 24),
+            frac in proptest::prelude::any::<[u32; 3]>(),
+        ) {
+            let mut grads = [[0i8; 3]; 8];
+            for (gc, v) in grads.iter_mut().zip(g.chunks_exact(3)) {
+                gc.copy_from_slice(v);
+            }
+            for fade in fades() {
+                let r = exact48(&grads, frac, fade);
+                let n = i128::from(value(&grads, frac, fade)) << 48;
+                proptest::prop_assert!(n <= r && r - n < 3 << 48, "{} {}", n >> 48, r >> 48);
+            }
+        }
+    }
+
+    /// The blend's extremes: every dot product at its largest magnitude with every weight at
+    /// 0, 1 or at its ends, against the exact value.
+    #[test]
+    fn the_blend_at_its_extremes() {
+        for signs in 0u32..256 {
+            let d: [i32; 8] = core::array::from_fn(|c| {
+                if (signs >> c) & 1 == 1 {
+                    -(3 << 16)
+                } else {
+                    3 << 16
+                }
+            });
+            for w in [
+                [0, 0, 0],
+                [65_536; 3],
+                [1, 65_535, 32_768],
+                [65_535, 1, 65_536],
+            ] {
+                let mut r: i128 = 0;
+                for (c, &dc) in d.iter().enumerate() {
+                    let wc: i128 = (0..3)
+                        .map(|a| {
+                            let wa = i128::from(w[a]);
+                            if (c >> a) & 1 == 1 {
+                                wa
+                            } else {
+                                65_536 - wa
+                            }
+                        })
+                        .product();
+                    r += wc * i128::from(dc);
+                }
+                let n = i128::from(blend(d, w)) << 48;
+                assert!(n <= r && r - n < 3 << 48, "{d:?} {w:?}");
             }
         }
     }
 
     #[test]
-    fn zero_at_lattice_points_and_gradient_matches_differences() {
+    fn zero_at_lattice_points_and_gradient_matches_the_exact_differences() {
         let grads: [Grad; 8] = [
             [1, 1, 0],
             [-1, 0, 1],
@@ -267,15 +371,17 @@ mod tests {
                 [40000, 30000, 20000],
                 [65000, 100, 33333],
             ] {
-                let (v, g) = value_and_gradient(&grads, p, fade);
-                assert_eq!(v, value(&grads, p, fade));
+                let g = gradient(&grads, p, fade);
                 for axis in 0..3 {
                     let h = 64u32;
                     let mut lo = p;
                     let mut hi = p;
                     lo[axis] -= h;
                     hi[axis] += h;
-                    let fd = (value(&grads, hi, fade) - value(&grads, lo, fade)) as f64
+                    // The exact interpolant's central difference (the value's floors would
+                    // add up to 3 units either side).
+                    let fd = (exact48(&grads, hi, fade) - exact48(&grads, lo, fade)) as f64
+                        / (1u64 << 48) as f64
                         / (2.0 * h as f64)
                         * 65536.0;
                     let err = (fd - g[axis] as f64).abs();

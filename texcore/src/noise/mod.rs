@@ -267,7 +267,7 @@ impl NoiseBasis {
             }
             #[cfg(any(feature = "gradient-noise", feature = "mnoise"))]
             CellData::Gradient(g) => {
-                let (_, grad) = gradient::value_and_gradient(g, frac, self.fade);
+                let grad = gradient::gradient(g, frac, self.fade);
                 // units 2^-32 per pixel; i128 so that small steps keep their precision.
                 let mut acc: i128 = 0;
                 for axis in 0..3 {

@@ -1,12 +1,12 @@
-//! Gradient-noise rows of [`EvalMode::Fused`]: each term's trilinear interpolation in one
-//! blend, its corner sums stepped by two 64-bit additions a pixel.
+//! Gradient-noise rows by stepped sums: each term's corner sums stepped by two 64-bit
+//! additions a pixel and blended in one product. The exact path of rows along the lattice's x
+//! axis in every mode; with [`EvalMode::Fused`], of rows along any axis (approximate there).
 //!
 //! In a cell entered at pixel `j0` of a row along axis `k`, the weights `u` (along the row axis
 //! `m`) and `v` (along the fixed axis `o`) are fixed, and each corner's dot product `d_c(j)` is
-//! linear in the pixel (`gradient`). So the exact trilinear value (units `2^-16`) is
-//! `R(j) = (A_0(j) + w_k(j) (A_1(j) - A_0(j)) / 2^16) / 2^32`, with `A_b(j)` the bilinear blend
-//! (scaled by `2^32`) of the four corners whose bit `k` is `b`: two values linear in the pixel,
-//! made once per cell and row and stepped by additions.
+//! linear in the pixel (`gradient`). `A_b(j)`, the bilinear blend (scaled by `2^32`, exact) of
+//! the four corners whose bit `k` is `b`, is then linear in the pixel too: made once per cell
+//! and row and stepped by additions.
 //!
 //! The blend along `o` is the same in every row of the cell's slab: an entry ([`FusedCell`])
 //! holds, for each pair of corners along `o`, `E_0 = (2^16 - v) base_0 + v base_1` (the dot
@@ -16,20 +16,21 @@
 //!
 //! A pixel keeps `a = A_0` and `d4 = 4 (A_1 - A_0)` and makes
 //! `n = floor(a / 2^32) + floor(floor(d4 / 2^32) w14 / 2^32)`, `w14 = w_k 2^14` (the fades along
-//! the row are kept so): one signed high-word product (`blend`).
+//! the row are kept so): one signed high-word product (`noise::gradient::last_step`).
 //!
-//! A row of one term without quadric runs in one call (`one_term_row`); of several, term after
-//! term, each over its own cells, adding its floored `(amp n) >> 16` into the row (`lane_rows`:
-//! one floor a term instead of one of the sum); with a quadric, pixel after pixel
-//! (`multi_run`, the staged rows' combination).
+//! A row of one term without quadric runs in one call (`one_term_row`); with a quadric or
+//! several terms, pixel after pixel (`multi_run`, the terms' sum floored once, as `Direct`
+//! floors it); in `EvalMode::Fused` several terms without quadric run term after term, each
+//! over its own cells, adding its floored `(amp n) >> 16` into the row (`lane_rows`: one floor a
+//! term instead of one of the sum).
 //!
-//! Guarantees: `n` is in `(R - 3, R]` (its three floors lose less than one unit, a quarter and
-//! one), and
-//! so is `NoiseBasis::sample`'s value from the seven staged lerps (each of its three stages
-//! floors once, and the lerps are convex combinations): the two differ by at most 2 units of
-//! `2^-16`. Tested against the exact `R` (128-bit) and against `Direct` in the module `rows`.
-//! The steps wrap (`a` and `d` are exact modulo `2^64`, and their true values are in range at
-//! every pixel of the cell). Nothing here panics.
+//! Guarantees: for `k = 0` (x), `A_b` are the sums of `noise::gradient::blend` and `n` is its
+//! value, so every sample is `Direct`'s (tested in the module `rows`). For `k = 1` or `2`
+//! (`EvalMode::Fused` only) the last product is taken along `k` instead of x: both values are
+//! in `(R - 3, R]` of the exact trilinear value `R` (the floors lose less than one unit, a
+//! quarter and one), so they differ by at most 2 units of `2^-16`; tested against `Direct`. The
+//! steps wrap (`a` and `d` are exact modulo `2^64`, and their true values are in range at every
+//! pixel of the cell). Nothing here panics.
 
 use super::gradient::{grad_cell, Fades, GradCell};
 use super::*;
@@ -69,8 +70,10 @@ impl FusedCell {
     }
 }
 
-/// The entries of gradient-noise term `li` (`lane`) of a fused schedule: each cell's corner
-/// gradients (as `gradient::grad_cell` hashes them) blended along `o` ([`FusedCell`]).
+/// The entries of gradient-noise term `li` (`lane`) of a schedule: each cell's corner
+/// gradients (as `gradient::grad_cell` hashes them) blended along `o` ([`FusedCell`]). Out of
+/// line: the schedule's set-up keeps its code shape.
+#[inline(never)]
 pub(super) fn fused_entries(li: usize, lane: &RowLane, hash: HashKind, events: &mut [RowEvent]) {
     let axes = [lane.k.min(2), lane.m.min(2), lane.o.min(2)];
     // The fade along `o` (`row_schedule` makes it before the entries).
@@ -113,8 +116,8 @@ pub(super) struct FusedLane {
     fm: i32,
     step: i32,
     uk: i32,
-    /// `16 - p` for an amplitude `2^p`, `0 <= p <= 16` ([`scaled`]'s shift); 32 for any other.
-    shift: u32,
+    /// An amplitude of one (raw `2^16`): the sample is `n` ([`scaled`]).
+    unit: bool,
     /// `A_0` and `4 (A_1 - A_0)` at the current pixel (wrapping).
     a: i64,
     d: i64,
@@ -138,11 +141,7 @@ impl FusedLane {
             fm: fm as i32,
             step: lane.du[k],
             uk: lane.u0k,
-            shift: if amp > 0 && amp <= 1 << 16 && amp & (amp - 1) == 0 {
-                16 - amp.trailing_zeros()
-            } else {
-                32
-            },
+            unit: amp == 1 << 16,
             a: 0,
             d: 0,
             sa: 0,
@@ -156,8 +155,9 @@ impl FusedLane {
         [self.a, self.d, self.sa, self.sd] = self.entered(e);
     }
 
-    /// The state `[a, d, sa, sd]` at the entry pixel of the cell of entry `e`.
-    #[inline(always)]
+    /// The state `[a, d, sa, sd]` at the entry pixel of the cell of entry `e`. Out of line,
+    /// shared by every row shape (a call a cell).
+    #[inline(never)]
     fn entered(&self, e: &RowEvent) -> [i64; 4] {
         let cell = FusedCell::load(e);
         let (u, v, fm) = (self.u, self.v, self.fm);
@@ -202,21 +202,18 @@ impl FusedLane {
 }
 
 /// `floor(a / 2^32) + floor(floor(d4 / 2^32) w14 / 2^32)` with `d4 = 4 d` and `w14 = w 2^14`:
-/// the fused value of the module documentation (`0 <= w <= 2^16`, so `0 <= w14 <= 2^30`;
-/// `|d4| <= 2^52`, so the product is within `2^50`): one signed high-word product (`smmul`,
-/// `mulh`). `floor(d4 / 2^32)` loses less than `2^30` of `d`, a quarter of a unit after the
-/// weight, so `n` stays in `(R - 3, R]`.
+/// `noise::gradient::last_step`, the blend's last step (`0 <= w <= 2^16`, so
+/// `0 <= w14 <= 2^30`; `|d4| <= 2^52`, so the product is within `2^50`): one signed high-word
+/// product (`smmul`, `mulh`).
 #[inline(always)]
 fn blend(a: i64, d4: i64, w14: i32) -> i32 {
-    let (ah, dh) = ((a >> 32) as i32, (d4 >> 32) as i32);
-    ah.wrapping_add(((i64::from(dh) * i64::from(w14)) >> 32) as i32)
+    crate::noise::gradient::last_step(a, d4, w14)
 }
 
 /// A cell's pixels `run` of one term `f` from the state `[a, d, sa, sd]`, their fades along the
-/// row (`w << 14`) in `ws`: the sample `(amp n) >> 16`, as the staged rows make it from their
-/// `n`; for an amplitude `2^p`, `0 <= p <= 16` (an octave's `2^-i`), the same floor as
-/// `n >> (16 - p)` (`n` itself for an amplitude of one). With `ADD` each sample is added to the
-/// pixel's value instead of stored. Returns `[a, d]` after the run.
+/// row (`w << 14`) in `ws`: the sample `(amp n) >> 16`, as `Direct` makes it from `n` (`n`
+/// itself for an amplitude of one). With `ADD` each sample is added to the pixel's value
+/// instead of stored. Returns `[a, d]` after the run.
 #[inline(always)]
 fn scaled<const ADD: bool>(
     f: &FusedLane,
@@ -224,15 +221,25 @@ fn scaled<const ADD: bool>(
     ws: &[u32],
     run: &mut [TexValue],
 ) -> [i64; 2] {
-    let sh = f.shift;
-    if sh == 0 {
+    if f.unit {
         scaled_run::<ADD>(state, ws, run, |n| n)
-    } else if sh <= 16 {
-        scaled_run::<ADD>(state, ws, run, |n| n >> sh)
     } else {
         let amp = i64::from(f.amp);
         scaled_run::<ADD>(state, ws, run, |n| ((amp * i64::from(n)) >> 16) as i32)
     }
+}
+
+/// On Arm, keeps the compiler from unrolling the loop it is in: an opaque call on a branch that
+/// a fade weight (at most `2^30` here) never takes. Unrolled four times, a run's loop holds four
+/// copies of its 64-bit state and spills it among Thumb's 13 registers, and each copy of the
+/// loop costs its code again.
+#[inline(always)]
+fn keep_rolled(w: u32) {
+    #[cfg(target_arch = "arm")]
+    if w > 1 << 30 {
+        core::hint::black_box(());
+    }
+    let _ = w;
 }
 
 /// [`scaled`]'s loop, each value `n` scaled by `scale` (with `ADD`, added to the pixel's value,
@@ -245,6 +252,7 @@ fn scaled_run<const ADD: bool>(
     scale: impl Fn(i32) -> i32,
 ) -> [i64; 2] {
     for (o, wk) in run.iter_mut().zip(ws) {
+        keep_rolled(*wk);
         let v = scale(blend(a, d, *wk as i32));
         *o = TexValue::from_bits(if ADD { o.to_bits().wrapping_add(v) } else { v });
         a = a.wrapping_add(sa);
@@ -274,7 +282,8 @@ fn one_term_row(f: &FusedLane, events: &[RowEvent], table: &[u32], out: &mut [Te
 /// The samples of a row of several terms `fl` without quadric, their fades along the row
 /// (`w << 14`) in `table` (term `l` at `l len`): term after term, each over its own cells, its
 /// scaled values added into `out` (so each term's `(amp n) >> 16` is floored on its own: at most
-/// one unit more a term than [`multi_run`]'s one floor of the sum).
+/// one unit more a term than [`multi_run`]'s one floor of the sum: `EvalMode::Fused` only).
+#[cfg(feature = "fused")]
 #[inline(never)]
 fn lane_rows(fl: &[FusedLane], events: &[RowEvent], table: &[u32], out: &mut [TexValue]) {
     let len = out.len();
@@ -326,6 +335,9 @@ fn multi_run(fl: &mut [FusedLane], run: &mut [TexValue], q: &mut [i64; 3], fades
 /// The samples of a row whose terms (`lanes`, set up as `terms`) are all gradient noise, fused:
 /// at each entry the entering term's corner sums, then per pixel each term's blend; the fades
 /// along the row (`w << 14`) from `table` (term `l` at `l len`), or computed when it is empty.
+/// With `approx` (`EvalMode::Fused`), rows of several terms without quadric add their floored
+/// products term after term ([`lane_rows`]); otherwise the terms' sum is floored once, as
+/// `Direct` floors it.
 #[inline(never)]
 pub(super) fn fused_walk(
     events: &[RowEvent],
@@ -334,6 +346,7 @@ pub(super) fn fused_walk(
     out: &mut [TexValue],
     q: &mut [i64; 3],
     table: &[u32],
+    approx: bool,
 ) {
     // At most `GRADIENT_TERMS` lanes, as `rows_take` checks: never full.
     let mut fl: heapless::Vec<FusedLane, GRADIENT_TERMS> = heapless::Vec::new();
@@ -345,11 +358,15 @@ pub(super) fn fused_walk(
     let len = out.len();
     // Terms without quadric, their fades in the table: the whole row in one call.
     if table.len() >= fl.len() * len && (q[0] | q[1] | q[2]) == 0 {
-        return match fl.as_slice() {
-            [f] => one_term_row(f, events, table, out),
-            fl => lane_rows(fl, events, table, out),
-        };
+        if let [f] = fl.as_slice() {
+            return one_term_row(f, events, table, out);
+        }
+        #[cfg(feature = "fused")]
+        if approx {
+            return lane_rows(&fl, events, table, out);
+        }
     }
+    let _ = approx;
     let mut x = 0usize;
     let mut rest = out;
     for e in events {
@@ -402,9 +419,9 @@ mod tests {
             .sum()
     }
 
-    /// A lane of one cell: `n` stepped along `k` is in `(R - 3, R]` of the exact value `R` and
-    /// within two of the staged value at every pixel of the cell, for random corner gradients,
-    /// fractions, steps and every row axis.
+    /// A lane of one cell: `n` stepped along `k` is in `(R - 3, R]` of the exact value `R` at
+    /// every pixel of the cell, the basis's value along x and within two of it along y and z,
+    /// for random corner gradients, fractions, steps and every row axis.
     #[test]
     fn a_fused_cell_is_within_its_bound() {
         let mut x = 0x9E37_79B9_7F4A_7C15u64;
@@ -458,7 +475,7 @@ mod tests {
                 fm,
                 step,
                 uk: 0,
-                shift: 0,
+                unit: true,
                 a: 0,
                 d: 0,
                 sa: 0,
@@ -478,8 +495,13 @@ mod tests {
                 // `n` in `(R - 3, R]`, `R = r / 2^48`.
                 let lo = (i128::from(n) << 48) - r;
                 assert!(lo <= 0 && lo > -(3i128 << 48), "{n} {r}");
-                let staged = crate::noise::gradient::value(&grads, fr, fade);
-                assert!((i64::from(n) - staged).abs() <= 2, "{n} {staged}");
+                // Along x the basis's value; along y or z (`EvalMode::Fused`) within two.
+                let want = crate::noise::gradient::value(&grads, fr, fade);
+                if k == 0 {
+                    assert_eq!(i64::from(n), want);
+                } else {
+                    assert!((i64::from(n) - want).abs() <= 2, "{n} {want}");
+                }
                 fk += step as u32;
             }
         }

@@ -1,34 +1,30 @@
-//! Gradient-noise terms (Perlin's improved noise) in a row schedule: each cell's corner
-//! gradients hashed once per cell along the row's two other axes, and the staged interpolation
-//! of `docs/model.md` 4.3 run per pixel on dot products stepped by additions.
+//! What the row schedule's gradient-noise terms (Perlin's improved noise) share: each cell's
+//! corner gradients hashed once per cell along the row's two other axes ([`grad_cell`]), the
+//! fades along the row ([`Fades`]), the amplitudes' bound ([`small_amps`]) and the row's entry
+//! point ([`gradient_row`]); the rows themselves are `fused`'s stepped sums.
 //!
 //! A gradient-noise cell is not a polynomial of low degree along the row (the fade and the
-//! rounding of each of the seven staged lerps), so it is not forward differenced. What the row
-//! schedule saves is everything else: in a cell entered at pixel `j0`, corner `c`'s dot product
-//! is `d_c(j) = g_c . o_c(j)`, whose offsets along the two other axes are constant along the row
-//! and whose offset along `k` grows by the lattice step `du_k` a pixel, so
-//! `d_c(j) = base_c + gm_c f_m + gk_c (j - j0) du_k` (`base_c` fixed while the rows stay in the
-//! same cells along `m` and `o`, `f_m` the row's fraction along its row axis `m`). An entry holds
-//! `base_c` and the components `gk_c`, `gm_c` of the eight corners ([`GradCell`]); a row turns them
-//! into the eight `d_c` once per cell, and a pixel is eight additions and the seven lerps. The
-//! fades along `k` are the same at a pixel in every row the schedule serves: the rows read them
-//! from the cache's weights when they hold every term's. A row of one term along the lattice's
-//! first axis (an unrotated plane) runs in two passes over each cell's pixels, four corners at a
-//! time in registers. The terms' values are summed unscaled ([`small_amps`]).
+//! blend's floors), so it is not forward differenced. What the row schedule saves is everything
+//! else: in a cell entered at pixel `j0`, corner `c`'s dot product is `d_c(j) = g_c . o_c(j)`,
+//! whose offsets along the two other axes are constant along the row and whose offset along `k`
+//! grows by the lattice step `du_k` a pixel, so `d_c(j) = base_c + gm_c f_m + gk_c (j - j0)
+//! du_k` (`base_c` fixed while the rows stay in the same cells along `m` and `o`, `f_m` the
+//! row's fraction along its row axis `m`). The fades along `k` are the same at a pixel in every
+//! row the schedule serves: the rows read them from the cache's weights when they hold every
+//! term's. The terms' values are summed unscaled ([`small_amps`]).
 //!
-//! Guarantees: every sample is `NoiseBasis::sample`'s (the same dot products, weights and staged
-//! lerps in the same order, each `p + ((q - p) w) >> 16` exact in 64-bit products of 32-bit
-//! words: `|d_c| <= 2^17`, every stage within `2^18`, `w <= 2^16`), combined with the quadric as
-//! the span path combines it; tested against `Direct` in the module `rows`. Nothing here panics.
+//! The schedule takes gradient-noise rows along the lattice's x axis in every mode (exact:
+//! `fused`), and along the other axes only in `EvalMode::Fused`. Nothing here panics.
 
 use super::*;
 use crate::noise::fade::ONE;
 use crate::noise::gradient::perlin_gradient;
 use crate::noise::Fade;
 
-/// One gradient-noise cell of a row schedule (see the module documentation), packed into a
-/// [`RowEvent`]'s words: `base` in `dv` and `ds` (two corners a word, low half first), the
-/// components along `k` in `dg[0]` and along `m` in `dg[1]` (a byte a corner, corner 0 lowest).
+/// One gradient-noise cell of a row schedule (see the module documentation): the corners' dot
+/// products `base` at the cell's entry pixel (along `m` at fraction 0) and their gradients'
+/// components along `k` and `m` (corner `c`'s bit 0 along x, 1 along y, 2 along z), which
+/// `fused` blends into its entry.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub(super) struct GradCell {
     pub(super) base: [i32; 8],
@@ -36,45 +32,9 @@ pub(super) struct GradCell {
     pub(super) gm: [i8; 8],
 }
 
-impl GradCell {
-    fn store(&self, e: &mut RowEvent) {
-        let pair = |a: i32, b: i32| i64::from(a as u32) | (i64::from(b) << 32);
-        let b = &self.base;
-        e.dv = [pair(b[0], b[1]), pair(b[2], b[3])];
-        e.ds = [pair(b[4], b[5]), pair(b[6], b[7])];
-        let bytes = |g: &[i8; 8]| i64::from_le_bytes(g.map(|x| x as u8));
-        e.dg = [bytes(&self.gk), bytes(&self.gm)];
-    }
-
-    #[inline(always)]
-    fn load(e: &RowEvent) -> GradCell {
-        let words = [e.dv[0], e.dv[1], e.ds[0], e.ds[1]];
-        let mut base = [0i32; 8];
-        for (pair, w) in base.chunks_exact_mut(2).zip(words) {
-            if let [lo, hi] = pair {
-                *lo = w as i32;
-                *hi = (w >> 32) as i32;
-            }
-        }
-        let bytes = |w: i64| w.to_le_bytes().map(|x| x as i8);
-        GradCell {
-            base,
-            gk: bytes(e.dg[0]),
-            gm: bytes(e.dg[1]),
-        }
-    }
-}
-
-/// The entries of gradient-noise term `li` (`lane`) of a schedule: each cell's corner
-/// gradients (hashed as `NoiseBasis::cell` hashes them) as a [`GradCell`] for the fraction
-/// along `k` at the entry's pixel and the fixed fraction `fo` along `o`.
-pub(super) fn gradient_entries(li: usize, lane: &RowLane, hash: HashKind, events: &mut [RowEvent]) {
-    for e in events.iter_mut().filter(|e| usize::from(e.lane) == li) {
-        grad_cell(lane, hash, e.at).store(e);
-    }
-}
-
-/// The [`GradCell`] of term `lane` at pixel `at` of the row (see [`gradient_entries`]).
+/// The [`GradCell`] of term `lane` at pixel `at` of the row: each corner's gradient (hashed as
+/// `NoiseBasis::cell` hashes it) and dot product for the fraction along `k` at that pixel and
+/// the fixed fraction `fo` along `o` (along `m` at fraction 0).
 #[inline(always)]
 pub(super) fn grad_cell(lane: &RowLane, hash: HashKind, at: u16) -> GradCell {
     let k = lane.k.min(2);
@@ -110,32 +70,6 @@ pub(super) fn grad_cell(lane: &RowLane, hash: HashKind, at: u16) -> GradCell {
     g
 }
 
-/// `(x w) >> 16` in a 64-bit product: a lerp's step.
-#[inline(always)]
-fn mulw(x: i32, w: i32) -> i32 {
-    ((i64::from(x) * i64::from(w)) >> 16) as i32
-}
-
-/// `p + ((q - p) w) >> 16`, the staged lerp of `noise::gradient` (exact: see the module
-/// documentation).
-#[inline(always)]
-fn lerp(p: i32, q: i32, w: i32) -> i32 {
-    p.wrapping_add(mulw(q.wrapping_sub(p), w))
-}
-
-/// The interpolated value (units of 2^-16) of the corner dot products `d` with weights `w`
-/// along axes 0, 1, 2: `noise::gradient::value`'s seven stages.
-#[inline(always)]
-fn staged(d: &[i32; 8], w: [i32; 3]) -> i32 {
-    let e0 = lerp(d[0], d[1], w[0]);
-    let e2 = lerp(d[2], d[3], w[0]);
-    let e4 = lerp(d[4], d[5], w[0]);
-    let e6 = lerp(d[6], d[7], w[0]);
-    let f0 = lerp(e0, e2, w[1]);
-    let f1 = lerp(e4, e6, w[1]);
-    lerp(f0, f1, w[2])
-}
-
 /// A term's contribution to the noise sum (`48 + fv` fraction bits) from its value `n16`, as
 /// `NoiseBasis::sample` scales it (what [`small_amps`] lets the rows skip).
 #[cfg(test)]
@@ -152,97 +86,6 @@ fn scaled(n16: i32, amp: i32, fv: u32) -> i64 {
 #[inline(always)]
 pub(super) fn small_amps(sum: u64, fv: u32) -> bool {
     fv <= 16 && (sum << fv) <= 1 << 29
-}
-
-/// On Arm, keeps the compiler from unrolling the loop it is in: an opaque call on a branch that
-/// a fade weight (at most `2^16`) never takes. Unrolled, the one-term kernel's loops hold four
-/// copies of their corner state and spill it among Thumb's 13 registers (the M4F: 9.6 a sample
-/// more on `peers:perlin-1oct`); rv32imc's 31 hold them (unrolled there: 1.8 a sample less).
-#[inline(always)]
-fn keep_rolled(w: u32) {
-    #[cfg(target_arch = "arm")]
-    if w > 1 << 16 {
-        core::hint::black_box(());
-    }
-    let _ = w;
-}
-
-/// The pixels `run` of a row's one gradient-noise term `g` along axis `K` (no quadric, the
-/// fades along `K` from `ws`, [`small_amps`]): the staged lerps on dot products stepped by
-/// additions, the sample `(amp n16) >> 16`. In two passes over the run, each with four corners
-/// in registers: the first writes the lerp `f0` of corners 0 to 3 into `run`, the second reads
-/// it back, makes `f1` from corners 4 to 7 and the sample (the stages and their order are
-/// [`staged`]'s).
-#[inline(never)]
-fn one_run<const K: usize>(g: &mut GradLane, ws: &[u32], run: &mut [TexValue]) {
-    let w = g.w;
-    let weights = |wk: u32| {
-        let mut wv = w;
-        wv[K] = wk as i32;
-        wv
-    };
-    let (d, s) = (g.d, g.s);
-    // Each pair of corners along axis 0 as its first dot product and the difference to the
-    // second, stepped by their own steps (one product a lerp: `lerp(p, q, w) = p + mulw(q - p)`).
-    let pair = |c: usize| {
-        (
-            d[c],
-            d[c + 1].wrapping_sub(d[c]),
-            s[c],
-            s[c + 1].wrapping_sub(s[c]),
-        )
-    };
-    let ((mut p0, mut q0, sp0, sq0), (mut p2, mut q2, sp2, sq2)) = (pair(0), pair(2));
-    for (o, wk) in run.iter_mut().zip(ws) {
-        keep_rolled(*wk);
-        let wv = weights(*wk);
-        let e0 = p0.wrapping_add(mulw(q0, wv[0]));
-        let e2 = p2.wrapping_add(mulw(q2, wv[0]));
-        *o = TexValue::from_bits(lerp(e0, e2, wv[1]));
-        (p0, q0) = (p0.wrapping_add(sp0), q0.wrapping_add(sq0));
-        (p2, q2) = (p2.wrapping_add(sp2), q2.wrapping_add(sq2));
-    }
-    let amp = i64::from(g.amp);
-    let ((mut p4, mut q4, sp4, sq4), (mut p6, mut q6, sp6, sq6)) = (pair(4), pair(6));
-    for (o, wk) in run.iter_mut().zip(ws) {
-        keep_rolled(*wk);
-        let wv = weights(*wk);
-        let e4 = p4.wrapping_add(mulw(q4, wv[0]));
-        let e6 = p6.wrapping_add(mulw(q6, wv[0]));
-        let n16 = lerp(o.to_bits(), lerp(e4, e6, wv[1]), wv[2]);
-        *o = TexValue::from_bits(((amp * i64::from(n16)) >> 16) as i32);
-        (p4, q4) = (p4.wrapping_add(sp4), q4.wrapping_add(sq4));
-        (p6, q6) = (p6.wrapping_add(sp6), q6.wrapping_add(sq6));
-    }
-    let n = run.len() as i32;
-    for (dc, sc) in g.d.iter_mut().zip(s) {
-        *dc = dc.wrapping_add(sc.wrapping_mul(n));
-    }
-    g.uk = g.uk.wrapping_add(g.step.wrapping_mul(n));
-}
-
-/// The pixels `run` of a row's gradient-noise terms `gl`, each term's fade along its `k` from
-/// `fades`, with the quadric `qq` stepped by `dq` and `ddq`: the sum `V = sum_i amp_i n16_i`
-/// combined as `(q + (V << 16)) >> 32` ([`small_amps`], which `rows_take` checks).
-#[inline(always)]
-fn multi_run(
-    gl: &mut [GradLane],
-    run: &mut [TexValue],
-    qq: &mut i64,
-    dq: &mut i64,
-    ddq: i64,
-    fades: Fades<'_>,
-) {
-    for (j, o) in run.iter_mut().enumerate() {
-        let mut v = 0i64;
-        for (l, g) in gl.iter_mut().enumerate() {
-            let wk = fades.at(l, j, g.fade, g.uk);
-            v = wadd(v, i64::from(g.amp) * i64::from(g.pixel(wk)));
-        }
-        *o = TexValue::from_bits((wadd(*qq, v << 16) >> 32) as i32);
-        *qq = wadd(*qq, *dq);
-        *dq = wadd(*dq, ddq);
-    }
 }
 
 /// The terms' fades along the row: term `l`'s at pixel `x + j` of a run is
@@ -268,52 +111,10 @@ impl Fades<'_> {
     }
 }
 
-/// What a row needs of one gradient-noise term: its fade, the row's weights along its two other
-/// axes, its fraction along `m`, amplitude, axis `k`, step along `k`, and the corner dot products
-/// and their steps in its current cell.
-#[derive(Clone, Copy, Debug)]
-struct GradLane {
-    fade: Fade,
-    w: [i32; 3],
-    fm: i32,
-    amp: i32,
-    k: usize,
-    step: i32,
-    uk: i32,
-    d: [i32; 8],
-    s: [i32; 8],
-}
-
-impl GradLane {
-    /// Enters the cell of entry `e`.
-    #[inline(always)]
-    fn enter(&mut self, e: &RowEvent) {
-        let g = GradCell::load(e);
-        for c in 0..8 {
-            self.d[c] = g.base[c].wrapping_add(i32::from(g.gm[c]) * self.fm);
-            self.s[c] = i32::from(g.gk[c]).wrapping_mul(self.step);
-        }
-    }
-
-    /// The term's value `n16` at the current pixel with weight `wk` along `k`, then one pixel on.
-    #[inline(always)]
-    fn pixel(&mut self, wk: i32) -> i32 {
-        let mut w = self.w;
-        w[self.k.min(2)] = wk;
-        let n16 = staged(&self.d, w);
-        for (d, s) in self.d.iter_mut().zip(self.s) {
-            *d = d.wrapping_add(s);
-        }
-        self.uk = self.uk.wrapping_add(self.step);
-        n16
-    }
-}
-
-/// The samples of a row whose terms are all gradient noise ([`gradient_walk`]; with `fused`,
-/// `EvalMode::Fused`, `fused::fused_walk`'s one blend instead of the staged lerps), each term's
-/// fades along its `k` (the same in every row the schedule serves) kept in `weights` when they
-/// hold them all, term after term. Out of line: the row paths of the other bases keep their
-/// code shape.
+/// The samples of a row whose terms are all gradient noise: `fused::fused_walk`'s stepped sums
+/// (with `approx`, in `EvalMode::Fused`, its approximations too), each term's fades along its
+/// `k` (the same in every row the schedule serves) kept in `weights` as `w << 14` when they hold
+/// them all, term after term.
 #[inline(always)]
 pub(super) fn gradient_row<const T: usize>(
     events: &[RowEvent],
@@ -322,91 +123,17 @@ pub(super) fn gradient_row<const T: usize>(
     setup: &Setup<T>,
     out: &mut [TexValue],
     q: &mut [i64; 3],
-    fused: bool,
+    approx: bool,
 ) {
     let made = state.weights;
-    // The fused rows read the fades as `w << 14` (`fused::blend`).
-    let shift = if fused { 14 } else { 0 };
-    state.weights = row_fades(&state.lanes, made, weights, out.len(), shift);
+    // The rows read the fades as `w << 14` (`noise::gradient::last_step`).
+    state.weights = row_fades(&state.lanes, made, weights, out.len(), 14);
     // Each term's fades along the row (term `l` at `l len`), when the weights hold them all.
     let table = weights
         .get(..state.weights)
         .filter(|t| t.len() >= state.lanes.len() * out.len())
         .unwrap_or_default();
-    #[cfg(feature = "fused")]
-    if fused {
-        return super::fused::fused_walk(events, &state.lanes, &setup.terms, out, q, table);
-    }
-    let _ = fused;
-    gradient_walk(events, &state.lanes, &setup.terms, out, q, table);
-}
-
-/// The samples of a row whose terms are all gradient noise (as `walk_part`): at each entry the
-/// entering term's corner dot products for this row, then per pixel every term's staged lerps
-/// and the quadric `q`, the fades along the row from `table` when it holds every term's
-/// (`Fades`).
-#[inline(never)]
-fn gradient_walk(
-    events: &[RowEvent],
-    lanes: &[RowLane],
-    terms: &[TermSetup],
-    out: &mut [TexValue],
-    q: &mut [i64; 3],
-    table: &[u32],
-) {
-    // The terms' row state (pushed, not a zeroed array: at most `GRADIENT_TERMS` lanes, as
-    // `rows_take` checks; never full).
-    let mut gl: heapless::Vec<GradLane, GRADIENT_TERMS> = heapless::Vec::new();
-    for lane in lanes.iter() {
-        let Some(ts) = terms.get(lane.term) else {
-            continue;
-        };
-        let (m, o, k) = (lane.m.min(2), lane.o.min(2), lane.k.min(2));
-        let fm = split(ts.u0).1[m];
-        let mut w = [0i32; 3];
-        w[m] = lane.fade.apply(fm) as i32;
-        w[o] = lane.wo as i32;
-        let _ = gl.push(GradLane {
-            fade: lane.fade,
-            w,
-            fm: fm as i32,
-            amp: lane.amp,
-            k,
-            step: lane.du[k],
-            uk: lane.u0k,
-            d: [0; 8],
-            s: [0; 8],
-        });
-    }
-    let len = out.len();
-    let mut x = 0usize;
-    let mut rest = out;
-    for e in events {
-        if let Some(g) = gl.get_mut(usize::from(e.lane)) {
-            g.enter(e);
-        }
-        let n = usize::from(e.run).min(rest.len());
-        let (run, tail) = core::mem::take(&mut rest).split_at_mut(n);
-        rest = tail;
-        let [mut qq, mut dq, ddq] = *q;
-        let ws = table.get(x..x + n).unwrap_or_default();
-        let tab = Fades {
-            table,
-            len,
-            x,
-            shift: 0,
-        };
-        let lanes_n = gl.len();
-        match (gl.first_mut(), lanes_n) {
-            // One term along axis 0 (the rows of an unrotated plane), its fades from the table.
-            (Some(g), 1) if g.k == 0 && ws.len() == n && (qq | dq | ddq) == 0 => {
-                one_run::<0>(g, ws, run)
-            }
-            _ => multi_run(&mut gl, run, &mut qq, &mut dq, ddq, tab),
-        }
-        *q = [qq, dq, ddq];
-        x += n;
-    }
+    super::fused::fused_walk(events, &state.lanes, &setup.terms, out, q, table, approx)
 }
 
 #[cfg(test)]
@@ -419,18 +146,6 @@ mod tests {
         *x ^= *x >> 7;
         *x ^= *x << 17;
         *x
-    }
-
-    #[test]
-    fn a_cell_packs_into_an_entry() {
-        let g = GradCell {
-            base: [i32::MIN, -1, 0, 1, 131_072, -131_072, i32::MAX, 7],
-            gk: [-1, 0, 1, 1, 0, -1, 0, 1],
-            gm: [1, 1, -1, 0, 0, -1, 1, 0],
-        };
-        let mut e = RowEvent::default();
-        g.store(&mut e);
-        assert_eq!(GradCell::load(&e), g);
     }
 
     #[test]
@@ -463,39 +178,5 @@ mod tests {
         assert!(!small_amps(1 << 16, 14));
         assert!(small_amps(1 << 16, 13));
         assert!(!small_amps(1, 17));
-    }
-
-    #[test]
-    fn staged_is_the_basis_value() {
-        let mut x = 0x2545_F491_4F6C_DD1Du64;
-        let mut next = || xorshift(&mut x);
-        for _ in 0..20_000 {
-            let mut grads = [[0i8; 3]; 8];
-            for g in grads.iter_mut() {
-                *g = perlin_gradient(next() as u8);
-            }
-            let frac = [
-                (next() & 0xFFFF) as u32,
-                (next() & 0xFFFF) as u32,
-                (next() & 0xFFFF) as u32,
-            ];
-            let mut d = [0i32; 8];
-            for (c, dc) in d.iter_mut().enumerate() {
-                for axis in 0..3 {
-                    let o = frac[axis] as i32 - (((c >> axis) & 1) as i32) * ONE as i32;
-                    *dc += i32::from(grads[c][axis]) * o;
-                }
-            }
-            let fades = [
-                Fade::Linear,
-                #[cfg(feature = "smooth-fade")]
-                Fade::Quintic,
-            ];
-            for fade in fades {
-                let w = frac.map(|f| fade.apply(f) as i32);
-                let want = crate::noise::gradient::value(&grads, frac, fade);
-                assert_eq!(i64::from(staged(&d, w)), want, "{grads:?} {frac:?}");
-            }
-        }
     }
 }

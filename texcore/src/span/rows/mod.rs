@@ -44,7 +44,7 @@
 use super::face_cache::blend_ab;
 use super::*;
 
-#[cfg(all(feature = "fused", not(texcore_lean)))]
+#[cfg(all(feature = "gradient-noise", not(texcore_lean)))]
 mod fused;
 #[cfg(all(feature = "gradient-noise", not(texcore_lean)))]
 mod gradient;
@@ -460,7 +460,15 @@ impl<'m, const T: usize> EvalCore<'m, T> {
                 Strategy::Cached => smooth && (is_smooth_value(b) || is_gradient_basis(b)),
                 _ => false,
             };
-            if !taken || term.turbulence || single_axis(ts.du).is_none() {
+            let Some(axis) = single_axis(ts.du) else {
+                return false;
+            };
+            if !taken || term.turbulence {
+                return false;
+            }
+            // Gradient-noise rows are exact along the lattice's x axis (`fused`: the blend's
+            // last product is along x); along another axis only `EvalMode::Fused` takes them.
+            if is_gradient_basis(b) && axis != 0 && !self.fused_rows() {
                 return false;
             }
             // Gradient-noise terms are walked on their own (`gradient`): not mixed with others.
@@ -589,8 +597,6 @@ impl<'m, const T: usize> EvalCore<'m, T> {
         let m = self.model;
         let (fv, vb) = (m.noise_frac_bits(), m.precision().value_bits());
         let used = state.used;
-        // `EvalMode::Fused`: gradient-noise entries as `fused` blends them.
-        let fused = self.fused_rows();
         for (li, lane) in state.lanes.iter_mut().enumerate() {
             let (Some(ts), Some(term)) = (setup.terms.get(lane.term), m.terms().get(lane.term))
             else {
@@ -608,12 +614,9 @@ impl<'m, const T: usize> EvalCore<'m, T> {
             lane.wo = lane.fade.apply(fo) as u32;
             let events = events.get_mut(..used).unwrap_or_default();
             let hash = term.basis.hash;
-            if lane.grad && fused {
-                #[cfg(feature = "fused")]
-                fused::fused_entries(li, lane, hash, events);
-            } else if lane.grad {
+            if lane.grad {
                 #[cfg(feature = "gradient-noise")]
-                gradient::gradient_entries(li, lane, hash, events);
+                fused::fused_entries(li, lane, hash, events);
             } else if lane.smooth {
                 smooth_entries(li, lane, hash, fv, vb, events);
             } else if GRADIENTS && grads {
@@ -641,8 +644,8 @@ impl<'m, const T: usize> EvalCore<'m, T> {
         let events = events.get(..state.used).unwrap_or_default();
         #[cfg(feature = "gradient-noise")]
         if state.lanes.iter().any(|l| l.grad) {
-            let fused = self.fused_rows();
-            gradient::gradient_row(events, state, weights, setup, out, &mut q, fused);
+            let approx = self.fused_rows();
+            gradient::gradient_row(events, state, weights, setup, out, &mut q, approx);
             self.count_row(len, state, false);
             return;
         }
@@ -982,13 +985,15 @@ mod tests {
             let gradients_served = !(GRADIENTS && gradients) || (reach(ds[axis]) && reach(dyv));
             // The size-lean shape has no schedule.
             let fast = FD && !cfg!(texcore_lean);
-            if fast && mode == EvalMode::Fd && n > 0 && across < 2 && !clamp && resolved && cells <= 256 {
+            // Gradient noise: rows along x only (the blend's last product is along x).
+            let along = basis < 2 || axis == 0;
+            if fast && mode == EvalMode::Fd && n > 0 && across < 2 && !clamp && resolved && cells <= 256 && along {
                 proptest::prop_assert_eq!(served.0, 10);
                 if gradients_served && n == usize::from(len) && !per_pixel {
                     proptest::prop_assert!(served.1 >= 10, "{:?}", served);
                 }
             }
-            if across >= 2 {
+            if across >= 2 || !along {
                 proptest::prop_assert_eq!(served, (0, 0));
                 proptest::prop_assert_eq!(small, (0, 0));
             }
@@ -1219,8 +1224,10 @@ mod tests {
         }
     }
 
-    /// The fused rows of the peers' Perlin planes and of the extreme planes: within the bound,
-    /// served by the schedule, and not `Direct`'s samples everywhere (the fused path ran).
+    /// The fused rows of the peers' Perlin planes and of the extreme planes: within the bound and
+    /// served by the schedule. On the peers' planes (rows along x) one octave is `Direct`'s
+    /// exactly, and four octaves are not everywhere (their floored products added term after
+    /// term: the approximate path ran).
     #[test]
     #[cfg(all(feature = "fused", not(texcore_lean)))]
     fn fused_rows_of_hard_planes() {
@@ -1232,7 +1239,11 @@ mod tests {
             let (served, differ) =
                 fused_against_direct::<8, 128, 1024>(&m, false, &first, 40, n).unwrap();
             assert_eq!(served, 40, "{w:?}");
-            assert!(differ > 0, "{w:?}");
+            if w == peers::Workload::Perlin1 {
+                assert_eq!(differ, 0);
+            } else {
+                assert!(differ > 0, "{w:?}");
+            }
         }
         // The hard planes (`EXTREME`).
         for (octaves, basis) in [(1, 2), (3, 2), (1, 3), (5, 3)] {
