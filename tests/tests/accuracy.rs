@@ -169,14 +169,14 @@ fn report_accuracy_quick_json_schema() {
         assert!(r["flicker"]["texcore"].is_number(), "{}", r["id"]);
     }
     assert!(rows.iter().any(|r| r["pareto"] == true));
-    // The `gradient_blend` rows: the staged samples are the exact ones, the fused ones within
-    // `EvalMode::Fused`'s bound (2 units a term's value, plus one unit a term; one and four
-    // octaves of amplitudes summing to 1 and 1.875) and not everywhere the exact ones.
+    // The `gradient_blend` rows: the exact samples are `Direct`'s; along x one octave's fused
+    // samples are too, four octaves' within `EvalMode::Fused`'s bound (one unit a term for the
+    // term-by-term floors; amplitudes summing to 1.875) and not everywhere the exact ones.
     for (setting, bound) in [
-        ("staged-1oct", 0),
-        ("fused-1oct", 3),
-        ("staged-4oct", 0),
-        ("fused-4oct", 8),
+        ("exact-1oct", 0),
+        ("fused-1oct", 0),
+        ("exact-4oct", 0),
+        ("fused-4oct", 4),
     ] {
         let r = by_id(setting);
         assert_eq!(r["knob"], "gradient_blend");

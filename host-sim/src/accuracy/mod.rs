@@ -570,8 +570,8 @@ pub fn run(quick: bool, policy: DevicePolicy, log: &mut dyn FnMut(&str)) -> Resu
     }
     out.extend(shading_rows);
 
-    // The `gradient_blend` knob: gradient noise staged or fused, on the peers' plane.
-    log("accuracy: gradient_blend (gradient noise staged or fused)");
+    // The `gradient_blend` knob: gradient noise exact or fused, on the peers' plane.
+    log("accuracy: gradient_blend (gradient noise exact or fused)");
     let mut blend_rows = blend::host_rows(&settings)?;
     if !quick {
         device_skipped.extend(blend::apply_device(&mut blend_rows, policy)?);

@@ -459,9 +459,12 @@ pub fn markdown(rows: &[PeerRow], quick: bool) -> String {
          the quintic fade, `FBm` for 4 octaves; `noise` (noise-rs, f64, host only) `Value` has the \
          quintic fade, `Fbm` for 4 octaves. No peer has the gradients or the colour stage.\n\n\
          `texcore-fused` (the Perlin workloads) is `EvalMode::Fused`, the one approximate \
-         mode here: each gradient-noise term interpolated in one blend instead of seven staged \
-         lerps, within 2 units of `2^-16` of the exact modes' value (its error in \
-         `docs/accuracy.md`, knob `gradient_blend`); the other rows are exact.\n",
+         mode here: on this plane (rows along the lattice's x axis) one octave is the exact \
+         modes' row, and rows of several octaves add each octave's floored product term after \
+         term, within one unit of `2^-16` a term of the exact value (its error in \
+         `docs/accuracy.md`, knob `gradient_blend`); the other rows are exact. The exact modes \
+         interpolate gradient noise in one blend (`docs/model.md` 4.3): along a row of the \
+         lattice's x axis two stepped 64-bit sums and one product a pixel.\n",
         if quick { " --quick" } else { "" },
         if cfg!(debug_assertions) {
             "debug"

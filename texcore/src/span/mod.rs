@@ -214,15 +214,16 @@ pub enum EvalMode {
     /// is [`EvalMode::Fd`] (exact).
     Reanchored,
     /// Rows of Perlin gradient noise (`BasisKind::Gradient`) served by the row schedule
-    /// ([`SpanEvaluator::rows`]) interpolated without the seven staged lerps of
-    /// `docs/model.md` 4.3: per cell and row, the corners' dot products weighted along the row's
-    /// two other axes are summed exactly into two 64-bit values, which a pixel steps by
-    /// additions and blends with its fade along the row in one product. **Not** bit-identical:
-    /// a term's value `n` and `Direct`'s are both within three units of `2^-16` below the exact
-    /// trilinear value (three floors each), so they differ by at most `2 * 2^-16`, and a sample
-    /// by at most `2 sum |a_i| 2^-16` plus one unit a term (a row without quadric floors each
-    /// term's product on its own, term after term). Everything else (other
-    /// bases, spans outside the row schedule) as `Fd`.
+    /// ([`SpanEvaluator::rows`]) along any lattice axis, not only along x: per cell and row, the
+    /// corners' dot products weighted along the row's two other axes are summed exactly into
+    /// two 64-bit values, which a pixel steps by additions and blends with its fade along the
+    /// row in one product. Along x that is `docs/model.md` 4.3's blend, which every mode steps
+    /// so; along y or z the last product is along the row's axis instead of x, and rows of
+    /// several terms without quadric floor each term's product on its own, term after term.
+    /// **Not** bit-identical there: a term's value `n` and `Direct`'s are both within three
+    /// units of `2^-16` below the exact trilinear value, so they differ by at most
+    /// `2 * 2^-16`, and a sample by at most `2 sum |a_i| 2^-16` plus one unit a term.
+    /// Everything else (other bases, spans outside the row schedule) as `Fd`.
     ///
     /// Compiled in with the crate feature `fused`; without it this mode is [`EvalMode::Fd`]
     /// (exact, so within the bound above).

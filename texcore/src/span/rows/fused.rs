@@ -116,8 +116,9 @@ pub(super) struct FusedLane {
     fm: i32,
     step: i32,
     uk: i32,
-    /// An amplitude of one (raw `2^16`): the sample is `n` ([`scaled`]).
-    unit: bool,
+    /// `16 - p` for an amplitude `2^p`, `0 <= p <= 16` ([`scaled`]: `(amp n) >> 16` is then
+    /// `n >> (16 - p)`, `n` itself for an amplitude of one); 32 for any other.
+    shift: u32,
     /// `A_0` and `4 (A_1 - A_0)` at the current pixel (wrapping).
     a: i64,
     d: i64,
@@ -141,7 +142,11 @@ impl FusedLane {
             fm: fm as i32,
             step: lane.du[k],
             uk: lane.u0k,
-            unit: amp == 1 << 16,
+            shift: if amp > 0 && amp <= 1 << 16 && amp & (amp - 1) == 0 {
+                16 - amp.trailing_zeros()
+            } else {
+                32
+            },
             a: 0,
             d: 0,
             sa: 0,
@@ -152,12 +157,19 @@ impl FusedLane {
     /// Enters the cell of entry `e`.
     #[inline(always)]
     fn enter(&mut self, e: &RowEvent) {
-        [self.a, self.d, self.sa, self.sd] = self.entered(e);
+        [self.a, self.d, self.sa, self.sd] = self.entered_apart(e);
     }
 
-    /// The state `[a, d, sa, sd]` at the entry pixel of the cell of entry `e`. Out of line,
-    /// shared by every row shape (a call a cell).
+    /// [`FusedLane::entered`] out of line: the pixel-by-pixel rows (`multi_run`) keep their
+    /// lanes' state in registers across the call (inlined there, `peers:perlin-4oct` costs 7.7
+    /// more a sample on the Cortex-M4F); the one-term and term-by-term rows inline it.
     #[inline(never)]
+    fn entered_apart(&self, e: &RowEvent) -> [i64; 4] {
+        self.entered(e)
+    }
+
+    /// The state `[a, d, sa, sd]` at the entry pixel of the cell of entry `e`.
+    #[inline(always)]
     fn entered(&self, e: &RowEvent) -> [i64; 4] {
         let cell = FusedCell::load(e);
         let (u, v, fm) = (self.u, self.v, self.fm);
@@ -221,12 +233,17 @@ fn scaled<const ADD: bool>(
     ws: &[u32],
     run: &mut [TexValue],
 ) -> [i64; 2] {
-    if f.unit {
-        scaled_run::<ADD>(state, ws, run, |n| n)
-    } else {
-        let amp = i64::from(f.amp);
-        scaled_run::<ADD>(state, ws, run, |n| ((amp * i64::from(n)) >> 16) as i32)
+    let sh = f.shift;
+    if sh == 0 {
+        return scaled_run::<ADD>(state, ws, run, |n| n);
     }
+    // An octave's amplitude `2^-i` as a shift (term-by-term rows, `EvalMode::Fused`).
+    #[cfg(feature = "fused")]
+    if ADD && sh <= 16 {
+        return scaled_run::<ADD>(state, ws, run, |n| n >> sh);
+    }
+    let amp = i64::from(f.amp);
+    scaled_run::<ADD>(state, ws, run, |n| ((amp * i64::from(n)) >> 16) as i32)
 }
 
 /// On Arm, keeps the compiler from unrolling the loop it is in: an opaque call on a branch that
@@ -314,7 +331,7 @@ fn lane_rows(fl: &[FusedLane], events: &[RowEvent], table: &[u32], out: &mut [Te
 }
 
 /// The pixels `run` of the terms `fl` with the quadric `q` (value, step, second difference):
-/// `V = sum_i amp_i n_i` combined as the staged rows combine it, `(q + (V << 16)) >> 32`.
+/// `V = sum_i amp_i n_i` combined as `Direct` combines it, `(q + (V << 16)) >> 32`.
 #[inline(always)]
 fn multi_run(fl: &mut [FusedLane], run: &mut [TexValue], q: &mut [i64; 3], fades: Fades<'_>) {
     let [mut qq, mut dq, ddq] = *q;
@@ -475,7 +492,7 @@ mod tests {
                 fm,
                 step,
                 uk: 0,
-                unit: true,
+                shift: 0,
                 a: 0,
                 d: 0,
                 sa: 0,
