@@ -83,8 +83,13 @@ pub fn blend(d: [i32; 8], w: [i32; 3]) -> i32 {
     // (`|q - p| < 2^19`: one 32 x 32-bit product) and of two such blends (`|.| < 2^35`).
     let along_y = |p: i32, q: i32| (i64::from(p) << 16) + i64::from(w[1]) * i64::from(q - p);
     let along_z = |p: i64, q: i64| (p << 16).wrapping_add(i64::from(w[2]).wrapping_mul(q - p));
-    let a0 = along_z(along_y(d[0], d[2]), along_y(d[4], d[6]));
-    let a1 = along_z(along_y(d[1], d[3]), along_y(d[5], d[7]));
+    // `A_b` of the corners `b`, `b + 2`, `b + 4`, `b + 6` (a loop: one copy of the blends).
+    let mut a = [0i64; 2];
+    for (b, ab) in a.iter_mut().enumerate() {
+        let c = |i: usize| d.get(b + i).copied().unwrap_or_default();
+        *ab = along_z(along_y(c(0), c(2)), along_y(c(4), c(6)));
+    }
+    let [a0, a1] = a;
     last_step(a0, a1.wrapping_sub(a0).wrapping_mul(4), w[0] << 14)
 }
 
@@ -98,43 +103,73 @@ pub(crate) fn last_step(a0: i64, d4: i64, w14: i32) -> i32 {
 }
 
 /// The interpolated value in units of 2^-16 (not yet normalised): the corners' dot products
-/// and the fades, then [`blend`]. Out of line: one copy for every evaluation path that takes
-/// a pixel's value on its own (the rows of the lattice's x axis step [`blend`]'s sums instead).
-#[inline(never)]
+/// and the fades, then [`blend`].
+///
+/// The size-lean shape (`cfg(texcore_lean)`) takes it from the one out-of-line
+/// [`value_and_gradient`] that the derivative uses too (the same dot products, fades and blend);
+/// the fast one has its own out-of-line copy, one for every evaluation path that takes a
+/// pixel's value on its own (the rows of the lattice's x axis step [`blend`]'s sums instead).
+#[inline]
 pub fn value(grads: &[Grad; 8], frac: [u32; 3], fade: Fade) -> i64 {
-    let w = [
-        fade.apply(frac[0]) as i32,
-        fade.apply(frac[1]) as i32,
-        fade.apply(frac[2]) as i32,
-    ];
-    // The offsets along each axis from corners 0 and 1 (`|o| <= 2^16`), and the dot products
-    // in `i32` (`|d_c| <= 3 2^16`).
-    let o: [[i32; 2]; 3] = core::array::from_fn(|a| {
-        let f = (frac[a] & 0xFFFF) as i32;
-        [f, f - ONE as i32]
-    });
-    let d: [i32; 8] = core::array::from_fn(|c| {
-        let g = grads[c];
-        let at = |a: usize| o[a][(c >> a) & 1];
-        i32::from(g[0]) * at(0) + i32::from(g[1]) * at(1) + i32::from(g[2]) * at(2)
-    });
+    if cfg!(texcore_lean) {
+        value_and_gradient(grads, frac, fade).0
+    } else {
+        value_alone(grads, frac, fade)
+    }
+}
+
+/// [`value`] in the fast shape.
+#[inline(never)]
+fn value_alone(grads: &[Grad; 8], frac: [u32; 3], fade: Fade) -> i64 {
+    // The fades and the dot products, each a loop (one copy of the fade and of a dot product).
+    let mut w = [0i32; 3];
+    for (wa, &fa) in w.iter_mut().zip(&frac) {
+        *wa = fade.apply(fa) as i32;
+    }
+    let mut d = [0i32; 8];
+    for (c, dc) in d.iter_mut().enumerate() {
+        *dc = dot(grads[c & 7], offsets(frac, c)) as i32;
+    }
     i64::from(blend(d, w))
 }
 
 /// The analytic gradient (`dn/du`, units 2^-16 per cell) of the interpolant, through staged
-/// lerps (x first, then y, then z) by the product rule.
-///
-/// The size-lean shape (`cfg(texcore_lean)`) keeps one out-of-line copy that runs the stages as a
-/// loop over the axes (`value_and_gradient_looped`); the fast one writes them out. Both give the
-/// same result (tested).
-#[cfg_attr(texcore_lean, inline(never))]
-#[cfg_attr(not(texcore_lean), inline)]
+/// lerps (x first, then y, then z) by the product rule (the size-lean shape: from
+/// [`value_and_gradient`]).
+#[inline]
 pub fn gradient(grads: &[Grad; 8], frac: [u32; 3], fade: Fade) -> [i64; 3] {
     if cfg!(texcore_lean) {
-        value_and_gradient_looped(grads, frac, fade).1
+        value_and_gradient(grads, frac, fade).1
     } else {
-        value_and_gradient_unrolled(grads, frac, fade).1
+        gradient_unrolled(grads, frac, fade)
     }
+}
+
+/// [`value`] and [`gradient`] together: the stages as loops (the eight corners, then per axis
+/// the pairs of the previous stage, adjacent along that axis, into half as many), the value by
+/// [`blend`] from the corners' dot products and the fades. Out of line in the size-lean shape:
+/// its one copy of the interpolation.
+#[cfg_attr(texcore_lean, inline(never))]
+pub fn value_and_gradient(grads: &[Grad; 8], frac: [u32; 3], fade: Fade) -> (i64, [i64; 3]) {
+    let mut s = [[0i64; 4]; 8];
+    for (c, sc) in s.iter_mut().enumerate() {
+        *sc = corner(grads, frac, c);
+    }
+    // |d_c| < 2^18.
+    let d = s.map(|sc| sc[0] as i32);
+    let mut ws = [0i32; 3];
+    for ((axis, &a), wa) in frac.iter().enumerate().zip(ws.iter_mut()) {
+        let (w, dw) = (fade.apply(a), fade.derivative(a));
+        *wa = w as i32;
+        let prev = s;
+        for (out, pq) in s.iter_mut().zip(prev.chunks_exact(2).take(4 >> axis)) {
+            if let [p, q] = *pq {
+                *out = stage(p, q, axis, w, dw);
+            }
+        }
+    }
+    let [_, gx, gy, gz] = s[0];
+    (i64::from(blend(d, ws)), [gx, gy, gz])
 }
 
 /// The corner `c`'s stage input: (value, d/dx, d/dy, d/dz).
@@ -161,29 +196,9 @@ fn stage(p: [i64; 4], q: [i64; 4], axis: usize, w: i64, dw: i64) -> [i64; 4] {
     out
 }
 
-/// [`gradient`]'s stages as loops: the eight corners, then per axis the pairs
-/// of the previous stage (adjacent along that axis) into half as many.
-fn value_and_gradient_looped(grads: &[Grad; 8], frac: [u32; 3], fade: Fade) -> (i64, [i64; 3]) {
-    let mut s = [[0i64; 4]; 8];
-    for (c, sc) in s.iter_mut().enumerate() {
-        *sc = corner(grads, frac, c);
-    }
-    for (axis, &a) in frac.iter().enumerate() {
-        let (w, dw) = (fade.apply(a), fade.derivative(a));
-        let prev = s;
-        for (out, pq) in s.iter_mut().zip(prev.chunks_exact(2).take(4 >> axis)) {
-            if let [p, q] = *pq {
-                *out = stage(p, q, axis, w, dw);
-            }
-        }
-    }
-    let [v, gx, gy, gz] = s[0];
-    (v, [gx, gy, gz])
-}
-
 /// [`gradient`]'s seven stages written out.
 #[cfg_attr(not(texcore_lean), inline(always))]
-fn value_and_gradient_unrolled(grads: &[Grad; 8], frac: [u32; 3], fade: Fade) -> (i64, [i64; 3]) {
+fn gradient_unrolled(grads: &[Grad; 8], frac: [u32; 3], fade: Fade) -> [i64; 3] {
     let w = [
         fade.apply(frac[0]),
         fade.apply(frac[1]),
@@ -203,7 +218,7 @@ fn value_and_gradient_unrolled(grads: &[Grad; 8], frac: [u32; 3], fade: Fade) ->
     let f0 = stage(e0, e1, 1);
     let f1 = stage(e2, e3, 1);
     let g = stage(f0, f1, 2);
-    (g[0], [g[1], g[2], g[3]])
+    [g[1], g[2], g[3]]
 }
 
 #[cfg(test)]
@@ -283,9 +298,12 @@ mod tests {
                 gc.copy_from_slice(v);
             }
             for fade in fades() {
-                let want = value_and_gradient_unrolled(&grads, frac, fade);
-                proptest::prop_assert_eq!(value_and_gradient_looped(&grads, frac, fade), want);
-                proptest::prop_assert_eq!(gradient(&grads, frac, fade), want.1);
+                let want = gradient_unrolled(&grads, frac, fade);
+                let both = value_and_gradient(&grads, frac, fade);
+                proptest::prop_assert_eq!(both.1, want);
+                proptest::prop_assert_eq!(gradient(&grads, frac, fade), want);
+                proptest::prop_assert_eq!(both.0, value_alone(&grads, frac, fade));
+                proptest::prop_assert_eq!(value(&grads, frac, fade), both.0);
             }
         }
 
