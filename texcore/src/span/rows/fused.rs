@@ -269,7 +269,9 @@ fn scaled_run<const ADD: bool>(
     scale: impl Fn(i32) -> i32,
 ) -> [i64; 2] {
     for (o, wk) in run.iter_mut().zip(ws) {
-        keep_rolled(*wk);
+        if !ADD {
+            keep_rolled(*wk);
+        }
         let v = scale(blend(a, d, *wk as i32));
         *o = TexValue::from_bits(if ADD { o.to_bits().wrapping_add(v) } else { v });
         a = a.wrapping_add(sa);
