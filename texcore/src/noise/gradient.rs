@@ -287,16 +287,22 @@ mod tests {
             .sum()
     }
 
+    /// Eight corner gradients from 24 components.
+    fn corners(g: &[i8]) -> [Grad; 8] {
+        let mut grads = [[0i8; 3]; 8];
+        for (gc, v) in grads.iter_mut().zip(g.chunks_exact(3)) {
+            gc.copy_from_slice(v);
+        }
+        grads
+    }
+
     proptest::proptest! {
         #[test]
         fn both_shapes_agree(
             g in proptest::collection::vec(-1i8..=1, 24),
             frac in proptest::prelude::any::<[u32; 3]>(),
         ) {
-            let mut grads = [[0i8; 3]; 8];
-            for (gc, v) in grads.iter_mut().zip(g.chunks_exact(3)) {
-                gc.copy_from_slice(v);
-            }
+            let grads = corners(&g);
             for fade in fades() {
                 let want = gradient_unrolled(&grads, frac, fade);
                 let both = value_and_gradient(&grads, frac, fade);
@@ -314,10 +320,7 @@ mod tests {
             g in proptest::collection::vec(-1i8..=1, 24),
             frac in proptest::prelude::any::<[u32; 3]>(),
         ) {
-            let mut grads = [[0i8; 3]; 8];
-            for (gc, v) in grads.iter_mut().zip(g.chunks_exact(3)) {
-                gc.copy_from_slice(v);
-            }
+            let grads = corners(&g);
             for fade in fades() {
                 let r = exact48(&grads, frac, fade);
                 let n = i128::from(value(&grads, frac, fade)) << 48;
