@@ -18,9 +18,11 @@
 //!
 //! Value noise with the smooth fade and Perlin's gradient noise are not linear in a cell: their
 //! entries hold what stays fixed across the rows (the smooth fade's `G` and `D`; gradient
-//! noise's corner gradients and the parts of their dot products along the two other axes,
-//! `gradient`), and their pixels are interpolated one by one, the fade along the row read from
-//! the cache's weights when the row has one such term.
+//! noise's corners blended along the fixed axis with their gradient components, `fused`), and
+//! their pixels are interpolated one by one, the fade along the row read from the cache's
+//! weights when the row has one such term. A gradient-noise pixel steps two exact sums and
+//! makes one product (`docs/model.md` 4.3), so its rows are exact along the lattice's x axis;
+//! along y or z the schedule serves them only in `EvalMode::Fused`.
 //!
 //! The spans of a plane handed over a few pixels at a time (a rasteriser's or a tiled fill's)
 //! are served from the same schedule by [`PlaneSpans`] (`spans`): each row is set up once across
