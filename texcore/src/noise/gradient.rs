@@ -76,8 +76,9 @@ fn offsets(frac: [u32; 3], c: usize) -> [i64; 3] {
 /// `floor(A_0 / 2^32) + floor(floor(4 (A_1 - A_0) / 2^32) (w_x 2^14) / 2^32)`
 /// (`|4 (A_1 - A_0)| < 2^53`; the product of its high word and `w_x 2^14 <= 2^30` is within
 /// `2^51`). The row schedule makes the same two sums by additions and the same last step
-/// (`span::rows`).
-#[cfg_attr(not(texcore_lean), inline(always))]
+/// (`span::rows`). Out of line: one copy for every path that blends a pixel's own dot products
+/// (`Direct`, the rows along y or z).
+#[inline(never)]
 pub fn blend(d: [i32; 8], w: [i32; 3]) -> i32 {
     // `2^16 p + w (q - p)`: the exact blend of two values along one axis, of two dot products
     // (`|q - p| < 2^19`: one 32 x 32-bit product) and of two such blends (`|.| < 2^35`).

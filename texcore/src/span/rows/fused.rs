@@ -226,6 +226,7 @@ fn blend(a: i64, d4: i64, w14: i32) -> i32 {
 /// row (`w << 14`) in `ws`: the sample `(amp n) >> 16`, as `Direct` makes it from `n` (`n`
 /// itself for an amplitude of one). With `ADD` each sample is added to the pixel's value
 /// instead of stored. Returns `[a, d]` after the run.
+#[cfg(feature = "fused")]
 #[inline(always)]
 fn scaled<const ADD: bool>(
     f: &FusedLane,
@@ -237,9 +238,8 @@ fn scaled<const ADD: bool>(
     if sh == 0 {
         return scaled_run::<ADD>(state, ws, run, |n| n);
     }
-    // An octave's amplitude `2^-i` as a shift (term-by-term rows, `EvalMode::Fused`).
-    #[cfg(feature = "fused")]
-    if ADD && sh <= 16 {
+    // An octave's amplitude `2^-i` as a shift.
+    if sh <= 16 {
         return scaled_run::<ADD>(state, ws, run, |n| n >> sh);
     }
     let amp = i64::from(f.amp);
@@ -280,8 +280,9 @@ fn scaled_run<const ADD: bool>(
     [a, d]
 }
 
-/// The samples of a row of one term `f` without quadric, its fades along the row (`w << 14`)
-/// in `table`: each cell entered, then its pixels ([`scaled`]).
+/// The samples of a row of one term `f` of amplitude one without quadric (each sample the
+/// term's `n`), its fades along the row (`w << 14`) in `table`: each cell entered, then its
+/// pixels.
 #[inline(never)]
 fn one_term_row(f: &FusedLane, events: &[RowEvent], table: &[u32], out: &mut [TexValue]) {
     let mut rest = out;
@@ -294,7 +295,7 @@ fn one_term_row(f: &FusedLane, events: &[RowEvent], table: &[u32], out: &mut [Te
             return;
         };
         fades = later;
-        scaled::<false>(f, f.entered(e), ws, run);
+        scaled_run::<false>(f.entered(e), ws, run, |n| n);
     }
 }
 
@@ -378,7 +379,9 @@ pub(super) fn fused_walk(
     // Terms without quadric, their fades in the table: the whole row in one call.
     if table.len() >= fl.len() * len && (q[0] | q[1] | q[2]) == 0 {
         if let [f] = fl.as_slice() {
-            return one_term_row(f, events, table, out);
+            if f.shift == 0 {
+                return one_term_row(f, events, table, out);
+            }
         }
         #[cfg(feature = "fused")]
         if approx {

@@ -1,7 +1,8 @@
-//! What the row schedule's gradient-noise terms (Perlin's improved noise) share: each cell's
-//! corner gradients hashed once per cell along the row's two other axes ([`grad_cell`]), the
-//! fades along the row ([`Fades`]), the amplitudes' bound ([`small_amps`]) and the row's entry
-//! point ([`gradient_row`]); the rows themselves are `fused`'s stepped sums.
+//! Gradient-noise terms (Perlin's improved noise) in a row schedule: each cell's corner
+//! gradients hashed once per cell along the row's two other axes ([`grad_cell`]), the fades
+//! along the row ([`Fades`]), the amplitudes' bound ([`small_amps`]), the row's entry point
+//! ([`gradient_row`]), and the rows along the lattice's y or z axis ([`gradient_walk`]; rows
+//! along x take `fused`'s stepped sums).
 //!
 //! A gradient-noise cell is not a polynomial of low degree along the row (the fade and the
 //! blend's floors), so it is not forward differenced. What the row schedule saves is everything
@@ -9,27 +10,72 @@
 //! whose offsets along the two other axes are constant along the row and whose offset along `k`
 //! grows by the lattice step `du_k` a pixel, so `d_c(j) = base_c + gm_c f_m + gk_c (j - j0)
 //! du_k` (`base_c` fixed while the rows stay in the same cells along `m` and `o`, `f_m` the
-//! row's fraction along its row axis `m`). The fades along `k` are the same at a pixel in every
-//! row the schedule serves: the rows read them from the cache's weights when they hold every
-//! term's. The terms' values are summed unscaled ([`small_amps`]).
+//! row's fraction along its row axis `m`). An entry holds `base_c` and the components `gk_c`,
+//! `gm_c` of the eight corners ([`GradCell`]); a row along y or z turns them into the eight
+//! `d_c` once per cell, and a pixel is eight additions and the blend of `docs/model.md` 4.3
+//! (`noise::gradient::blend`, whose last product is along x: along y or z the fade varies
+//! within the exact part, so the sums are not stepped there). The fades along `k` are the same
+//! at a pixel in every row the schedule serves: the rows read them from the cache's weights
+//! when they hold every term's. The terms' values are summed unscaled ([`small_amps`]).
 //!
-//! The schedule takes gradient-noise rows along the lattice's x axis in every mode (exact:
-//! `fused`), and along the other axes only in `EvalMode::Fused`. Nothing here panics.
+//! Guarantees: every sample is `NoiseBasis::sample`'s (the same dot products, weights and
+//! blend: `|d_c| <= 2^17`, `w <= 2^16`), combined with the quadric as the span path combines
+//! it; tested against `Direct` in the module `rows`. Nothing here panics.
 
 use super::*;
 use crate::noise::fade::ONE;
-use crate::noise::gradient::perlin_gradient;
+use crate::noise::gradient::{blend, perlin_gradient};
 use crate::noise::Fade;
 
 /// One gradient-noise cell of a row schedule (see the module documentation): the corners' dot
 /// products `base` at the cell's entry pixel (along `m` at fraction 0) and their gradients'
-/// components along `k` and `m` (corner `c`'s bit 0 along x, 1 along y, 2 along z), which
-/// `fused` blends into its entry.
+/// components along `k` and `m` (corner `c`'s bit 0 along x, 1 along y, 2 along z). Packed into
+/// a [`RowEvent`]'s words for the rows along y or z (`base` in `dv` and `ds`, two corners a
+/// word, low half first; the components along `k` in `dg[0]` and along `m` in `dg[1]`, a byte
+/// a corner, corner 0 lowest); `fused` blends it into its own entry.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub(super) struct GradCell {
     pub(super) base: [i32; 8],
     pub(super) gk: [i8; 8],
     pub(super) gm: [i8; 8],
+}
+
+impl GradCell {
+    fn store(&self, e: &mut RowEvent) {
+        let pair = |a: i32, b: i32| i64::from(a as u32) | (i64::from(b) << 32);
+        let b = &self.base;
+        e.dv = [pair(b[0], b[1]), pair(b[2], b[3])];
+        e.ds = [pair(b[4], b[5]), pair(b[6], b[7])];
+        let bytes = |g: &[i8; 8]| i64::from_le_bytes(g.map(|x| x as u8));
+        e.dg = [bytes(&self.gk), bytes(&self.gm)];
+    }
+
+    #[inline(always)]
+    fn load(e: &RowEvent) -> GradCell {
+        let words = [e.dv[0], e.dv[1], e.ds[0], e.ds[1]];
+        let mut base = [0i32; 8];
+        for (pair, w) in base.chunks_exact_mut(2).zip(words) {
+            if let [lo, hi] = pair {
+                *lo = w as i32;
+                *hi = (w >> 32) as i32;
+            }
+        }
+        let bytes = |w: i64| w.to_le_bytes().map(|x| x as i8);
+        GradCell {
+            base,
+            gk: bytes(e.dg[0]),
+            gm: bytes(e.dg[1]),
+        }
+    }
+}
+
+/// The entries of gradient-noise term `li` (`lane`) of a schedule: each cell's corner
+/// gradients (hashed as `NoiseBasis::cell` hashes them) as a [`GradCell`] for the fraction
+/// along `k` at the entry's pixel and the fixed fraction `fo` along `o`.
+pub(super) fn gradient_entries(li: usize, lane: &RowLane, hash: HashKind, events: &mut [RowEvent]) {
+    for e in events.iter_mut().filter(|e| usize::from(e.lane) == li) {
+        grad_cell(lane, hash, e.at).store(e);
+    }
 }
 
 /// The [`GradCell`] of term `lane` at pixel `at` of the row: each corner's gradient (hashed as
@@ -88,6 +134,30 @@ pub(super) fn small_amps(sum: u64, fv: u32) -> bool {
     fv <= 16 && (sum << fv) <= 1 << 29
 }
 
+/// The pixels `run` of a row's gradient-noise terms `gl`, each term's fade along its `k` from
+/// `fades`, with the quadric `qq` stepped by `dq` and `ddq`: the sum `V = sum_i amp_i n16_i`
+/// combined as `(q + (V << 16)) >> 32` ([`small_amps`], which `rows_take` checks).
+#[inline(always)]
+fn multi_run(
+    gl: &mut [GradLane],
+    run: &mut [TexValue],
+    qq: &mut i64,
+    dq: &mut i64,
+    ddq: i64,
+    fades: Fades<'_>,
+) {
+    for (j, o) in run.iter_mut().enumerate() {
+        let mut v = 0i64;
+        for (l, g) in gl.iter_mut().enumerate() {
+            let wk = fades.at(l, j, g.fade, g.uk);
+            v = wadd(v, i64::from(g.amp) * i64::from(g.pixel(wk)));
+        }
+        *o = TexValue::from_bits((wadd(*qq, v << 16) >> 32) as i32);
+        *qq = wadd(*qq, *dq);
+        *dq = wadd(*dq, ddq);
+    }
+}
+
 /// The terms' fades along the row: term `l`'s at pixel `x + j` of a run is
 /// `table[l len + x + j]` when the table holds it, otherwise computed.
 #[derive(Clone, Copy, Debug)]
@@ -111,10 +181,52 @@ impl Fades<'_> {
     }
 }
 
-/// The samples of a row whose terms are all gradient noise: `fused::fused_walk`'s stepped sums
-/// (with `approx`, in `EvalMode::Fused`, its approximations too), each term's fades along its
-/// `k` (the same in every row the schedule serves) kept in `weights` as `w << 14` when they hold
-/// them all, term after term.
+/// What a row needs of one gradient-noise term: its fade, the row's weights along its two other
+/// axes, its fraction along `m`, amplitude, axis `k`, step along `k`, and the corner dot products
+/// and their steps in its current cell.
+#[derive(Clone, Copy, Debug)]
+struct GradLane {
+    fade: Fade,
+    w: [i32; 3],
+    fm: i32,
+    amp: i32,
+    k: usize,
+    step: i32,
+    uk: i32,
+    d: [i32; 8],
+    s: [i32; 8],
+}
+
+impl GradLane {
+    /// Enters the cell of entry `e`.
+    #[inline(always)]
+    fn enter(&mut self, e: &RowEvent) {
+        let g = GradCell::load(e);
+        for c in 0..8 {
+            self.d[c] = g.base[c].wrapping_add(i32::from(g.gm[c]) * self.fm);
+            self.s[c] = i32::from(g.gk[c]).wrapping_mul(self.step);
+        }
+    }
+
+    /// The term's value `n16` at the current pixel with weight `wk` along `k`, then one pixel on.
+    #[inline(always)]
+    fn pixel(&mut self, wk: i32) -> i32 {
+        let mut w = self.w;
+        w[self.k.min(2)] = wk;
+        let n16 = blend(self.d, w);
+        for (d, s) in self.d.iter_mut().zip(self.s) {
+            *d = d.wrapping_add(s);
+        }
+        self.uk = self.uk.wrapping_add(self.step);
+        n16
+    }
+}
+
+/// The samples of a row whose terms are all gradient noise: with `fused` (every term along the
+/// lattice's x axis, or `EvalMode::Fused`) `fused::fused_walk`'s stepped sums (with `approx`, in
+/// `EvalMode::Fused`, its approximations too), otherwise [`gradient_walk`]'s blends of stepped
+/// dot products; each term's fades along its `k` (the same in every row the schedule serves)
+/// kept in `weights` when they hold them all, term after term (as `w << 14` for `fused`).
 #[inline(always)]
 pub(super) fn gradient_row<const T: usize>(
     events: &[RowEvent],
@@ -123,17 +235,81 @@ pub(super) fn gradient_row<const T: usize>(
     setup: &Setup<T>,
     out: &mut [TexValue],
     q: &mut [i64; 3],
-    approx: bool,
+    (fused, approx): (bool, bool),
 ) {
     let made = state.weights;
-    // The rows read the fades as `w << 14` (`noise::gradient::last_step`).
-    state.weights = row_fades(&state.lanes, made, weights, out.len(), 14);
+    // The fused rows read the fades as `w << 14` (`noise::gradient::last_step`).
+    let shift = if fused { 14 } else { 0 };
+    state.weights = row_fades(&state.lanes, made, weights, out.len(), shift);
     // Each term's fades along the row (term `l` at `l len`), when the weights hold them all.
     let table = weights
         .get(..state.weights)
         .filter(|t| t.len() >= state.lanes.len() * out.len())
         .unwrap_or_default();
-    super::fused::fused_walk(events, &state.lanes, &setup.terms, out, q, table, approx)
+    if fused {
+        return super::fused::fused_walk(events, &state.lanes, &setup.terms, out, q, table, approx);
+    }
+    gradient_walk(events, &state.lanes, &setup.terms, out, q, table);
+}
+
+/// The samples of a row whose terms are all gradient noise, some along y or z (as
+/// `walk_part`): at each entry the entering term's corner dot products for this row, then per
+/// pixel every term's blend (`noise::gradient::blend`) and the quadric `q`, the fades along
+/// the row from `table` when it holds every term's (`Fades`).
+#[inline(never)]
+fn gradient_walk(
+    events: &[RowEvent],
+    lanes: &[RowLane],
+    terms: &[TermSetup],
+    out: &mut [TexValue],
+    q: &mut [i64; 3],
+    table: &[u32],
+) {
+    // The terms' row state (pushed, not a zeroed array: at most `GRADIENT_TERMS` lanes, as
+    // `rows_take` checks; never full).
+    let mut gl: heapless::Vec<GradLane, GRADIENT_TERMS> = heapless::Vec::new();
+    for lane in lanes.iter() {
+        let Some(ts) = terms.get(lane.term) else {
+            continue;
+        };
+        let (m, o, k) = (lane.m.min(2), lane.o.min(2), lane.k.min(2));
+        let fm = split(ts.u0).1[m];
+        let mut w = [0i32; 3];
+        w[m] = lane.fade.apply(fm) as i32;
+        w[o] = lane.wo as i32;
+        let _ = gl.push(GradLane {
+            fade: lane.fade,
+            w,
+            fm: fm as i32,
+            amp: lane.amp,
+            k,
+            step: lane.du[k],
+            uk: lane.u0k,
+            d: [0; 8],
+            s: [0; 8],
+        });
+    }
+    let len = out.len();
+    let mut x = 0usize;
+    let mut rest = out;
+    for e in events {
+        if let Some(g) = gl.get_mut(usize::from(e.lane)) {
+            g.enter(e);
+        }
+        let n = usize::from(e.run).min(rest.len());
+        let (run, tail) = core::mem::take(&mut rest).split_at_mut(n);
+        rest = tail;
+        let [mut qq, mut dq, ddq] = *q;
+        let tab = Fades {
+            table,
+            len,
+            x,
+            shift: 0,
+        };
+        multi_run(&mut gl, run, &mut qq, &mut dq, ddq, tab);
+        *q = [qq, dq, ddq];
+        x += n;
+    }
 }
 
 #[cfg(test)]
@@ -146,6 +322,18 @@ mod tests {
         *x ^= *x >> 7;
         *x ^= *x << 17;
         *x
+    }
+
+    #[test]
+    fn a_cell_packs_into_an_entry() {
+        let g = GradCell {
+            base: [i32::MIN, -1, 0, 1, 131_072, -131_072, i32::MAX, 7],
+            gk: [-1, 0, 1, 1, 0, -1, 0, 1],
+            gm: [1, 1, -1, 0, 0, -1, 1, 0],
+        };
+        let mut e = RowEvent::default();
+        g.store(&mut e);
+        assert_eq!(GradCell::load(&e), g);
     }
 
     #[test]

@@ -20,9 +20,9 @@
 //! entries hold what stays fixed across the rows (the smooth fade's `G` and `D`; gradient
 //! noise's corners blended along the fixed axis with their gradient components, `fused`), and
 //! their pixels are interpolated one by one, the fade along the row read from the cache's
-//! weights when the row has one such term. A gradient-noise pixel steps two exact sums and
-//! makes one product (`docs/model.md` 4.3), so its rows are exact along the lattice's x axis;
-//! along y or z the schedule serves them only in `EvalMode::Fused`.
+//! weights when the row has one such term. Along the lattice's x axis a gradient-noise pixel
+//! steps two exact sums and makes one product (`docs/model.md` 4.3, `fused`); along y or z it
+//! steps its eight dot products and blends them (`gradient`).
 //!
 //! The spans of a plane handed over a few pixels at a time (a rasteriser's or a tiled fill's)
 //! are served from the same schedule by [`PlaneSpans`] (`spans`): each row is set up once across
@@ -335,6 +335,16 @@ impl<'m, const T: usize> EvalCore<'m, T> {
         compiled_mode(self.opts.mode) == EvalMode::Fused
     }
 
+    /// Whether the gradient-noise lanes `lanes` take `fused`'s stepped sums: in every mode when
+    /// each runs along the lattice's x axis, where the sums' last product is the blend's of
+    /// `docs/model.md` 4.3 (exact), and in [`EvalMode::Fused`]; otherwise `gradient`'s blends of
+    /// stepped dot products.
+    #[cfg(not(texcore_lean))]
+    #[inline(always)]
+    fn fused_form(&self, lanes: &[RowLane]) -> bool {
+        self.fused_rows() || lanes.iter().all(|l| !l.grad || l.k == 0)
+    }
+
     /// A row of [`PlaneRows`] (gradients off, `out` exactly `span.len` long): through the
     /// schedule `state` / `events` where it serves the row, otherwise as
     /// [`SpanEvaluator::eval_values`].
@@ -462,15 +472,7 @@ impl<'m, const T: usize> EvalCore<'m, T> {
                 Strategy::Cached => smooth && (is_smooth_value(b) || is_gradient_basis(b)),
                 _ => false,
             };
-            let Some(axis) = single_axis(ts.du) else {
-                return false;
-            };
-            if !taken || term.turbulence {
-                return false;
-            }
-            // Gradient-noise rows are exact along the lattice's x axis (`fused`: the blend's
-            // last product is along x); along another axis only `EvalMode::Fused` takes them.
-            if is_gradient_basis(b) && axis != 0 && !self.fused_rows() {
+            if !taken || term.turbulence || single_axis(ts.du).is_none() {
                 return false;
             }
             // Gradient-noise terms are walked on their own (`gradient`): not mixed with others.
@@ -599,6 +601,8 @@ impl<'m, const T: usize> EvalCore<'m, T> {
         let m = self.model;
         let (fv, vb) = (m.noise_frac_bits(), m.precision().value_bits());
         let used = state.used;
+        // Gradient-noise entries as `fused` or `gradient` takes them (`fused_form`).
+        let fused = self.fused_form(&state.lanes);
         for (li, lane) in state.lanes.iter_mut().enumerate() {
             let (Some(ts), Some(term)) = (setup.terms.get(lane.term), m.terms().get(lane.term))
             else {
@@ -616,9 +620,12 @@ impl<'m, const T: usize> EvalCore<'m, T> {
             lane.wo = lane.fade.apply(fo) as u32;
             let events = events.get_mut(..used).unwrap_or_default();
             let hash = term.basis.hash;
-            if lane.grad {
+            if lane.grad && fused {
                 #[cfg(feature = "gradient-noise")]
                 fused::fused_entries(li, lane, hash, events);
+            } else if lane.grad {
+                #[cfg(feature = "gradient-noise")]
+                gradient::gradient_entries(li, lane, hash, events);
             } else if lane.smooth {
                 smooth_entries(li, lane, hash, fv, vb, events);
             } else if GRADIENTS && grads {
@@ -646,8 +653,8 @@ impl<'m, const T: usize> EvalCore<'m, T> {
         let events = events.get(..state.used).unwrap_or_default();
         #[cfg(feature = "gradient-noise")]
         if state.lanes.iter().any(|l| l.grad) {
-            let approx = self.fused_rows();
-            gradient::gradient_row(events, state, weights, setup, out, &mut q, approx);
+            let form = (self.fused_form(&state.lanes), self.fused_rows());
+            gradient::gradient_row(events, state, weights, setup, out, &mut q, form);
             self.count_row(len, state, false);
             return;
         }
@@ -987,15 +994,13 @@ mod tests {
             let gradients_served = !(GRADIENTS && gradients) || (reach(ds[axis]) && reach(dyv));
             // The size-lean shape has no schedule.
             let fast = FD && !cfg!(texcore_lean);
-            // Gradient noise: rows along x only (the blend's last product is along x).
-            let along = basis < 2 || axis == 0;
-            if fast && mode == EvalMode::Fd && n > 0 && across < 2 && !clamp && resolved && cells <= 256 && along {
+            if fast && mode == EvalMode::Fd && n > 0 && across < 2 && !clamp && resolved && cells <= 256 {
                 proptest::prop_assert_eq!(served.0, 10);
                 if gradients_served && n == usize::from(len) && !per_pixel {
                     proptest::prop_assert!(served.1 >= 10, "{:?}", served);
                 }
             }
-            if across >= 2 || !along {
+            if across >= 2 {
                 proptest::prop_assert_eq!(served, (0, 0));
                 proptest::prop_assert_eq!(small, (0, 0));
             }
