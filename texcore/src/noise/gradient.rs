@@ -122,16 +122,23 @@ pub fn value(grads: &[Grad; 8], frac: [u32; 3], fade: Fade) -> i64 {
 /// [`value`] in the fast shape.
 #[inline(never)]
 fn value_alone(grads: &[Grad; 8], frac: [u32; 3], fade: Fade) -> i64 {
-    // The fades and the dot products, each a loop (one copy of the fade and of a dot product).
+    // The fades (one call each: the compiler would otherwise copy the fade's three forms for
+    // each axis) and the dot products.
     let mut w = [0i32; 3];
     for (wa, &fa) in w.iter_mut().zip(&frac) {
-        *wa = fade.apply(fa) as i32;
+        *wa = fade_apart(fade, fa) as i32;
     }
     let mut d = [0i32; 8];
     for (c, dc) in d.iter_mut().enumerate() {
         *dc = dot(grads[c & 7], offsets(frac, c)) as i32;
     }
     i64::from(blend(d, w))
+}
+
+/// `fade.apply(a)` out of line.
+#[inline(never)]
+fn fade_apart(fade: Fade, a: u32) -> i64 {
+    fade.apply(a)
 }
 
 /// The analytic gradient (`dn/du`, units 2^-16 per cell) of the interpolant, through staged
