@@ -51,14 +51,14 @@ const BOUNDS: &[(&str, &str, f64, f64)] = &[
     ("smooth-1oct", "texcore-fd", 24.0, 31.0),    // 21.4 / 27.3
     ("smooth-1oct", "texcore-auto", 24.0, 31.0),  // 21.5 / 27.3
     ("smooth-1oct", "texcore-direct", 625.0, 815.0), // 567.9 / 740.4
-    ("perlin-1oct", "texcore-fd", 32.0, 45.0),    // 28.4 / 40.5
-    ("perlin-1oct", "texcore-auto", 32.0, 45.0),  // 28.5 / 40.6
-    ("perlin-1oct", "texcore-direct", 919.0, 1086.0), // 835.3 / 986.9
-    ("perlin-4oct", "texcore-fd", 394.0, 521.0),  // 358.0 / 472.9
-    ("perlin-4oct", "texcore-auto", 394.0, 521.0), // 358.3 / 473.1
-    ("perlin-4oct", "texcore-direct", 3323.0, 4028.0), // 3020.7 / 3661.5
-    ("perlin-1oct", "texcore-fused", 32.0, 45.0), // 28.4 / 40.5
-    ("perlin-4oct", "texcore-fused", 299.0, 364.0), // 271.1 / 330.7
+    ("perlin-1oct", "texcore-fd", 32.0, 45.0),    // 28.4 / 40.7
+    ("perlin-1oct", "texcore-auto", 32.0, 45.0),  // 28.5 / 40.8
+    ("perlin-1oct", "texcore-direct", 969.0, 1147.0), // 880.1 / 1042.7
+    ("perlin-4oct", "texcore-fd", 394.0, 521.0),  // 358.1 / 473.3
+    ("perlin-4oct", "texcore-auto", 394.0, 521.0), // 358.5 / 473.5
+    ("perlin-4oct", "texcore-direct", 3521.0, 4274.0), // 3200.5 / 3885.4
+    ("perlin-1oct", "texcore-fused", 32.0, 45.0), // 28.3 / 40.6
+    ("perlin-4oct", "texcore-fused", 299.0, 365.0), // 271.1 / 331.0
 ];
 
 fn bound(workload: &str, implementation: &str, target: DeviceTarget) -> Option<f64> {
