@@ -71,9 +71,7 @@ impl GradCell {
 
 /// The entries of gradient-noise term `li` (`lane`) of a schedule: each cell's corner
 /// gradients (hashed as `NoiseBasis::cell` hashes them) as a [`GradCell`] for the fraction
-/// along `k` at the entry's pixel and the fixed fraction `fo` along `o`. Out of line, as
-/// `fused::fused_entries`.
-#[inline(never)]
+/// along `k` at the entry's pixel and the fixed fraction `fo` along `o`.
 pub(super) fn gradient_entries(li: usize, lane: &RowLane, hash: HashKind, events: &mut [RowEvent]) {
     for e in events.iter_mut().filter(|e| usize::from(e.lane) == li) {
         grad_cell(lane, hash, e.at).store(e);
