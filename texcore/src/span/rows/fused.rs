@@ -34,6 +34,7 @@
 
 use super::gradient::{grad_cell, Fades, GradCell};
 use super::*;
+use crate::noise::gradient::last_step;
 use crate::noise::Fade;
 
 /// One gradient-noise cell of a fused row schedule, packed into a [`RowEvent`]'s words: for
@@ -206,20 +207,11 @@ impl FusedLane {
     /// the row, then one pixel on.
     #[inline(always)]
     fn pixel(&mut self, w14: i32) -> i32 {
-        let n = blend(self.a, self.d, w14);
+        let n = last_step(self.a, self.d, w14);
         self.a = self.a.wrapping_add(self.sa);
         self.d = self.d.wrapping_add(self.sd);
         n
     }
-}
-
-/// `floor(a / 2^32) + floor(floor(d4 / 2^32) w14 / 2^32)` with `d4 = 4 d` and `w14 = w 2^14`:
-/// `noise::gradient::last_step`, the blend's last step (`0 <= w <= 2^16`, so
-/// `0 <= w14 <= 2^30`; `|d4| <= 2^52`, so the product is within `2^50`): one signed high-word
-/// product (`smmul`, `mulh`).
-#[inline(always)]
-fn blend(a: i64, d4: i64, w14: i32) -> i32 {
-    crate::noise::gradient::last_step(a, d4, w14)
 }
 
 /// A cell's pixels `run` of one term `f` from the state `[a, d, sa, sd]`, their fades along the
@@ -272,7 +264,7 @@ fn scaled_run<const ADD: bool>(
         if !ADD {
             keep_rolled(*wk);
         }
-        let v = scale(blend(a, d, *wk as i32));
+        let v = scale(last_step(a, d, *wk as i32));
         *o = TexValue::from_bits(if ADD { o.to_bits().wrapping_add(v) } else { v });
         a = a.wrapping_add(sa);
         d = d.wrapping_add(sd);
@@ -529,16 +521,17 @@ mod tests {
         }
     }
 
-    /// `blend` at the ends of its ranges does not wrap.
+    /// `last_step` at the ends of its ranges (`|d4| <= 2^52`, `0 <= w14 <= 2^30`) does not
+    /// wrap.
     #[test]
-    fn blend_at_its_bounds() {
+    fn last_step_at_its_bounds() {
         let top = 1i64 << 49;
         let one = 1 << 30;
-        assert_eq!(blend(top, 0, 0), 1 << 17);
-        assert_eq!(blend(-top, 0, one), -(1 << 17));
+        assert_eq!(last_step(top, 0, 0), 1 << 17);
+        assert_eq!(last_step(-top, 0, one), -(1 << 17));
         let dmax = 1i64 << 52;
-        assert_eq!(blend(0, dmax, one), 1 << 18);
-        assert_eq!(blend(0, -dmax, one), -(1 << 18));
-        assert_eq!(blend(-1, -1, one - (1 << 14)), -2);
+        assert_eq!(last_step(0, dmax, one), 1 << 18);
+        assert_eq!(last_step(0, -dmax, one), -(1 << 18));
+        assert_eq!(last_step(-1, -1, one - (1 << 14)), -2);
     }
 }
