@@ -747,6 +747,16 @@ mod tests {
     use crate::quadric::Quadric;
     use crate::transform::Affine3;
 
+    /// Whether [`model`]'s `basis` is one evaluated per pixel where it is compiled in (the
+    /// smooth fade, gradient noise; trilinear value noise otherwise).
+    pub(super) fn per_pixel_basis(basis: u8) -> bool {
+        match basis {
+            0 => false,
+            1 => cfg!(feature = "smooth-fade"),
+            _ => cfg!(feature = "gradient-noise"),
+        }
+    }
+
     /// A model of `octaves` unrotated trilinear octaves (zoom `2^zoom`) with quadric kind
     /// `quadric` (zero, affine, curved).
     pub(super) fn model(
@@ -949,7 +959,7 @@ mod tests {
             let hash = if hash { HashKind::Integer } else { HashKind::default() };
             let m = model(octaves, zoom, quadric, clamp, hash, basis);
             // Bases other than trilinear value noise: their rows' gradients are the span path's.
-            let per_pixel = basis != 0 && cfg!(any(feature = "smooth-fade", feature = "gradient-noise"));
+            let per_pixel = per_pixel_basis(basis);
             let mut ds = [0; 3];
             ds[axis] = (step >> (2 * zoom)) | 1;
             let mut dy = [0; 3];

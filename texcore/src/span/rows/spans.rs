@@ -653,13 +653,7 @@ mod tests {
             if FD && !cfg!(texcore_lean) && mode == EvalMode::Fd && basis == 0 && !odd && !clamp && resolved {
                 proptest::prop_assert_eq!(walked, pieces.len() as u64);
             }
-            // The smooth fade and gradient noise, where compiled in (trilinear otherwise).
-            let other = match basis {
-                0 => false,
-                1 => cfg!(feature = "smooth-fade"),
-                _ => cfg!(feature = "gradient-noise"),
-            };
-            if odd || other {
+            if odd || super::super::tests::per_pixel_basis(basis) {
                 proptest::prop_assert_eq!((walked, walked_chunks), (0, 0));
             }
         }
