@@ -330,6 +330,7 @@ pub fn ref_filter(cfg: &UnitConfig) -> Filter {
         Antialias::None => Filter::Point(lookup),
         Antialias::Mip => Filter::Mip(lookup),
         Antialias::Csat | Antialias::Csat3 => Filter::Box,
+        Antialias::Ramp => Filter::Ramp,
     }
 }
 

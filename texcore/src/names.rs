@@ -28,7 +28,7 @@ macro_rules! display_names {
 
 display_names! {
     TableLookup { Nearest => "nearest", Linear => "linear" }
-    Antialias { None => "none", Mip => "mip", Csat => "csat", Csat3 => "csat3" }
+    Antialias { None => "none", Mip => "mip", Csat => "csat", Csat3 => "csat3", Ramp => "ramp" }
     GradientNorm { L1 => "l1", L2 => "l2", Max => "max" }
     Fade {
         Linear => "linear",

@@ -24,6 +24,7 @@ use crate::span::{
     SpanEvaluator, SpanPlane, SpanStats, SAMPLE_CHUNK,
 };
 
+mod rgb565;
 mod rows;
 pub use rows::TextureRows;
 
@@ -754,12 +755,21 @@ pub mod workload {
     /// The marble colour stage: the preset's keys in a 256-entry table (nearest, `mod`) with the
     /// summed-area filter, computed at compile time (`None` only if the keys were invalid).
     #[cfg(feature = "csat")]
-    pub const MARBLE_STAGE: Option<crate::filter::ColorStage<256>> = marble_stage();
+    pub const MARBLE_STAGE: Option<crate::filter::ColorStage<256>> =
+        marble_stage(crate::filter::Antialias::Csat);
 
-    #[cfg(feature = "csat")]
-    const fn marble_stage() -> Option<crate::filter::ColorStage<256>> {
+    /// The marble colour stage with the pre-filtered RGB565 ramp instead of the summed-area
+    /// filter (the same table), computed at compile time.
+    #[cfg(feature = "ramp")]
+    pub const MARBLE_RAMP_STAGE: Option<crate::filter::ColorStage<256>> =
+        marble_stage(crate::filter::Antialias::Ramp);
+
+    #[cfg(any(feature = "csat", feature = "ramp"))]
+    const fn marble_stage(
+        aa: crate::filter::Antialias,
+    ) -> Option<crate::filter::ColorStage<256>> {
         use crate::color::Rgba8888;
-        use crate::filter::{Antialias, ColorStage};
+        use crate::filter::ColorStage;
         use crate::table::{ColorTable, TableLookup};
         const N_KEYS: usize = crate::presets::MARBLE_KEYS.len();
         let k = &crate::presets::MARBLE_KEYS;
@@ -775,7 +785,7 @@ pub mod workload {
         }
         match ColorTable::<256>::from_keys(&keys) {
             Ok(t) => {
-                match ColorStage::new(t, TableWrap::Mod, TableLookup::Nearest, Antialias::Csat) {
+                match ColorStage::new(t, TableWrap::Mod, TableLookup::Nearest, aa) {
                     Ok(s) => Some(s),
                     Err(_) => None,
                 }
@@ -794,6 +804,21 @@ pub mod workload {
         Some(super::Texture::new(
             super::Shader::Model(marble_model(hash)),
             MARBLE_STAGE?,
+            crate::filter::GradientNorm::L2,
+            mode,
+        ))
+    }
+
+    /// [`marble_csat`] with [`MARBLE_RAMP_STAGE`]: the same samples, coloured through the
+    /// pre-filtered RGB565 ramp (approximate, [`crate::filter::ramp`]).
+    #[cfg(feature = "ramp")]
+    pub fn marble_ramp(
+        hash: HashKind,
+        mode: crate::span::EvalMode,
+    ) -> Option<super::Texture<TERMS, 256>> {
+        Some(super::Texture::new(
+            super::Shader::Model(marble_model(hash)),
+            MARBLE_RAMP_STAGE?,
             crate::filter::GradientNorm::L2,
             mode,
         ))

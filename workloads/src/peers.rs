@@ -39,17 +39,21 @@ pub enum Implementation {
     /// texcore, `EvalMode::Fused` (approximate; only the gradient-noise workloads, where it
     /// differs from `Fd`).
     TexcoreFused,
+    /// texcore, `EvalMode::Fd` with the pre-filtered RGB565 ramp instead of the summed-area
+    /// filter (approximate; only the marble workloads, the ones with a colour stage).
+    TexcoreRamp,
     /// `fastnoise-lite` (f32).
     FastnoiseLite,
 }
 
 impl Implementation {
     /// Every device implementation, in report order.
-    pub const ALL: [Implementation; 5] = [
+    pub const ALL: [Implementation; 6] = [
         Implementation::TexcoreFd,
         Implementation::TexcoreAuto,
         Implementation::TexcoreDirect,
         Implementation::TexcoreFused,
+        Implementation::TexcoreRamp,
         Implementation::FastnoiseLite,
     ];
 
@@ -60,6 +64,7 @@ impl Implementation {
             Implementation::TexcoreAuto => "texcore-auto",
             Implementation::TexcoreDirect => "texcore-direct",
             Implementation::TexcoreFused => "texcore-fused",
+            Implementation::TexcoreRamp => "texcore-ramp",
             Implementation::FastnoiseLite => "fastnoise-lite",
         }
     }
@@ -71,6 +76,7 @@ impl Implementation {
             Implementation::TexcoreAuto => Some(EvalMode::Auto),
             Implementation::TexcoreDirect => Some(EvalMode::Direct),
             Implementation::TexcoreFused => Some(EvalMode::Fused),
+            Implementation::TexcoreRamp => Some(EvalMode::Fd),
             Implementation::FastnoiseLite => None,
         }
     }
@@ -105,6 +111,7 @@ pub fn has(w: Workload, imp: Implementation) -> bool {
     match imp {
         Implementation::FastnoiseLite => fastnoise(w).is_some(),
         Implementation::TexcoreFused => matches!(w, Workload::Perlin1 | Workload::Perlin4),
+        Implementation::TexcoreRamp => w.is_marble(),
         _ => true,
     }
 }
@@ -157,7 +164,12 @@ pub fn run(w: Workload, imp: Implementation, hash: HashKind, rows: u16, line: &m
             }
         }
         Some(mode) if w.is_marble() => {
-            let Some(mut tex) = marble(hash) else {
+            let tex = if imp == Implementation::TexcoreRamp {
+                marble_ramp(hash)
+            } else {
+                marble(hash)
+            };
+            let Some(mut tex) = tex else {
                 return 0;
             };
             tex.set_mode(mode);
@@ -197,6 +209,13 @@ fn marble(
     hash: HashKind,
 ) -> Option<texcore::texture::Texture<{ texcore::texture::workload::TERMS }, 256>> {
     texcore::texture::workload::marble_csat(hash, EvalMode::Auto)
+}
+
+/// The marble texture with the pre-filtered RGB565 ramp (`texcore-ramp`).
+fn marble_ramp(
+    hash: HashKind,
+) -> Option<texcore::texture::Texture<{ texcore::texture::workload::TERMS }, 256>> {
+    texcore::texture::workload::marble_ramp(hash, EvalMode::Fd)
 }
 
 /// `rows` folds of `line` alone (the `peers:fold` job).

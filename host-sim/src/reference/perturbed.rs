@@ -136,7 +136,7 @@ impl RefPerturbed {
         let (f, g) = self.f_and_grad(fp.s);
         let w = match filter {
             Filter::Point(_) => 0.0,
-            Filter::Box | Filter::Mip(_) => {
+            Filter::Box | Filter::Mip(_) | Filter::Ramp => {
                 let dot = |d: [f64; 3]| g[0] * d[0] + g[1] * d[1] + g[2] * d[2];
                 (table.len() as f64 * norm.apply(dot(fp.dsdx), dot(fp.dsdy)))
                     .min(table.len() as f64)

@@ -53,6 +53,9 @@ pub enum Filter {
     Box,
     /// Colour-table MIP map, each level looked up with the given mode.
     Mip(Lookup),
+    /// The pre-filtered ramp (`texcore::filter::ramp`): the box at the width rounded to a power
+    /// of two in the log domain, centred on the level's sample that covers the entry.
+    Ramp,
 }
 
 /// A colour table could not be built.
@@ -321,12 +324,37 @@ impl RefTable {
         self.mip_at(self.coord(f, wrap), w, lookup, wrap)
     }
 
+    /// The ramp filter at table coordinate `x` and width `w` (entries): level
+    /// `l = round(log2 w)` in `[0, log2 N]` (the mean at the last level), the box of width `2^l`
+    /// centred on `(j + 1/2) S` with `S = max(1, 2^(l-2))` and `j = floor(floor(x) / S)`.
+    pub fn ramp_at(&self, x: f64, w: f64, wrap: Wrap) -> Rgba {
+        let top = self.max_level();
+        let l = if w > 0.0 {
+            w.log2().round().clamp(0.0, f64::from(top)) as u32
+        } else {
+            0
+        };
+        if l == top {
+            return self.mean();
+        }
+        let n = self.len() as i64;
+        let k = x.floor() as i64;
+        let k = match wrap {
+            Wrap::Mod => k.rem_euclid(n),
+            Wrap::Clamp => k.clamp(0, n - 1),
+        };
+        let stride = if l < 3 { 1.0 } else { f64::from(1u32 << (l - 2)) };
+        let j = (k as f64 / stride).floor();
+        self.box_at((j + 0.5) * stride, f64::from(1u32 << l), wrap)
+    }
+
     /// The colour of texture value `f` with filter width `w` (ignored by [`Filter::Point`]).
     pub fn sample(&self, f: f64, w: f64, filter: Filter, wrap: Wrap) -> Rgba {
         match filter {
             Filter::Point(lookup) => self.point(f, lookup, wrap),
             Filter::Box => self.box_filter(f, w, wrap),
             Filter::Mip(lookup) => self.mip(f, w, lookup, wrap),
+            Filter::Ramp => self.ramp_at(self.coord(f, wrap), w, wrap),
         }
     }
 }

@@ -20,12 +20,16 @@
 pub mod csat;
 #[cfg(feature = "mip")]
 pub mod mip;
+#[cfg(feature = "ramp")]
+pub mod ramp;
 pub mod width;
 
 #[cfg(feature = "csat")]
 pub use csat::{Csat, Csat3};
 #[cfg(feature = "mip")]
 pub use mip::ColorMip;
+#[cfg(feature = "ramp")]
+pub use ramp::Ramp565;
 pub use width::{filter_width, filter_width_spread, isqrt, GradientNorm, WidthStream};
 
 use crate::color::Rgba8888;
@@ -45,6 +49,10 @@ pub enum Antialias {
     Csat,
     /// Three-times-long summed-area colour table, no case analysis (feature `csat`).
     Csat3,
+    /// Pre-filtered RGB565 ramp (feature `ramp`): an approximation of the summed-area filter
+    /// with one table read a pixel (the width rounded to a power of two, the colour to RGB565;
+    /// [`ramp`]).
+    Ramp,
 }
 
 impl Antialias {
@@ -54,6 +62,7 @@ impl Antialias {
             Antialias::None => true,
             Antialias::Mip => cfg!(feature = "mip"),
             Antialias::Csat | Antialias::Csat3 => cfg!(feature = "csat"),
+            Antialias::Ramp => cfg!(feature = "ramp"),
         }
     }
 }
@@ -67,6 +76,8 @@ enum Filter<const N: usize> {
     Csat(ColorTable<N>, Csat<N>),
     #[cfg(feature = "csat")]
     Csat3(ColorTable<N>, Csat3<N>),
+    #[cfg(feature = "ramp")]
+    Ramp(ColorTable<N>, Ramp565<N>),
 }
 
 /// `0 <= f <= 1`: a `clamp` table's box is centred on the clamped coordinate only there
@@ -112,6 +123,8 @@ impl<const N: usize> ColorStage<N> {
             Antialias::Csat => Filter::Csat(table, Csat::new(&table)),
             #[cfg(feature = "csat")]
             Antialias::Csat3 => Filter::Csat3(table, Csat3::new(&table, wrap)),
+            #[cfg(feature = "ramp")]
+            Antialias::Ramp => Filter::Ramp(table, Ramp565::new(&table, wrap)),
             #[allow(unreachable_patterns)]
             _ => return Err(TableError::FilterDisabled),
         };
@@ -132,6 +145,8 @@ impl<const N: usize> ColorStage<N> {
             Filter::Csat(..) => Antialias::Csat,
             #[cfg(feature = "csat")]
             Filter::Csat3(..) => Antialias::Csat3,
+            #[cfg(feature = "ramp")]
+            Filter::Ramp(..) => Antialias::Ramp,
         }
     }
 
@@ -145,6 +160,8 @@ impl<const N: usize> ColorStage<N> {
             Filter::Csat(t, _) => t,
             #[cfg(feature = "csat")]
             Filter::Csat3(t, _) => t,
+            #[cfg(feature = "ramp")]
+            Filter::Ramp(t, _) => t,
         }
     }
 
@@ -183,6 +200,8 @@ impl<const N: usize> ColorStage<N> {
                     c.box_filter(t.coord(f, self.wrap), w)
                 }
             }
+            #[cfg(feature = "ramp")]
+            Filter::Ramp(t, r) => r.lookup(t.coord(f, self.wrap), w, self.wrap).to_rgba8888(),
         }
     }
 
@@ -253,6 +272,31 @@ impl<const N: usize> ColorStage<N> {
                     }
                 }
             }
+            #[cfg(feature = "ramp")]
+            Filter::Ramp(t, r) => {
+                for (&f, &w) in pairs {
+                    emit(r.lookup(t.coord(f, wrap), w, wrap).to_rgba8888());
+                }
+            }
+        }
+    }
+
+    /// [`ColorStage::shade`] reduced to RGB565: the ramp's sample itself with [`Antialias::Ramp`]
+    /// (which `shade` expands exactly), `shade(f, w).to_rgb565()` with every other filter.
+    pub fn shade565(&self, f: TexValue, w: FilterWidth) -> crate::color::Rgb565 {
+        match &self.filter {
+            #[cfg(feature = "ramp")]
+            Filter::Ramp(t, r) => r.lookup(t.coord(f, self.wrap), w, self.wrap),
+            _ => self.shade(f, w).to_rgb565(),
+        }
+    }
+
+    /// The table and ramp of a stage with [`Antialias::Ramp`].
+    #[cfg(feature = "ramp")]
+    pub(crate) const fn ramp(&self) -> Option<(&ColorTable<N>, &Ramp565<N>)> {
+        match &self.filter {
+            Filter::Ramp(t, r) => Some((t, r)),
+            _ => None,
         }
     }
 
@@ -273,6 +317,8 @@ impl<const N: usize> ColorStage<N> {
             Antialias::Csat => table + Csat::<N>::BYTES,
             #[cfg(feature = "csat")]
             Antialias::Csat3 => table + Csat3::<N>::BYTES,
+            #[cfg(feature = "ramp")]
+            Antialias::Ramp => table + Ramp565::<N>::BYTES,
             #[allow(unreachable_patterns)]
             _ => 0,
         }

@@ -10,7 +10,7 @@
 //!   not serve, is shaded span by span.
 
 use super::{shade_chunk, Inner, Texture, TextureEvaluator};
-use crate::color::Rgba8888;
+use crate::color::{Rgb565, Rgba8888};
 use crate::filter::{Antialias, WidthStream};
 use crate::format::FilterWidth;
 #[cfg(feature = "perturb")]
@@ -109,6 +109,34 @@ impl<const T: usize, const N: usize> TextureRows<'_, '_, '_, T, N> {
                 *span = span.next_row();
             }
         }
+    }
+
+    /// [`TextureRows::next_shade`] straight to RGB565: the row's colours reduced to RGB565, bit
+    /// for bit; with [`Antialias::Ramp`] one ramp read a pixel ([`super::rgb565`]).
+    pub fn next_shade565<F: FnMut(Rgb565)>(&mut self, mut emit: F) {
+        #[cfg(feature = "ramp")]
+        if self.tex.stage.ramp().is_some() {
+            *self.filter_lookups += u64::from(self.span().len);
+            let (stage, norm) = (&self.tex.stage, self.tex.norm);
+            match &mut self.source {
+                Source::Rows(r) => {
+                    r.next_chunks(&mut |c: &SampleChunk| {
+                        super::rgb565::ramp_chunk(stage, norm, c, &mut emit);
+                    });
+                }
+                #[cfg(feature = "perturb")]
+                Source::Spans(e, span) => {
+                    let extra = e.extra_width48(span);
+                    let mut widths = WidthStream::new(norm, super::log2(N));
+                    e.eval(span, |s| {
+                        emit(stage.shade565(s.f, widths.width_with(s.gx, s.gy, extra)));
+                    });
+                    *span = span.next_row();
+                }
+            }
+            return;
+        }
+        self.next_shade(|c| emit(c.to_rgb565()));
     }
 }
 

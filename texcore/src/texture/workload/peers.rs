@@ -397,7 +397,7 @@ fn row_spans<const T: usize>(
 /// [`RowCache`] of [`ROW_EVENTS`] entries), the 16-pixel-span one span by span, left to right
 /// along each row, through [`TextureSpans`](crate::texture::TextureSpans) (the same schedule,
 /// each row's walk kept from span to span).
-#[cfg(feature = "csat")]
+#[cfg(any(feature = "csat", feature = "ramp"))]
 #[inline(always)]
 pub fn marble_plane<const T: usize, const N: usize>(
     ev: &mut super::super::TextureEvaluator<'_, T, N>,
@@ -414,9 +414,9 @@ pub fn marble_plane<const T: usize, const N: usize>(
         let mut plane = ev.rows(&span(0, 0, SIZE), &mut cache);
         for y in 0..rows {
             let mut px = line.iter_mut();
-            plane.next_shade(|c| {
+            plane.next_shade565(|c| {
                 if let Some(p) = px.next() {
-                    *p = u32::from(c.to_rgb565().to_bits());
+                    *p = u32::from(c.to_bits());
                 }
             });
             each(y, line);
@@ -438,9 +438,9 @@ pub fn marble_plane<const T: usize, const N: usize>(
             for (x, chunk) in (0u16..).step_by(len).zip(line.chunks_mut(len)) {
                 let mut px = chunk.iter_mut();
                 let n = px.len() as u16;
-                spans.shade(x, y, n, |c| {
+                spans.shade565(x, y, n, |c| {
                     if let Some(p) = px.next() {
-                        *p = u32::from(c.to_rgb565().to_bits());
+                        *p = u32::from(c.to_bits());
                     }
                 });
             }
@@ -450,7 +450,7 @@ pub fn marble_plane<const T: usize, const N: usize>(
 }
 
 /// Row `y` of the marble workload `w` into `line`: each pixel's colour as RGB565 (zero-extended).
-#[cfg(feature = "csat")]
+#[cfg(any(feature = "csat", feature = "ramp"))]
 #[inline(always)]
 pub fn marble_row<const T: usize, const N: usize>(
     ev: &mut super::super::TextureEvaluator<'_, T, N>,
@@ -462,9 +462,9 @@ pub fn marble_row<const T: usize, const N: usize>(
     let mut x0 = 0;
     for chunk in line[..usize::from(SIZE)].chunks_mut(usize::from(len)) {
         let mut px = chunk.iter_mut();
-        ev.shade(&span(y, x0, len), |c| {
+        ev.shade565(&span(y, x0, len), |c| {
             if let Some(p) = px.next() {
-                *p = u32::from(c.to_rgb565().to_bits());
+                *p = u32::from(c.to_bits());
             }
         });
         x0 += len;
@@ -522,12 +522,20 @@ mod tests {
     }
 
     #[test]
-    #[cfg(feature = "csat")]
+    #[cfg(any(feature = "csat", feature = "ramp"))]
     fn marble_planes_are_their_rows() {
-        for w in [Workload::MarbleCsat, Workload::MarbleCsatSpan16] {
-            let Some(tex) =
-                super::super::marble_csat(HashKind::Integer, crate::span::EvalMode::Auto)
-            else {
+        let mode = crate::span::EvalMode::Auto;
+        let textures = [
+            #[cfg(feature = "csat")]
+            super::super::marble_csat(HashKind::Integer, mode),
+            #[cfg(feature = "ramp")]
+            super::super::marble_ramp(HashKind::Integer, mode),
+        ];
+        for (w, tex) in [Workload::MarbleCsat, Workload::MarbleCsatSpan16]
+            .into_iter()
+            .flat_map(|w| textures.iter().map(move |t| (w, t)))
+        {
+            let Some(tex) = tex else {
                 continue;
             };
             let (mut ev, mut plain) = (tex.evaluator(), tex.evaluator());
