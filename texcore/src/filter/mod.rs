@@ -201,7 +201,7 @@ impl<const N: usize> ColorStage<N> {
                 }
             }
             #[cfg(feature = "ramp")]
-            Filter::Ramp(t, r) => r.lookup(t.coord(f, self.wrap), w, self.wrap).to_rgba8888(),
+            Filter::Ramp(t, r) => r.lookup(t.coord(f, self.wrap), w).to_rgba8888(),
         }
     }
 
@@ -275,7 +275,7 @@ impl<const N: usize> ColorStage<N> {
             #[cfg(feature = "ramp")]
             Filter::Ramp(t, r) => {
                 for (&f, &w) in pairs {
-                    emit(r.lookup(t.coord(f, wrap), w, wrap).to_rgba8888());
+                    emit(r.lookup(t.coord(f, wrap), w).to_rgba8888());
                 }
             }
         }
@@ -286,7 +286,7 @@ impl<const N: usize> ColorStage<N> {
     pub fn shade565(&self, f: TexValue, w: FilterWidth) -> crate::color::Rgb565 {
         match &self.filter {
             #[cfg(feature = "ramp")]
-            Filter::Ramp(t, r) => r.lookup(t.coord(f, self.wrap), w, self.wrap),
+            Filter::Ramp(t, r) => r.lookup(t.coord(f, self.wrap), w),
             _ => self.shade(f, w).to_rgb565(),
         }
     }

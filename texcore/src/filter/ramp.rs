@@ -37,7 +37,25 @@ pub struct Ramp565<const N: usize> {
     /// Levels 0, 1 and 2 (one sample an entry), then levels `3..=L` back to back (level `l` at
     /// offset `N - (N >> (l - 3))`, `N >> (l - 2)` samples).
     rows: [[Rgb565; N]; 4],
+    /// For each half bit length `h` of the squared L2 width's root ([`level_of_sq`], `0..=17`),
+    /// the place of level `min(L, max(0, h + L - 16))`: `(row N + offset) << 5 | shift`.
+    by_half_bits: [u32; 18],
+    /// The wrap the samples were filtered with (the look-up wraps or clamps entries the same way).
+    wrap: TableWrap,
 }
+
+/// `ceil(sqrt(2^(b-1)))^2` for every even bit length `b` in `2..=36` (index `b`), 0 elsewhere:
+/// a value of bit length `b` below it has a floor root whose square has bit length `b - 1`
+/// ([`level_of_sq`]).
+const BELOW_BY_BITS: [u64; 37] = {
+    let mut t = [0u64; 37];
+    let mut b = 2;
+    while b <= 36 {
+        t[b] = SQUARE_AT_OR_ABOVE[(b - 1) >> 1];
+        b += 2;
+    }
+    t
+};
 
 /// `ceil(sqrt(2^k))^2` for odd `k` in `1..=35` (index `k >> 1`): the smallest square at or
 /// above `2^k`, where the floor square root of a value crosses the level boundary at `2^k`
@@ -82,19 +100,12 @@ pub const fn level_of_width(w: FilterWidth, max_level: u32) -> u32 {
 #[cfg_attr(not(texcore_lean), inline(always))]
 pub const fn level_of_sq(s: u64) -> u32 {
     let b = 64 - s.leading_zeros();
-    let h = b >> 1;
-    if b & 1 == 0 && b != 0 {
-        let i = ((b - 1) >> 1) as usize;
-        let below = if i < SQUARE_AT_OR_ABOVE.len() {
-            s < SQUARE_AT_OR_ABOVE[i]
-        } else {
-            false
-        };
-        if below {
-            return h - 1;
-        }
-    }
-    h
+    let below = if (b as usize) < BELOW_BY_BITS.len() {
+        s < BELOW_BY_BITS[b as usize]
+    } else {
+        false
+    };
+    (b >> 1) - below as u32
 }
 
 /// The level of the L2 filter width of the saturated gradient magnitudes `a`, `b` and the spread
@@ -211,15 +222,101 @@ impl<const N: usize> Ramp565<N> {
             }
             l += 1;
         }
-        Ramp565 { rows }
+        let mut by_half_bits = [0u32; 18];
+        let mut h = 0;
+        while h < 18 {
+            let l = (h + top).saturating_sub(16);
+            let l = if l > top { top } else { l };
+            let (row, offset, shift) = place(N, l);
+            by_half_bits[h as usize] = (((row * N + offset) as u32) << 5) | shift;
+            h += 1;
+        }
+        Ramp565 {
+            rows,
+            by_half_bits,
+            wrap,
+        }
+    }
+
+    /// The wrap the ramp was built for.
+    pub const fn wrap(&self) -> TableWrap {
+        self.wrap
+    }
+
+    /// The sample at flat index `i` (row `i / N`, column `i mod N`; black past the end, which no
+    /// index made by the ramp reaches).
+    #[cfg_attr(not(texcore_lean), inline(always))]
+    fn flat(&self, i: usize) -> Rgb565 {
+        match self.rows.as_flattened().get(i) {
+            Some(&c) => c,
+            None => Rgb565::BLACK,
+        }
+    }
+
+    /// The colours of samples `f` with filter-width gradients `gx`, `gy` (48 fraction bits) and
+    /// the spread `extra48` in quadrature, by the L2 norm: for each, [`Ramp565::lookup`] of its
+    /// table coordinate at [`super::WidthStream::width_with`]'s width, bit for bit, with the
+    /// level from the squared norm ([`level_of_l2`], one table read) instead of the width's root.
+    /// `N <= 2^15`. Stops at the shortest slice.
+    #[cfg_attr(not(texcore_lean), inline(always))]
+    pub fn shade_l2<F: FnMut(Rgb565)>(
+        &self,
+        f: &[crate::format::TexValue],
+        gx: &[i64],
+        gy: &[i64],
+        extra48: i64,
+        mut emit: F,
+    ) {
+        // Each magnitude saturated as the width saturates it, then limited to 2^16: any of them
+        // at 2^16 makes the square at least 2^32 (half bit length >= 16, level L), as the width's
+        // cap does; below, the squares are the width's own. The sum is below 3 * 2^32.
+        let sat = |g: i64| {
+            let a = g.unsigned_abs() >> 32;
+            if a > 1 << 16 {
+                1u32 << 16
+            } else {
+                a as u32
+            }
+        };
+        let e = sat(extra48);
+        let e2 = u64::from(e) * u64::from(e);
+        let n_log2 = Self::MAX_LEVEL;
+        let place = |a: u32, b: u32| {
+            let s = u64::from(a) * u64::from(a) + u64::from(b) * u64::from(b) + e2;
+            let h = level_of_sq(s) as usize;
+            match self.by_half_bits.get(h) {
+                Some(&p) => p,
+                None => 0,
+            }
+        };
+        let samples = f.iter().zip(gx).zip(gy);
+        match self.wrap {
+            TableWrap::Mod => {
+                for ((&f, &gx), &gy) in samples {
+                    let p = place(sat(gx), sat(gy));
+                    // Entry floor(frac(f) N).
+                    let k = ((f.to_bits() as u32) & 0xFFFF) >> (16 - n_log2);
+                    emit(self.flat(((p >> 5) + (k >> (p & 31))) as usize));
+                }
+            }
+            TableWrap::Clamp => {
+                for ((&f, &gx), &gy) in samples {
+                    let p = place(sat(gx), sat(gy));
+                    // Entry min(floor(clamp(f, 0, 1) N), N - 1).
+                    let raw = f.to_bits().clamp(0, 0xFFFF) as u32;
+                    let k = raw >> (16 - n_log2);
+                    emit(self.flat(((p >> 5) + (k >> (p & 31))) as usize));
+                }
+            }
+        }
     }
 
     /// The sample of level `level` (clamped to [`Ramp565::MAX_LEVEL`]) covering entry
-    /// `floor(x)` (wrapped or clamped by `wrap`).
+    /// `floor(x)` (wrapped or clamped by the ramp's wrap).
     #[cfg_attr(not(texcore_lean), inline(always))]
-    pub fn at(&self, x: TableCoord, level: u32, wrap: TableWrap) -> Rgb565 {
+    pub fn at(&self, x: TableCoord, level: u32) -> Rgb565 {
         let k = (x.to_bits() >> 16) as usize;
-        let k = match wrap {
+        let k = match self.wrap {
             TableWrap::Mod => k & (N - 1),
             TableWrap::Clamp => k.min(N - 1),
         };
@@ -233,8 +330,8 @@ impl<const N: usize> Ramp565<N> {
 
     /// The sample for table coordinate `x` at filter width `w` ([`level_of_width`]).
     #[cfg_attr(not(texcore_lean), inline(always))]
-    pub fn lookup(&self, x: TableCoord, w: FilterWidth, wrap: TableWrap) -> Rgb565 {
-        self.at(x, level_of_width(w, Self::MAX_LEVEL), wrap)
+    pub fn lookup(&self, x: TableCoord, w: FilterWidth) -> Rgb565 {
+        self.at(x, level_of_width(w, Self::MAX_LEVEL))
     }
 }
 
@@ -289,14 +386,14 @@ mod tests {
                         (want[3] + 0.5).floor() as u8,
                     );
                     let x = TableCoord::from_bits(((j * stride) as u32) << 16);
-                    assert_eq!(r.at(x, l, wrap), want.to_rgb565(), "level {l} sample {j}");
+                    assert_eq!(r.at(x, l), want.to_rgb565(), "level {l} sample {j}");
                 }
             }
             // The last level (and past it) is the mean everywhere.
             for k in 0..64u32 {
                 let x = TableCoord::from_bits(k << 16);
-                assert_eq!(r.at(x, 6, wrap), t.mean().to_rgb565());
-                assert_eq!(r.at(x, 40, wrap), t.mean().to_rgb565());
+                assert_eq!(r.at(x, 6), t.mean().to_rgb565());
+                assert_eq!(r.at(x, 40), t.mean().to_rgb565());
             }
         }
     }
@@ -310,19 +407,19 @@ mod tests {
             let want = t.entries()[k as usize].to_rgb565();
             for frac in [0, 1, 0x8000, 0xFFFF] {
                 let x = TableCoord::from_bits((k << 16) | frac);
-                assert_eq!(m.at(x, 0, TableWrap::Mod), want);
-                assert_eq!(c.at(x, 0, TableWrap::Clamp), want);
+                assert_eq!(m.at(x, 0), want);
+                assert_eq!(c.at(x, 0), want);
             }
         }
         // x = N (a clamp table's end) reads the last entry; any coordinate reads a sample.
         let end = TableCoord::from_bits(256 << 16);
-        assert_eq!(c.at(end, 0, TableWrap::Clamp), t.entries()[255].to_rgb565());
-        assert_eq!(m.at(end, 0, TableWrap::Mod), t.entries()[0].to_rgb565());
+        assert_eq!(c.at(end, 0), t.entries()[255].to_rgb565());
+        assert_eq!(m.at(end, 0), t.entries()[0].to_rgb565());
         for l in 0..12 {
             for bits in [0, 1, u32::MAX, 0x8000_0000, 0xFFFF] {
                 let x = TableCoord::from_bits(bits);
-                let _ = m.at(x, l, TableWrap::Mod);
-                let _ = c.at(x, l, TableWrap::Clamp);
+                let _ = m.at(x, l);
+                let _ = c.at(x, l);
             }
         }
     }
@@ -410,6 +507,55 @@ mod tests {
         let _ = U16F16::ZERO;
     }
 
+    /// The chunk path (level from the squared norm, entries from the raw value) is the look-up
+    /// at the stream's width, over gradients of every scale (the cap, `i64::MIN`), spreads and
+    /// values of every range, both wraps and several table sizes.
+    #[test]
+    fn shade_l2_is_the_lookup_at_the_streams_width() {
+        fn check<const N: usize>(seed: u64) {
+            let t = lcg_table::<N>(seed);
+            let mut s = seed;
+            let mut next = move || {
+                s = s.wrapping_mul(6364136223846793005).wrapping_add(1442695040888963407);
+                s
+            };
+            for wrap in [TableWrap::Mod, TableWrap::Clamp] {
+                let r = Ramp565::new(&t, wrap);
+                for round in 0..200 {
+                    let g = |k: u64, v: u64, sh: u64| -> i64 {
+                        match k % 9 {
+                            0 => i64::MIN,
+                            1 => 0,
+                            2 => (1i64 << 48) - 1,
+                            3 => 1i64 << 48,
+                            _ => (v as i64) >> (sh % 60),
+                        }
+                    };
+                    let f: std::vec::Vec<_> = (0..32)
+                        .map(|_| crate::format::TexValue::from_bits((next() >> 32) as i32 >> (next() % 20)))
+                        .collect();
+                    let gx: std::vec::Vec<i64> = (0..32).map(|_| g(next(), next(), next())).collect();
+                    let gy: std::vec::Vec<i64> = (0..32).map(|_| g(next(), next(), next())).collect();
+                    let extra = if round % 2 == 0 { 0 } else { g(next(), next(), next()).saturating_abs() };
+                    let mut got = std::vec::Vec::new();
+                    r.shade_l2(&f, &gx, &gy, extra, |c| got.push(c));
+                    let mut widths = crate::filter::WidthStream::new(GradientNorm::L2, N.trailing_zeros());
+                    let want: std::vec::Vec<_> = f
+                        .iter()
+                        .zip(&gx)
+                        .zip(&gy)
+                        .map(|((&f, &gx), &gy)| r.lookup(t.coord(f, wrap), widths.width_with(gx, gy, extra)))
+                        .collect();
+                    assert_eq!(got, want, "N {N} {wrap:?} round {round}");
+                }
+            }
+        }
+        check::<16>(2);
+        check::<64>(3);
+        check::<256>(4);
+        check::<1024>(5);
+    }
+
     #[test]
     fn rgb565_round_trips_through_rgba8888() {
         for v in 0..=u16::MAX {
@@ -427,7 +573,7 @@ mod tests {
         const R: Ramp565<16> = Ramp565::new(&T, TableWrap::Mod);
         let x = TableCoord::from_bits(5 << 16);
         for l in 0..6 {
-            assert_eq!(R.at(x, l, TableWrap::Mod), Rgba8888::rgb(10, 20, 30).to_rgb565());
+            assert_eq!(R.at(x, l), Rgba8888::rgb(10, 20, 30).to_rgb565());
         }
     }
 }

@@ -17,7 +17,7 @@ use super::Inner;
 use super::{Source, TextureEvaluator, TextureSpans, Walk};
 use crate::color::Rgb565;
 #[cfg(feature = "ramp")]
-use crate::filter::{ramp, ColorStage, GradientNorm, WidthStream};
+use crate::filter::{ColorStage, GradientNorm, WidthStream};
 use crate::span::{SetupFrom, Span};
 #[cfg(feature = "ramp")]
 use crate::span::SampleChunk;
@@ -35,22 +35,15 @@ pub(super) fn ramp_chunk<const N: usize, F: FnMut(Rgb565)>(
     let Some((t, r)) = stage.ramp() else {
         return;
     };
-    let wrap = stage.wrap();
-    let n_log2 = super::log2(N);
     let extra = c.extra_width48();
-    let samples = c.f().iter().zip(c.gx()).zip(c.gy());
-    if norm == GradientNorm::L2 && n_log2 <= 15 {
-        // The width's own saturations ([`WidthStream::width_with`]), its level without the root.
-        let e = crate::filter::width::saturate_to_u16f16(extra);
-        for ((&f, &gx), &gy) in samples {
-            let a = crate::filter::width::saturate_to_u16f16(gx);
-            let b = crate::filter::width::saturate_to_u16f16(gy);
-            emit(r.at(t.coord(f, wrap), ramp::level_of_l2(a, b, e, n_log2), wrap));
-        }
+    if norm == GradientNorm::L2 && super::log2(N) <= 15 {
+        // The level from the squared norm, one read a pixel.
+        r.shade_l2(c.f(), c.gx(), c.gy(), extra, emit);
     } else {
-        let mut widths = WidthStream::new(norm, n_log2);
-        for ((&f, &gx), &gy) in samples {
-            emit(r.lookup(t.coord(f, wrap), widths.width_with(gx, gy, extra), wrap));
+        let wrap = stage.wrap();
+        let mut widths = WidthStream::new(norm, super::log2(N));
+        for ((&f, &gx), &gy) in c.f().iter().zip(c.gx()).zip(c.gy()) {
+            emit(r.lookup(t.coord(f, wrap), widths.width_with(gx, gy, extra)));
         }
     }
 }
