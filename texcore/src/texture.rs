@@ -176,6 +176,11 @@ const fn log2(n: usize) -> u32 {
 }
 
 impl<'t, const T: usize, const N: usize> TextureEvaluator<'t, T, N> {
+    /// The colour stage of the texture being evaluated.
+    pub fn stage(&self) -> &ColorStage<N> {
+        &self.tex.stage
+    }
+
     /// Counters so far.
     pub fn stats(&self) -> ShadeStats {
         let span = match &self.inner {

@@ -406,6 +406,10 @@ pub fn marble_plane<const T: usize, const N: usize>(
     line: &mut [u32],
     mut each: impl FnMut(u16, &[u32]),
 ) {
+    // The ramp shades straight to RGB565 (one read a pixel); every other filter's colours are
+    // reduced as they come (`shade565` would give the same pixels: the reduction written here
+    // keeps the summed-area rows' loop as it was before the ramp existed).
+    let ramp = ev.stage().antialias() == crate::filter::Antialias::Ramp;
     if w.span_len() == SIZE {
         let Some(line) = line.get_mut(..usize::from(SIZE)) else {
             return;
@@ -414,11 +418,19 @@ pub fn marble_plane<const T: usize, const N: usize>(
         let mut plane = ev.rows(&span(0, 0, SIZE), &mut cache);
         for y in 0..rows {
             let mut px = line.iter_mut();
-            plane.next_shade565(|c| {
-                if let Some(p) = px.next() {
-                    *p = u32::from(c.to_bits());
-                }
-            });
+            if ramp {
+                plane.next_shade565(|c| {
+                    if let Some(p) = px.next() {
+                        *p = u32::from(c.to_bits());
+                    }
+                });
+            } else {
+                plane.next_shade(|c| {
+                    if let Some(p) = px.next() {
+                        *p = u32::from(c.to_rgb565().to_bits());
+                    }
+                });
+            }
             each(y, line);
         }
     } else {
@@ -438,11 +450,19 @@ pub fn marble_plane<const T: usize, const N: usize>(
             for (x, chunk) in (0u16..).step_by(len).zip(line.chunks_mut(len)) {
                 let mut px = chunk.iter_mut();
                 let n = px.len() as u16;
-                spans.shade565(x, y, n, |c| {
-                    if let Some(p) = px.next() {
-                        *p = u32::from(c.to_bits());
-                    }
-                });
+                if ramp {
+                    spans.shade565(x, y, n, |c| {
+                        if let Some(p) = px.next() {
+                            *p = u32::from(c.to_bits());
+                        }
+                    });
+                } else {
+                    spans.shade(x, y, n, |c| {
+                        if let Some(p) = px.next() {
+                            *p = u32::from(c.to_rgb565().to_bits());
+                        }
+                    });
+                }
             }
             each(y, line);
         }
