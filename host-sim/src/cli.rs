@@ -147,6 +147,8 @@ pub enum AaArg {
     Csat,
     /// Three-times-long summed-area table.
     Csat3,
+    /// Pre-filtered RGB565 ramp (approximate summed-area filter, one read a pixel).
+    Ramp,
 }
 
 /// Gradient norm (`--norm`).
@@ -224,6 +226,7 @@ impl KnobArgs {
                 AaArg::Mip => Antialias::Mip,
                 AaArg::Csat => Antialias::Csat,
                 AaArg::Csat3 => Antialias::Csat3,
+                AaArg::Ramp => Antialias::Ramp,
             },
             norm: match self.norm {
                 NormArg::L2 => GradientNorm::L2,

@@ -318,7 +318,7 @@ macro_rules! combo {
 const B: Config = BASELINE;
 
 /// Number of rows.
-pub const N_ROWS: usize = 66;
+pub const N_ROWS: usize = 67;
 
 /// Every row, in report order (knobs in [`Knob::ALL`] order, combinations last).
 pub const ROWS: [Row; N_ROWS] = [
@@ -578,6 +578,16 @@ pub const ROWS: [Row; N_ROWS] = [
         false,
         Config {
             aa: Antialias::Csat3,
+            ..B
+        }
+    ),
+    row!(
+        Antialiasing,
+        "antialiasing",
+        "ramp",
+        false,
+        Config {
+            aa: Antialias::Ramp,
             ..B
         }
     ),
@@ -1226,7 +1236,7 @@ mod device {
     const ALL_JOBS: [(Job, usize); 2 * N_ROWS] = jobs!(
         0 1 2 3 4 5 6 7 8 9 10 11 12 13 14 15 16 17 18 19 20 21 22 23 24 25 26 27 28 29 30 31 32
         33 34 35 36 37 38 39 40 41 42 43 44 45 46 47 48 49 50 51 52 53 54 55 56 57 58 59 60 61 62 63 64
-        65
+        65 66
     );
 
     const fn in_part(i: usize) -> bool {

@@ -47,7 +47,7 @@ pub struct FeatureRule {
 /// settings to code. Everything a configuration sets that is not named here (coordinate and
 /// value bits, octaves, table size and look-up, gradient norm, the forward-differencing mode,
 /// culling, perspective mode) is chosen at run time over the same compiled code.
-pub const FEATURE_RULES: [FeatureRule; 9] = [
+pub const FEATURE_RULES: [FeatureRule; 10] = [
     FeatureRule {
         name: "fd",
         cargo: "texcore?/fd",
@@ -89,6 +89,12 @@ pub const FEATURE_RULES: [FeatureRule; 9] = [
         cargo: "texcore?/mip",
         needs: |c| c.aa == Antialias::Mip,
         what: "the MIP filter",
+    },
+    FeatureRule {
+        name: "ramp",
+        cargo: "texcore?/ramp",
+        needs: |c| c.aa == Antialias::Ramp,
+        what: "the pre-filtered RGB565 ramp (`antialiasing=ramp`)",
     },
     FeatureRule {
         name: "multipass",
