@@ -3,7 +3,8 @@
 //!
 //! - Devices (Cortex-M4F, rv32imc): the firmware built with feature `peers` (whole plane) or
 //!   `peers-band` (`--quick`: one 8-row band) runs texcore's three exact modes, the
-//!   approximate `Fused` on the gradient-noise workloads (`texcore-fused`) and `fastnoise-lite`
+//!   approximate `Fused` on the gradient-noise workloads (`texcore-fused`), the approximate
+//!   pre-filtered RGB565 ramp on the marble workloads (`texcore-ramp`) and `fastnoise-lite`
 //!   under QEMU with exact instruction counting (`host_sim::device`). Instructions per sample are
 //!   `(job - setup - fold) / samples`: the set-up job builds the model, texture or generator and
 //!   evaluates nothing, and `peers:fold` is the cost of the checksum fold that follows every row
@@ -47,7 +48,8 @@ pub struct PeerRow {
     /// Workload name (`value-1oct`, ...).
     pub workload: String,
     /// Implementation (`texcore-fd`, `texcore-auto`, `texcore-direct`, `texcore-fused` (the
-    /// Perlin workloads only), `fastnoise-lite`, `noise`).
+    /// Perlin workloads only), `texcore-ramp` (the marble workloads only), `fastnoise-lite`,
+    /// `noise`).
     pub implementation: String,
     /// Target triple.
     pub target: String,
@@ -458,8 +460,11 @@ pub fn markdown(rows: &[PeerRow], quick: bool) -> String {
          equivalent of `smooth-1oct`, the nearest one of the trilinear workloads) and `Perlin` \
          the quintic fade, `FBm` for 4 octaves; `noise` (noise-rs, f64, host only) `Value` has the \
          quintic fade, `Fbm` for 4 octaves. No peer has the gradients or the colour stage.\n\n\
-         `texcore-fused` (the Perlin workloads) is `EvalMode::Fused`, the one approximate \
-         mode here: on this plane (rows along the lattice's x axis) one octave is the exact \
+         `texcore-ramp` (the marble workloads) colours the same samples through the \
+         pre-filtered RGB565 ramp (`Antialias::Ramp`, approximate: the width rounded to a power \
+         of two, one read a pixel; its error in `docs/accuracy.md`, `antialiasing=ramp`) instead \
+         of the summed-area table. `texcore-fused` (the Perlin workloads) is `EvalMode::Fused`, \
+         the one approximate evaluation mode here: on this plane (rows along the lattice's x axis) one octave is the exact \
          modes' row, and rows of several octaves add each octave's floored product term after \
          term, within one unit of `2^-16` a term of the exact value (its error in \
          `docs/accuracy.md`, knob `gradient_blend`); the other rows are exact. The exact modes \

@@ -37,18 +37,19 @@ pub struct Ramp565<const N: usize> {
     /// Levels 0, 1 and 2 (one sample an entry), then levels `3..=L` back to back (level `l` at
     /// offset `N - (N >> (l - 3))`, `N >> (l - 2)` samples).
     rows: [[Rgb565; N]; 4],
-    /// For each half bit length `h` of the squared L2 width's root ([`level_of_sq`], `0..=17`),
-    /// the place of level `min(L, max(0, h + L - 16))`: `(row N + offset) << 5 | shift`.
-    by_half_bits: [u32; 18],
+    /// For each half bit length `h` of the squared L2 width's root ([`level_of_sq`], `0..=17`;
+    /// the table is 32 long so that `h & 31` needs no bounds check), the place of level
+    /// `min(L, max(0, h + L - 16))`: `(row N + offset) << 5 | shift`.
+    by_half_bits: [u32; 32],
     /// The wrap the samples were filtered with (the look-up wraps or clamps entries the same way).
     wrap: TableWrap,
 }
 
-/// `ceil(sqrt(2^(b-1)))^2` for every even bit length `b` in `2..=36` (index `b`), 0 elsewhere:
-/// a value of bit length `b` below it has a floor root whose square has bit length `b - 1`
-/// ([`level_of_sq`]).
-const BELOW_BY_BITS: [u64; 37] = {
-    let mut t = [0u64; 37];
+/// `ceil(sqrt(2^(b-1)))^2` for every even bit length `b` in `2..=36` (index `b`), 0 elsewhere
+/// (64 long, so that a bit length indexes it without a bounds check): a value of bit length `b`
+/// below it has a floor root whose square has bit length `b - 1` ([`level_of_sq`]).
+const BELOW_BY_BITS: [u64; 64] = {
+    let mut t = [0u64; 64];
     let mut b = 2;
     while b <= 36 {
         t[b] = SQUARE_AT_OR_ABOVE[(b - 1) >> 1];
@@ -100,11 +101,8 @@ pub const fn level_of_width(w: FilterWidth, max_level: u32) -> u32 {
 #[cfg_attr(not(texcore_lean), inline(always))]
 pub const fn level_of_sq(s: u64) -> u32 {
     let b = 64 - s.leading_zeros();
-    let below = if (b as usize) < BELOW_BY_BITS.len() {
-        s < BELOW_BY_BITS[b as usize]
-    } else {
-        false
-    };
+    // b <= 36 for every s this takes; b = 64 reads a 0 (never below).
+    let below = s < BELOW_BY_BITS[(b & 63) as usize];
     (b >> 1) - below as u32
 }
 
@@ -222,9 +220,9 @@ impl<const N: usize> Ramp565<N> {
             }
             l += 1;
         }
-        let mut by_half_bits = [0u32; 18];
+        let mut by_half_bits = [0u32; 32];
         let mut h = 0;
-        while h < 18 {
+        while h < 32 {
             let l = (h + top).saturating_sub(16);
             let l = if l > top { top } else { l };
             let (row, offset, shift) = place(N, l);
@@ -243,11 +241,12 @@ impl<const N: usize> Ramp565<N> {
         self.wrap
     }
 
-    /// The sample at flat index `i` (row `i / N`, column `i mod N`; black past the end, which no
-    /// index made by the ramp reaches).
+    /// The sample at flat index `i` (row `i / N`, column `i mod N`), `i` taken modulo `4 N` (every
+    /// index the ramp makes is below it, so the mask only spares the bounds check).
     #[cfg_attr(not(texcore_lean), inline(always))]
     fn flat(&self, i: usize) -> Rgb565 {
-        match self.rows.as_flattened().get(i) {
+        let all = self.rows.as_flattened();
+        match all.get(i & (all.len() - 1)) {
             Some(&c) => c,
             None => Rgb565::BLACK,
         }
@@ -283,11 +282,8 @@ impl<const N: usize> Ramp565<N> {
         let n_log2 = Self::MAX_LEVEL;
         let place = |a: u32, b: u32| {
             let s = u64::from(a) * u64::from(a) + u64::from(b) * u64::from(b) + e2;
-            let h = level_of_sq(s) as usize;
-            match self.by_half_bits.get(h) {
-                Some(&p) => p,
-                None => 0,
-            }
+            // h <= 17 (s < 3 * 2^32).
+            self.by_half_bits[(level_of_sq(s) & 31) as usize]
         };
         let samples = f.iter().zip(gx).zip(gy);
         match self.wrap {
