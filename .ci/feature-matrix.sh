@@ -6,7 +6,7 @@
 # firmware's (tests, reports, .ci/firmware-matrix.sh).
 set -euo pipefail
 cd "$(dirname "$0")/.."
-features=(perm-hash fd gradients smooth-fade gradient-noise mnoise csat mip perturb turbulence-fd fd32 reanchor fused multipass atlas defmt embedded-graphics lighting)
+features=(perm-hash fd gradients smooth-fade gradient-noise mnoise csat mip ramp perturb turbulence-fd fd32 reanchor fused multipass atlas defmt embedded-graphics lighting)
 for target in x86_64-unknown-linux-gnu thumbv7em-none-eabihf riscv32imc-unknown-none-elf; do
   echo "-- $target: no features"
   RUSTFLAGS="-D warnings" cargo check -q -p texcore --no-default-features --target "$target"
@@ -30,4 +30,7 @@ for target in x86_64-unknown-linux-gnu thumbv7em-none-eabihf riscv32imc-unknown-
   # `fused` with the fades (its quintic rows) and with the lean code shape's neighbours.
   echo "-- $target: fused,smooth-fade,defmt"
   RUSTFLAGS="-D warnings" cargo check -q -p texcore --no-default-features --features "fused,smooth-fade,defmt" --target "$target"
+  # The ramp beside every other filter and with perturbed materials (its per-sample path).
+  echo "-- $target: full,ramp,defmt"
+  RUSTFLAGS="-D warnings" cargo check -q -p texcore --features "full,ramp,defmt" --target "$target"
 done

@@ -18,6 +18,7 @@ probe_sets=(
   "minimal||release-size"
   "fd|fd|release-size"
   "csat|csat|release-size"
+  "ramp|ramp|release-size"
   "mip|mip|release-size"
   "bases|smooth-fade,gradient-noise,mnoise,perm-hash|release-size"
   "eval|turbulence-fd,fd32,reanchor|release-size"

@@ -74,6 +74,8 @@ mod probe {
         Antialias::None,
         #[cfg(feature = "mip")]
         Antialias::Mip,
+        #[cfg(feature = "ramp")]
+        Antialias::Ramp,
         #[cfg(feature = "csat")]
         Antialias::Csat3,
         #[cfg(feature = "csat")]
@@ -114,6 +116,11 @@ mod probe {
                     dsdy: TexPoint::from_bits(0, 0, 2048),
                     len: 16,
                 };
+                // With the ramp, straight to RGB565 (its one-read path linked); otherwise each
+                // colour reduced.
+                #[cfg(feature = "ramp")]
+                ev.shade565(&black_box(span), |c| sink.add_rgb565(c.to_bits()));
+                #[cfg(not(feature = "ramp"))]
                 ev.shade(&black_box(span), |c| {
                     sink.add_rgb565(c.to_rgb565().to_bits())
                 });

@@ -61,7 +61,7 @@ pub struct FeatureSet {
 
 /// The probe's feature sets, from `minimal` to `full`, and `full` in the fast code shape.
 /// `perm-hash` only takes effect on the Cortex-M4F (the rv32imc build is table-free in every set).
-pub const FEATURE_SETS: [FeatureSet; 13] = [
+pub const FEATURE_SETS: [FeatureSet; 14] = [
     FeatureSet {
         name: "minimal",
         features: &[],
@@ -86,6 +86,14 @@ pub const FEATURE_SETS: [FeatureSet; 13] = [
         features: &["mip"],
         profile: "release-size",
         what: "minimal + colour-table MIP map (with the filter-width gradients)",
+    },
+    FeatureSet {
+        name: "ramp",
+        features: &["ramp"],
+        profile: "release-size",
+        what: "minimal + the pre-filtered RGB565 ramp (`Antialias::Ramp`, with the filter-width \
+               gradients), shaded straight to RGB565 (`shade565`; a system of its own, not part \
+               of `full`; compare with `csat`)",
     },
     FeatureSet {
         name: "bases",
