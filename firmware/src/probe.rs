@@ -44,6 +44,17 @@ mod probe {
     const CSAT: usize = size_of::<texcore::filter::Csat<N>>();
     #[cfg(not(feature = "csat"))]
     const CSAT: usize = 0;
+    /// The filter data an instance without `csat` holds beyond its table: the ramp's samples
+    /// (`ramp`), else the MIP levels above level 0 (`mip`), else 0 (0 with `csat`, whose sums are
+    /// `CSAT`).
+    #[cfg(feature = "csat")]
+    const OTHER_FILTER: usize = 0;
+    #[cfg(all(not(feature = "csat"), feature = "ramp"))]
+    const OTHER_FILTER: usize = size_of::<texcore::filter::Ramp565<N>>();
+    #[cfg(all(not(feature = "csat"), not(feature = "ramp"), feature = "mip"))]
+    const OTHER_FILTER: usize = texcore::filter::ColorMip::<N>::BYTES - size_of::<ColorTable<N>>();
+    #[cfg(not(any(feature = "csat", feature = "ramp", feature = "mip")))]
+    const OTHER_FILTER: usize = 0;
     #[cfg(feature = "perturb")]
     const PERTURBED: usize = size_of::<texcore::material::PerturbedMaterial<T>>();
     #[cfg(not(feature = "perturb"))]
@@ -52,11 +63,12 @@ mod probe {
     /// Sizes in bytes on this target, in this order: colour table (256 entries), its csat
     /// (0 without `csat`), `ColorStage<256>`, `TextureModel<8>` (quadric and noise terms),
     /// `NoiseTerm`, `SpanEvaluator<8>`, `TextureEvaluator<8, 256>`, `Texture<8, 256>`,
-    /// `PerturbedMaterial<8>` (0 without `perturb`), `Span`.
+    /// `PerturbedMaterial<8>` (0 without `perturb`), `Span`, the filter data beyond the table
+    /// of an instance without csat (`OTHER_FILTER`).
     #[used]
     #[allow(unsafe_code)] // `no_mangle` (an exported symbol) counts as unsafe code.
     #[no_mangle]
-    pub static TEXCORE_PROBE_SIZES: [u32; 10] = [
+    pub static TEXCORE_PROBE_SIZES: [u32; 11] = [
         size_of::<ColorTable<N>>() as u32,
         CSAT as u32,
         size_of::<ColorStage<N>>() as u32,
@@ -67,6 +79,7 @@ mod probe {
         size_of::<Texture<T, N>>() as u32,
         PERTURBED as u32,
         size_of::<Span>() as u32,
+        OTHER_FILTER as u32,
     ];
 
     /// The filters compiled in, the strongest last.

@@ -28,7 +28,14 @@ macro_rules! display_names {
 
 display_names! {
     TableLookup { Nearest => "nearest", Linear => "linear" }
-    Antialias { None => "none", Mip => "mip", Csat => "csat", Csat3 => "csat3", Ramp => "ramp" }
+    Antialias {
+        None => "none",
+        Mip => "mip",
+        Csat => "csat",
+        Csat3 => "csat3",
+        #[cfg(feature = "ramp")]
+        Ramp => "ramp",
+    }
     GradientNorm { L1 => "l1", L2 => "l2", Max => "max" }
     Fade {
         Linear => "linear",

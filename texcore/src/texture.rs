@@ -770,9 +770,7 @@ pub mod workload {
         marble_stage(crate::filter::Antialias::Ramp);
 
     #[cfg(any(feature = "csat", feature = "ramp"))]
-    const fn marble_stage(
-        aa: crate::filter::Antialias,
-    ) -> Option<crate::filter::ColorStage<256>> {
+    const fn marble_stage(aa: crate::filter::Antialias) -> Option<crate::filter::ColorStage<256>> {
         use crate::color::Rgba8888;
         use crate::filter::ColorStage;
         use crate::table::{ColorTable, TableLookup};
@@ -789,12 +787,10 @@ pub mod workload {
             i += 1;
         }
         match ColorTable::<256>::from_keys(&keys) {
-            Ok(t) => {
-                match ColorStage::new(t, TableWrap::Mod, TableLookup::Nearest, aa) {
-                    Ok(s) => Some(s),
-                    Err(_) => None,
-                }
-            }
+            Ok(t) => match ColorStage::new(t, TableWrap::Mod, TableLookup::Nearest, aa) {
+                Ok(s) => Some(s),
+                Err(_) => None,
+            },
             Err(_) => None,
         }
     }

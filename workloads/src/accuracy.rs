@@ -976,11 +976,40 @@ pub fn shade_plane<const N: usize>(
 }
 
 /// The plane job's checksum: every colour of [`shade_plane`] (`side x side`) folded, row-major.
+/// A texture with the ramp filter (`antialiasing=ramp`) is shaded straight to RGB565, as a
+/// display would take it (`TextureEvaluator::shade565`: the ramp's own path, one read a pixel),
+/// and its RGB565 words are folded ([`fold_colour`]).
 #[inline(never)]
 pub fn plane_checksum<const N: usize>(tex: &Texture<TERMS, N>, side: u16) -> u32 {
     let mut acc = FNV_OFFSET;
+    #[cfg(any(not(target_os = "none"), feature = "accuracy-planes"))]
+    if tex.stage().antialias() == Antialias::Ramp {
+        let mut ev = tex.evaluator();
+        for y in 0..side {
+            let mut x0 = 0u16;
+            while x0 < side {
+                let len = SEGMENT.min(side - x0);
+                ev.shade565(&plane_span(x0, y, len), |c| {
+                    acc = fold(acc, u32::from(c.to_bits()));
+                });
+                x0 += len;
+            }
+        }
+        return acc;
+    }
     shade_plane(tex, side, |_, _, c| acc = fold(acc, c.to_u32()));
     acc
+}
+
+/// The word [`plane_checksum`] folds for a colour of a plane with filter `aa`: its RGB565 bits
+/// for the ramp (whose colours are RGB565 expanded, so this loses nothing), else its
+/// `Rgba8888` word.
+pub fn fold_colour(aa: Antialias, c: Rgba8888) -> u32 {
+    if aa == Antialias::Ramp {
+        u32::from(c.to_rgb565().to_bits())
+    } else {
+        c.to_u32()
+    }
 }
 
 /// The scene of a perspective row: [`SCENE`] at its still frame, [`SCENE_W`] x [`SCENE_H`],

@@ -85,13 +85,14 @@ pub fn same_texture(cfg: &Config) -> bool {
         && cfg.hash == fw::BASELINE.hash
 }
 
-/// FNV-1a over the colours of the top-left `side x side` pixels of a row-major image.
-pub fn window_checksum(pixels: &[[u8; 4]], width: u32, side: u32) -> u32 {
+/// FNV-1a over the colours of the top-left `side x side` pixels of a row-major image, each
+/// folded as the device folds a colour of filter `aa` ([`fw::fold_colour`]).
+pub fn window_checksum(pixels: &[[u8; 4]], width: u32, side: u32, aa: Antialias) -> u32 {
     let mut acc = fw::FNV_OFFSET;
     for y in 0..side {
         for x in 0..side {
             let p = pixels[(y * width + x) as usize];
-            acc = fw::fold(acc, Rgba8888::from_array(p).to_u32());
+            acc = fw::fold(acc, fw::fold_colour(aa, Rgba8888::from_array(p)));
         }
     }
     acc

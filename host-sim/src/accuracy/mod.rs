@@ -454,7 +454,7 @@ pub fn run(quick: bool, policy: DevicePolicy, log: &mut dyn FnMut(&str)) -> Resu
                 // The device computes the top-left 64x64 of this very image.
                 let sum = measure::plane_device_checksum(cfg).ok_or("plane checksum")?;
                 let side = u32::from(device_jobs::SIDE);
-                let window = measure::window_checksum(&img, size, side.min(size));
+                let window = measure::window_checksum(&img, size, side.min(size), cfg.aa);
                 if size >= side && window != sum {
                     return Err(format!(
                         "{}: the device job's code and the host's pixel path disagree \

@@ -410,7 +410,14 @@ fn knob_note(k: Knob) -> &'static str {
              band of rows around the seascape's horizon (a quarter of the image height) over the \
              first frames of its animation (texcore / supersampled truth; the truth culls only \
              octaves past the Nyquist limit of its own samples), and the same for texcore with \
-             octave culling off (the papers' unit culls nothing)."
+             octave culling off (the papers' unit culls nothing). `ramp` (feature `ramp`) \
+             approximates `csat` with one read a pixel of RGB565 levels and shades straight to \
+             RGB565 (the device jobs take `shade565`, its own path, and fold RGB565 words): its \
+             colours are RGB565 expanded, so every error column includes the reduction to \
+             RGB565, which an RGB565 display applies to every filter's colours (`csat` reduced \
+             to RGB565 measures 42.0 dB against the baseline's reference on this plane, \
+             `docs/performance.md`, twenty-ninth round), and `within 1 step` is out of its \
+             reach."
         }
         Knob::GradientNorm => "Norm of the filter width's gradient.",
         Knob::Perspective => {

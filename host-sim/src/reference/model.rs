@@ -504,7 +504,9 @@ impl RefModel {
         let f = self.f_at(fp, nyquist);
         let w = match filter {
             Filter::Point(_) => 0.0,
-            Filter::Box | Filter::Mip(_) | Filter::Ramp => self.filter_width_with(fp, table.len(), norm, nyquist),
+            Filter::Box | Filter::Mip(_) | Filter::Ramp => {
+                self.filter_width_with(fp, table.len(), norm, nyquist)
+            }
         };
         table.sample(f, w, filter, self.wrap)
     }

@@ -343,7 +343,11 @@ impl RefTable {
             Wrap::Mod => k.rem_euclid(n),
             Wrap::Clamp => k.clamp(0, n - 1),
         };
-        let stride = if l < 3 { 1.0 } else { f64::from(1u32 << (l - 2)) };
+        let stride = if l < 3 {
+            1.0
+        } else {
+            f64::from(1u32 << (l - 2))
+        };
         let j = (k as f64 / stride).floor();
         self.box_at((j + 0.5) * stride, f64::from(1u32 << l), wrap)
     }

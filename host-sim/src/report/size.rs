@@ -194,7 +194,12 @@ pub struct UnitSizes {
     pub perturbed_material: u64,
     /// `Span`.
     pub span: u64,
-    /// One texture-unit instance: colour table + csat + model + texture evaluator.
+    /// The filter data beyond the table of an instance without `csat`: the ramp's samples
+    /// (`Ramp565<256>`, feature `ramp`), else the MIP levels above level 0 (feature `mip`),
+    /// else 0.
+    pub other_filter: u64,
+    /// One texture-unit instance: colour table + csat or other filter data + model + texture
+    /// evaluator.
     pub unit_ram: u64,
 }
 
@@ -605,7 +610,7 @@ pub fn probe_sizes(file: &object::File<'_>) -> Option<UnitSizes> {
     let sec = file.section_by_index(sym.section_index()?).ok()?;
     let data = sec.data().ok()?;
     let off = usize::try_from(sym.address().checked_sub(sec.address())?).ok()?;
-    let bytes = data.get(off..off + 40)?;
+    let bytes = data.get(off..off + 44)?;
     let v: Vec<u64> = bytes
         .chunks_exact(4)
         .map(|c| u64::from(u32::from_le_bytes([c[0], c[1], c[2], c[3]])))
@@ -621,9 +626,10 @@ pub fn probe_sizes(file: &object::File<'_>) -> Option<UnitSizes> {
         texture: v[7],
         perturbed_material: v[8],
         span: v[9],
+        other_filter: v[10],
         unit_ram: 0,
     };
-    u.unit_ram = u.color_table + u.csat + u.model + u.texture_evaluator;
+    u.unit_ram = u.color_table + u.csat + u.other_filter + u.model + u.texture_evaluator;
     Some(u)
 }
 
@@ -989,7 +995,8 @@ pub fn markdown(r: &SizeReport, quick: bool) -> String {
     let _ = writeln!(
         s,
         "`core::mem::size_of` on each target (from the probe's `TEXCORE_PROBE_SIZES`). Instance = \
-         256-entry colour table + its csat + `TextureModel<8>` (quadric and up to 8 noise terms) \
+         256-entry colour table + its csat (without `csat`: the ramp's samples, or else the MIP \
+         levels above the table, column `other`) + `TextureModel<8>` (quadric and up to 8 noise terms) \
          + `TextureEvaluator<8, 256>` (span-evaluator state); the span evaluator's per-span \
          working state is on the stack during `shade`. `ColorStage<256>` and `Texture<8, 256>` \
          are sized for the largest filter compiled in (with `csat`, the three-times-long table), \
@@ -998,18 +1005,19 @@ pub fn markdown(r: &SizeReport, quick: bool) -> String {
     let _ = writeln!(s);
     let _ = writeln!(
         s,
-        "| target | features | table | csat | model | evaluator | **instance** | budget | ColorStage | Texture |"
+        "| target | features | table | csat | other | model | evaluator | **instance** | budget | ColorStage | Texture |"
     );
-    let _ = writeln!(s, "|---|---|---:|---:|---:|---:|---:|---|---:|---:|");
+    let _ = writeln!(s, "|---|---|---:|---:|---:|---:|---:|---:|---|---:|---:|");
     for row in &r.rows {
         if let Some(u) = &row.unit {
             let _ = writeln!(
                 s,
-                "| {} | `{}` | {} | {} | {} | {} | **{}** | {} | {} | {} |",
+                "| {} | `{}` | {} | {} | {} | {} | {} | **{}** | {} | {} | {} |",
                 row.target,
                 row.features,
                 u.color_table,
                 u.csat,
+                u.other_filter,
                 u.model,
                 u.texture_evaluator,
                 u.unit_ram,

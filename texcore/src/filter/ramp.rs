@@ -318,7 +318,11 @@ impl<const N: usize> Ramp565<N> {
         };
         let level = level.min(Self::MAX_LEVEL);
         let (row, offset, shift) = place(N, level);
-        match self.rows.get(row).and_then(|r| r.get(offset + (k >> shift))) {
+        match self
+            .rows
+            .get(row)
+            .and_then(|r| r.get(offset + (k >> shift)))
+        {
             Some(&c) => c,
             None => Rgb565::BLACK,
         }
@@ -344,7 +348,9 @@ mod tests {
         for c in e.iter_mut() {
             let mut b = [0u8; 4];
             for v in b.iter_mut() {
-                s = s.wrapping_mul(6364136223846793005).wrapping_add(1442695040888963407);
+                s = s
+                    .wrapping_mul(6364136223846793005)
+                    .wrapping_add(1442695040888963407);
                 *v = (s >> 56) as u8;
             }
             *c = Rgba8888::new(b[0], b[1], b[2], b[3]);
@@ -434,7 +440,11 @@ mod tests {
         for bits in (0..u32::MAX).step_by(9973).chain([u32::MAX]) {
             let l = level_of_width(w(bits), 15);
             let v = f64::from(bits) / 65536.0;
-            let want = if v < 0.5f64.sqrt() { 0.0 } else { v.log2().round().max(0.0) };
+            let want = if v < 0.5f64.sqrt() {
+                0.0
+            } else {
+                v.log2().round().max(0.0)
+            };
             // Away from the ties the f64 rounding agrees.
             let frac = (v.log2() + 0.5).fract().abs();
             if v > 0.0 && frac > 1e-6 && frac < 1.0 - 1e-6 {
@@ -475,7 +485,9 @@ mod tests {
     fn the_l2_level_is_the_level_of_the_l2_width() {
         let mut seed = 11u64;
         let mut next = |bound: u64| {
-            seed = seed.wrapping_mul(6364136223846793005).wrapping_add(1442695040888963407);
+            seed = seed
+                .wrapping_mul(6364136223846793005)
+                .wrapping_add(1442695040888963407);
             (seed >> 20) % bound
         };
         for n_log2 in [2u32, 6, 8, 10] {
@@ -484,7 +496,11 @@ mod tests {
                 let scale = 1u64 << next(22);
                 let mag = |v: u64| (v % (scale + 1)) as i64;
                 let (gx, gy) = (mag(next(1 << 40)) << 32, mag(next(1 << 40)) << 32);
-                let e = if i % 3 == 0 { mag(next(1 << 40)) << 32 } else { 0 };
+                let e = if i % 3 == 0 {
+                    mag(next(1 << 40)) << 32
+                } else {
+                    0
+                };
                 let w = filter_width_spread(gx, -gy, e, GradientNorm::L2, n_log2);
                 let a = (gx >> 32) as u32;
                 let b = (gy >> 32) as u32;
@@ -512,7 +528,9 @@ mod tests {
             let t = lcg_table::<N>(seed);
             let mut s = seed;
             let mut next = move || {
-                s = s.wrapping_mul(6364136223846793005).wrapping_add(1442695040888963407);
+                s = s
+                    .wrapping_mul(6364136223846793005)
+                    .wrapping_add(1442695040888963407);
                 s
             };
             for wrap in [TableWrap::Mod, TableWrap::Clamp] {
@@ -528,19 +546,32 @@ mod tests {
                         }
                     };
                     let f: std::vec::Vec<_> = (0..32)
-                        .map(|_| crate::format::TexValue::from_bits((next() >> 32) as i32 >> (next() % 20)))
+                        .map(|_| {
+                            crate::format::TexValue::from_bits(
+                                (next() >> 32) as i32 >> (next() % 20),
+                            )
+                        })
                         .collect();
-                    let gx: std::vec::Vec<i64> = (0..32).map(|_| g(next(), next(), next())).collect();
-                    let gy: std::vec::Vec<i64> = (0..32).map(|_| g(next(), next(), next())).collect();
-                    let extra = if round % 2 == 0 { 0 } else { g(next(), next(), next()).saturating_abs() };
+                    let gx: std::vec::Vec<i64> =
+                        (0..32).map(|_| g(next(), next(), next())).collect();
+                    let gy: std::vec::Vec<i64> =
+                        (0..32).map(|_| g(next(), next(), next())).collect();
+                    let extra = if round % 2 == 0 {
+                        0
+                    } else {
+                        g(next(), next(), next()).saturating_abs()
+                    };
                     let mut got = std::vec::Vec::new();
                     r.shade_l2(&f, &gx, &gy, extra, |c| got.push(c));
-                    let mut widths = crate::filter::WidthStream::new(GradientNorm::L2, N.trailing_zeros());
+                    let mut widths =
+                        crate::filter::WidthStream::new(GradientNorm::L2, N.trailing_zeros());
                     let want: std::vec::Vec<_> = f
                         .iter()
                         .zip(&gx)
                         .zip(&gy)
-                        .map(|((&f, &gx), &gy)| r.lookup(t.coord(f, wrap), widths.width_with(gx, gy, extra)))
+                        .map(|((&f, &gx), &gy)| {
+                            r.lookup(t.coord(f, wrap), widths.width_with(gx, gy, extra))
+                        })
                         .collect();
                     assert_eq!(got, want, "N {N} {wrap:?} round {round}");
                 }

@@ -18,9 +18,9 @@ use super::{Source, TextureEvaluator, TextureSpans, Walk};
 use crate::color::Rgb565;
 #[cfg(feature = "ramp")]
 use crate::filter::{ColorStage, GradientNorm, WidthStream};
-use crate::span::{SetupFrom, Span};
 #[cfg(feature = "ramp")]
 use crate::span::SampleChunk;
+use crate::span::{SetupFrom, Span};
 
 /// The RGB565 colours of a chunk of samples with gradients through a ramp stage (`stage.ramp()`
 /// is `Some`): each pixel's level from its gradient (and the chunk's spread), then one read.
@@ -109,7 +109,8 @@ impl<const T: usize, const N: usize> TextureSpans<'_, '_, '_, T, N> {
         let Some(span) = self.walk.plane().plane().span(x, y, len) else {
             return;
         };
-        self.ev.shade565_with(&span, Walk(&mut self.walk, x, y), emit);
+        self.ev
+            .shade565_with(&span, Walk(&mut self.walk, x, y), emit);
     }
 }
 
@@ -133,6 +134,7 @@ mod tests {
             Antialias::Mip,
             Antialias::Csat,
             Antialias::Csat3,
+            #[cfg(feature = "ramp")]
             Antialias::Ramp,
         ] {
             if !aa.is_available() {
@@ -142,7 +144,12 @@ mod tests {
                 for norm in [GradientNorm::L2, GradientNorm::L1] {
                     let stage = ColorStage::new(table, wrap, TableLookup::Nearest, aa).unwrap();
                     let model = marble_model(HashKind::Integer);
-                    out.push(Texture::new(Shader::Model(model), stage, norm, EvalMode::Fd));
+                    out.push(Texture::new(
+                        Shader::Model(model),
+                        stage,
+                        norm,
+                        EvalMode::Fd,
+                    ));
                 }
             }
         }

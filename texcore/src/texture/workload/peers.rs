@@ -409,7 +409,10 @@ pub fn marble_plane<const T: usize, const N: usize>(
     // The ramp shades straight to RGB565 (one read a pixel); every other filter's colours are
     // reduced as they come (`shade565` would give the same pixels: the reduction written here
     // keeps the summed-area rows' loop as it was before the ramp existed).
+    #[cfg(feature = "ramp")]
     let ramp = ev.stage().antialias() == crate::filter::Antialias::Ramp;
+    #[cfg(not(feature = "ramp"))]
+    let ramp = false;
     if w.span_len() == SIZE {
         let Some(line) = line.get_mut(..usize::from(SIZE)) else {
             return;
