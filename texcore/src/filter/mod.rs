@@ -285,7 +285,7 @@ impl<const N: usize> ColorStage<N> {
         }
     }
 
-    /// [`ColorStage::shade`] reduced to RGB565: the ramp's sample itself with [`Antialias::Ramp`]
+    /// [`ColorStage::shade`] reduced to RGB565: the ramp's sample itself with `Antialias::Ramp`
     /// (which `shade` expands exactly), `shade(f, w).to_rgb565()` with every other filter.
     pub fn shade565(&self, f: TexValue, w: FilterWidth) -> crate::color::Rgb565 {
         match &self.filter {

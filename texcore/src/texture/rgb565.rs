@@ -6,7 +6,7 @@
 //!
 //! - Every pixel is the colour of the same span's `shade` reduced by
 //!   [`Rgba8888::to_rgb565`](crate::color::Rgba8888::to_rgb565), bit for bit, with every filter
-//!   (tested per filter): with [`Antialias::Ramp`] (feature `ramp`) it is the ramp's sample,
+//!   (tested per filter): with `Antialias::Ramp` (feature `ramp`) it is the ramp's sample,
 //!   which `shade` expands exactly, and with any other filter it is `shade`'s colour reduced.
 //! - With the ramp, a pixel costs one read of the pre-filtered RGB565 ramp: the level comes from
 //!   the gradient's squared L2 norm without its square root ([`crate::filter::ramp`]), and no
@@ -51,9 +51,7 @@ pub(super) fn ramp_chunk<const N: usize, F: FnMut(Rgb565)>(
 impl<'t, const T: usize, const N: usize> TextureEvaluator<'t, T, N> {
     /// Shades `span` straight to RGB565, calling `emit` with each pixel in order: the colours of
     /// [`TextureEvaluator::shade`] reduced to RGB565, bit for bit (see the module
-    /// documentation); with [`Antialias::Ramp`] one ramp read a pixel.
-    ///
-    /// [`Antialias::Ramp`]: crate::filter::Antialias::Ramp
+    /// documentation); with `Antialias::Ramp` (feature `ramp`) one ramp read a pixel.
     pub fn shade565<F: FnMut(Rgb565)>(&mut self, span: &Span, emit: F) {
         self.shade565_with(span, SetupFrom::Span, emit);
     }

@@ -112,7 +112,7 @@ impl<const T: usize, const N: usize> TextureRows<'_, '_, '_, T, N> {
     }
 
     /// [`TextureRows::next_shade`] straight to RGB565: the row's colours reduced to RGB565, bit
-    /// for bit; with [`Antialias::Ramp`] one ramp read a pixel ([`super::rgb565`]).
+    /// for bit; with `Antialias::Ramp` (feature `ramp`) one ramp read a pixel.
     pub fn next_shade565<F: FnMut(Rgb565)>(&mut self, mut emit: F) {
         #[cfg(feature = "ramp")]
         if self.tex.stage.ramp().is_some() {
