@@ -144,10 +144,22 @@ mod tests {
                     let model = marble_model(HashKind::Integer);
                     out.push(Texture::new(
                         Shader::Model(model),
-                        stage,
+                        stage.clone(),
                         norm,
                         EvalMode::Fd,
                     ));
+                    // A perturbed material: its samples one by one.
+                    #[cfg(feature = "perturb")]
+                    {
+                        let p = crate::presets::mn_marble(HashKind::Integer);
+                        let m = crate::material::PerturbedMaterial::<8>::new(&p, wrap).unwrap();
+                        out.push(Texture::new(
+                            Shader::Perturbed(m),
+                            stage,
+                            norm,
+                            EvalMode::Fd,
+                        ));
+                    }
                 }
             }
         }
