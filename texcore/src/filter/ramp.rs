@@ -155,8 +155,9 @@ const fn entry_at<const N: usize>(table: &ColorTable<N>, k: i64, wrap: TableWrap
     table.entries()[i]
 }
 
-/// The exact box average of `table` over `[c2 - w, c2 + w]` in half entries (`w >= 1` entries
-/// wide... `2 w` half entries), rounded half up per channel.
+/// The exact box average of `table` over `[c2 - w, c2 + w]`, in units of half an entry (a box
+/// `w` entries wide centred on entry coordinate `c2 / 2`; `w >= 1`), rounded half up per
+/// channel. Each entry weighs the half entries of its `[k, k + 1)` inside the box.
 const fn box_average<const N: usize>(
     table: &ColorTable<N>,
     c2: i64,
@@ -180,7 +181,7 @@ const fn box_average<const N: usize>(
         }
         k += 1;
     }
-    // Total weight 2w half entries... in half-entry units the box is 2w long.
+    // The weights add up to the box's length in half entries, 2w.
     let total = (2 * w) as u64;
     let half = total / 2;
     Rgba8888::new(
