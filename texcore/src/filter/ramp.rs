@@ -46,30 +46,18 @@ pub struct Ramp565<const N: usize> {
 }
 
 /// `ceil(sqrt(2^(b-1)))^2` for every even bit length `b` in `2..=36` (index `b`), 0 elsewhere
-/// (64 long, so that a bit length indexes it without a bounds check): a value of bit length `b`
-/// below it has a floor root whose square has bit length `b - 1` ([`level_of_sq`]).
+/// (64 long, so that a bit length indexes it without a bounds check): the smallest square at or
+/// above `2^(b-1)`, where the floor square root of a value crosses a level boundary, so a value
+/// of bit length `b` below it has a floor root whose square has bit length `b - 1`
+/// ([`level_of_sq`]).
 const BELOW_BY_BITS: [u64; 64] = {
     let mut t = [0u64; 64];
     let mut b = 2;
     while b <= 36 {
-        t[b] = SQUARE_AT_OR_ABOVE[(b - 1) >> 1];
+        // 2^(b-1) with b - 1 odd is not a square: its root's floor is below it.
+        let r = super::isqrt(1u64 << (b - 1));
+        t[b] = (r + 1) * (r + 1);
         b += 2;
-    }
-    t
-};
-
-/// `ceil(sqrt(2^k))^2` for odd `k` in `1..=35` (index `k >> 1`): the smallest square at or
-/// above `2^k`, where the floor square root of a value crosses the level boundary at `2^k`
-/// (see [`level_of_sq`]).
-const SQUARE_AT_OR_ABOVE: [u64; 18] = {
-    let mut t = [0u64; 18];
-    let mut i = 0;
-    while i < 18 {
-        let k = 2 * i as u32 + 1;
-        let r = super::isqrt(1u64 << k);
-        // 2^k with k odd is not a square: its root's floor is below it.
-        t[i] = (r + 1) * (r + 1);
-        i += 1;
     }
     t
 };
@@ -117,11 +105,10 @@ pub const fn level_of_l2(a: u32, b: u32, e: u32, n_log2: u32) -> u32 {
     }
     let s = (a * a) as u64 + (b * b) as u64 + (e * e) as u64;
     // g = floor(sqrt(s)) and w = g << n_log2 below the cap (w = N << 16 from g >= 2^16, level
-    // n_log2 either way): bitlen(w^2) = bitlen(g^2) + 2 n_log2 for g > 0.
+    // n_log2 either way): bitlen(w^2) = bitlen(g^2) + 2 n_log2 for g > 0; s = 0 gives level 0
+    // (n_log2 <= 15), as w = 0 does.
     let l = (level_of_sq(s) + n_log2).saturating_sub(16);
-    if s == 0 {
-        0
-    } else if l > n_log2 {
+    if l > n_log2 {
         n_log2
     } else {
         l
