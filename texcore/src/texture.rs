@@ -15,7 +15,7 @@
 
 use crate::color::Rgba8888;
 use crate::filter::{Antialias, ColorStage, GradientNorm, WidthStream};
-use crate::format::FilterWidth;
+use crate::format::{FilterWidth, TexValue};
 #[cfg(feature = "perturb")]
 use crate::material::{MaterialEvaluator, PerturbedMaterial};
 use crate::model::TextureModel;
@@ -24,8 +24,10 @@ use crate::span::{
     SpanEvaluator, SpanPlane, SpanStats, SAMPLE_CHUNK,
 };
 
+mod differences;
 mod rgb565;
 mod rows;
+pub use differences::{DifferenceMemory, DifferenceRows, DifferenceSpans};
 pub use rows::TextureRows;
 
 /// What computes `f`.
@@ -402,6 +404,57 @@ impl<const T: usize, const N: usize> TextureSpans<'_, '_, '_, T, N> {
         self.ev.shade(&span, emit);
         #[cfg(not(texcore_lean))]
         self.ev.shade_with(&span, Walk(&mut self.walk, x, y), emit);
+    }
+}
+
+impl<'t, const T: usize, const N: usize> TextureSpans<'_, 't, '_, T, N> {
+    /// The plane whose spans are shaded.
+    pub(super) fn span_plane(&self) -> SpanPlane {
+        *self.walk.plane().plane()
+    }
+
+    /// Counts a span's `n` pixels as filtered or plain look-ups (spans shaded elsewhere from
+    /// [`TextureSpans::values`]).
+    pub(super) fn count(&mut self, filtered: bool, n: u16) {
+        if filtered {
+            self.ev.filter_lookups += u64::from(n);
+        } else {
+            self.ev.plain_lookups += u64::from(n);
+        }
+    }
+
+    /// The values of the span of `out.len()` pixels at `(x, y)` of the plane into `out` (from
+    /// the rows' schedule, as [`crate::span::PlaneSpans::values`]): the span's spread.
+    pub(super) fn values(&mut self, x: u16, y: u16, out: &mut [TexValue]) -> i64 {
+        match &mut self.ev.inner {
+            Inner::Model(e) => self.walk.values(e, x, y, out).extra_width48,
+            #[cfg(feature = "perturb")]
+            Inner::Perturbed(_) => {
+                let len = u16::try_from(out.len()).unwrap_or(0);
+                match self.span_plane().span(x, y, len) {
+                    Some(span) => self.span_values(&span, out),
+                    None => 0,
+                }
+            }
+        }
+    }
+
+    /// The values of `span` (any span) into `out`, as
+    /// [`crate::span::SpanEvaluator::eval_values`] gives them: the span's spread.
+    pub(super) fn span_values(&mut self, span: &Span, out: &mut [TexValue]) -> i64 {
+        match &mut self.ev.inner {
+            Inner::Model(e) => e.eval_values(span, out).extra_width48,
+            #[cfg(feature = "perturb")]
+            Inner::Perturbed(e) => {
+                let mut px = out.iter_mut();
+                e.eval(span, |s| {
+                    if let Some(p) = px.next() {
+                        *p = s.f;
+                    }
+                })
+                .extra_width48
+            }
+        }
     }
 }
 

@@ -48,9 +48,9 @@ macro_rules! texcore_rows {
 }
 
 /// Jobs in a list: `peers:fold` and its set-up, the 27 texcore rows of the three exact modes,
-/// the 2 `texcore-fused` rows, the 2 `texcore-ramp` rows and the 6 fastnoise-lite rows, each
-/// with its set-up.
-const LEN: usize = 2 * (27 + 2 + 2 + 6) + 2;
+/// the 2 `texcore-fused` rows, the 2 `texcore-ramp` and 2 `texcore-ramp-diff` rows and the 6
+/// fastnoise-lite rows, each with its set-up.
+const LEN: usize = 2 * (27 + 2 + 2 + 2 + 6) + 2;
 
 /// The job list with `ROWS` rows a job, in report order.
 const fn list<const ROWS: u16>() -> [Job; LEN] {
@@ -65,17 +65,19 @@ const fn list<const ROWS: u16>() -> [Job; LEN] {
         texcore_rows!(ROWS, 7, "perlin-1oct"),
         texcore_rows!(ROWS, 8, "perlin-4oct"),
     ];
-    let others: [[Job; 2]; 10] = [
+    let others: [[Job; 2]; 12] = [
         row!(ROWS, 7, 3, "perlin-1oct", "texcore-fused"),
         row!(ROWS, 8, 3, "perlin-4oct", "texcore-fused"),
         row!(ROWS, 4, 4, "marble-csat-rgb565", "texcore-ramp"),
         row!(ROWS, 5, 4, "marble-csat-rgb565-span16", "texcore-ramp"),
-        row!(ROWS, 0, 5, "value-1oct", "fastnoise-lite"),
-        row!(ROWS, 1, 5, "value-4oct", "fastnoise-lite"),
-        row!(ROWS, 3, 5, "value-4oct-span16", "fastnoise-lite"),
-        row!(ROWS, 6, 5, "smooth-1oct", "fastnoise-lite"),
-        row!(ROWS, 7, 5, "perlin-1oct", "fastnoise-lite"),
-        row!(ROWS, 8, 5, "perlin-4oct", "fastnoise-lite"),
+        row!(ROWS, 4, 5, "marble-csat-rgb565", "texcore-ramp-diff"),
+        row!(ROWS, 5, 5, "marble-csat-rgb565-span16", "texcore-ramp-diff"),
+        row!(ROWS, 0, 6, "value-1oct", "fastnoise-lite"),
+        row!(ROWS, 1, 6, "value-4oct", "fastnoise-lite"),
+        row!(ROWS, 3, 6, "value-4oct-span16", "fastnoise-lite"),
+        row!(ROWS, 6, 6, "smooth-1oct", "fastnoise-lite"),
+        row!(ROWS, 7, 6, "perlin-1oct", "fastnoise-lite"),
+        row!(ROWS, 8, 6, "perlin-4oct", "fastnoise-lite"),
     ];
     let mut out = [crate::job!("peers:fold", fold_job::<ROWS>); LEN];
     out[1] = crate::job!("peers:fold/setup", fold_job::<0>);
@@ -102,8 +104,8 @@ const fn list<const ROWS: u16>() -> [Job; LEN] {
 }
 
 /// Every peer-comparison job over the whole plane ([`PLANE_ROWS`] rows a job): `peers:fold`, the
-/// texcore rows of the exact modes, then the `texcore-fused`, the `texcore-ramp` and the
-/// fastnoise-lite rows.
+/// texcore rows of the exact modes, then the `texcore-fused`, the `texcore-ramp`, the
+/// `texcore-ramp-diff` and the fastnoise-lite rows.
 pub static PLANE: &[Job] = &PLANE_LIST;
 static PLANE_LIST: [Job; LEN] = list::<PLANE_ROWS>();
 

@@ -42,18 +42,22 @@ pub enum Implementation {
     /// texcore, `EvalMode::Fd` with the pre-filtered RGB565 ramp instead of the summed-area
     /// filter (approximate; only the marble workloads, the ones with a colour stage).
     TexcoreRamp,
+    /// [`Implementation::TexcoreRamp`] with the filter widths from the differences of
+    /// neighbouring values instead of the gradients (approximate; the marble workloads only).
+    TexcoreRampDiff,
     /// `fastnoise-lite` (f32).
     FastnoiseLite,
 }
 
 impl Implementation {
     /// Every device implementation, in report order.
-    pub const ALL: [Implementation; 6] = [
+    pub const ALL: [Implementation; 7] = [
         Implementation::TexcoreFd,
         Implementation::TexcoreAuto,
         Implementation::TexcoreDirect,
         Implementation::TexcoreFused,
         Implementation::TexcoreRamp,
+        Implementation::TexcoreRampDiff,
         Implementation::FastnoiseLite,
     ];
 
@@ -65,6 +69,7 @@ impl Implementation {
             Implementation::TexcoreDirect => "texcore-direct",
             Implementation::TexcoreFused => "texcore-fused",
             Implementation::TexcoreRamp => "texcore-ramp",
+            Implementation::TexcoreRampDiff => "texcore-ramp-diff",
             Implementation::FastnoiseLite => "fastnoise-lite",
         }
     }
@@ -76,7 +81,7 @@ impl Implementation {
             Implementation::TexcoreAuto => Some(EvalMode::Auto),
             Implementation::TexcoreDirect => Some(EvalMode::Direct),
             Implementation::TexcoreFused => Some(EvalMode::Fused),
-            Implementation::TexcoreRamp => Some(EvalMode::Fd),
+            Implementation::TexcoreRamp | Implementation::TexcoreRampDiff => Some(EvalMode::Fd),
             Implementation::FastnoiseLite => None,
         }
     }
@@ -111,7 +116,7 @@ pub fn has(w: Workload, imp: Implementation) -> bool {
     match imp {
         Implementation::FastnoiseLite => fastnoise(w).is_some(),
         Implementation::TexcoreFused => matches!(w, Workload::Perlin1 | Workload::Perlin4),
-        Implementation::TexcoreRamp => w.is_marble(),
+        Implementation::TexcoreRamp | Implementation::TexcoreRampDiff => w.is_marble(),
         _ => true,
     }
 }
@@ -164,7 +169,11 @@ pub fn run(w: Workload, imp: Implementation, hash: HashKind, rows: u16, line: &m
             }
         }
         Some(mode) if w.is_marble() => {
-            let tex = if imp == Implementation::TexcoreRamp {
+            let ramp = matches!(
+                imp,
+                Implementation::TexcoreRamp | Implementation::TexcoreRampDiff
+            );
+            let tex = if ramp {
                 marble_ramp(hash)
             } else {
                 marble(hash)
@@ -175,9 +184,15 @@ pub fn run(w: Workload, imp: Implementation, hash: HashKind, rows: u16, line: &m
             tex.set_mode(mode);
             let tex = core::hint::black_box(&tex);
             let mut ev = tex.evaluator();
-            peers::marble_plane(&mut ev, w, rows, line, |_, row| {
-                acc = fold_line(acc, row);
-            });
+            if imp == Implementation::TexcoreRampDiff {
+                peers::marble_plane_differences(&mut ev, w, rows, line, |_, row| {
+                    acc = fold_line(acc, row);
+                });
+            } else {
+                peers::marble_plane(&mut ev, w, rows, line, |_, row| {
+                    acc = fold_line(acc, row);
+                });
+            }
         }
         Some(mode) => {
             let Some(model) = peers::model(w, hash) else {

@@ -62,6 +62,41 @@ const BELOW_BY_BITS: [u64; 64] = {
     t
 };
 
+/// A gradient of 48 fraction bits as a magnitude of 16 fraction bits, saturated as the filter
+/// width saturates it and then limited to `2^16 - 1`: the width is capped at `N` from a
+/// magnitude of `2^16` (level `L`), and a magnitude of `2^16 - 1` alone already has a square of
+/// half bit length 16 (level `L`, [`level_of_sq32`]), so the limit changes no level; below it
+/// the squares are the width's own and fit in 32 bits.
+#[cfg_attr(not(texcore_lean), inline(always))]
+const fn magnitude48(g: i64) -> u32 {
+    let a = g.unsigned_abs() >> 32;
+    if a > 0xFFFF {
+        0xFFFF
+    } else {
+        a as u32
+    }
+}
+
+/// [`magnitude48`] of a difference of 16 fraction bits (the magnitude of the difference
+/// shifted to 48 fraction bits).
+#[cfg_attr(not(texcore_lean), inline(always))]
+const fn magnitude16(d: i32) -> u32 {
+    let a = d.unsigned_abs();
+    if a > 0xFFFF {
+        0xFFFF
+    } else {
+        a
+    }
+}
+
+/// The squared L2 norm of magnitudes `a`, `b` (at most `2^16 - 1`) and the square `e2` of the
+/// spread's, saturated at `u32::MAX`: below `2^32` it is the exact sum, and at or above it both
+/// the sum and `u32::MAX` have half bit length 16 or more (level `L`).
+#[cfg_attr(not(texcore_lean), inline(always))]
+const fn norm2(a: u32, b: u32, e2: u32) -> u32 {
+    (a * a).saturating_add(b * b).saturating_add(e2)
+}
+
 /// The level of a filter width: `round(log2 w)` in entries (`w` raw `U16F16`), ties at
 /// `2^(k + 1/2)` upwards, below one entry 0, at most `max_level`. That is
 /// `min(max_level, max(0, floor(bitlen(w^2) / 2) - 16))`, with `bitlen` the number of
@@ -91,6 +126,15 @@ pub const fn level_of_sq(s: u64) -> u32 {
     let b = 64 - s.leading_zeros();
     // b <= 36 for every s this takes; b = 64 reads a 0 (never below).
     let below = s < BELOW_BY_BITS[(b & 63) as usize];
+    (b >> 1) - below as u32
+}
+
+/// [`level_of_sq`] of a 32-bit `s` (the same level: the thresholds up to bit length 32 fit in
+/// 32 bits).
+#[cfg_attr(not(texcore_lean), inline(always))]
+pub const fn level_of_sq32(s: u32) -> u32 {
+    let b = 32 - s.leading_zeros();
+    let below = s < BELOW_BY_BITS[(b & 63) as usize] as u32;
     (b >> 1) - below as u32
 }
 
@@ -252,47 +296,135 @@ impl<const N: usize> Ramp565<N> {
         gx: &[i64],
         gy: &[i64],
         extra48: i64,
+        emit: F,
+    ) {
+        let e = magnitude48(extra48);
+        match self.wrap {
+            TableWrap::Mod => self.shade_gradients::<false, F>(f, gx, gy, e * e, emit),
+            TableWrap::Clamp => self.shade_gradients::<true, F>(f, gx, gy, e * e, emit),
+        }
+    }
+
+    /// [`Ramp565::shade_l2`] with the wrap `CLAMP` and the spread's square `e2`.
+    #[cfg_attr(not(texcore_lean), inline(always))]
+    fn shade_gradients<const CLAMP: bool, F: FnMut(Rgb565)>(
+        &self,
+        f: &[crate::format::TexValue],
+        gx: &[i64],
+        gy: &[i64],
+        e2: u32,
         mut emit: F,
     ) {
-        // Each magnitude saturated as the width saturates it, then limited to 2^16: any of them
-        // at 2^16 makes the square at least 2^32 (half bit length >= 16, level L), as the width's
-        // cap does; below, the squares are the width's own. The sum is below 3 * 2^32.
-        let sat = |g: i64| {
-            let a = g.unsigned_abs() >> 32;
-            if a > 1 << 16 {
-                1u32 << 16
-            } else {
-                a as u32
-            }
-        };
-        let e = sat(extra48);
-        let e2 = u64::from(e) * u64::from(e);
-        let n_log2 = Self::MAX_LEVEL;
-        let place = |a: u32, b: u32| {
-            let s = u64::from(a) * u64::from(a) + u64::from(b) * u64::from(b) + e2;
-            // h <= 17 (s < 3 * 2^32).
-            self.by_half_bits[(level_of_sq(s) & 31) as usize]
-        };
-        let samples = f.iter().zip(gx).zip(gy);
-        match self.wrap {
-            TableWrap::Mod => {
-                for ((&f, &gx), &gy) in samples {
-                    let p = place(sat(gx), sat(gy));
-                    // Entry floor(frac(f) N).
-                    let k = ((f.to_bits() as u32) & 0xFFFF) >> (16 - n_log2);
-                    emit(self.flat(((p >> 5) + (k >> (p & 31))) as usize));
-                }
-            }
-            TableWrap::Clamp => {
-                for ((&f, &gx), &gy) in samples {
-                    let p = place(sat(gx), sat(gy));
-                    // Entry min(floor(clamp(f, 0, 1) N), N - 1).
-                    let raw = f.to_bits().clamp(0, 0xFFFF) as u32;
-                    let k = raw >> (16 - n_log2);
-                    emit(self.flat(((p >> 5) + (k >> (p & 31))) as usize));
-                }
-            }
+        for ((&f, &gx), &gy) in f.iter().zip(gx).zip(gy) {
+            emit(self.sample::<CLAMP>(f, magnitude48(gx), magnitude48(gy), e2));
         }
+    }
+
+    /// The colours of the values `f` of a span under `above` (the same pixels one row up) with
+    /// the filter-width gradients from their differences (16 fraction bits, wrapping): pixel
+    /// `i`'s `gx` is `f[i + 1] - f[i]` (the last pixel's, its left neighbour's; 0 for a span of
+    /// one), its `gy` is `f[i] - above[i]`, and the spread `extra48` is added in quadrature. Each
+    /// colour is that of [`Ramp565::shade_l2`] given those differences as gradients (shifted to
+    /// 48 fraction bits), bit for bit. `N <= 2^15`. Stops at the shorter slice.
+    #[cfg_attr(not(texcore_lean), inline(always))]
+    pub fn shade_differences_l2<F: FnMut(Rgb565)>(
+        &self,
+        f: &[crate::format::TexValue],
+        above: &[crate::format::TexValue],
+        extra48: i64,
+        emit: F,
+    ) {
+        let e = magnitude48(extra48);
+        match self.wrap {
+            TableWrap::Mod => self.shade_differences::<false, F>(f, above, e * e, emit),
+            TableWrap::Clamp => self.shade_differences::<true, F>(f, above, e * e, emit),
+        }
+    }
+
+    /// [`Ramp565::shade_differences_l2`] with the wrap `CLAMP` and the spread's square `e2`.
+    #[cfg_attr(not(texcore_lean), inline(always))]
+    fn shade_differences<const CLAMP: bool, F: FnMut(Rgb565)>(
+        &self,
+        f: &[crate::format::TexValue],
+        above: &[crate::format::TexValue],
+        e2: u32,
+        emit: F,
+    ) {
+        // A spread below 2^15 (`e2 < 2^30`, the usual case: none) lets the squared norm skip
+        // its saturation while both differences are small.
+        if e2 < 1 << 30 {
+            self.differences_with::<CLAMP, true, F>(f, above, e2, emit);
+        } else {
+            self.differences_with::<CLAMP, false, F>(f, above, e2, emit);
+        }
+    }
+
+    /// [`Ramp565::shade_differences`] with the spread's square below 2^30 when `SMALL_E`.
+    #[cfg_attr(not(texcore_lean), inline(always))]
+    fn differences_with<const CLAMP: bool, const SMALL_E: bool, F: FnMut(Rgb565)>(
+        &self,
+        f: &[crate::format::TexValue],
+        above: &[crate::format::TexValue],
+        e2: u32,
+        mut emit: F,
+    ) {
+        let n = f.len().min(above.len());
+        let (Some(f), Some(above)) = (f.get(..n), above.get(..n)) else {
+            return;
+        };
+        // The squared norm: below 2^32 without saturation when both differences lie in
+        // [-2^15, 2^15) (squares at most 2^30) and the spread is below 2^15 (`e2 < 2^30`);
+        // otherwise from the saturated magnitudes ([`norm2`]). The same sum either way.
+        let norm = |dx: i32, dy: i32| {
+            let bias = |d: i32| (d as u32).wrapping_add(1 << 15);
+            if SMALL_E && (bias(dx) | bias(dy)) >> 16 == 0 {
+                (dx * dx + dy * dy) as u32 + e2
+            } else {
+                norm2(magnitude16(dx), magnitude16(dy), e2)
+            }
+        };
+        let d = |a: crate::format::TexValue, b: crate::format::TexValue| {
+            a.to_bits().wrapping_sub(b.to_bits())
+        };
+        // Every pixel but the last: the difference to its right neighbour.
+        let mut dx = 0;
+        for ((&v, &r), &u) in f.iter().zip(f.iter().skip(1)).zip(above) {
+            dx = d(r, v);
+            emit(self.sample_sq::<CLAMP>(v, norm(dx, d(v, u))));
+        }
+        if let (Some(&v), Some(&u)) = (f.last(), above.last()) {
+            emit(self.sample_sq::<CLAMP>(v, norm(dx, d(v, u))));
+        }
+    }
+
+    /// The colour of value `f` (wrap `CLAMP`) with gradient magnitudes `a`, `b` and the spread's
+    /// square `e2` ([`magnitude48`]) by the L2 norm: one read.
+    #[cfg_attr(not(texcore_lean), inline(always))]
+    fn sample<const CLAMP: bool>(
+        &self,
+        f: crate::format::TexValue,
+        a: u32,
+        b: u32,
+        e2: u32,
+    ) -> Rgb565 {
+        self.sample_sq::<CLAMP>(f, norm2(a, b, e2))
+    }
+
+    /// The colour of value `f` (wrap `CLAMP`) at the level of the squared norm `s` (saturated
+    /// at `u32::MAX`, [`norm2`]): one read.
+    #[cfg_attr(not(texcore_lean), inline(always))]
+    fn sample_sq<const CLAMP: bool>(&self, f: crate::format::TexValue, s: u32) -> Rgb565 {
+        // h <= 16 (a 32-bit norm).
+        let p = self.by_half_bits[(level_of_sq32(s) & 31) as usize];
+        let n_log2 = Self::MAX_LEVEL;
+        let k = if CLAMP {
+            // Entry min(floor(clamp(f, 0, 1) N), N - 1).
+            (f.to_bits().clamp(0, 0xFFFF) as u32) >> (16 - n_log2)
+        } else {
+            // Entry floor(frac(f) N).
+            ((f.to_bits() as u32) & 0xFFFF) >> (16 - n_log2)
+        };
+        self.flat(((p >> 5) + (k >> (p & 31))) as usize)
     }
 
     /// The sample of level `level` (clamped to [`Ramp565::MAX_LEVEL`]) covering entry
@@ -569,6 +701,100 @@ mod tests {
         check::<64>(3);
         check::<256>(4);
         check::<1024>(5);
+    }
+
+    /// The differences path is [`Ramp565::shade_l2`] given the differences as gradients: rows of
+    /// every scale (differences past 2^15 and wrapping ones), spreads below and above 2^15,
+    /// lengths 0, 1 and more, both wraps and several table sizes.
+    #[test]
+    fn shade_differences_l2_is_shade_l2_of_the_differences() {
+        fn check<const N: usize>(seed: u64) {
+            let t = lcg_table::<N>(seed);
+            let mut s = seed;
+            let mut next = move || {
+                s = s
+                    .wrapping_mul(6364136223846793005)
+                    .wrapping_add(1442695040888963407);
+                s
+            };
+            for wrap in [TableWrap::Mod, TableWrap::Clamp] {
+                let r = Ramp565::new(&t, wrap);
+                for round in 0..300 {
+                    let len = [0usize, 1, 2, 31][round % 4];
+                    let scale = next() % 32;
+                    let mut row = |n: usize| -> std::vec::Vec<crate::format::TexValue> {
+                        (0..n)
+                            .map(|_| {
+                                crate::format::TexValue::from_bits(((next() >> 32) as i32) >> scale)
+                            })
+                            .collect()
+                    };
+                    let (f, above) = (row(len), row(len));
+                    let extra = match round % 5 {
+                        0 => 0,
+                        1 => (1i64 << 47) - 1,
+                        2 => 1i64 << 47,
+                        3 => i64::MAX,
+                        _ => (next() >> 1) as i64 >> (next() % 63),
+                    };
+                    let d = |a: crate::format::TexValue, b: crate::format::TexValue| {
+                        i64::from(a.to_bits().wrapping_sub(b.to_bits())) << 32
+                    };
+                    let gx: std::vec::Vec<i64> = (0..len)
+                        .map(|i| match (i + 1 < len, i > 0) {
+                            (true, _) => d(f[i + 1], f[i]),
+                            (false, true) => d(f[i], f[i - 1]),
+                            _ => 0,
+                        })
+                        .collect();
+                    let gy: std::vec::Vec<i64> = (0..len).map(|i| d(f[i], above[i])).collect();
+                    let mut want = std::vec::Vec::new();
+                    r.shade_l2(&f, &gx, &gy, extra, |c| want.push(c));
+                    let mut got = std::vec::Vec::new();
+                    r.shade_differences_l2(&f, &above, extra, |c| got.push(c));
+                    assert_eq!(got, want, "N {N} {wrap:?} round {round}");
+                }
+            }
+        }
+        check::<16>(6);
+        check::<256>(7);
+        check::<1024>(8);
+    }
+
+    #[test]
+    fn the_32_bit_level_is_the_64_bit_one() {
+        for b in 0..=32u32 {
+            let p = if b == 0 { 0 } else { 1u64 << (b - 1) };
+            for s in [p, p + 1, p.saturating_sub(1), BELOW_BY_BITS[b as usize]] {
+                for s in [s.saturating_sub(1), s, s + 1] {
+                    if let Ok(s32) = u32::try_from(s) {
+                        assert_eq!(level_of_sq32(s32), level_of_sq(s), "s = {s}");
+                    }
+                }
+            }
+        }
+        let mut x = 0x9E37_79B9u32;
+        for _ in 0..200_000 {
+            x ^= x << 13;
+            x ^= x >> 17;
+            x ^= x << 5;
+            let s = x >> (x % 32);
+            assert_eq!(level_of_sq32(s), level_of_sq(u64::from(s)), "s = {s}");
+        }
+        // The saturated norm has the level of the exact one (capped at half bit length 16).
+        for (a, b, e) in [
+            (0xFFFF, 0, 0),
+            (0xFFFF, 0xFFFF, 0xFFFF),
+            (0xB505, 0xB505, 0),
+            (0, 0, 0),
+        ] {
+            let exact =
+                u64::from(a) * u64::from(a) + u64::from(b) * u64::from(b) + u64::from(e * e);
+            assert_eq!(
+                level_of_sq32(norm2(a, b, e * e)),
+                level_of_sq(exact).min(16)
+            );
+        }
     }
 
     #[test]

@@ -175,6 +175,20 @@ impl Span {
             ..*self
         }
     }
+
+    /// The span one row up (`s0` less `dsdy`, wrapping): [`Span::next_row`] undone.
+    pub(crate) fn prev_row(&self) -> Span {
+        let b = self.s0.to_bits();
+        let d = self.dsdy.to_bits();
+        Span {
+            s0: TexPoint::from_bits(
+                b[0].wrapping_sub(d[0]),
+                b[1].wrapping_sub(d[1]),
+                b[2].wrapping_sub(d[2]),
+            ),
+            ..*self
+        }
+    }
 }
 
 /// How a span is evaluated; the exact modes (`Direct`, `Fd`, `Auto`, exact `Multipass`) give

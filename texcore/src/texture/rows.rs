@@ -12,7 +12,7 @@
 use super::{shade_chunk, Inner, Texture, TextureEvaluator};
 use crate::color::{Rgb565, Rgba8888};
 use crate::filter::{Antialias, WidthStream};
-use crate::format::FilterWidth;
+use crate::format::{FilterWidth, TexValue};
 #[cfg(feature = "perturb")]
 use crate::material::MaterialEvaluator;
 use crate::span::{PlaneRows, RowCache, SampleChunk, Span, SAMPLE_CHUNK};
@@ -107,6 +107,36 @@ impl<const T: usize, const N: usize> TextureRows<'_, '_, '_, T, N> {
                     emit(stage.shade(s.f, widths.width_with(s.gx, s.gy, extra)));
                 });
                 *span = span.next_row();
+            }
+        }
+    }
+
+    /// Counts the next row's `n` pixels as filtered or plain look-ups (rows shaded elsewhere
+    /// from [`TextureRows::next_values`]).
+    pub(super) fn count(&mut self, filtered: bool, n: u64) {
+        if filtered {
+            *self.filter_lookups += n;
+        } else {
+            *self.plain_lookups += n;
+        }
+    }
+
+    /// The next row's values (its first `min(len, out.len())`, as
+    /// [`crate::span::SpanEvaluator::eval_values`] gives them) into `out`, and moves to the row
+    /// after it: the row's spread ([`crate::span::SpanInfo::extra_width48`]).
+    pub(super) fn next_values(&mut self, out: &mut [TexValue]) -> i64 {
+        match &mut self.source {
+            Source::Rows(r) => r.next_values(out).extra_width48,
+            #[cfg(feature = "perturb")]
+            Source::Spans(e, span) => {
+                let mut px = out.iter_mut();
+                let info = e.eval(span, |s| {
+                    if let Some(p) = px.next() {
+                        *p = s.f;
+                    }
+                });
+                *span = span.next_row();
+                info.extra_width48
             }
         }
     }

@@ -472,6 +472,62 @@ pub fn marble_plane<const T: usize, const N: usize>(
     }
 }
 
+/// [`marble_plane`] with the filter widths from the differences of neighbouring values
+/// ([`crate::texture::DifferenceRows`], [`crate::texture::DifferenceSpans`]; approximate): the
+/// values without gradients, kept for the next row in a [`DifferenceMemory`] of the plane's
+/// width, each colour straight to RGB565.
+///
+/// [`DifferenceMemory`]: crate::texture::DifferenceMemory
+#[cfg(any(feature = "csat", feature = "ramp"))]
+#[inline(always)]
+pub fn marble_plane_differences<const T: usize, const N: usize>(
+    ev: &mut super::super::TextureEvaluator<'_, T, N>,
+    w: Workload,
+    rows: u16,
+    line: &mut [u32],
+    mut each: impl FnMut(u16, &[u32]),
+) {
+    let Some(line) = line.get_mut(..usize::from(SIZE)) else {
+        return;
+    };
+    let mut mem = crate::texture::DifferenceMemory::<{ SIZE as usize }>::new();
+    let mut cache = RowCache::<ROW_EVENTS>::new();
+    if w.span_len() == SIZE {
+        let Some(mut plane) = ev.difference_rows(&span(0, 0, SIZE), &mut cache, &mut mem) else {
+            return;
+        };
+        for y in 0..rows {
+            let mut px = line.iter_mut();
+            plane.next_shade565(|c| {
+                if let Some(p) = px.next() {
+                    *p = u32::from(c.to_bits());
+                }
+            });
+            each(y, line);
+        }
+    } else {
+        let Some(setup) = plane().ok().and_then(|p| ev.plane_setup(&p)) else {
+            return;
+        };
+        let len = usize::from(w.span_len());
+        let Some(mut spans) = ev.difference_spans(&setup, &mut cache, &mut mem) else {
+            return;
+        };
+        for y in 0..rows {
+            for (x, chunk) in (0u16..).step_by(len).zip(line.chunks_mut(len)) {
+                let mut px = chunk.iter_mut();
+                let n = px.len() as u16;
+                spans.shade565(x, y, n, |c| {
+                    if let Some(p) = px.next() {
+                        *p = u32::from(c.to_bits());
+                    }
+                });
+            }
+            each(y, line);
+        }
+    }
+}
+
 /// Row `y` of the marble workload `w` into `line`: each pixel's colour as RGB565 (zero-extended).
 #[cfg(any(feature = "csat", feature = "ramp"))]
 #[inline(always)]

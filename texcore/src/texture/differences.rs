@@ -1,0 +1,670 @@
+//! Filter widths from the differences of neighbouring values, as a GPU takes them (`ddx`,
+//! `ddy`): [`DifferenceRows`] and [`DifferenceSpans`], a named approximate mode of the
+//! antialiasing. The noise is evaluated without its gradients (the value path, about half the
+//! cost of the path with gradients); each pixel's filter width comes from its neighbours.
+//!
+//! # Guarantees
+//!
+//! - The values are exact: those of [`crate::span::SpanEvaluator::eval_values`] of each row's
+//!   span, bit for bit. Only the filter widths are approximate.
+//! - Pixel `(x, y)`'s width is the stage's width ([`WidthStream::width_with`], the span's
+//!   spread in quadrature) of the gradient `(f(x + 1, y) - f(x, y), f(x, y) - f(x, y - 1))`,
+//!   the differences wrapping in 16.16 (exact while the true difference is below 2^15). A
+//!   span's last pixel takes its left neighbour's horizontal difference (a span of one pixel:
+//!   0). The colour is then the stage's colour at that width (tested against `ColorStage::shade`
+//!   pixel by pixel); with `Antialias::Ramp` and the L2 norm, the ramp's level comes from the
+//!   squared differences without a root ([`crate::filter::ramp::Ramp565::shade_differences_l2`]).
+//! - Memory: the caller's [`DifferenceMemory`] of `W` pixels holds the values of two rows
+//!   (`8 W` bytes); nothing else is kept. A row or span longer than `W` pixels, or a plane wider
+//!   than `W`, is refused when the rows or spans are made.
+//! - [`DifferenceRows`] evaluates each row once, and the row above the first once more.
+//!   [`DifferenceSpans`] reuses the row above when it holds the span's pixels (spans shaded row
+//!   by row, left to right, as a display is drawn); any other order is served by evaluating the
+//!   row above the span once more (the same colours, at twice the cost).
+//! - Deterministic integer arithmetic: the same colours on the host and on every device.
+
+use super::{log2, Texture, TextureEvaluator, TextureRows, TextureSpans};
+use crate::color::{Rgb565, Rgba8888};
+use crate::filter::{Antialias, ColorStage, GradientNorm, WidthStream};
+use crate::format::TexValue;
+use crate::span::{PlaneSetup, RowCache, Span};
+
+/// The memory of the rows shaded with widths from differences: the values of two rows of up to
+/// `W` pixels (the row above and the row being shaded), `8 W` bytes, and which pixels of which
+/// rows they hold.
+#[derive(Clone, Debug)]
+pub struct DifferenceMemory<const W: usize> {
+    rows: [[TexValue; W]; 2],
+    held: [Held; 2],
+}
+
+/// The pixels `lo..hi` of row `row` held by one row of a [`DifferenceMemory`] (`row` `None`:
+/// nothing).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+struct Held {
+    row: Option<u16>,
+    lo: u16,
+    hi: u16,
+}
+
+impl Held {
+    /// Whether pixels `x..x + len` of row `y` are held.
+    fn covers(&self, y: u16, x: u16, len: u16) -> bool {
+        self.row == Some(y) && self.lo <= x && u32::from(x) + u32::from(len) <= u32::from(self.hi)
+    }
+}
+
+impl<const W: usize> DifferenceMemory<W> {
+    /// An empty memory.
+    pub const fn new() -> Self {
+        DifferenceMemory {
+            rows: [[TexValue::ZERO; W]; 2],
+            held: [Held {
+                row: None,
+                lo: 0,
+                hi: 0,
+            }; 2],
+        }
+    }
+
+    /// Bytes held (`8 W` and the two rows' descriptions).
+    pub const fn bytes() -> usize {
+        core::mem::size_of::<Self>()
+    }
+
+    /// Forgets what is held.
+    fn clear(&mut self) {
+        self.held = [Held::default(); 2];
+    }
+
+    /// Records that memory row `k` now holds pixels `x..x + len` of row `y` as well: the pixels
+    /// held grow when they continue them, and are replaced otherwise.
+    fn hold(&mut self, k: usize, y: u16, x: u16, len: u16) {
+        if let Some(h) = self.held.get_mut(k) {
+            if h.row == Some(y) && h.hi == x {
+                h.hi = x + len;
+            } else {
+                *h = Held {
+                    row: Some(y),
+                    lo: x,
+                    hi: x + len,
+                };
+            }
+        }
+    }
+}
+
+impl<const W: usize> Default for DifferenceMemory<W> {
+    fn default() -> Self {
+        Self::new()
+    }
+}
+
+/// The values `f` of a span with their differences `(f, dx, dy)` (16 fraction bits): `dx` to
+/// the right neighbour (the last pixel's, its left neighbour's; 0 for one pixel), `dy` from the
+/// pixel above (`above`, the same pixels one row up). Stops at the shorter slice.
+#[inline(always)]
+fn differences<'a>(
+    f: &'a [TexValue],
+    above: &'a [TexValue],
+) -> impl Iterator<Item = (TexValue, i32, i32)> + 'a {
+    let mut dx = 0i32;
+    let right = f.iter().skip(1).map(Some).chain(core::iter::once(None));
+    f.iter().zip(right).zip(above).map(move |((&v, r), &a)| {
+        if let Some(&r) = r {
+            dx = r.to_bits().wrapping_sub(v.to_bits());
+        }
+        (v, dx, v.to_bits().wrapping_sub(a.to_bits()))
+    })
+}
+
+/// A difference of 16 fraction bits as a gradient of 48.
+#[inline(always)]
+fn gradient48(d: i32) -> i64 {
+    i64::from(d) << 32
+}
+
+/// The colours of values `f` under `above` with widths from their differences (see the module
+/// documentation), straight to RGB565.
+#[inline(always)]
+fn shade565_span<const N: usize, F: FnMut(Rgb565)>(
+    stage: &ColorStage<N>,
+    norm: GradientNorm,
+    f: &[TexValue],
+    above: &[TexValue],
+    extra48: i64,
+    mut emit: F,
+) {
+    if stage.antialias() == Antialias::None {
+        for &v in f {
+            emit(stage.shade_unfiltered(v).to_rgb565());
+        }
+        return;
+    }
+    #[cfg(feature = "ramp")]
+    if let (Some((_, r)), GradientNorm::L2, true) = (stage.ramp(), norm, log2(N) <= 15) {
+        r.shade_differences_l2(f, above, extra48, emit);
+        return;
+    }
+    let mut widths = WidthStream::new(norm, log2(N));
+    for (v, dx, dy) in differences(f, above) {
+        let w = widths.width_with(gradient48(dx), gradient48(dy), extra48);
+        emit(stage.shade565(v, w));
+    }
+}
+
+/// [`shade565_span`] in full colour.
+#[inline(always)]
+fn shade_span<const N: usize, F: FnMut(Rgba8888)>(
+    stage: &ColorStage<N>,
+    norm: GradientNorm,
+    f: &[TexValue],
+    above: &[TexValue],
+    extra48: i64,
+    mut emit: F,
+) {
+    if stage.antialias() == Antialias::None {
+        for &v in f {
+            emit(stage.shade_unfiltered(v));
+        }
+        return;
+    }
+    let mut widths = WidthStream::new(norm, log2(N));
+    for (v, dx, dy) in differences(f, above) {
+        let w = widths.width_with(gradient48(dx), gradient48(dy), extra48);
+        emit(stage.shade(v, w));
+    }
+}
+
+/// The rows of a plane shaded with widths from differences: made by
+/// [`TextureEvaluator::difference_rows`] (see the module documentation).
+#[derive(Debug)]
+pub struct DifferenceRows<'e, 't, 'c, const T: usize, const N: usize, const W: usize> {
+    tex: &'t Texture<T, N>,
+    rows: TextureRows<'e, 't, 'c, T, N>,
+    mem: &'c mut DifferenceMemory<W>,
+    /// The memory's row holding the row above the next one (`None` before the first row).
+    above: Option<usize>,
+}
+
+impl<'t, const T: usize, const N: usize> TextureEvaluator<'t, T, N> {
+    /// The rows of a plane from `first` (each next row's span is the last one's with `s0`
+    /// advanced by `dsdy`), shaded with filter widths from the differences of neighbouring
+    /// values ([`DifferenceRows`]), the values through `cache` (the span evaluator's row
+    /// schedule, as [`TextureEvaluator::rows`]) and kept in `mem`. `None` when the rows are
+    /// longer than `W` pixels.
+    pub fn difference_rows<'e, 'c, const R: usize, const V: usize, const W: usize>(
+        &'e mut self,
+        first: &Span,
+        cache: &'c mut RowCache<R, V>,
+        mem: &'c mut DifferenceMemory<W>,
+    ) -> Option<DifferenceRows<'e, 't, 'c, T, N, W>> {
+        if usize::from(first.len) > W {
+            return None;
+        }
+        mem.clear();
+        let tex = self.tex;
+        Some(DifferenceRows {
+            tex,
+            rows: self.rows(&first.prev_row(), cache),
+            mem,
+            above: None,
+        })
+    }
+}
+
+impl<const T: usize, const N: usize, const W: usize> DifferenceRows<'_, '_, '_, T, N, W> {
+    /// The span of the next row.
+    pub fn span(&self) -> Span {
+        match self.above {
+            Some(_) => *self.rows.span(),
+            None => self.rows.span().next_row(),
+        }
+    }
+
+    /// Evaluates the next row's values (and, first, the row above it) into the memory: the
+    /// row's values, the row above's and the row's spread.
+    fn next_values(&mut self) -> (&[TexValue], &[TexValue], i64) {
+        let n = usize::from(self.rows.span().len).min(W);
+        let above = match self.above {
+            Some(a) => a,
+            None => {
+                if let Some(row) = self.mem.rows.get_mut(1) {
+                    self.rows.next_values(row.get_mut(..n).unwrap_or(&mut []));
+                }
+                1
+            }
+        };
+        let [r0, r1] = &mut self.mem.rows;
+        let (up, cur) = if above == 0 { (r0, r1) } else { (r1, r0) };
+        let extra = self.rows.next_values(cur.get_mut(..n).unwrap_or(&mut []));
+        self.above = Some(1 - above);
+        (
+            cur.get(..n).unwrap_or(&[]),
+            up.get(..n).unwrap_or(&[]),
+            extra,
+        )
+    }
+
+    /// Shades the next row, calling `emit` with each pixel's colour in order (see the module
+    /// documentation), and moves to the row after it.
+    pub fn next_shade<F: FnMut(Rgba8888)>(&mut self, emit: F) {
+        let tex = self.tex;
+        let n = u64::from(self.rows.span().len);
+        self.rows.count(tex.stage.antialias() != Antialias::None, n);
+        let (f, above, extra) = self.next_values();
+        shade_span(&tex.stage, tex.norm, f, above, extra, emit);
+    }
+
+    /// [`DifferenceRows::next_shade`] straight to RGB565: its colours reduced to RGB565, bit for
+    /// bit; with `Antialias::Ramp` (feature `ramp`) and the L2 norm, one ramp read a pixel.
+    pub fn next_shade565<F: FnMut(Rgb565)>(&mut self, emit: F) {
+        let tex = self.tex;
+        let n = u64::from(self.rows.span().len);
+        self.rows.count(tex.stage.antialias() != Antialias::None, n);
+        let (f, above, extra) = self.next_values();
+        shade565_span(&tex.stage, tex.norm, f, above, extra, emit);
+    }
+}
+
+/// The spans of one plane shaded with widths from differences, from its rows' cell schedule:
+/// made by [`TextureEvaluator::difference_spans`] (see the module documentation).
+#[derive(Debug)]
+pub struct DifferenceSpans<'e, 't, 'c, const T: usize, const N: usize, const W: usize> {
+    tex: &'t Texture<T, N>,
+    spans: TextureSpans<'e, 't, 'c, T, N>,
+    mem: &'c mut DifferenceMemory<W>,
+}
+
+impl<'t, const T: usize, const N: usize> TextureEvaluator<'t, T, N> {
+    /// The spans of `plane` (made by [`TextureEvaluator::plane_setup`]) shaded with filter
+    /// widths from the differences of neighbouring values ([`DifferenceSpans`]), the values
+    /// from the plane's rows' cell schedule in `cache` (as [`TextureEvaluator::plane_spans`])
+    /// and kept in `mem`. `None` when the plane is wider than `W` pixels.
+    pub fn difference_spans<'e, 'c, const R: usize, const V: usize, const W: usize>(
+        &'e mut self,
+        plane: &'c PlaneSetup<'t, T>,
+        cache: &'c mut RowCache<R, V>,
+        mem: &'c mut DifferenceMemory<W>,
+    ) -> Option<DifferenceSpans<'e, 't, 'c, T, N, W>> {
+        if usize::from(plane.plane().width()) > W {
+            return None;
+        }
+        mem.clear();
+        let tex = self.tex;
+        Some(DifferenceSpans {
+            tex,
+            spans: self.plane_spans(plane, cache),
+            mem,
+        })
+    }
+}
+
+impl<const T: usize, const N: usize, const W: usize> DifferenceSpans<'_, '_, '_, T, N, W> {
+    /// Evaluates the values of the span of `len` pixels at `(x, y)` (and of the pixels above it
+    /// when the memory does not hold them) into the memory: the span's values, those above and
+    /// the span's spread. `None` when the span is not inside the plane's rectangle.
+    fn values(&mut self, x: u16, y: u16, len: u16) -> Option<(&[TexValue], &[TexValue], i64)> {
+        // Inside the rectangle: `x + len <= width <= W`.
+        let span = self.spans.span_plane().span(x, y, len)?;
+        let (lo, hi) = (usize::from(x), usize::from(x) + usize::from(len));
+        let held = self.mem.held;
+        let covered = |k: usize| y.checked_sub(1).is_some_and(|u| held[k].covers(u, x, len));
+        // The memory row holding the pixels above (or the one to take them): not the one
+        // holding the span's row so far.
+        let up = if covered(0) {
+            0
+        } else if covered(1) || held[0].row == Some(y) {
+            1
+        } else {
+            0
+        };
+        if !covered(up) {
+            let row = self.mem.rows.get_mut(up)?.get_mut(lo..hi)?;
+            match y.checked_sub(1) {
+                Some(u) => {
+                    self.spans.values(x, u, row);
+                    self.mem.hold(up, u, x, len);
+                }
+                // Above the plane's first row: its span one row up, not kept.
+                None => {
+                    self.spans.span_values(&span.prev_row(), row);
+                    self.mem.held[up] = Held::default();
+                }
+            }
+        }
+        let cur = 1 - up;
+        let extra = self
+            .spans
+            .values(x, y, self.mem.rows.get_mut(cur)?.get_mut(lo..hi)?);
+        self.mem.hold(cur, y, x, len);
+        let [r0, r1] = &self.mem.rows;
+        let (u, c) = if up == 0 { (r0, r1) } else { (r1, r0) };
+        Some((c.get(lo..hi)?, u.get(lo..hi)?, extra))
+    }
+
+    /// Shades the span of `len` pixels at `(x, y)` of the plane, calling `emit` with each
+    /// pixel's colour in order (see the module documentation). Nothing is shaded when the span
+    /// is not inside the plane's rectangle.
+    pub fn shade<F: FnMut(Rgba8888)>(&mut self, x: u16, y: u16, len: u16, emit: F) {
+        let tex = self.tex;
+        if let Some((f, above, extra)) = self.values(x, y, len) {
+            shade_span(&tex.stage, tex.norm, f, above, extra, emit);
+            self.spans
+                .count(tex.stage.antialias() != Antialias::None, len);
+        }
+    }
+
+    /// [`DifferenceSpans::shade`] straight to RGB565: its colours reduced to RGB565, bit for
+    /// bit; with `Antialias::Ramp` (feature `ramp`) and the L2 norm, one ramp read a pixel.
+    pub fn shade565<F: FnMut(Rgb565)>(&mut self, x: u16, y: u16, len: u16, emit: F) {
+        let tex = self.tex;
+        if let Some((f, above, extra)) = self.values(x, y, len) {
+            shade565_span(&tex.stage, tex.norm, f, above, extra, emit);
+            self.spans
+                .count(tex.stage.antialias() != Antialias::None, len);
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    extern crate std;
+    use std::vec::Vec;
+
+    use super::*;
+    use crate::filter::{ColorStage, GradientNorm};
+    use crate::format::TexPoint;
+    use crate::hash::HashKind;
+    use crate::span::{EvalMode, SpanEvaluator, SpanPlane};
+    use crate::table::{ColorTable, TableLookup, TableWrap};
+    use crate::texture::workload::marble_model;
+    use crate::texture::Shader;
+
+    /// The filters compiled in, the ramp included.
+    fn filters() -> impl Iterator<Item = Antialias> {
+        super::super::tests::filters().chain(
+            #[cfg(feature = "ramp")]
+            [Antialias::Ramp],
+            #[cfg(not(feature = "ramp"))]
+            [],
+        )
+    }
+
+    /// Textures of the marble model (and, with `perturb`, a perturbed material) with every
+    /// filter, wrap and norm.
+    fn textures() -> Vec<Texture<8, 256>> {
+        let mut out = Vec::new();
+        let table = ColorTable::<256>::zebra().unwrap();
+        for aa in filters() {
+            for wrap in [TableWrap::Mod, TableWrap::Clamp] {
+                for norm in [GradientNorm::L2, GradientNorm::L1] {
+                    let stage = ColorStage::new(table, wrap, TableLookup::Nearest, aa).unwrap();
+                    let model = marble_model(HashKind::Integer);
+                    out.push(Texture::new(
+                        Shader::Model(model),
+                        stage.clone(),
+                        norm,
+                        EvalMode::Auto,
+                    ));
+                    #[cfg(feature = "perturb")]
+                    {
+                        let p = crate::presets::mn_marble(HashKind::Integer);
+                        let m = crate::material::PerturbedMaterial::<8>::new(&p, wrap).unwrap();
+                        out.push(Texture::new(
+                            Shader::Perturbed(m),
+                            stage,
+                            norm,
+                            EvalMode::Auto,
+                        ));
+                    }
+                }
+            }
+        }
+        out
+    }
+
+    /// The planes of the tests: `(origin, ds, dsdy)`. The marble's own scale; a plane zoomed
+    /// out 40 times with culling (a spread, and differences past 2^15); negative and huge
+    /// coordinates; a rotated one.
+    fn planes() -> [(TexPoint, TexPoint, TexPoint); 4] {
+        [
+            (
+                TexPoint::from_f64(0.0, 0.5, 0.0),
+                TexPoint::from_f64(1.0 / 128.0, 0.0, 0.0),
+                TexPoint::from_f64(0.0, 0.0, 1.0 / 128.0),
+            ),
+            (
+                TexPoint::from_f64(-3.0, 0.25, 1.0),
+                TexPoint::from_f64(0.3, 0.0, 0.0),
+                TexPoint::from_f64(0.0, 0.0, 0.31),
+            ),
+            (
+                TexPoint::from_f64(-30000.0, 20000.5, -1.0),
+                TexPoint::from_f64(0.02, 0.0, 0.0),
+                TexPoint::from_f64(0.0, -0.03, 0.0),
+            ),
+            (
+                TexPoint::from_f64(0.3, -0.2, 0.9),
+                TexPoint::from_f64(0.004, 0.001, -0.002),
+                TexPoint::from_f64(0.0, 0.004, 0.001),
+            ),
+        ]
+    }
+
+    /// The values of `span` and its spread, evaluated directly (any shader).
+    fn values<const N: usize>(tex: &Texture<8, N>, span: &Span) -> (Vec<TexValue>, i64) {
+        let mut out = Vec::new();
+        let opts = EvalOptions {
+            mode: EvalMode::Direct,
+            ..tex.options()
+        };
+        let extra = match tex.shader() {
+            Shader::Model(m) => {
+                out.resize(usize::from(span.len), TexValue::ZERO);
+                SpanEvaluator::new(m, opts)
+                    .eval_values(span, &mut out)
+                    .extra_width48
+            }
+            #[cfg(feature = "perturb")]
+            Shader::Perturbed(p) => {
+                let mut e = crate::material::MaterialEvaluator::new(p, opts);
+                e.eval(span, |s| out.push(s.f)).extra_width48
+            }
+        };
+        (out, extra)
+    }
+
+    use crate::span::EvalOptions;
+
+    /// The reference colours of `span`: the differences to the right neighbour (the last
+    /// pixel's, its left neighbour's) and to the pixel above, as gradients of the stage's width.
+    fn reference<const N: usize>(tex: &Texture<8, N>, span: &Span) -> Vec<Rgba8888> {
+        let (f, extra) = values(tex, span);
+        let (up, _) = values(tex, &span.prev_row());
+        let stage = tex.stage();
+        let mut widths = WidthStream::new(tex.norm(), log2(N));
+        let n = f.len();
+        (0..n)
+            .map(|i| {
+                let dx = if n < 2 {
+                    0
+                } else if i + 1 < n {
+                    f[i + 1].to_bits().wrapping_sub(f[i].to_bits())
+                } else {
+                    f[i].to_bits().wrapping_sub(f[i - 1].to_bits())
+                };
+                let dy = f[i].to_bits().wrapping_sub(up[i].to_bits());
+                let g = |d: i32| i64::from(d) << 32;
+                stage.shade(f[i], widths.width_with(g(dx), g(dy), extra))
+            })
+            .collect()
+    }
+
+    fn first_span((o, ds, dsdy): (TexPoint, TexPoint, TexPoint), len: u16) -> Span {
+        Span {
+            s0: o,
+            ds,
+            dsdy,
+            len,
+        }
+    }
+
+    #[test]
+    fn rows_are_the_differences_of_direct_values() {
+        for tex in textures() {
+            for (k, p) in planes().into_iter().enumerate() {
+                let tex = &tex.clone().with_culling(k == 1);
+                for len in [1u16, 2, 37, 64] {
+                    let first = first_span(p, len);
+                    let mut cache = RowCache::<64>::new();
+                    let mut mem = DifferenceMemory::<64>::new();
+                    let mut ev = tex.evaluator();
+                    let mut rows = ev.difference_rows(&first, &mut cache, &mut mem).unwrap();
+                    let mut span = first;
+                    for _ in 0..4 {
+                        assert_eq!(rows.span(), span);
+                        let want = reference(tex, &span);
+                        let mut got = Vec::new();
+                        rows.next_shade(|c| got.push(c));
+                        assert_eq!(got, want, "{:?} plane {k} len {len}", tex.stage());
+                        span = span.next_row();
+                    }
+                    // RGB565: the same colours reduced.
+                    let mut ev = tex.evaluator();
+                    let mut rows = ev.difference_rows(&first, &mut cache, &mut mem).unwrap();
+                    let mut span = first;
+                    for _ in 0..4 {
+                        let want: Vec<_> = reference(tex, &span)
+                            .iter()
+                            .map(|c| c.to_rgb565())
+                            .collect();
+                        let mut got = Vec::new();
+                        rows.next_shade565(|c| got.push(c));
+                        assert_eq!(got, want, "{:?} plane {k} len {len}", tex.stage());
+                        span = span.next_row();
+                    }
+                }
+            }
+        }
+    }
+
+    /// The plane of `p` over `w` x `h` pixels.
+    fn plane(p: (TexPoint, TexPoint, TexPoint), w: u16, h: u16) -> SpanPlane {
+        SpanPlane::new(p.0, p.1, p.2, w, h).unwrap()
+    }
+
+    #[test]
+    fn spans_in_any_order_are_the_rows() {
+        for tex in textures() {
+            for (k, p) in planes().into_iter().enumerate() {
+                let tex = &tex.clone().with_culling(k == 1);
+                let (w, h) = (48u16, 5u16);
+                let sp = plane(p, w, h);
+                // The rows, shaded whole.
+                let mut want = Vec::new();
+                let mut cache = RowCache::<64>::new();
+                let mut mem = DifferenceMemory::<64>::new();
+                let mut ev = tex.evaluator();
+                let first = sp.span(0, 0, w).unwrap();
+                let mut rows = ev.difference_rows(&first, &mut cache, &mut mem).unwrap();
+                for _ in 0..h {
+                    let mut row = Vec::new();
+                    rows.next_shade565(|c| row.push(c));
+                    // A span's last pixel takes its left neighbour's difference: the spans
+                    // below end at 16, 32 and 48.
+                    want.push(row);
+                }
+                let Some(setup) = ev.plane_setup(&sp) else {
+                    continue;
+                };
+                // Spans of 16 row by row, then of uneven lengths, then column by column and in
+                // a scrambled order.
+                let orders: [Vec<(u16, u16, u16)>; 3] = [
+                    (0..h)
+                        .flat_map(|y| (0..w).step_by(16).map(move |x| (x, y, 16)))
+                        .collect(),
+                    (0..w)
+                        .step_by(16)
+                        .flat_map(|x| (0..h).map(move |y| (x, y, 16)))
+                        .collect(),
+                    [(32, 3), (0, 0), (16, 4), (0, 2), (32, 0), (16, 1), (0, 1)]
+                        .into_iter()
+                        .map(|(x, y)| (x, y, 16))
+                        .collect(),
+                ];
+                for order in &orders {
+                    let mut cache = RowCache::<64>::new();
+                    let mut mem = DifferenceMemory::<64>::new();
+                    let mut ev = tex.evaluator();
+                    let mut spans = ev.difference_spans(&setup, &mut cache, &mut mem).unwrap();
+                    for &(x, y, len) in order {
+                        let mut got = Vec::new();
+                        spans.shade565(x, y, len, |c| got.push(c));
+                        let span = sp.span(x, y, len).unwrap();
+                        let r: Vec<_> = reference(tex, &span)
+                            .iter()
+                            .map(|c| c.to_rgb565())
+                            .collect();
+                        assert_eq!(got, r, "{:?} plane {k} at {x}, {y}", tex.stage());
+                        // Pixels but a span's last are the whole row's.
+                        let row = &want[usize::from(y)];
+                        let (x0, x1) = (usize::from(x), usize::from(x + len));
+                        assert_eq!(got[..got.len() - 1], row[x0..x1 - 1]);
+                        let mut full = Vec::new();
+                        spans.shade(x, y, len, |c| full.push(c));
+                        assert_eq!(full, reference(tex, &span));
+                    }
+                }
+            }
+        }
+    }
+
+    #[test]
+    fn too_long_rows_and_wide_planes_are_refused() {
+        let tex = &textures()[0];
+        let p = planes()[0];
+        let mut cache = RowCache::<64>::new();
+        let mut mem = DifferenceMemory::<32>::new();
+        let mut ev = tex.evaluator();
+        assert!(ev
+            .difference_rows(&first_span(p, 33), &mut cache, &mut mem)
+            .is_none());
+        assert!(ev
+            .difference_rows(&first_span(p, 32), &mut cache, &mut mem)
+            .is_some());
+        let setup = ev.plane_setup(&plane(p, 33, 4)).unwrap();
+        assert!(ev.difference_spans(&setup, &mut cache, &mut mem).is_none());
+        let setup = ev.plane_setup(&plane(p, 32, 4)).unwrap();
+        let mut spans = ev.difference_spans(&setup, &mut cache, &mut mem).unwrap();
+        // Outside the rectangle: nothing.
+        let mut n = 0;
+        spans.shade565(20, 0, 13, |_| n += 1);
+        spans.shade(0, 4, 1, |_| n += 1);
+        assert_eq!(n, 0);
+        spans.shade(20, 3, 12, |_| n += 1);
+        assert_eq!(n, 12);
+        assert_eq!(DifferenceMemory::<32>::bytes(), 8 * 32 + 16);
+    }
+
+    #[test]
+    fn counters_count_each_pixel_once_and_each_evaluation() {
+        for tex in textures() {
+            let first = first_span(planes()[0], 40);
+            let mut cache = RowCache::<64>::new();
+            let mut mem = DifferenceMemory::<64>::new();
+            let mut ev = tex.evaluator();
+            let mut rows = ev.difference_rows(&first, &mut cache, &mut mem).unwrap();
+            for _ in 0..3 {
+                rows.next_shade565(|_| {});
+            }
+            drop(rows);
+            let s = ev.stats();
+            let filtered = tex.stage().antialias() != Antialias::None;
+            assert_eq!(s.filter_lookups, if filtered { 120 } else { 0 });
+            assert_eq!(s.plain_lookups, if filtered { 0 } else { 120 });
+            // Four rows evaluated: the one above the first, and three.
+            assert_eq!(s.span.pixels, 160);
+        }
+    }
+}
