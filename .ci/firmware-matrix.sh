@@ -19,6 +19,7 @@ probe_sets=(
   "fd|fd|release-size"
   "csat|csat|release-size"
   "ramp|ramp|release-size"
+  "ramp-diff|ramp,differences|release-size"
   "mip|mip|release-size"
   "bases|smooth-fade,gradient-noise,mnoise,perm-hash|release-size"
   "eval|turbulence-fd,fd32,reanchor|release-size"

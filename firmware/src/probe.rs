@@ -7,7 +7,8 @@
 //! noise basis, every evaluation mode, every colour filter), shades a 64 x 64 check plane into a
 //! `ChecksumSink`, and with feature `render` also renders a scene through the banded renderer
 //! (perspective, depth test, alpha blending), and with feature `atlas` bakes and samples a small
-//! texture atlas (`texcore::atlas`, `texcore::packed_mesh`). It exits through semihosting with status 0, so it
+//! texture atlas (`texcore::atlas`, `texcore::packed_mesh`), and with feature `differences` shades
+//! the plane once more with the filter widths from differences (`texcore::texture::DifferenceSpans`). It exits through semihosting with status 0, so it
 //! also runs under QEMU (`firmware/qemu-run.sh`).
 //!
 //! Which texcore features are compiled in is the size report's feature set (`--no-default-features
@@ -323,6 +324,49 @@ mod probe {
         0
     }
 
+    /// With feature `differences`: the 64 x 64 check plane shaded once more with the filter
+    /// widths from the differences of neighbouring values (`texcore::texture::DifferenceSpans`,
+    /// the values of two rows in a `DifferenceMemory<64>` of 528 bytes on the stack), in
+    /// 16-pixel spans, straight to RGB565 with the ramp.
+    #[cfg(feature = "differences")]
+    fn differences(tex: &Texture<T, N>) -> u32 {
+        use texcore::span::{RowCache, SpanPlane};
+        use texcore::texture::DifferenceMemory;
+        let plane = SpanPlane::new(
+            TexPoint::from_bits(1024, 32768, 1024),
+            TexPoint::from_bits(2048, 0, 0),
+            TexPoint::from_bits(0, 0, 2048),
+            64,
+            64,
+        );
+        let mut ev = tex.evaluator();
+        let Some(setup) = plane.ok().and_then(|p| ev.plane_setup(&black_box(p))) else {
+            return 0;
+        };
+        let mut cache = RowCache::<128>::new();
+        let mut mem = DifferenceMemory::<64>::new();
+        let Some(mut spans) = ev.difference_spans(&setup, &mut cache, &mut mem) else {
+            return 0;
+        };
+        let mut sink = ChecksumSink::new();
+        for y in 0..64u16 {
+            for x0 in (0..64u16).step_by(16) {
+                #[cfg(feature = "ramp")]
+                spans.shade565(x0, y, black_box(16), |c| sink.add_rgb565(c.to_bits()));
+                #[cfg(not(feature = "ramp"))]
+                spans.shade(x0, y, black_box(16), |c| {
+                    sink.add_rgb565(c.to_rgb565().to_bits())
+                });
+            }
+        }
+        sink.checksum()
+    }
+
+    #[cfg(not(feature = "differences"))]
+    fn differences(_: &Texture<T, N>) -> u32 {
+        0
+    }
+
     pub fn run() -> u32 {
         let Some(tex) = texture() else {
             return 0;
@@ -331,6 +375,7 @@ mod probe {
         black_box(shade(tex))
             ^ black_box(render(tex))
             ^ black_box(atlas(tex))
+            ^ black_box(differences(tex))
             ^ black_box(TEXCORE_PROBE_SIZES[0])
     }
 }

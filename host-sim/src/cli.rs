@@ -8,7 +8,7 @@ use std::io::Write;
 use std::process::ExitCode;
 
 use clap::{Args, Parser, Subcommand, ValueEnum};
-use texcore::filter::{Antialias, GradientNorm};
+use texcore::filter::{Antialias, GradientNorm, WidthSource};
 use texcore::hash::HashKind;
 use texcore::span::EvalMode;
 use texcore::table::TableLookup;
@@ -151,6 +151,15 @@ pub enum AaArg {
     Ramp,
 }
 
+/// Where the filter widths come from (`--widths`).
+#[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
+pub enum WidthsArg {
+    /// The analytic gradients of the texture (exact).
+    Gradients,
+    /// The differences of neighbouring values (approximate, cheaper; check planes only).
+    Differences,
+}
+
 /// Gradient norm (`--norm`).
 #[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
 pub enum NormArg {
@@ -192,6 +201,9 @@ pub struct KnobArgs {
     /// Gradient norm of the filter width.
     #[arg(long, value_enum, default_value_t = NormArg::L2)]
     pub norm: NormArg,
+    /// Where the filter widths come from.
+    #[arg(long, value_enum, default_value_t = WidthsArg::Gradients)]
+    pub widths: WidthsArg,
     /// Colour-table look-up.
     #[arg(long, value_enum, default_value_t = LookupArg::Nearest)]
     pub lookup: LookupArg,
@@ -244,6 +256,10 @@ impl KnobArgs {
             cull: !self.no_cull,
             band_limit: texcore::bandlimit::BandLimit::DEFAULT,
             precision: texcore::model::Precision::NATIVE,
+            widths: match self.widths {
+                WidthsArg::Gradients => WidthSource::Gradients,
+                WidthsArg::Differences => WidthSource::Differences,
+            },
         }
     }
 

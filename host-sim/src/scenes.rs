@@ -74,6 +74,13 @@ pub(crate) fn render_n<const N: usize>(
     cfg: &UnitConfig,
     output: Output,
 ) -> Result<Rendered, UnitError> {
+    if cfg.widths == texcore::filter::WidthSource::Differences {
+        return Err(UnitError::Render(
+            "filter widths from differences (--widths differences) apply to check planes, not \
+             to scenes"
+                .into(),
+        ));
+    }
     let textures: Vec<Texture<{ texcore::presets::PRESET_TERMS }, N>> = materials
         .iter()
         .map(|m| unit::texture::<N>(m, cfg))

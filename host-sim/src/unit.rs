@@ -4,16 +4,16 @@
 
 use serde::Serialize;
 use texcore::bandlimit::BandLimit;
-use texcore::filter::{Antialias, GradientNorm};
+use texcore::filter::{Antialias, GradientNorm, WidthSource};
 use texcore::format::TexPoint;
 use texcore::hash::HashKind;
 use texcore::material::PerturbedParams;
 use texcore::model::{Precision, TextureModel};
 use texcore::presets::{self, CheckPlane, Key, PRESET_TERMS};
 use texcore::ready::{Material, MaterialError, TextureOptions};
-use texcore::span::{EvalMode, Span};
+use texcore::span::{EvalMode, RowCache, Span};
 use texcore::table::{ColorTable, KeySpacing, TableError, TableLookup, TableWrap};
-use texcore::texture::{ShadeStats, Shader, Texture};
+use texcore::texture::{DifferenceMemory, ShadeStats, Shader, Texture};
 
 use crate::bridge;
 use crate::metrics::{compare_to_reference, Metrics};
@@ -73,6 +73,11 @@ pub struct UnitConfig {
     /// Arithmetic precision of the noise terms (`docs/model.md` 3.2; default 16/16, native).
     #[serde(serialize_with = "ser_precision")]
     pub precision: Precision,
+    /// Where the filter widths come from: the analytic gradients (exact, the default) or the
+    /// differences of neighbouring values (approximate; check planes only,
+    /// `texcore::texture::DifferenceSpans`).
+    #[serde(serialize_with = "ser_display")]
+    pub widths: WidthSource,
 }
 
 fn ser_precision<S: serde::Serializer>(p: &Precision, s: S) -> Result<S::Ok, S::Error> {
@@ -105,6 +110,7 @@ impl Default for UnitConfig {
             cull: true,
             band_limit: BandLimit::DEFAULT,
             precision: Precision::NATIVE,
+            widths: WidthSource::Gradients,
         }
     }
 }
@@ -130,7 +136,21 @@ pub enum UnitError {
     /// The renderer refused the scene.
     #[error("render: {0}")]
     Render(String),
+    /// A plane too wide for the memory of the filter widths from differences.
+    #[error(
+        "filter widths from differences take planes up to {max} pixels wide, not {width} \
+         (use --widths gradients)"
+    )]
+    TooWide {
+        /// The plane's width.
+        width: u32,
+        /// The widest plane taken.
+        max: usize,
+    },
 }
+
+/// The widest plane [`render_plane`] shades with filter widths from differences.
+pub const DIFFERENCES_MAX_WIDTH: usize = 8192;
 
 /// The preset `name` as a material.
 pub fn preset_material(name: &str, hash: HashKind) -> Result<MaterialSpec, UnitError> {
@@ -263,14 +283,58 @@ fn render_plane_n<const N: usize>(
     // A model's spans through the plane's set-up (the device's path, `workloads::planes`; the
     // same colours as each span set up on its own).
     let setup = workloads::planes::span_plane(plane, size).and_then(|p| ev.plane_setup(&p));
-    for y in 0..size {
-        for x0 in (0..size).step_by(PLANE_SEGMENT as usize) {
-            let len = PLANE_SEGMENT.min(size - x0);
-            let emit = |c: texcore::color::Rgba8888| pixels.push(c.to_array());
-            match &setup {
-                // size <= u16::MAX (`workloads::planes::span_plane`).
-                Some(s) => ev.shade_plane(s, x0 as u16, y as u16, len as u16, emit),
-                None => ev.shade(&plane_span(plane, x0, y, len), emit),
+    if cfg.widths == WidthSource::Differences {
+        if size as usize > DIFFERENCES_MAX_WIDTH {
+            return Err(UnitError::TooWide {
+                width: size,
+                max: DIFFERENCES_MAX_WIDTH,
+            });
+        }
+        let mut mem = Box::new(DifferenceMemory::<DIFFERENCES_MAX_WIDTH>::new());
+        let mut cache = RowCache::<{ texcore::texture::workload::peers::ROW_EVENTS }>::new();
+        let emit = |c: texcore::color::Rgba8888| pixels.push(c.to_array());
+        match &setup {
+            // The spans of the plane, as the device's accuracy jobs shade them.
+            Some(s) => {
+                let Some(mut spans) = ev.difference_spans(s, &mut cache, &mut mem) else {
+                    return Err(UnitError::TooWide {
+                        width: size,
+                        max: DIFFERENCES_MAX_WIDTH,
+                    });
+                };
+                let mut emit = emit;
+                for y in 0..size {
+                    for x0 in (0..size).step_by(PLANE_SEGMENT as usize) {
+                        let len = PLANE_SEGMENT.min(size - x0);
+                        spans.shade(x0 as u16, y as u16, len as u16, &mut emit);
+                    }
+                }
+            }
+            // A perturbed material (no plane set-up): whole rows.
+            None => {
+                let first = plane_span(plane, 0, 0, size);
+                let Some(mut rows) = ev.difference_rows(&first, &mut cache, &mut mem) else {
+                    return Err(UnitError::TooWide {
+                        width: size,
+                        max: DIFFERENCES_MAX_WIDTH,
+                    });
+                };
+                let mut emit = emit;
+                for _ in 0..size {
+                    rows.next_shade(&mut emit);
+                }
+            }
+        }
+    } else {
+        for y in 0..size {
+            for x0 in (0..size).step_by(PLANE_SEGMENT as usize) {
+                let len = PLANE_SEGMENT.min(size - x0);
+                let emit = |c: texcore::color::Rgba8888| pixels.push(c.to_array());
+                match &setup {
+                    // size <= u16::MAX (`workloads::planes::span_plane`).
+                    Some(s) => ev.shade_plane(s, x0 as u16, y as u16, len as u16, emit),
+                    None => ev.shade(&plane_span(plane, x0, y, len), emit),
+                }
             }
         }
     }

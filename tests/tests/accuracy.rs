@@ -18,7 +18,7 @@ use host_sim::unit::{self, UnitConfig};
 use texcore::hash::HashKind;
 use texcore::model::Precision;
 
-const KNOBS: [&str; 14] = [
+const KNOBS: [&str; 15] = [
     "coordinate_bits",
     "value_bits",
     "interpolation",
@@ -31,6 +31,7 @@ const KNOBS: [&str; 14] = [
     "basis",
     "hash",
     "band_limit",
+    "filter_widths",
     "shading",
     "gradient_blend",
 ];

@@ -538,3 +538,29 @@ fn lit_scene_file_renders_and_bad_lights_exit_2() {
     assert!(!fresh.exists());
     let _ = std::fs::remove_dir_all(&dir);
 }
+
+/// `--widths differences`: a preset's check plane keeps nearly the accuracy of the gradients
+/// (the marble plane within 1 dB of them, against the same reference: other widths), a perturbed
+/// material's plane renders too, and a scene (which it does not apply to) exits 2 with a
+/// message naming the option and writes nothing.
+#[test]
+fn filter_widths_from_differences_on_check_planes_only() {
+    let psnr = |args: &[&str]| -> f64 {
+        let r = texsim(args);
+        ok(&r, &args.join(" "));
+        let v: serde_json::Value = serde_json::from_str(r.stdout.trim()).unwrap();
+        v["psnr"].as_f64().unwrap()
+    };
+    let grads = psnr(&["check", "marble", "--json"]);
+    let diffs = psnr(&["check", "marble", "--json", "--widths", "differences"]);
+    assert!((grads - diffs).abs() < 1.0, "{grads} {diffs}");
+    assert_ne!(grads, diffs);
+    let perturbed = psnr(&["check", "mn-marble", "--json", "--widths", "differences"]);
+    assert!(perturbed > 40.0, "{perturbed}");
+    let dir = tmp("widths");
+    let out = dir.join("fire.png");
+    let r = texsim(&["render", "fire", "--widths", "differences", "-o", s(&out)]);
+    assert_eq!(r.status, 2, "{}", r.stderr);
+    assert!(r.stderr.contains("--widths differences"), "{}", r.stderr);
+    assert!(!out.exists());
+}

@@ -59,8 +59,15 @@ const BOUNDS: &[(&str, &str, f64, f64)] = &[
     ("perlin-4oct", "texcore-direct", 3521.0, 4274.0), // 3200.5 / 3885.4
     ("perlin-1oct", "texcore-fused", 32.0, 45.0), // 28.3 / 40.6
     ("perlin-4oct", "texcore-fused", 298.0, 365.0), // 271.1 / 331.0
-    ("marble-csat-rgb565", "texcore-ramp", 256.0, 320.0), // 230.2 / 289.6
-    ("marble-csat-rgb565-span16", "texcore-ramp", 312.0, 374.0), // 281.5 / 338.3
+    ("marble-csat-rgb565", "texcore-ramp", 256.0, 305.0), // 231.0 / 276.6
+    ("marble-csat-rgb565-span16", "texcore-ramp", 312.0, 359.0), // 282.7 / 325.6
+    ("marble-csat-rgb565", "texcore-ramp-diff", 203.0, 246.0), // 184.0 / 223.1
+    (
+        "marble-csat-rgb565-span16",
+        "texcore-ramp-diff",
+        263.0,
+        312.0,
+    ), // 238.5 / 283.0
 ];
 
 fn bound(workload: &str, implementation: &str, target: DeviceTarget) -> Option<f64> {

@@ -8,7 +8,7 @@
 
 use core::fmt;
 
-use crate::filter::{Antialias, GradientNorm};
+use crate::filter::{Antialias, GradientNorm, WidthSource};
 use crate::noise::{BasisKind, Fade};
 use crate::raster::Perspective;
 use crate::span::EvalMode;
@@ -37,6 +37,7 @@ display_names! {
         Ramp => "ramp",
     }
     GradientNorm { L1 => "l1", L2 => "l2", Max => "max" }
+    WidthSource { Gradients => "gradients", Differences => "differences" }
     Fade {
         Linear => "linear",
         #[cfg(feature = "smooth-fade")]
@@ -109,6 +110,10 @@ mod tests {
         assert_eq!(
             all(&[&GradientNorm::L1, &GradientNorm::L2, &GradientNorm::Max]),
             ["l1", "l2", "max"]
+        );
+        assert_eq!(
+            all(&[&WidthSource::Gradients, &WidthSource::Differences]),
+            ["gradients", "differences"]
         );
         for p in [
             Perspective::Exact,

@@ -31,7 +31,7 @@
 
 use texcore::bandlimit::{BandLimit, FadeWeight, FADED_PART, FADE_FLOOR};
 use texcore::color::Rgba8888;
-use texcore::filter::{Antialias, ColorStage, GradientNorm};
+use texcore::filter::{Antialias, ColorStage, GradientNorm, WidthSource};
 use texcore::format::{Amplitude, QuadricCoeff, TexPoint, TexValue};
 use texcore::hash::HashKind;
 use texcore::model::{Octaves, Precision, TextureModel};
@@ -95,11 +95,14 @@ pub enum Knob {
     Hash,
     /// Band-limiting of the octaves past the Nyquist limit (the seascape's horizon).
     BandLimit,
+    /// Where the filter widths come from: the analytic gradients or the differences of
+    /// neighbouring values.
+    FilterWidths,
 }
 
 impl Knob {
     /// Every knob, in report order.
-    pub const ALL: [Knob; 12] = [
+    pub const ALL: [Knob; 13] = [
         Knob::CoordinateBits,
         Knob::ValueBits,
         Knob::Interpolation,
@@ -112,6 +115,7 @@ impl Knob {
         Knob::Basis,
         Knob::Hash,
         Knob::BandLimit,
+        Knob::FilterWidths,
     ];
 
     /// The knob's name in the report's JSON.
@@ -129,6 +133,7 @@ impl Knob {
             Knob::Basis => "basis",
             Knob::Hash => "hash",
             Knob::BandLimit => "band_limit",
+            Knob::FilterWidths => "filter_widths",
         }
     }
 }
@@ -239,6 +244,9 @@ pub struct Config {
     pub band_limit: BandLimit,
     /// `Some`: a scene job (the perspective rows) with every object in this mode.
     pub perspective: Option<Perspective>,
+    /// Where the filter widths come from (the plane jobs; differences through
+    /// `texcore::texture::DifferenceSpans`).
+    pub widths: WidthSource,
 }
 
 /// The documented baseline.
@@ -257,6 +265,7 @@ pub const BASELINE: Config = Config {
     cull: true,
     band_limit: BandLimit::DEFAULT,
     perspective: None,
+    widths: WidthSource::Gradients,
 };
 
 /// A band-limiting setting of the table below (the defaults where one is out of range, which a
@@ -318,7 +327,7 @@ macro_rules! combo {
 const B: Config = BASELINE;
 
 /// Number of rows.
-pub const N_ROWS: usize = 67;
+pub const N_ROWS: usize = 70;
 
 /// Every row, in report order (knobs in [`Knob::ALL`] order, combinations last).
 pub const ROWS: [Row; N_ROWS] = [
@@ -760,6 +769,17 @@ pub const ROWS: [Row; N_ROWS] = [
             ..B
         }
     ),
+    row!(FilterWidths, "filter_widths", "gradients", true, B),
+    row!(
+        FilterWidths,
+        "filter_widths",
+        "differences",
+        true,
+        Config {
+            widths: WidthSource::Differences,
+            ..B
+        }
+    ),
     combo!(
         Octaves,
         "1oct+none",
@@ -827,6 +847,16 @@ pub const ROWS: [Row; N_ROWS] = [
         Config {
             lookup: TableLookup::Linear,
             aa: Antialias::None,
+            ..B
+        }
+    ),
+    combo!(
+        Antialiasing,
+        "ramp+differences",
+        true,
+        Config {
+            aa: Antialias::Ramp,
+            widths: WidthSource::Differences,
             ..B
         }
     ),
@@ -978,9 +1008,17 @@ pub fn shade_plane<const N: usize>(
 /// The plane job's checksum: every colour of [`shade_plane`] (`side x side`) folded, row-major.
 /// A texture with the ramp filter (`antialiasing=ramp`) is shaded straight to RGB565, as a
 /// display would take it (`TextureEvaluator::shade565`: the ramp's own path, one read a pixel),
-/// and its RGB565 words are folded ([`fold_colour`]).
+/// and its RGB565 words are folded ([`fold_colour`]). With `widths` the differences, the same
+/// spans are shaded through `DifferenceSpans` ([`differences_checksum`]).
 #[inline(never)]
-pub fn plane_checksum<const N: usize>(tex: &Texture<TERMS, N>, side: u16) -> u32 {
+pub fn plane_checksum<const N: usize>(
+    tex: &Texture<TERMS, N>,
+    widths: WidthSource,
+    side: u16,
+) -> u32 {
+    if widths == WidthSource::Differences {
+        return differences_checksum(tex, side);
+    }
     let mut acc = FNV_OFFSET;
     #[cfg(any(not(target_os = "none"), feature = "accuracy-planes"))]
     if tex.stage().antialias() == Antialias::Ramp {
@@ -998,6 +1036,57 @@ pub fn plane_checksum<const N: usize>(tex: &Texture<TERMS, N>, side: u16) -> u32
         return acc;
     }
     shade_plane(tex, side, |_, _, c| acc = fold(acc, c.to_u32()));
+    acc
+}
+
+/// The widest window [`differences_checksum`] takes: the device's [`SIDE`] on a device, 4096
+/// pixels on the host (the memory of two rows is on the stack).
+#[cfg(target_os = "none")]
+pub const DIFFERENCES_MAX_SIDE: usize = SIDE as usize;
+/// The widest window [`differences_checksum`] takes: the device's [`SIDE`] on a device, 4096
+/// pixels on the host (the memory of two rows is on the stack).
+#[cfg(not(target_os = "none"))]
+pub const DIFFERENCES_MAX_SIDE: usize = 4096;
+
+/// [`plane_checksum`] with the filter widths from the differences of neighbouring values: the
+/// window as a `SpanPlane` whose spans are [`plane_span`]'s, shaded in [`SEGMENT`]-pixel spans
+/// row by row through `DifferenceSpans` (straight to RGB565 with the ramp, as
+/// [`plane_checksum`]). 0 when the window is wider than [`DIFFERENCES_MAX_SIDE`] or the texture
+/// is not a model.
+#[inline(never)]
+pub fn differences_checksum<const N: usize>(tex: &Texture<TERMS, N>, side: u16) -> u32 {
+    use texcore::span::{RowCache, SpanPlane};
+    use texcore::texture::DifferenceMemory;
+    let first = plane_span(0, 0, side);
+    let Ok(plane) = SpanPlane::new(first.s0, first.ds, first.dsdy, side, side) else {
+        return 0;
+    };
+    let mut ev = tex.evaluator();
+    let Some(setup) = ev.plane_setup(&plane) else {
+        return 0;
+    };
+    let mut cache = RowCache::<{ texcore::texture::workload::peers::ROW_EVENTS }>::new();
+    let mut mem = DifferenceMemory::<DIFFERENCES_MAX_SIDE>::new();
+    let Some(mut spans) = ev.difference_spans(&setup, &mut cache, &mut mem) else {
+        return 0;
+    };
+    #[cfg(any(not(target_os = "none"), feature = "accuracy-planes"))]
+    let ramp = tex.stage().antialias() == Antialias::Ramp;
+    #[cfg(not(any(not(target_os = "none"), feature = "accuracy-planes")))]
+    let ramp = false;
+    let mut acc = FNV_OFFSET;
+    for y in 0..side {
+        let mut x0 = 0u16;
+        while x0 < side {
+            let len = SEGMENT.min(side - x0);
+            if ramp {
+                spans.shade565(x0, y, len, |c| acc = fold(acc, u32::from(c.to_bits())));
+            } else {
+                spans.shade(x0, y, len, |c| acc = fold(acc, c.to_u32()));
+            }
+            x0 += len;
+        }
+    }
     acc
 }
 
@@ -1146,7 +1235,7 @@ mod device {
                 return 0;
             };
             let tex = Texture::new(Shader::Model(m), Stages::<N>::CSAT, cfg.norm, cfg.mode);
-            return finish_plane(&tex, render);
+            return finish_plane(&tex, cfg.widths, render);
         }
         let Some(table) = table::<N>(&texcore::presets::MARBLE_KEYS) else {
             return 0;
@@ -1159,16 +1248,20 @@ mod device {
         };
         let tex = Texture::new(Shader::Model(m), stage, cfg.norm, cfg.mode);
         if cfg.cull {
-            finish_plane(&tex, render)
+            finish_plane(&tex, cfg.widths, render)
         } else {
-            finish_plane(&tex.with_culling(false), render)
+            finish_plane(&tex.with_culling(false), cfg.widths, render)
         }
     }
 
     #[inline(always)]
-    fn finish_plane<const N: usize>(tex: &Texture<TERMS, N>, render: bool) -> u32 {
+    fn finish_plane<const N: usize>(
+        tex: &Texture<TERMS, N>,
+        widths: WidthSource,
+        render: bool,
+    ) -> u32 {
         if render {
-            plane_checksum(tex, SIDE)
+            plane_checksum(tex, widths, SIDE)
         } else {
             core::hint::black_box(tex);
             1
@@ -1265,7 +1358,7 @@ mod device {
     const ALL_JOBS: [(Job, usize); 2 * N_ROWS] = jobs!(
         0 1 2 3 4 5 6 7 8 9 10 11 12 13 14 15 16 17 18 19 20 21 22 23 24 25 26 27 28 29 30 31 32
         33 34 35 36 37 38 39 40 41 42 43 44 45 46 47 48 49 50 51 52 53 54 55 56 57 58 59 60 61 62 63 64
-        65 66
+        65 66 67 68 69
     );
 
     const fn in_part(i: usize) -> bool {

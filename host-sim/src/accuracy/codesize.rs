@@ -19,7 +19,7 @@ use std::collections::BTreeMap;
 use std::time::Instant;
 
 use serde::Serialize;
-use texcore::filter::{Antialias, ColorStage, Csat};
+use texcore::filter::{Antialias, ColorStage, Csat, WidthSource};
 use texcore::hash::HashKind;
 use texcore::span::EvalMode;
 use texcore::table::ColorTable;
@@ -47,7 +47,7 @@ pub struct FeatureRule {
 /// settings to code. Everything a configuration sets that is not named here (coordinate and
 /// value bits, octaves, table size and look-up, gradient norm, the forward-differencing mode,
 /// culling, perspective mode) is chosen at run time over the same compiled code.
-pub const FEATURE_RULES: [FeatureRule; 10] = [
+pub const FEATURE_RULES: [FeatureRule; 11] = [
     FeatureRule {
         name: "fd",
         cargo: "texcore?/fd",
@@ -101,6 +101,13 @@ pub const FEATURE_RULES: [FeatureRule; 10] = [
         cargo: "texcore?/multipass",
         needs: |c| matches!(c.mode, EvalMode::Multipass(_)),
         what: "multipass corner-by-corner noise (`evaluation=multipass-*`)",
+    },
+    FeatureRule {
+        name: "differences",
+        cargo: "differences",
+        needs: |c| c.widths == WidthSource::Differences,
+        what: "the filter widths from differences (`filter_widths=differences`; a probe \
+               feature, not texcore's: `texture::DifferenceSpans` is linked where it is called)",
     },
     FeatureRule {
         name: "render",

@@ -36,6 +36,7 @@ pub fn unit_config(cfg: &Config) -> UnitConfig {
             u32::from(cfg.value_bits),
         )
         .unwrap_or_default(),
+        widths: cfg.widths,
     }
 }
 
@@ -171,7 +172,11 @@ pub fn plane_image(cfg: &Config, size: u32) -> Result<Vec<[u8; 4]>, UnitError> {
 /// (`device_jobs::plane_texture` and `plane_checksum` over the device's window).
 pub fn plane_device_checksum(cfg: &Config) -> Option<u32> {
     fn go<const N: usize>(cfg: &Config) -> Option<u32> {
-        Some(fw::plane_checksum(&fw::plane_texture::<N>(cfg)?, fw::SIDE))
+        Some(fw::plane_checksum(
+            &fw::plane_texture::<N>(cfg)?,
+            cfg.widths,
+            fw::SIDE,
+        ))
     }
     match cfg.table_size {
         16 => go::<16>(cfg),
@@ -199,7 +204,7 @@ pub fn plane_time(cfg: &Config, size: u16, runs: usize) -> Option<Timing> {
         let tex = fw::plane_texture::<N>(cfg)?;
         let px = f64::from(size) * f64::from(size);
         Some(Timing::measure(runs, px, || {
-            std::hint::black_box(fw::plane_checksum(&tex, size));
+            std::hint::black_box(fw::plane_checksum(&tex, cfg.widths, size));
         }))
     }
     match cfg.table_size {

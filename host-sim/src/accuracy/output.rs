@@ -430,6 +430,15 @@ fn knob_note(k: Knob) -> &'static str {
              same basis."
         }
         Knob::Hash => "Lattice hash; errors against the f64 reference with the same hash.",
+        Knob::FilterWidths => {
+            "Where the filter widths come from: the analytic gradients of `f` (exact, the \
+             baseline) or the differences of neighbouring values, as a GPU's `ddx`/`ddy` \
+             (`differences`, `texcore::texture::DifferenceSpans`, `docs/model.md` 8.1: the noise \
+             evaluated without its gradients, each pixel's width from its right neighbour and the \
+             pixel above, the last pixel of a span from its left neighbour). Errors against the \
+             f64 reference with the analytic gradients. `ramp+differences` is the cheapest \
+             filtered configuration, shaded straight to RGB565 as `ramp`."
+        }
         Knob::BandLimit => {
             "Band-limiting of the octaves past the Nyquist limit (`texcore::bandlimit::BandLimit`, \
              `docs/model.md` section 8), on the seascape (160x120, still frame, its own `every16` \

@@ -4,7 +4,8 @@
 //! - Devices (Cortex-M4F, rv32imc): the firmware built with feature `peers` (whole plane) or
 //!   `peers-band` (`--quick`: one 8-row band) runs texcore's three exact modes, the
 //!   approximate `Fused` on the gradient-noise workloads (`texcore-fused`), the approximate
-//!   pre-filtered RGB565 ramp on the marble workloads (`texcore-ramp`) and `fastnoise-lite`
+//!   pre-filtered RGB565 ramp on the marble workloads (`texcore-ramp`, and `texcore-ramp-diff`
+//!   with the filter widths from the differences of neighbouring values) and `fastnoise-lite`
 //!   under QEMU with exact instruction counting (`host_sim::device`). Instructions per sample are
 //!   `(job - setup - fold) / samples`: the set-up job builds the model, texture or generator and
 //!   evaluates nothing, and `peers:fold` is the cost of the checksum fold that follows every row
@@ -48,7 +49,8 @@ pub struct PeerRow {
     /// Workload name (`value-1oct`, ...).
     pub workload: String,
     /// Implementation (`texcore-fd`, `texcore-auto`, `texcore-direct`, `texcore-fused` (the
-    /// Perlin workloads only), `texcore-ramp` (the marble workloads only), `fastnoise-lite`,
+    /// Perlin workloads only), `texcore-ramp` and `texcore-ramp-diff` (the marble workloads
+    /// only), `fastnoise-lite`,
     /// `noise`).
     pub implementation: String,
     /// Target triple.
@@ -463,7 +465,12 @@ pub fn markdown(rows: &[PeerRow], quick: bool) -> String {
          `texcore-ramp` (the marble workloads) colours the same samples through the \
          pre-filtered RGB565 ramp (`Antialias::Ramp`, approximate: the width rounded to a power \
          of two, one read a pixel; its error in `docs/accuracy.md`, `antialiasing=ramp`) instead \
-         of the summed-area table. `texcore-fused` (the Perlin workloads) is `EvalMode::Fused`, \
+         of the summed-area table; `texcore-ramp-diff` also takes each pixel's filter width \
+         from the differences of neighbouring values instead of the gradients \
+         (`texcore::texture::DifferenceRows` and `DifferenceSpans`, approximate: the noise \
+         evaluated without its gradients, the values of the row above kept in a \
+         `DifferenceMemory`; its error in `docs/accuracy.md`, `combo=ramp+differences`). \
+         `texcore-fused` (the Perlin workloads) is `EvalMode::Fused`, \
          the one approximate evaluation mode here: on this plane (rows along the lattice's x axis) one octave is the exact \
          modes' row, and rows of several octaves add each octave's floored product term after \
          term, within one unit of `2^-16` a term of the exact value (its error in \

@@ -61,7 +61,7 @@ pub struct FeatureSet {
 
 /// The probe's feature sets, from `minimal` to `full`, and `full` in the fast code shape.
 /// `perm-hash` only takes effect on the Cortex-M4F (the rv32imc build is table-free in every set).
-pub const FEATURE_SETS: [FeatureSet; 14] = [
+pub const FEATURE_SETS: [FeatureSet; 15] = [
     FeatureSet {
         name: "minimal",
         features: &[],
@@ -94,6 +94,15 @@ pub const FEATURE_SETS: [FeatureSet; 14] = [
         what: "minimal + the pre-filtered RGB565 ramp (`Antialias::Ramp`, with the filter-width \
                gradients), shaded straight to RGB565 (`shade565`; a system of its own, not part \
                of `full`; compare with `csat`)",
+    },
+    FeatureSet {
+        name: "ramp-diff",
+        features: &["ramp", "differences"],
+        profile: "release-size",
+        what: "ramp + the filter widths from the differences of neighbouring values \
+               (`texture::DifferenceSpans`: the values without gradients, two rows of them in the \
+               caller's `DifferenceMemory`, 8 bytes a pixel of width; a probe feature, not \
+               texcore's: the code is linked where it is called; compare with `ramp`)",
     },
     FeatureSet {
         name: "bases",

@@ -30,7 +30,7 @@ pub use csat::{Csat, Csat3};
 pub use mip::ColorMip;
 #[cfg(feature = "ramp")]
 pub use ramp::Ramp565;
-pub use width::{filter_width, filter_width_spread, isqrt, GradientNorm, WidthStream};
+pub use width::{filter_width, filter_width_spread, isqrt, GradientNorm, WidthSource, WidthStream};
 
 use crate::color::Rgba8888;
 use crate::format::{FilterWidth, TexValue};

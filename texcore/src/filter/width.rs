@@ -26,6 +26,18 @@ pub enum GradientNorm {
     Max,
 }
 
+/// Where the filter widths come from.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
+pub enum WidthSource {
+    /// The analytic gradient of `f` (exact: the model's gradients, `docs/model.md` section 8).
+    #[default]
+    Gradients,
+    /// The differences of neighbouring values, as a GPU's `ddx`/`ddy` (approximate, about half
+    /// the noise's cost: no gradients; [`crate::texture::DifferenceRows`]).
+    Differences,
+}
+
 /// Exact integer square root, `floor(sqrt(v))`, for every `u64` (digit by digit, 32 fixed
 /// iterations).
 pub const fn isqrt(v: u64) -> u64 {
