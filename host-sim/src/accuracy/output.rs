@@ -433,7 +433,7 @@ fn knob_note(k: Knob) -> &'static str {
         Knob::FilterWidths => {
             "Where the filter widths come from: the analytic gradients of `f` (exact, the \
              baseline) or the differences of neighbouring values, as a GPU's `ddx`/`ddy` \
-             (`differences`, `texcore::texture::DifferenceSpans`, `docs/model.md` 8.1: the noise \
+             (`differences`, `texcore::texture::DifferenceSpans`, `docs/model.md` 8.4: the noise \
              evaluated without its gradients, each pixel's width from its right neighbour and the \
              pixel above, the last pixel of a span from its left neighbour). Errors against the \
              f64 reference with the analytic gradients. `ramp+differences` is the cheapest \

@@ -99,9 +99,11 @@ pub(super) fn face_ab(
     [t0 << 16, wsub(t1, t0), h]
 }
 
-/// Calls `each(entry, faces, f_k)` for every entry of term `li` (`lane`) of a schedule, in
+/// Calls `each(entry, faces, f_k, step)` for every entry of term `li` (`lane`) of a schedule, in
 /// order: the faces of the cell it enters (`A`, `B` and, with `GRADS`, `H`: [`face_ab`]; the face
-/// shared with the previous cell kept) and its fraction along `k`.
+/// shared with the previous cell kept), its fraction along `k`, and the step from the previous
+/// entry's cell along `k` (`1` or `-1` for the next cell either way, `0` for the first entry or
+/// any other step).
 #[cfg(not(texcore_lean))]
 #[inline(always)]
 pub(super) fn for_each_cell<const GRADS: bool>(
@@ -111,7 +113,7 @@ pub(super) fn for_each_cell<const GRADS: bool>(
     fv: u32,
     vb: u32,
     events: &mut [RowEvent],
-    mut each: impl FnMut(&mut RowEvent, [[i64; 3]; 2], i64),
+    mut each: impl FnMut(&mut RowEvent, [[i64; 3]; 2], i64, i32),
 ) {
     let k = lane.k.min(2);
     let d = lane.du[k];
@@ -131,12 +133,12 @@ pub(super) fn for_each_cell<const GRADS: bool>(
             *c = ck;
         }
         let blend = |b: usize| face_ab(lane, hash, cell, b, fv, vb, GRADS);
-        let faces = match prev {
-            Some((pk, f)) if ck.wrapping_sub(pk) == 1 => [f[1], blend(1)],
-            Some((pk, f)) if ck.wrapping_sub(pk) == 0xFFFF => [blend(0), f[0]],
-            _ => [blend(0), blend(1)],
+        let (faces, step) = match prev {
+            Some((pk, f)) if ck.wrapping_sub(pk) == 1 => ([f[1], blend(1)], 1),
+            Some((pk, f)) if ck.wrapping_sub(pk) == 0xFFFF => ([blend(0), f[0]], -1),
+            _ => ([blend(0), blend(1)], 0),
         };
-        each(e, faces, i64::from(uk & 0xFFFF));
+        each(e, faces, i64::from(uk & 0xFFFF), step);
         prev = Some((ck, faces));
     }
 }
@@ -145,6 +147,13 @@ pub(super) fn for_each_cell<const GRADS: bool>(
 /// `g0 = Phi_0 2^16 + (Phi_1 - Phi_0) f_k` and `g1 = (Phi_1 - Phi_0) d` (`axis::poly`), as
 /// `A + B f_m`, less the previous cell's end `g0 + g1 n` and slope; with `GRADS` the same for
 /// the derivative across the rows.
+///
+/// For the next cell along `k` (the usual entry) this is the change of the face difference
+/// `D = Phi_1 - Phi_0` times `[f_k, d]` (`[f_k - 2^16, d]` moving backwards): the previous
+/// cell's end is its `Phi_0 2^16 + D' (f_k' + d n)` with `f_k' + d n = f_k +- 2^16` (the
+/// fraction carried into this cell), and its far face is this cell's near one, so
+/// `g0 - end = (D - D') (f_k -+ 0 or 2^16)` and `g1 - g1' = (D - D') d`, exactly in the ring
+/// (the tests compare every entry with the blends). Other entries take the general form.
 #[cfg(not(texcore_lean))]
 pub(super) fn lane_entries<const GRADS: bool>(
     li: usize,
@@ -155,30 +164,57 @@ pub(super) fn lane_entries<const GRADS: bool>(
     events: &mut [RowEvent],
 ) {
     let d = i64::from(lane.du[lane.k.min(2)]);
-    // The previous cell's start and slope (`A`, `B` each), derivative and its slope, pixel.
-    let mut prev: Option<([[i64; 2]; 2], [i64; 2], u16)> = None;
-    for_each_cell::<GRADS>(li, lane, hash, fv, vb, events, |e, [f0, f1], fk| {
-        let dphi = [wsub(f1[0], f0[0]), wsub(f1[1], f0[1])];
-        let g0 = [
-            wadd(f0[0] << 16, wmul(dphi[0], fk)),
-            wadd(f0[1] << 16, wmul(dphi[1], fk)),
+    // The previous cell's near face, face difference (`A`, `B` and `H` each), fraction along
+    // `k` and pixel.
+    let mut prev: Option<([i64; 3], [i64; 3], i64, u16)> = None;
+    for_each_cell::<GRADS>(li, lane, hash, fv, vb, events, |e, [f0, f1], fk, step| {
+        let dphi = [
+            wsub(f1[0], f0[0]),
+            wsub(f1[1], f0[1]),
+            if GRADS { wsub(f1[2], f0[2]) } else { 0 },
         ];
-        let g1 = [wmul(dphi[0], d), wmul(dphi[1], d)];
-        // The derivative across the rows (`axis::poly`'s `h`, `e_k = 0`).
-        let h = if GRADS {
-            let dh = wsub(f1[2], f0[2]);
-            [wadd(f0[2] << 16, wmul(dh, fk)), wmul(dh, d)]
-        } else {
-            [0; 2]
+        // `g0`, `g1` (and `h`) of a cell from its near face, difference and fraction.
+        let start = |f0: [i64; 3], dphi: [i64; 3], fk: i64| {
+            (
+                [
+                    wadd(f0[0] << 16, wmul(dphi[0], fk)),
+                    wadd(f0[1] << 16, wmul(dphi[1], fk)),
+                ],
+                [wmul(dphi[0], d), wmul(dphi[1], d)],
+                if GRADS {
+                    [wadd(f0[2] << 16, wmul(dphi[2], fk)), wmul(dphi[2], d)]
+                } else {
+                    [0; 2]
+                },
+            )
         };
         (e.dv, e.ds, e.dg) = match prev {
-            None => (g0, g1, h),
-            Some(([p0, p1], ph, at)) => {
-                let n = i64::from(e.at.wrapping_sub(at));
-                let end = [wadd(p0[0], wmul(p1[0], n)), wadd(p0[1], wmul(p1[1], n))];
+            None => start(f0, dphi, fk),
+            Some((_, pd, _, _)) if step != 0 => {
+                let dd = [
+                    wsub(dphi[0], pd[0]),
+                    wsub(dphi[1], pd[1]),
+                    if GRADS { wsub(dphi[2], pd[2]) } else { 0 },
+                ];
+                let at = if step > 0 { fk } else { fk - (1 << 16) };
+                (
+                    [wmul(dd[0], at), wmul(dd[1], at)],
+                    [wmul(dd[0], d), wmul(dd[1], d)],
+                    if GRADS {
+                        [wmul(dd[2], at), wmul(dd[2], d)]
+                    } else {
+                        [0; 2]
+                    },
+                )
+            }
+            Some((pf0, pd, pfk, pat)) => {
+                let (pg0, pg1, ph) = start(pf0, pd, pfk);
+                let (g0, g1, h) = start(f0, dphi, fk);
+                let n = i64::from(e.at.wrapping_sub(pat));
+                let end = [wadd(pg0[0], wmul(pg1[0], n)), wadd(pg0[1], wmul(pg1[1], n))];
                 (
                     [wsub(g0[0], end[0]), wsub(g0[1], end[1])],
-                    [wsub(g1[0], p1[0]), wsub(g1[1], p1[1])],
+                    [wsub(g1[0], pg1[0]), wsub(g1[1], pg1[1])],
                     if GRADS {
                         [wsub(h[0], wadd(ph[0], wmul(ph[1], n))), wsub(h[1], ph[1])]
                     } else {
@@ -187,7 +223,7 @@ pub(super) fn lane_entries<const GRADS: bool>(
                 )
             }
         };
-        prev = Some(([g0, g1], h, e.at));
+        prev = Some((f0, dphi, fk, e.at));
     });
 }
 
@@ -206,7 +242,7 @@ pub(super) fn smooth_entries(
 ) {
     // The previous cell's `G` and `D`.
     let mut prev: Option<[[i64; 2]; 2]> = None;
-    for_each_cell::<false>(li, lane, hash, fv, vb, events, |e, [f0, f1], _| {
+    for_each_cell::<false>(li, lane, hash, fv, vb, events, |e, [f0, f1], _, _| {
         let g = [f0[0] << 16, f0[1] << 16];
         let dd = [wsub(f1[0], f0[0]), wsub(f1[1], f0[1])];
         (e.dv, e.ds) = match prev {
