@@ -628,10 +628,8 @@ impl<'m, const T: usize> EvalCore<'m, T> {
                 gradient::gradient_entries(li, lane, hash, events);
             } else if lane.smooth {
                 smooth_entries(li, lane, hash, fv, vb, events);
-            } else if GRADIENTS && grads {
-                lane_entries::<true>(li, lane, hash, fv, vb, events);
             } else {
-                lane_entries::<false>(li, lane, hash, fv, vb, events);
+                lane_entries(li, lane, hash, fv, vb, GRADIENTS && grads, events);
             }
             lane.made = true;
         }

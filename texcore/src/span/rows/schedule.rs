@@ -99,21 +99,22 @@ pub(super) fn face_ab(
     [t0 << 16, wsub(t1, t0), h]
 }
 
-/// Calls `each(entry, faces, f_k, step)` for every entry of term `li` (`lane`) of a schedule, in
-/// order: the faces of the cell it enters (`A`, `B` and, with `GRADS`, `H`: [`face_ab`]; the face
-/// shared with the previous cell kept), its fraction along `k`, and the step from the previous
-/// entry's cell along `k` (`1` or `-1` for the next cell either way, `0` for the first entry or
-/// any other step).
+/// Calls `each(entry, faces, f_k, c)` for every entry of term `li` (`lane`) of a schedule, in
+/// order: the faces of the cell it enters (`A`, `B` and, with `grads`, `H`: [`face_ab`]; the face
+/// shared with the previous cell kept), its fraction along `k`, and the cells `c` it lies from
+/// the previous entry's along `k` (wrapping in 16 bits; 0 for the first entry).
 #[cfg(not(texcore_lean))]
 #[inline(always)]
-pub(super) fn for_each_cell<const GRADS: bool>(
+#[allow(clippy::too_many_arguments)]
+pub(super) fn for_each_cell(
     li: usize,
     lane: &RowLane,
     hash: HashKind,
     fv: u32,
     vb: u32,
+    grads: bool,
     events: &mut [RowEvent],
-    mut each: impl FnMut(&mut RowEvent, [[i64; 3]; 2], i64, i32),
+    mut each: impl FnMut(&mut RowEvent, [[i64; 3]; 2], i64, i64),
 ) {
     let k = lane.k.min(2);
     let d = lane.du[k];
@@ -132,99 +133,87 @@ pub(super) fn for_each_cell<const GRADS: bool>(
         if let Some(c) = cell.get_mut(k) {
             *c = ck;
         }
-        let blend = |b: usize| face_ab(lane, hash, cell, b, fv, vb, GRADS);
-        let (faces, step) = match prev {
-            Some((pk, f)) if ck.wrapping_sub(pk) == 1 => ([f[1], blend(1)], 1),
-            Some((pk, f)) if ck.wrapping_sub(pk) == 0xFFFF => ([blend(0), f[0]], -1),
-            _ => ([blend(0), blend(1)], 0),
+        let blend = |b: usize| face_ab(lane, hash, cell, b, fv, vb, grads);
+        let c = prev.map_or(0, |(pk, _)| ck.wrapping_sub(pk) as i16);
+        let faces = match (c, prev) {
+            (1, Some((_, f))) => [f[1], blend(1)],
+            (-1, Some((_, f))) => [blend(0), f[0]],
+            _ => [blend(0), blend(1)],
         };
-        each(e, faces, i64::from(uk & 0xFFFF), step);
+        each(e, faces, i64::from(uk & 0xFFFF), i64::from(c));
         prev = Some((ck, faces));
     }
 }
 
 /// The entries of term `li` (`lane`) of a schedule: each of its cells' start and slope,
-/// `g0 = Phi_0 2^16 + (Phi_1 - Phi_0) f_k` and `g1 = (Phi_1 - Phi_0) d` (`axis::poly`), as
-/// `A + B f_m`, less the previous cell's end `g0 + g1 n` and slope; with `GRADS` the same for
-/// the derivative across the rows.
+/// `g0 = Phi_0 2^16 + D f_k` and `g1 = D d` (`D = Phi_1 - Phi_0`, `axis::poly`), as `A + B f_m`,
+/// less the previous cell's end `g0' + g1' n` and slope; with `grads` the same for the
+/// derivative across the rows.
 ///
-/// For the next cell along `k` (the usual entry) this is the change of the face difference
-/// `D = Phi_1 - Phi_0` times `[f_k, d]` (`[f_k - 2^16, d]` moving backwards): the previous
-/// cell's end is its `Phi_0 2^16 + D' (f_k' + d n)` with `f_k' + d n = f_k +- 2^16` (the
-/// fraction carried into this cell), and its far face is this cell's near one, so
-/// `g0 - end = (D - D') (f_k -+ 0 or 2^16)` and `g1 - g1' = (D - D') d`, exactly in the ring
-/// (the tests compare every entry with the blends). Other entries take the general form.
+/// In terms of the changes: the entry `c` cells from the previous one along `k` carries the
+/// previous cell's fraction to `f_k' + d n = f_k + c 2^16`, so with the previous near face
+/// `Phi_0'` and difference `D'` (all zero before the first entry, `c = 0`)
+/// `g0 - (g0' + g1' n) = (Phi_0 - Phi_0' - c D') 2^16 + (D - D') f_k` and
+/// `g1 - g1' = (D - D') d`; for the next cell (`c = 1`, the usual entry) the first part is 0
+/// (its near face is the previous far face), and for the cell before (`c = -1`) it is
+/// `-(D - D') 2^16`. Exact in the ring (the tests compare every entry with the blends).
 #[cfg(not(texcore_lean))]
-pub(super) fn lane_entries<const GRADS: bool>(
+#[allow(clippy::too_many_arguments)]
+pub(super) fn lane_entries(
     li: usize,
     lane: &RowLane,
     hash: HashKind,
     fv: u32,
     vb: u32,
+    grads: bool,
     events: &mut [RowEvent],
 ) {
     let d = i64::from(lane.du[lane.k.min(2)]);
-    // The previous cell's near face, face difference (`A`, `B` and `H` each), fraction along
-    // `k` and pixel.
-    let mut prev: Option<([i64; 3], [i64; 3], i64, u16)> = None;
-    for_each_cell::<GRADS>(li, lane, hash, fv, vb, events, |e, [f0, f1], fk, step| {
-        let dphi = [
-            wsub(f1[0], f0[0]),
-            wsub(f1[1], f0[1]),
-            if GRADS { wsub(f1[2], f0[2]) } else { 0 },
-        ];
-        // `g0`, `g1` (and `h`) of a cell from its near face, difference and fraction.
-        let start = |f0: [i64; 3], dphi: [i64; 3], fk: i64| {
-            (
-                [
-                    wadd(f0[0] << 16, wmul(dphi[0], fk)),
-                    wadd(f0[1] << 16, wmul(dphi[1], fk)),
-                ],
-                [wmul(dphi[0], d), wmul(dphi[1], d)],
-                if GRADS {
-                    [wadd(f0[2] << 16, wmul(dphi[2], fk)), wmul(dphi[2], d)]
-                } else {
-                    [0; 2]
-                },
-            )
-        };
-        (e.dv, e.ds, e.dg) = match prev {
-            None => start(f0, dphi, fk),
-            Some((_, pd, _, _)) if step != 0 => {
-                let dd = [
-                    wsub(dphi[0], pd[0]),
-                    wsub(dphi[1], pd[1]),
-                    if GRADS { wsub(dphi[2], pd[2]) } else { 0 },
-                ];
-                let at = if step > 0 { fk } else { fk - (1 << 16) };
-                (
-                    [wmul(dd[0], at), wmul(dd[1], at)],
-                    [wmul(dd[0], d), wmul(dd[1], d)],
-                    if GRADS {
-                        [wmul(dd[2], at), wmul(dd[2], d)]
-                    } else {
-                        [0; 2]
-                    },
-                )
-            }
-            Some((pf0, pd, pfk, pat)) => {
-                let (pg0, pg1, ph) = start(pf0, pd, pfk);
-                let (g0, g1, h) = start(f0, dphi, fk);
-                let n = i64::from(e.at.wrapping_sub(pat));
-                let end = [wadd(pg0[0], wmul(pg1[0], n)), wadd(pg0[1], wmul(pg1[1], n))];
-                (
-                    [wsub(g0[0], end[0]), wsub(g0[1], end[1])],
-                    [wsub(g1[0], pg1[0]), wsub(g1[1], pg1[1])],
-                    if GRADS {
-                        [wsub(h[0], wadd(ph[0], wmul(ph[1], n))), wsub(h[1], ph[1])]
-                    } else {
-                        [0; 2]
-                    },
-                )
-            }
-        };
-        prev = Some((f0, dphi, fk, e.at));
-    });
+    // The previous cell's near face and difference (`A`, `B` and `H` each).
+    let mut prev = ([0i64; 3], [0i64; 3]);
+    for_each_cell(
+        li,
+        lane,
+        hash,
+        fv,
+        vb,
+        grads,
+        events,
+        |e, [f0, f1], fk, c| {
+            let (pf0, pd) = prev;
+            let part = |i: usize| {
+                let dphi = wsub(f1[i], f0[i]);
+                let dd = wsub(dphi, pd[i]);
+                let base = match c {
+                    1 => 0,
+                    -1 => wsub(0, dd),
+                    _ => far_base(f0[i], pf0[i], pd[i], c),
+                };
+                (wadd(base << 16, wmul(dd, fk)), wmul(dd, d), dphi)
+            };
+            let (v0, s0, d0) = part(0);
+            let (v1, s1, d1) = part(1);
+            (e.dv, e.ds) = ([v0, v1], [s0, s1]);
+            let d2 = if grads {
+                let (h0, h1, d2) = part(2);
+                e.dg = [h0, h1];
+                d2
+            } else {
+                e.dg = [0; 2];
+                0
+            };
+            prev = (f0, [d0, d1, d2]);
+        },
+    );
+}
+
+/// `Phi_0 - Phi_0' - c D'` of [`lane_entries`] for an entry that is not the next cell or the one
+/// before (the first entry, `c = 0`, or a step of more than a cell a pixel): out of line, as it
+/// is rare.
+#[cfg(not(texcore_lean))]
+#[inline(never)]
+fn far_base(f0: i64, pf0: i64, pd: i64, c: i64) -> i64 {
+    wsub(wsub(f0, pf0), wmul(c, pd))
 }
 
 /// The entries of a smooth-fade term `li` (`lane`): a cell's value at pixel `j` is
@@ -242,17 +231,26 @@ pub(super) fn smooth_entries(
 ) {
     // The previous cell's `G` and `D`.
     let mut prev: Option<[[i64; 2]; 2]> = None;
-    for_each_cell::<false>(li, lane, hash, fv, vb, events, |e, [f0, f1], _, _| {
-        let g = [f0[0] << 16, f0[1] << 16];
-        let dd = [wsub(f1[0], f0[0]), wsub(f1[1], f0[1])];
-        (e.dv, e.ds) = match prev {
-            None => (g, dd),
-            Some([pg, pd]) => (
-                [wsub(g[0], pg[0]), wsub(g[1], pg[1])],
-                [wsub(dd[0], pd[0]), wsub(dd[1], pd[1])],
-            ),
-        };
-        e.dg = [0; 2];
-        prev = Some([g, dd]);
-    });
+    for_each_cell(
+        li,
+        lane,
+        hash,
+        fv,
+        vb,
+        false,
+        events,
+        |e, [f0, f1], _, _| {
+            let g = [f0[0] << 16, f0[1] << 16];
+            let dd = [wsub(f1[0], f0[0]), wsub(f1[1], f0[1])];
+            (e.dv, e.ds) = match prev {
+                None => (g, dd),
+                Some([pg, pd]) => (
+                    [wsub(g[0], pg[0]), wsub(g[1], pg[1])],
+                    [wsub(dd[0], pd[0]), wsub(dd[1], pd[1])],
+                ),
+            };
+            e.dg = [0; 2];
+            prev = Some([g, dd]);
+        },
+    );
 }
