@@ -134,8 +134,10 @@ pub const fn level_of_sq(s: u64) -> u32 {
 #[cfg_attr(not(texcore_lean), inline(always))]
 pub const fn level_of_sq32(s: u32) -> u32 {
     let b = 32 - s.leading_zeros();
+    // Below the threshold only for an even `b >= 2` (odd and zero bit lengths read 0), where
+    // `(b - 1) >> 1` is `(b >> 1) - 1`: one subtraction with the comparison's borrow.
     let below = s < BELOW_BY_BITS[(b & 63) as usize] as u32;
-    (b >> 1) - below as u32
+    (b - below as u32) >> 1
 }
 
 /// The level of the L2 filter width of the saturated gradient magnitudes `a`, `b` and the spread
