@@ -549,6 +549,44 @@ mod tests {
         }
     }
 
+    /// Textures of the marble model (and, with `perturb`, a perturbed material) in `mode` with
+    /// every filter compiled in (the ramp included), both wraps and two norms, on the zebra
+    /// table.
+    pub(super) fn zebra_textures(mode: EvalMode) -> Vec<Texture<8, 256>> {
+        use crate::filter::ColorStage;
+        use crate::table::{ColorTable, TableWrap};
+        let mut out = Vec::new();
+        let table = ColorTable::<256>::zebra().unwrap();
+        #[cfg(feature = "ramp")]
+        let ramp = [Antialias::Ramp];
+        #[cfg(not(feature = "ramp"))]
+        let ramp: [Antialias; 0] = [];
+        for aa in filters().chain(ramp) {
+            for wrap in [TableWrap::Mod, TableWrap::Clamp] {
+                for norm in [GradientNorm::L2, GradientNorm::L1] {
+                    let stage = ColorStage::new(table, wrap, TableLookup::Nearest, aa).unwrap();
+                    let model = crate::texture::workload::marble_model(HashKind::Integer);
+                    out.push(Texture::new(
+                        Shader::Model(model),
+                        stage.clone(),
+                        norm,
+                        mode,
+                    ));
+                    // A perturbed material: its samples one by one.
+                    #[cfg(feature = "perturb")]
+                    {
+                        let p = crate::presets::mn_marble(HashKind::Integer);
+                        let m = crate::material::PerturbedMaterial::<8>::new(&p, wrap).unwrap();
+                        out.push(Texture::new(Shader::Perturbed(m), stage, norm, mode));
+                    }
+                    #[cfg(not(feature = "perturb"))]
+                    let _ = stage;
+                }
+            }
+        }
+        out
+    }
+
     /// Every filter compiled in.
     pub(super) fn filters() -> impl Iterator<Item = Antialias> {
         [

@@ -464,16 +464,24 @@ mod tests {
     use crate::filter::{filter_width_spread, isqrt, GradientNorm};
     use fixed::types::U16F16;
 
-    fn lcg_table<const N: usize>(seed: u64) -> ColorTable<N> {
+    /// A 64-bit linear congruential generator from `seed`: each call its next state.
+    fn lcg(seed: u64) -> impl FnMut() -> u64 {
         let mut s = seed;
+        move || {
+            s = s
+                .wrapping_mul(6364136223846793005)
+                .wrapping_add(1442695040888963407);
+            s
+        }
+    }
+
+    fn lcg_table<const N: usize>(seed: u64) -> ColorTable<N> {
+        let mut next = lcg(seed);
         let mut e = [Rgba8888::TRANSPARENT; N];
         for c in e.iter_mut() {
             let mut b = [0u8; 4];
             for v in b.iter_mut() {
-                s = s
-                    .wrapping_mul(6364136223846793005)
-                    .wrapping_add(1442695040888963407);
-                *v = (s >> 56) as u8;
+                *v = (next() >> 56) as u8;
             }
             *c = Rgba8888::new(b[0], b[1], b[2], b[3]);
         }
@@ -605,13 +613,8 @@ mod tests {
 
     #[test]
     fn the_l2_level_is_the_level_of_the_l2_width() {
-        let mut seed = 11u64;
-        let mut next = |bound: u64| {
-            seed = seed
-                .wrapping_mul(6364136223846793005)
-                .wrapping_add(1442695040888963407);
-            (seed >> 20) % bound
-        };
+        let mut lcg = lcg(11);
+        let mut next = |bound: u64| (lcg() >> 20) % bound;
         for n_log2 in [2u32, 6, 8, 10] {
             for i in 0..20_000 {
                 // Magnitudes of every scale, the cap included.
@@ -648,13 +651,7 @@ mod tests {
     fn shade_l2_is_the_lookup_at_the_streams_width() {
         fn check<const N: usize>(seed: u64) {
             let t = lcg_table::<N>(seed);
-            let mut s = seed;
-            let mut next = move || {
-                s = s
-                    .wrapping_mul(6364136223846793005)
-                    .wrapping_add(1442695040888963407);
-                s
-            };
+            let mut next = lcg(seed);
             for wrap in [TableWrap::Mod, TableWrap::Clamp] {
                 let r = Ramp565::new(&t, wrap);
                 for round in 0..200 {
@@ -712,13 +709,7 @@ mod tests {
     fn shade_differences_l2_is_shade_l2_of_the_differences() {
         fn check<const N: usize>(seed: u64) {
             let t = lcg_table::<N>(seed);
-            let mut s = seed;
-            let mut next = move || {
-                s = s
-                    .wrapping_mul(6364136223846793005)
-                    .wrapping_add(1442695040888963407);
-                s
-            };
+            let mut next = lcg(seed);
             for wrap in [TableWrap::Mod, TableWrap::Clamp] {
                 let r = Ramp565::new(&t, wrap);
                 for round in 0..300 {

@@ -164,28 +164,21 @@ impl Span {
     /// and the length kept ([`PlaneRows`] and the texture's rows step so).
     #[cfg_attr(texcore_lean, allow(dead_code))]
     pub(crate) fn next_row(&self) -> Span {
-        let b = self.s0.to_bits();
-        let d = self.dsdy.to_bits();
-        Span {
-            s0: TexPoint::from_bits(
-                b[0].wrapping_add(d[0]),
-                b[1].wrapping_add(d[1]),
-                b[2].wrapping_add(d[2]),
-            ),
-            ..*self
-        }
+        self.rows_down(1)
     }
 
     /// The span one row up (`s0` less `dsdy`, wrapping): [`Span::next_row`] undone.
     pub(crate) fn prev_row(&self) -> Span {
+        self.rows_down(-1)
+    }
+
+    /// The span `n` rows below (`s0` advanced by `n dsdy`, wrapping).
+    fn rows_down(&self, n: i32) -> Span {
         let b = self.s0.to_bits();
         let d = self.dsdy.to_bits();
+        let at = |k: usize| b[k].wrapping_add(d[k].wrapping_mul(n));
         Span {
-            s0: TexPoint::from_bits(
-                b[0].wrapping_sub(d[0]),
-                b[1].wrapping_sub(d[1]),
-                b[2].wrapping_sub(d[2]),
-            ),
+            s0: TexPoint::from_bits(at(0), at(1), at(2)),
             ..*self
         }
     }

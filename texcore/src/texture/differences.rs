@@ -26,7 +26,7 @@
 use super::{log2, Texture, TextureEvaluator, TextureRows, TextureSpans};
 use crate::color::{Rgb565, Rgba8888};
 use crate::filter::{Antialias, ColorStage, GradientNorm, WidthStream};
-use crate::format::TexValue;
+use crate::format::{FilterWidth, TexValue};
 use crate::span::{PlaneSetup, RowCache, Span};
 
 /// The memory of the rows shaded with widths from differences: the values of two rows of up to
@@ -124,55 +124,76 @@ fn gradient48(d: i32) -> i64 {
     i64::from(d) << 32
 }
 
-/// The colours of values `f` under `above` with widths from their differences (see the module
-/// documentation), straight to RGB565.
-#[inline(always)]
-fn shade565_span<const N: usize, F: FnMut(Rgb565)>(
-    stage: &ColorStage<N>,
-    norm: GradientNorm,
-    f: &[TexValue],
-    above: &[TexValue],
-    extra48: i64,
-    mut emit: F,
-) {
-    if stage.antialias() == Antialias::None {
-        for &v in f {
-            emit(stage.shade_unfiltered(v).to_rgb565());
-        }
-        return;
-    }
-    #[cfg(feature = "ramp")]
-    if let (Some((_, r)), GradientNorm::L2, true) = (stage.ramp(), norm, log2(N) <= 15) {
-        r.shade_differences_l2(f, above, extra48, emit);
-        return;
-    }
-    let mut widths = WidthStream::new(norm, log2(N));
-    for (v, dx, dy) in differences(f, above) {
-        let w = widths.width_with(gradient48(dx), gradient48(dy), extra48);
-        emit(stage.shade565(v, w));
+/// A colour the values are shaded into: [`Rgba8888`] or [`Rgb565`].
+trait SpanColor: Sized {
+    /// The stage's colour of `v` at width `w`.
+    fn at<const N: usize>(stage: &ColorStage<N>, v: TexValue, w: FilterWidth) -> Self;
+
+    /// Shades the span through the stage's own one-read path where it has one for this colour
+    /// (the ramp, to RGB565, with the L2 norm): whether it did.
+    #[inline(always)]
+    fn one_read<const N: usize, F: FnMut(Self)>(
+        _stage: &ColorStage<N>,
+        _norm: GradientNorm,
+        _values: (&[TexValue], &[TexValue], i64),
+        _emit: &mut F,
+    ) -> bool {
+        false
     }
 }
 
-/// [`shade565_span`] in full colour.
+impl SpanColor for Rgba8888 {
+    #[inline(always)]
+    fn at<const N: usize>(stage: &ColorStage<N>, v: TexValue, w: FilterWidth) -> Self {
+        stage.shade(v, w)
+    }
+}
+
+impl SpanColor for Rgb565 {
+    #[inline(always)]
+    fn at<const N: usize>(stage: &ColorStage<N>, v: TexValue, w: FilterWidth) -> Self {
+        stage.shade565(v, w)
+    }
+
+    #[cfg(feature = "ramp")]
+    #[inline(always)]
+    fn one_read<const N: usize, F: FnMut(Self)>(
+        stage: &ColorStage<N>,
+        norm: GradientNorm,
+        (f, above, extra48): (&[TexValue], &[TexValue], i64),
+        emit: &mut F,
+    ) -> bool {
+        match (stage.ramp(), norm, log2(N) <= 15) {
+            (Some((_, r)), GradientNorm::L2, true) => {
+                r.shade_differences_l2(f, above, extra48, emit);
+                true
+            }
+            _ => false,
+        }
+    }
+}
+
+/// The colours of values `f` under `above` (and the span's spread) with widths from their
+/// differences (see the module documentation).
 #[inline(always)]
-fn shade_span<const N: usize, F: FnMut(Rgba8888)>(
+fn shade_values<const N: usize, C: SpanColor, F: FnMut(C)>(
     stage: &ColorStage<N>,
     norm: GradientNorm,
-    f: &[TexValue],
-    above: &[TexValue],
-    extra48: i64,
+    (f, above, extra48): (&[TexValue], &[TexValue], i64),
     mut emit: F,
 ) {
-    if stage.antialias() == Antialias::None {
-        for &v in f {
-            emit(stage.shade_unfiltered(v));
-        }
+    if C::one_read(stage, norm, (f, above, extra48), &mut emit) {
         return;
     }
+    let filtered = stage.antialias() != Antialias::None;
     let mut widths = WidthStream::new(norm, log2(N));
     for (v, dx, dy) in differences(f, above) {
-        let w = widths.width_with(gradient48(dx), gradient48(dy), extra48);
-        emit(stage.shade(v, w));
+        let w = if filtered {
+            widths.width_with(gradient48(dx), gradient48(dy), extra48)
+        } else {
+            FilterWidth::ZERO
+        };
+        emit(C::at(stage, v, w));
     }
 }
 
@@ -249,21 +270,22 @@ impl<const T: usize, const N: usize, const W: usize> DifferenceRows<'_, '_, '_, 
     /// Shades the next row, calling `emit` with each pixel's colour in order (see the module
     /// documentation), and moves to the row after it.
     pub fn next_shade<F: FnMut(Rgba8888)>(&mut self, emit: F) {
-        let tex = self.tex;
-        let n = u64::from(self.rows.span().len);
-        self.rows.count(tex.stage.antialias() != Antialias::None, n);
-        let (f, above, extra) = self.next_values();
-        shade_span(&tex.stage, tex.norm, f, above, extra, emit);
+        self.next(emit);
     }
 
     /// [`DifferenceRows::next_shade`] straight to RGB565: its colours reduced to RGB565, bit for
     /// bit; with `Antialias::Ramp` (feature `ramp`) and the L2 norm, one ramp read a pixel.
     pub fn next_shade565<F: FnMut(Rgb565)>(&mut self, emit: F) {
+        self.next(emit);
+    }
+
+    /// The next row's colours of type `C`.
+    #[inline(always)]
+    fn next<C: SpanColor, F: FnMut(C)>(&mut self, emit: F) {
         let tex = self.tex;
         let n = u64::from(self.rows.span().len);
         self.rows.count(tex.stage.antialias() != Antialias::None, n);
-        let (f, above, extra) = self.next_values();
-        shade565_span(&tex.stage, tex.norm, f, above, extra, emit);
+        shade_values(&tex.stage, tex.norm, self.next_values(), emit);
     }
 }
 
@@ -347,20 +369,21 @@ impl<const T: usize, const N: usize, const W: usize> DifferenceSpans<'_, '_, '_,
     /// pixel's colour in order (see the module documentation). Nothing is shaded when the span
     /// is not inside the plane's rectangle.
     pub fn shade<F: FnMut(Rgba8888)>(&mut self, x: u16, y: u16, len: u16, emit: F) {
-        let tex = self.tex;
-        if let Some((f, above, extra)) = self.values(x, y, len) {
-            shade_span(&tex.stage, tex.norm, f, above, extra, emit);
-            self.spans
-                .count(tex.stage.antialias() != Antialias::None, len);
-        }
+        self.span(x, y, len, emit);
     }
 
     /// [`DifferenceSpans::shade`] straight to RGB565: its colours reduced to RGB565, bit for
     /// bit; with `Antialias::Ramp` (feature `ramp`) and the L2 norm, one ramp read a pixel.
     pub fn shade565<F: FnMut(Rgb565)>(&mut self, x: u16, y: u16, len: u16, emit: F) {
+        self.span(x, y, len, emit);
+    }
+
+    /// The span's colours of type `C`.
+    #[inline(always)]
+    fn span<C: SpanColor, F: FnMut(C)>(&mut self, x: u16, y: u16, len: u16, emit: F) {
         let tex = self.tex;
-        if let Some((f, above, extra)) = self.values(x, y, len) {
-            shade565_span(&tex.stage, tex.norm, f, above, extra, emit);
+        if let Some(values) = self.values(x, y, len) {
+            shade_values(&tex.stage, tex.norm, values, emit);
             self.spans
                 .count(tex.stage.antialias() != Antialias::None, len);
         }
@@ -373,55 +396,12 @@ mod tests {
     use std::vec::Vec;
 
     use super::*;
-    use crate::filter::{ColorStage, GradientNorm};
     use crate::format::TexPoint;
-    use crate::hash::HashKind;
     use crate::span::{EvalMode, SpanEvaluator, SpanPlane};
-    use crate::table::{ColorTable, TableLookup, TableWrap};
-    use crate::texture::workload::marble_model;
     use crate::texture::Shader;
 
-    /// The filters compiled in, the ramp included.
-    fn filters() -> impl Iterator<Item = Antialias> {
-        super::super::tests::filters().chain(
-            #[cfg(feature = "ramp")]
-            [Antialias::Ramp],
-            #[cfg(not(feature = "ramp"))]
-            [],
-        )
-    }
-
-    /// Textures of the marble model (and, with `perturb`, a perturbed material) with every
-    /// filter, wrap and norm.
     fn textures() -> Vec<Texture<8, 256>> {
-        let mut out = Vec::new();
-        let table = ColorTable::<256>::zebra().unwrap();
-        for aa in filters() {
-            for wrap in [TableWrap::Mod, TableWrap::Clamp] {
-                for norm in [GradientNorm::L2, GradientNorm::L1] {
-                    let stage = ColorStage::new(table, wrap, TableLookup::Nearest, aa).unwrap();
-                    let model = marble_model(HashKind::Integer);
-                    out.push(Texture::new(
-                        Shader::Model(model),
-                        stage.clone(),
-                        norm,
-                        EvalMode::Auto,
-                    ));
-                    #[cfg(feature = "perturb")]
-                    {
-                        let p = crate::presets::mn_marble(HashKind::Integer);
-                        let m = crate::material::PerturbedMaterial::<8>::new(&p, wrap).unwrap();
-                        out.push(Texture::new(
-                            Shader::Perturbed(m),
-                            stage,
-                            norm,
-                            EvalMode::Auto,
-                        ));
-                    }
-                }
-            }
-        }
-        out
+        crate::texture::tests::zebra_textures(EvalMode::Auto)
     }
 
     /// The planes of the tests: `(origin, ds, dsdy)`. The marble's own scale; a plane zoomed

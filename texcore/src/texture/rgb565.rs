@@ -117,53 +117,12 @@ mod tests {
     extern crate std;
     use std::vec::Vec;
 
-    use crate::filter::{Antialias, ColorStage, GradientNorm};
-    use crate::hash::HashKind;
     use crate::span::{EvalMode, RowCache};
-    use crate::table::{ColorTable, TableLookup, TableWrap};
-    use crate::texture::workload::{marble_model, marble_span};
-    use crate::texture::{Shader, Texture};
+    use crate::texture::workload::marble_span;
+    use crate::texture::Texture;
 
     fn textures() -> Vec<Texture<8, 256>> {
-        let mut out = Vec::new();
-        let table = ColorTable::<256>::zebra().unwrap();
-        for aa in [
-            Antialias::None,
-            Antialias::Mip,
-            Antialias::Csat,
-            Antialias::Csat3,
-            #[cfg(feature = "ramp")]
-            Antialias::Ramp,
-        ] {
-            if !aa.is_available() {
-                continue;
-            }
-            for wrap in [TableWrap::Mod, TableWrap::Clamp] {
-                for norm in [GradientNorm::L2, GradientNorm::L1] {
-                    let stage = ColorStage::new(table, wrap, TableLookup::Nearest, aa).unwrap();
-                    let model = marble_model(HashKind::Integer);
-                    out.push(Texture::new(
-                        Shader::Model(model),
-                        stage.clone(),
-                        norm,
-                        EvalMode::Fd,
-                    ));
-                    // A perturbed material: its samples one by one.
-                    #[cfg(feature = "perturb")]
-                    {
-                        let p = crate::presets::mn_marble(HashKind::Integer);
-                        let m = crate::material::PerturbedMaterial::<8>::new(&p, wrap).unwrap();
-                        out.push(Texture::new(
-                            Shader::Perturbed(m),
-                            stage,
-                            norm,
-                            EvalMode::Fd,
-                        ));
-                    }
-                }
-            }
-        }
-        out
+        crate::texture::tests::zebra_textures(EvalMode::Fd)
     }
 
     #[test]
@@ -210,6 +169,11 @@ mod tests {
     #[cfg(all(feature = "ramp", feature = "csat"))]
     #[test]
     fn the_ramp_is_near_the_summed_area_filter() {
+        use crate::filter::{Antialias, ColorStage, GradientNorm};
+        use crate::hash::HashKind;
+        use crate::table::{ColorTable, TableLookup, TableWrap};
+        use crate::texture::workload::marble_model;
+        use crate::texture::Shader;
         let table = ColorTable::<256>::zebra().unwrap();
         let make = |aa| {
             let stage = ColorStage::new(table, TableWrap::Mod, TableLookup::Nearest, aa).unwrap();

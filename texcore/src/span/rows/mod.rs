@@ -629,7 +629,15 @@ impl<'m, const T: usize> EvalCore<'m, T> {
             } else if lane.smooth {
                 smooth_entries(li, lane, hash, fv, vb, events);
             } else {
-                lane_entries(li, lane, hash, fv, vb, GRADIENTS && grads, events);
+                let cells = schedule::Cells {
+                    li,
+                    lane,
+                    hash,
+                    fv,
+                    vb,
+                    grads: GRADIENTS && grads,
+                };
+                lane_entries(cells, events);
             }
             lane.made = true;
         }

@@ -99,23 +99,39 @@ pub(super) fn face_ab(
     [t0 << 16, wsub(t1, t0), h]
 }
 
+/// The cells of one term of a schedule: its index `li` among the schedule's lanes, the lane, the
+/// term's hash, the noise fraction bits `fv`, the value precision `vb`, and whether the faces'
+/// derivatives across the rows are made (`grads`).
+#[cfg(not(texcore_lean))]
+#[derive(Clone, Copy)]
+pub(super) struct Cells<'a> {
+    pub(super) li: usize,
+    pub(super) lane: &'a RowLane,
+    pub(super) hash: HashKind,
+    pub(super) fv: u32,
+    pub(super) vb: u32,
+    pub(super) grads: bool,
+}
+
 /// Calls `each(entry, faces, f_k, c)` for every entry of term `li` (`lane`) of a schedule, in
 /// order: the faces of the cell it enters (`A`, `B` and, with `grads`, `H`: [`face_ab`]; the face
 /// shared with the previous cell kept), its fraction along `k`, and the cells `c` it lies from
 /// the previous entry's along `k` (wrapping in 16 bits; 0 for the first entry).
 #[cfg(not(texcore_lean))]
 #[inline(always)]
-#[allow(clippy::too_many_arguments)]
 pub(super) fn for_each_cell(
-    li: usize,
-    lane: &RowLane,
-    hash: HashKind,
-    fv: u32,
-    vb: u32,
-    grads: bool,
+    cells: Cells<'_>,
     events: &mut [RowEvent],
     mut each: impl FnMut(&mut RowEvent, [[i64; 3]; 2], i64, i64),
 ) {
+    let Cells {
+        li,
+        lane,
+        hash,
+        fv,
+        vb,
+        grads,
+    } = cells;
     let k = lane.k.min(2);
     let d = lane.du[k];
     let mut cell = [0u16; 3];
@@ -158,53 +174,36 @@ pub(super) fn for_each_cell(
 /// (its near face is the previous far face), and for the cell before (`c = -1`) it is
 /// `-(D - D') 2^16`. Exact in the ring (the tests compare every entry with the blends).
 #[cfg(not(texcore_lean))]
-#[allow(clippy::too_many_arguments)]
-pub(super) fn lane_entries(
-    li: usize,
-    lane: &RowLane,
-    hash: HashKind,
-    fv: u32,
-    vb: u32,
-    grads: bool,
-    events: &mut [RowEvent],
-) {
+pub(super) fn lane_entries(cells: Cells<'_>, events: &mut [RowEvent]) {
+    let (lane, grads) = (cells.lane, cells.grads);
     let d = i64::from(lane.du[lane.k.min(2)]);
     // The previous cell's near face and difference (`A`, `B` and `H` each).
     let mut prev = ([0i64; 3], [0i64; 3]);
-    for_each_cell(
-        li,
-        lane,
-        hash,
-        fv,
-        vb,
-        grads,
-        events,
-        |e, [f0, f1], fk, c| {
-            let (pf0, pd) = prev;
-            let part = |i: usize| {
-                let dphi = wsub(f1[i], f0[i]);
-                let dd = wsub(dphi, pd[i]);
-                let base = match c {
-                    1 => 0,
-                    -1 => wsub(0, dd),
-                    _ => far_base(f0[i], pf0[i], pd[i], c),
-                };
-                (wadd(base << 16, wmul(dd, fk)), wmul(dd, d), dphi)
+    for_each_cell(cells, events, |e, [f0, f1], fk, c| {
+        let (pf0, pd) = prev;
+        let part = |i: usize| {
+            let dphi = wsub(f1[i], f0[i]);
+            let dd = wsub(dphi, pd[i]);
+            let base = match c {
+                1 => 0,
+                -1 => wsub(0, dd),
+                _ => far_base(f0[i], pf0[i], pd[i], c),
             };
-            let (v0, s0, d0) = part(0);
-            let (v1, s1, d1) = part(1);
-            (e.dv, e.ds) = ([v0, v1], [s0, s1]);
-            let d2 = if grads {
-                let (h0, h1, d2) = part(2);
-                e.dg = [h0, h1];
-                d2
-            } else {
-                e.dg = [0; 2];
-                0
-            };
-            prev = (f0, [d0, d1, d2]);
-        },
-    );
+            (wadd(base << 16, wmul(dd, fk)), wmul(dd, d), dphi)
+        };
+        let (v0, s0, d0) = part(0);
+        let (v1, s1, d1) = part(1);
+        (e.dv, e.ds) = ([v0, v1], [s0, s1]);
+        let d2 = if grads {
+            let (h0, h1, d2) = part(2);
+            e.dg = [h0, h1];
+            d2
+        } else {
+            e.dg = [0; 2];
+            0
+        };
+        prev = (f0, [d0, d1, d2]);
+    });
 }
 
 /// `Phi_0 - Phi_0' - c D'` of [`lane_entries`] for an entry that is not the next cell or the one
@@ -231,26 +230,25 @@ pub(super) fn smooth_entries(
 ) {
     // The previous cell's `G` and `D`.
     let mut prev: Option<[[i64; 2]; 2]> = None;
-    for_each_cell(
+    let cells = Cells {
         li,
         lane,
         hash,
         fv,
         vb,
-        false,
-        events,
-        |e, [f0, f1], _, _| {
-            let g = [f0[0] << 16, f0[1] << 16];
-            let dd = [wsub(f1[0], f0[0]), wsub(f1[1], f0[1])];
-            (e.dv, e.ds) = match prev {
-                None => (g, dd),
-                Some([pg, pd]) => (
-                    [wsub(g[0], pg[0]), wsub(g[1], pg[1])],
-                    [wsub(dd[0], pd[0]), wsub(dd[1], pd[1])],
-                ),
-            };
-            e.dg = [0; 2];
-            prev = Some([g, dd]);
-        },
-    );
+        grads: false,
+    };
+    for_each_cell(cells, events, |e, [f0, f1], _, _| {
+        let g = [f0[0] << 16, f0[1] << 16];
+        let dd = [wsub(f1[0], f0[0]), wsub(f1[1], f0[1])];
+        (e.dv, e.ds) = match prev {
+            None => (g, dd),
+            Some([pg, pd]) => (
+                [wsub(g[0], pg[0]), wsub(g[1], pg[1])],
+                [wsub(dd[0], pd[0]), wsub(dd[1], pd[1])],
+            ),
+        };
+        e.dg = [0; 2];
+        prev = Some([g, dd]);
+    });
 }
