@@ -893,12 +893,7 @@ pub mod workload {
         hash: HashKind,
         mode: crate::span::EvalMode,
     ) -> Option<super::Texture<TERMS, 256>> {
-        Some(super::Texture::new(
-            super::Shader::Model(marble_model(hash)),
-            MARBLE_STAGE?,
-            crate::filter::GradientNorm::L2,
-            mode,
-        ))
+        Some(marble_with(hash, mode, MARBLE_STAGE?))
     }
 
     /// [`marble_csat`] with [`MARBLE_RAMP_STAGE`]: the same samples, coloured through the
@@ -908,12 +903,22 @@ pub mod workload {
         hash: HashKind,
         mode: crate::span::EvalMode,
     ) -> Option<super::Texture<TERMS, 256>> {
-        Some(super::Texture::new(
+        Some(marble_with(hash, mode, MARBLE_RAMP_STAGE?))
+    }
+
+    /// [`marble_model`] coloured by `stage`, the L2 gradient norm, evaluated in `mode`.
+    #[cfg(any(feature = "csat", feature = "ramp"))]
+    fn marble_with(
+        hash: HashKind,
+        mode: crate::span::EvalMode,
+        stage: crate::filter::ColorStage<256>,
+    ) -> super::Texture<TERMS, 256> {
+        super::Texture::new(
             super::Shader::Model(marble_model(hash)),
-            MARBLE_RAMP_STAGE?,
+            stage,
             crate::filter::GradientNorm::L2,
             mode,
-        ))
+        )
     }
 
     #[cfg(test)]

@@ -173,6 +173,7 @@ impl Span {
     }
 
     /// The span `n` rows below (`s0` advanced by `n dsdy`, wrapping).
+    #[inline(always)]
     fn rows_down(&self, n: i32) -> Span {
         let b = self.s0.to_bits();
         let d = self.dsdy.to_bits();

@@ -174,6 +174,7 @@ pub(super) fn for_each_cell(
 /// (its near face is the previous far face), and for the cell before (`c = -1`) it is
 /// `-(D - D') 2^16`. Exact in the ring (the tests compare every entry with the blends).
 #[cfg(not(texcore_lean))]
+#[inline(never)]
 pub(super) fn lane_entries(cells: Cells<'_>, events: &mut [RowEvent]) {
     let (lane, grads) = (cells.lane, cells.grads);
     let d = i64::from(lane.du[lane.k.min(2)]);
