@@ -19,7 +19,7 @@
 //! the row are kept so): one signed high-word product (`noise::gradient::last_step`).
 //!
 //! A row of one term without quadric runs in one call (`one_term_row`); with a quadric or
-//! several terms, pixel after pixel (`multi_run`, the terms' sum floored once, as `Direct`
+//! several terms, pixel after pixel (`gradient::walk_lanes`, the terms' sum floored once, as `Direct`
 //! floors it); in `EvalMode::Fused` several terms without quadric run term after term, each
 //! over its own cells, adding its floored `(amp n) >> 16` into the row (`lane_rows`: one floor a
 //! term instead of one of the sum).
@@ -32,7 +32,7 @@
 //! steps wrap (`a` and `d` are exact modulo `2^64`, and their true values are in range at every
 //! pixel of the cell). Nothing here panics.
 
-use super::gradient::{grad_cell, Fades, GradCell};
+use super::gradient::{grad_cell, walk_lanes, GradCell, WalkedLane};
 use super::*;
 use crate::noise::gradient::last_step;
 use crate::noise::Fade;
@@ -161,7 +161,7 @@ impl FusedLane {
         [self.a, self.d, self.sa, self.sd] = self.entered_apart(e);
     }
 
-    /// [`FusedLane::entered`] out of line: the pixel-by-pixel rows (`multi_run`) keep their
+    /// [`FusedLane::entered`] out of line: the pixel-by-pixel rows (`walk_lanes`) keep their
     /// lanes' state in registers across the call (inlined there, `peers:perlin-4oct` costs 7.7
     /// more a sample on the Cortex-M4F); the one-term and term-by-term rows inline it.
     #[inline(never)]
@@ -294,7 +294,7 @@ fn one_term_row(f: &FusedLane, events: &[RowEvent], table: &[u32], out: &mut [Te
 /// The samples of a row of several terms `fl` without quadric, their fades along the row
 /// (`w << 14`) in `table` (term `l` at `l len`): term after term, each over its own cells, its
 /// scaled values added into `out` (so each term's `(amp n) >> 16` is floored on its own: at most
-/// one unit more a term than [`multi_run`]'s one floor of the sum: `EvalMode::Fused` only).
+/// one unit more a term than `walk_lanes`'s one floor of the sum: `EvalMode::Fused` only).
 #[cfg(feature = "fused")]
 #[inline(never)]
 fn lane_rows(fl: &[FusedLane], events: &[RowEvent], table: &[u32], out: &mut [TexValue]) {
@@ -325,23 +325,34 @@ fn lane_rows(fl: &[FusedLane], events: &[RowEvent], table: &[u32], out: &mut [Te
     }
 }
 
-/// The pixels `run` of the terms `fl` with the quadric `q` (value, step, second difference):
-/// `V = sum_i amp_i n_i` combined as `Direct` combines it, `(q + (V << 16)) >> 32`.
-#[inline(always)]
-fn multi_run(fl: &mut [FusedLane], run: &mut [TexValue], q: &mut [i64; 3], fades: Fades<'_>) {
-    let [mut qq, mut dq, ddq] = *q;
-    for (j, o) in run.iter_mut().enumerate() {
-        let mut v = 0i64;
-        for (l, f) in fl.iter_mut().enumerate() {
-            let wk = fades.at(l, j, f.fade, f.uk);
-            v = wadd(v, i64::from(f.amp) * i64::from(f.pixel(wk)));
-            f.uk = f.uk.wrapping_add(f.step);
-        }
-        *o = TexValue::from_bits((wadd(qq, v << 16) >> 32) as i32);
-        qq = wadd(qq, dq);
-        dq = wadd(dq, ddq);
+impl WalkedLane for FusedLane {
+    #[inline(always)]
+    fn fade(&self) -> Fade {
+        self.fade
     }
-    *q = [qq, dq, ddq];
+
+    #[inline(always)]
+    fn amp(&self) -> i32 {
+        self.amp
+    }
+
+    #[inline(always)]
+    fn uk(&self) -> i32 {
+        self.uk
+    }
+
+    #[inline(always)]
+    fn enter(&mut self, e: &RowEvent) {
+        FusedLane::enter(self, e);
+    }
+
+    /// [`FusedLane::pixel`] with the fade as `w << 14`, the coordinate along `k` stepped too.
+    #[inline(always)]
+    fn pixel_on(&mut self, w14: i32) -> i32 {
+        let n = self.pixel(w14);
+        self.uk = self.uk.wrapping_add(self.step);
+        n
+    }
 }
 
 /// The samples of a row whose terms (`lanes`, set up as `terms`) are all gradient noise, fused:
@@ -381,24 +392,7 @@ pub(super) fn fused_walk(
         }
     }
     let _ = approx;
-    let mut x = 0usize;
-    let mut rest = out;
-    for e in events {
-        if let Some(f) = fl.get_mut(usize::from(e.lane)) {
-            f.enter(e);
-        }
-        let n = usize::from(e.run).min(rest.len());
-        let (run, tail) = core::mem::take(&mut rest).split_at_mut(n);
-        rest = tail;
-        let fades = Fades {
-            table,
-            len,
-            x,
-            shift: 14,
-        };
-        multi_run(&mut fl, run, q, fades);
-        x += n;
-    }
+    walk_lanes(events, &mut fl, out, q, table, 14);
 }
 
 #[cfg(test)]

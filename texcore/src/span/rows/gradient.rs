@@ -134,28 +134,66 @@ pub(super) fn small_amps(sum: u64, fv: u32) -> bool {
     fv <= 16 && (sum << fv) <= 1 << 29
 }
 
-/// The pixels `run` of a row's gradient-noise terms `gl`, each term's fade along its `k` from
-/// `fades`, with the quadric `qq` stepped by `dq` and `ddq`: the sum `V = sum_i amp_i n16_i`
-/// combined as `(q + (V << 16)) >> 32` ([`small_amps`], which `rows_take` checks).
+/// A gradient-noise term walked along a row pixel by pixel ([`walk_lanes`]): the fused lane
+/// (`fused::FusedLane`, stepped sums) or the blended one ([`GradLane`], stepped dot products).
+pub(super) trait WalkedLane {
+    /// The term's fade along the row.
+    fn fade(&self) -> Fade;
+    /// The term's amplitude.
+    fn amp(&self) -> i32;
+    /// The term's coordinate along `k` at the current pixel.
+    fn uk(&self) -> i32;
+    /// Enters the cell of entry `e`.
+    fn enter(&mut self, e: &RowEvent);
+    /// The term's value `n16` at the current pixel with the fade `wk` along `k` (as the walk's
+    /// [`Fades`] give it), then one pixel on.
+    fn pixel_on(&mut self, wk: i32) -> i32;
+}
+
+/// The samples of a row of gradient-noise terms `lanes` (their fades along the row from
+/// `table`, term `l` at `l len`, as `w << shift`, or computed when it does not hold them): at
+/// each entry the entering term's cell, then per pixel the sum `V = sum_i amp_i n16_i` with the
+/// quadric `q` (value, step, second difference) combined as `(q + (V << 16)) >> 32`
+/// ([`small_amps`], which `rows_take` checks).
 #[inline(always)]
-fn multi_run(
-    gl: &mut [GradLane],
-    run: &mut [TexValue],
-    qq: &mut i64,
-    dq: &mut i64,
-    ddq: i64,
-    fades: Fades<'_>,
+pub(super) fn walk_lanes<L: WalkedLane>(
+    events: &[RowEvent],
+    lanes: &mut [L],
+    out: &mut [TexValue],
+    q: &mut [i64; 3],
+    table: &[u32],
+    shift: u32,
 ) {
-    for (j, o) in run.iter_mut().enumerate() {
-        let mut v = 0i64;
-        for (l, g) in gl.iter_mut().enumerate() {
-            let wk = fades.at(l, j, g.fade, g.uk);
-            v = wadd(v, i64::from(g.amp) * i64::from(g.pixel(wk)));
+    let len = out.len();
+    let mut x = 0usize;
+    let mut rest = out;
+    let [mut qq, mut dq, ddq] = *q;
+    for e in events {
+        if let Some(l) = lanes.get_mut(usize::from(e.lane)) {
+            l.enter(e);
         }
-        *o = TexValue::from_bits((wadd(*qq, v << 16) >> 32) as i32);
-        *qq = wadd(*qq, *dq);
-        *dq = wadd(*dq, ddq);
+        let n = usize::from(e.run).min(rest.len());
+        let (run, tail) = core::mem::take(&mut rest).split_at_mut(n);
+        rest = tail;
+        let fades = Fades {
+            table,
+            len,
+            x,
+            shift,
+        };
+        for (j, o) in run.iter_mut().enumerate() {
+            let mut v = 0i64;
+            for (i, l) in lanes.iter_mut().enumerate() {
+                let wk = fades.at(i, j, l.fade(), l.uk());
+                v = wadd(v, i64::from(l.amp()) * i64::from(l.pixel_on(wk)));
+            }
+            *o = TexValue::from_bits((wadd(qq, v << 16) >> 32) as i32);
+            qq = wadd(qq, dq);
+            dq = wadd(dq, ddq);
+        }
+        x += n;
     }
+    *q = [qq, dq, ddq];
 }
 
 /// The terms' fades along the row: term `l`'s at pixel `x + j` of a run is
@@ -197,7 +235,22 @@ struct GradLane {
     s: [i32; 8],
 }
 
-impl GradLane {
+impl WalkedLane for GradLane {
+    #[inline(always)]
+    fn fade(&self) -> Fade {
+        self.fade
+    }
+
+    #[inline(always)]
+    fn amp(&self) -> i32 {
+        self.amp
+    }
+
+    #[inline(always)]
+    fn uk(&self) -> i32 {
+        self.uk
+    }
+
     /// Enters the cell of entry `e`.
     #[inline(always)]
     fn enter(&mut self, e: &RowEvent) {
@@ -210,7 +263,7 @@ impl GradLane {
 
     /// The term's value `n16` at the current pixel with weight `wk` along `k`, then one pixel on.
     #[inline(always)]
-    fn pixel(&mut self, wk: i32) -> i32 {
+    fn pixel_on(&mut self, wk: i32) -> i32 {
         let mut w = self.w;
         w[self.k.min(2)] = wk;
         let n16 = blend(self.d, w);
@@ -289,27 +342,7 @@ fn gradient_walk(
             s: [0; 8],
         });
     }
-    let len = out.len();
-    let mut x = 0usize;
-    let mut rest = out;
-    for e in events {
-        if let Some(g) = gl.get_mut(usize::from(e.lane)) {
-            g.enter(e);
-        }
-        let n = usize::from(e.run).min(rest.len());
-        let (run, tail) = core::mem::take(&mut rest).split_at_mut(n);
-        rest = tail;
-        let [mut qq, mut dq, ddq] = *q;
-        let tab = Fades {
-            table,
-            len,
-            x,
-            shift: 0,
-        };
-        multi_run(&mut gl, run, &mut qq, &mut dq, ddq, tab);
-        *q = [qq, dq, ddq];
-        x += n;
-    }
+    walk_lanes(events, &mut gl, out, q, table, 0);
 }
 
 #[cfg(test)]
