@@ -896,7 +896,7 @@ pub mod workload {
         Some(marble_with(hash, mode, MARBLE_STAGE?))
     }
 
-    /// [`marble_csat`] with [`MARBLE_RAMP_STAGE`]: the same samples, coloured through the
+    /// `marble_csat` (feature `csat`) with [`MARBLE_RAMP_STAGE`]: the same samples, coloured through the
     /// pre-filtered RGB565 ramp (approximate, [`crate::filter::ramp`]).
     #[cfg(feature = "ramp")]
     pub fn marble_ramp(
