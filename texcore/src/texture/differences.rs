@@ -22,6 +22,38 @@
 //!   by row, left to right, as a display is drawn); any other order is served by evaluating the
 //!   row above the span once more (the same colours, at twice the cost).
 //! - Deterministic integer arithmetic: the same colours on the host and on every device.
+//!
+//! ```
+//! use texcore::filter::Antialias;
+//! use texcore::format::TexPoint;
+//! use texcore::ready::{Material, PresetName};
+//! use texcore::span::{RowCache, Span};
+//! use texcore::texture::DifferenceMemory;
+//!
+//! let marble = Material::preset(PresetName::Marble).texture::<256>(Antialias::Csat)?;
+//! // A 128-pixel-wide plane, one row after the other.
+//! let first = Span {
+//!     s0: TexPoint::from_f64(0.0, 0.5, 0.0),
+//!     ds: TexPoint::from_f64(1.0 / 64.0, 0.0, 0.0),
+//!     dsdy: TexPoint::from_f64(0.0, 0.0, 1.0 / 64.0),
+//!     len: 128,
+//! };
+//! let mut cache = RowCache::<128>::new();
+//! let mut memory = DifferenceMemory::<128>::new(); // 8 x 128 + 16 bytes
+//! let mut ev = marble.evaluator();
+//! let mut rows = ev.difference_rows(&first, &mut cache, &mut memory).ok_or("too wide")?;
+//! let mut line = [0u16; 128];
+//! for _ in 0..4 {
+//!     let mut px = line.iter_mut();
+//!     rows.next_shade565(|c| {
+//!         if let Some(p) = px.next() {
+//!             *p = c.to_bits();
+//!         }
+//!     });
+//!     // ... send `line` to the display
+//! }
+//! # Ok::<(), Box<dyn std::error::Error>>(())
+//! ```
 
 use super::{log2, Texture, TextureEvaluator, TextureRows, TextureSpans};
 use crate::color::{Rgb565, Rgba8888};
