@@ -59,15 +59,15 @@ const BOUNDS: &[(&str, &str, f64, f64)] = &[
     ("perlin-4oct", "texcore-direct", 3521.0, 4274.0), // 3200.5 / 3885.4
     ("perlin-1oct", "texcore-fused", 32.0, 45.0), // 28.3 / 40.6
     ("perlin-4oct", "texcore-fused", 298.0, 365.0), // 271.1 / 331.0
-    ("marble-csat-rgb565", "texcore-ramp", 256.0, 305.0), // 231.0 / 276.6
-    ("marble-csat-rgb565-span16", "texcore-ramp", 312.0, 359.0), // 282.7 / 325.6
-    ("marble-csat-rgb565", "texcore-ramp-diff", 203.0, 246.0), // 184.0 / 223.1
+    ("marble-csat-rgb565", "texcore-ramp", 250.0, 297.0), // 226.8 / 270.0
+    ("marble-csat-rgb565-span16", "texcore-ramp", 306.0, 351.0), // 278.4 / 318.9
+    ("marble-csat-rgb565", "texcore-ramp-diff", 200.0, 237.0), // 182.0 / 215.4
     (
         "marble-csat-rgb565-span16",
         "texcore-ramp-diff",
-        263.0,
-        312.0,
-    ), // 238.5 / 283.0
+        262.0,
+        306.0,
+    ), // 237.8 / 278.5
 ];
 
 fn bound(workload: &str, implementation: &str, target: DeviceTarget) -> Option<f64> {
