@@ -8,8 +8,9 @@
 //! `ChecksumSink`, and with feature `render` also renders a scene through the banded renderer
 //! (perspective, depth test, alpha blending), and with feature `atlas` bakes and samples a small
 //! texture atlas (`texcore::atlas`, `texcore::packed_mesh`), and with feature `differences` shades
-//! the plane once more with the filter widths from differences (`texcore::texture::DifferenceSpans`). It exits through semihosting with status 0, so it
-//! also runs under QEMU (`firmware/qemu-run.sh`).
+//! the plane once more with the filter widths from differences
+//! (`texcore::texture::DifferenceSpans`). It exits through semihosting with status 0, so it also
+//! runs under QEMU (`firmware/qemu-run.sh`).
 //!
 //! Which texcore features are compiled in is the size report's feature set (`--no-default-features
 //! --features ...`): `minimal` is none of them (value noise, integer hash, mod/clamp colour table,

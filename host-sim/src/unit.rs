@@ -284,25 +284,22 @@ fn render_plane_n<const N: usize>(
     // same colours as each span set up on its own).
     let setup = workloads::planes::span_plane(plane, size).and_then(|p| ev.plane_setup(&p));
     if cfg.widths == WidthSource::Differences {
+        let too_wide = || UnitError::TooWide {
+            width: size,
+            max: DIFFERENCES_MAX_WIDTH,
+        };
         if size as usize > DIFFERENCES_MAX_WIDTH {
-            return Err(UnitError::TooWide {
-                width: size,
-                max: DIFFERENCES_MAX_WIDTH,
-            });
+            return Err(too_wide());
         }
         let mut mem = Box::new(DifferenceMemory::<DIFFERENCES_MAX_WIDTH>::new());
         let mut cache = RowCache::<{ texcore::texture::workload::peers::ROW_EVENTS }>::new();
-        let emit = |c: texcore::color::Rgba8888| pixels.push(c.to_array());
+        let mut emit = |c: texcore::color::Rgba8888| pixels.push(c.to_array());
         match &setup {
             // The spans of the plane, as the device's accuracy jobs shade them.
             Some(s) => {
-                let Some(mut spans) = ev.difference_spans(s, &mut cache, &mut mem) else {
-                    return Err(UnitError::TooWide {
-                        width: size,
-                        max: DIFFERENCES_MAX_WIDTH,
-                    });
-                };
-                let mut emit = emit;
+                let mut spans = ev
+                    .difference_spans(s, &mut cache, &mut mem)
+                    .ok_or_else(too_wide)?;
                 for y in 0..size {
                     for x0 in (0..size).step_by(PLANE_SEGMENT as usize) {
                         let len = PLANE_SEGMENT.min(size - x0);
@@ -313,13 +310,9 @@ fn render_plane_n<const N: usize>(
             // A perturbed material (no plane set-up): whole rows.
             None => {
                 let first = plane_span(plane, 0, 0, size);
-                let Some(mut rows) = ev.difference_rows(&first, &mut cache, &mut mem) else {
-                    return Err(UnitError::TooWide {
-                        width: size,
-                        max: DIFFERENCES_MAX_WIDTH,
-                    });
-                };
-                let mut emit = emit;
+                let mut rows = ev
+                    .difference_rows(&first, &mut cache, &mut mem)
+                    .ok_or_else(too_wide)?;
                 for _ in 0..size {
                     rows.next_shade(&mut emit);
                 }

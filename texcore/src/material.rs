@@ -273,6 +273,17 @@ impl<'m, const T: usize> MaterialEvaluator<'m, T> {
         self.eval_with(span, emit)
     }
 
+    /// The values of `span` (its first `min(len, out.len())` pixels) into `out`, as
+    /// [`MaterialEvaluator::eval`] gives them (the samples' gradients are made and dropped).
+    pub(crate) fn eval_values(&mut self, span: &Span, out: &mut [TexValue]) -> SpanInfo {
+        let mut px = out.iter_mut();
+        self.eval(span, |s| {
+            if let Some(p) = px.next() {
+                *p = s.f;
+            }
+        })
+    }
+
     /// [`MaterialEvaluator::eval`] with `emit` as given (a trait object in the size-lean shape).
     #[cfg_attr(texcore_lean, inline(never))]
     #[cfg_attr(not(texcore_lean), inline(always))]

@@ -445,15 +445,7 @@ impl<'t, const T: usize, const N: usize> TextureSpans<'_, 't, '_, T, N> {
         match &mut self.ev.inner {
             Inner::Model(e) => e.eval_values(span, out).extra_width48,
             #[cfg(feature = "perturb")]
-            Inner::Perturbed(e) => {
-                let mut px = out.iter_mut();
-                e.eval(span, |s| {
-                    if let Some(p) = px.next() {
-                        *p = s.f;
-                    }
-                })
-                .extra_width48
-            }
+            Inner::Perturbed(e) => e.eval_values(span, out).extra_width48,
         }
     }
 }
@@ -896,8 +888,8 @@ pub mod workload {
         Some(marble_with(hash, mode, MARBLE_STAGE?))
     }
 
-    /// `marble_csat` (feature `csat`) with [`MARBLE_RAMP_STAGE`]: the same samples, coloured through the
-    /// pre-filtered RGB565 ramp (approximate, [`crate::filter::ramp`]).
+    /// `marble_csat` (feature `csat`) with [`MARBLE_RAMP_STAGE`]: the same samples, coloured
+    /// through the pre-filtered RGB565 ramp (approximate, [`crate::filter::ramp`]).
     #[cfg(feature = "ramp")]
     pub fn marble_ramp(
         hash: HashKind,

@@ -20,8 +20,8 @@
 //! What it approximates: the summed-area filter (`filter::csat`, feature `csat`) of the same
 //! table at the same `(f, w)`. The box's width is off by at most a factor `sqrt(2)` and its centre
 //! by at most half an entry (levels 0 to 2) or `S_l / 2` (an eighth of the box, above); the colour
-//! is rounded to RGB565. `texsim report accuracy` (knob `antialiasing`, row `ramp`) measures what it costs in
-//! error and saves in instructions.
+//! is rounded to RGB565. `texsim report accuracy` (knob `antialiasing`, row `ramp`) measures
+//! what it costs in error and saves in instructions.
 //!
 //! Guarantees: integer only, `const fn` construction (a ramp can live in flash), total for every
 //! `TableCoord` and level (indices wrapped or clamped). Memory: `4 N` RGB565 samples, `8 N` bytes

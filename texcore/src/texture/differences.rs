@@ -72,7 +72,7 @@ pub struct DifferenceMemory<const W: usize> {
 
 /// The pixels `lo..hi` of row `row` held by one row of a [`DifferenceMemory`] (`row` `None`:
 /// nothing).
-#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
 struct Held {
     row: Option<u16>,
     lo: u16,
@@ -80,6 +80,13 @@ struct Held {
 }
 
 impl Held {
+    /// Nothing held.
+    const NONE: Held = Held {
+        row: None,
+        lo: 0,
+        hi: 0,
+    };
+
     /// Whether pixels `x..x + len` of row `y` are held.
     fn covers(&self, y: u16, x: u16, len: u16) -> bool {
         self.row == Some(y) && self.lo <= x && u32::from(x) + u32::from(len) <= u32::from(self.hi)
@@ -91,11 +98,7 @@ impl<const W: usize> DifferenceMemory<W> {
     pub const fn new() -> Self {
         DifferenceMemory {
             rows: [[TexValue::ZERO; W]; 2],
-            held: [Held {
-                row: None,
-                lo: 0,
-                hi: 0,
-            }; 2],
+            held: [Held::NONE; 2],
         }
     }
 
@@ -106,7 +109,7 @@ impl<const W: usize> DifferenceMemory<W> {
 
     /// Forgets what is held.
     fn clear(&mut self) {
-        self.held = [Held::default(); 2];
+        self.held = [Held::NONE; 2];
     }
 
     /// Records that memory row `k` now holds pixels `x..x + len` of row `y` as well: the pixels
@@ -122,7 +125,7 @@ impl<const W: usize> DifferenceMemory<W> {
                 *h = Held {
                     row: Some(y),
                     lo: x,
-                    hi: x + len,
+                    hi: end,
                 };
             }
         }
@@ -386,7 +389,7 @@ impl<const T: usize, const N: usize, const W: usize> DifferenceSpans<'_, '_, '_,
                 // Above the plane's first row: its span one row up, not kept.
                 None => {
                     self.spans.span_values(&span.prev_row(), row);
-                    self.mem.held[up] = Held::default();
+                    self.mem.held[up] = Held::NONE;
                 }
             }
         }

@@ -129,12 +129,7 @@ impl<const T: usize, const N: usize> TextureRows<'_, '_, '_, T, N> {
             Source::Rows(r) => r.next_values(out).extra_width48,
             #[cfg(feature = "perturb")]
             Source::Spans(e, span) => {
-                let mut px = out.iter_mut();
-                let info = e.eval(span, |s| {
-                    if let Some(p) = px.next() {
-                        *p = s.f;
-                    }
-                });
+                let info = e.eval_values(span, out);
                 *span = span.next_row();
                 info.extra_width48
             }

@@ -626,8 +626,6 @@ impl<'m, const T: usize> EvalCore<'m, T> {
             } else if lane.grad {
                 #[cfg(feature = "gradient-noise")]
                 gradient::gradient_entries(li, lane, hash, events);
-            } else if lane.smooth {
-                smooth_entries(li, lane, hash, fv, vb, events);
             } else {
                 let cells = schedule::Cells {
                     li,
@@ -637,7 +635,11 @@ impl<'m, const T: usize> EvalCore<'m, T> {
                     vb,
                     grads: GRADIENTS && grads,
                 };
-                lane_entries(cells, events);
+                if lane.smooth {
+                    smooth_entries(cells, events);
+                } else {
+                    lane_entries(cells, events);
+                }
             }
             lane.made = true;
         }

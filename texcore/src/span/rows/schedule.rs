@@ -221,23 +221,12 @@ fn far_base(f0: i64, pf0: i64, pd: i64, c: i64) -> i64 {
 /// `w(j)` the fade of the fraction along `k`; each entry holds the change of `G` (`dv`) and of
 /// `D` (`ds`) from the term's previous cell.
 #[cfg(not(texcore_lean))]
-pub(super) fn smooth_entries(
-    li: usize,
-    lane: &RowLane,
-    hash: HashKind,
-    fv: u32,
-    vb: u32,
-    events: &mut [RowEvent],
-) {
-    // The previous cell's `G` and `D`.
+pub(super) fn smooth_entries(cells: Cells<'_>, events: &mut [RowEvent]) {
+    // The previous cell's `G` and `D` (the faces' derivatives across the rows are not made).
     let mut prev: Option<[[i64; 2]; 2]> = None;
     let cells = Cells {
-        li,
-        lane,
-        hash,
-        fv,
-        vb,
         grads: false,
+        ..cells
     };
     for_each_cell(cells, events, |e, [f0, f1], _, _| {
         let g = [f0[0] << 16, f0[1] << 16];
