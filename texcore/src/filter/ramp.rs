@@ -370,6 +370,10 @@ impl<const N: usize> Ramp565<N> {
         e2: u32,
         mut emit: F,
     ) {
+        let n = f.len().min(above.len());
+        let (Some(f), Some(above)) = (f.get(..n), above.get(..n)) else {
+            return;
+        };
         // The squared norm: below 2^32 without saturation when both differences lie in
         // [-2^15, 2^15) (squares at most 2^30) and the spread is below 2^15 (`e2 < 2^30`);
         // otherwise from the saturated magnitudes ([`norm2`]). The same sum either way.
@@ -381,9 +385,18 @@ impl<const N: usize> Ramp565<N> {
                 norm2(magnitude16(dx), magnitude16(dy), e2)
             }
         };
-        super::width::for_each_difference(f, above, |v, dx, dy| {
-            emit(self.sample_sq::<CLAMP>(v, norm(dx, dy)));
-        });
+        let d = |a: crate::format::TexValue, b: crate::format::TexValue| {
+            a.to_bits().wrapping_sub(b.to_bits())
+        };
+        // Every pixel but the last: the difference to its right neighbour.
+        let mut dx = 0;
+        for ((&v, &r), &u) in f.iter().zip(f.iter().skip(1)).zip(above) {
+            dx = d(r, v);
+            emit(self.sample_sq::<CLAMP>(v, norm(dx, d(v, u))));
+        }
+        if let (Some(&v), Some(&u)) = (f.last(), above.last()) {
+            emit(self.sample_sq::<CLAMP>(v, norm(dx, d(v, u))));
+        }
     }
 
     /// The colour of value `f` (wrap `CLAMP`) with gradient magnitudes `a`, `b` and the spread's

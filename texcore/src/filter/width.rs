@@ -38,34 +38,6 @@ pub enum WidthSource {
     Differences,
 }
 
-/// The differences of [`WidthSource::Differences`]: calls `each(f[i], dx, dy)` for every pixel
-/// of a span, in order, with `dx = f[i + 1] - f[i]` (the last pixel's, its left neighbour's; 0
-/// for a span of one) and `dy = f[i] - above[i]` (`above`: the same pixels one row up),
-/// wrapping differences of the raw 16.16 values. Stops at the shorter slice.
-#[cfg_attr(not(texcore_lean), inline(always))]
-pub(crate) fn for_each_difference(
-    f: &[crate::format::TexValue],
-    above: &[crate::format::TexValue],
-    mut each: impl FnMut(crate::format::TexValue, i32, i32),
-) {
-    let n = f.len().min(above.len());
-    let (Some(f), Some(above)) = (f.get(..n), above.get(..n)) else {
-        return;
-    };
-    let d = |a: crate::format::TexValue, b: crate::format::TexValue| {
-        a.to_bits().wrapping_sub(b.to_bits())
-    };
-    // Every pixel but the last: the difference to its right neighbour.
-    let mut dx = 0;
-    for ((&v, &r), &u) in f.iter().zip(f.iter().skip(1)).zip(above) {
-        dx = d(r, v);
-        each(v, dx, d(v, u));
-    }
-    if let (Some(&v), Some(&u)) = (f.last(), above.last()) {
-        each(v, dx, d(v, u));
-    }
-}
-
 /// Exact integer square root, `floor(sqrt(v))`, for every `u64` (digit by digit, 32 fixed
 /// iterations).
 pub const fn isqrt(v: u64) -> u64 {

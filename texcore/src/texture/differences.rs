@@ -57,7 +57,6 @@
 
 use super::{log2, Texture, TextureEvaluator, TextureRows, TextureSpans};
 use crate::color::{Rgb565, Rgba8888};
-use crate::filter::width::for_each_difference;
 use crate::filter::{Antialias, ColorStage, GradientNorm, WidthStream};
 use crate::format::{FilterWidth, TexValue};
 use crate::span::{PlaneSetup, RowCache, Span};
@@ -139,6 +138,24 @@ impl<const W: usize> Default for DifferenceMemory<W> {
     }
 }
 
+/// The values `f` of a span with their differences `(f, dx, dy)` (16 fraction bits): `dx` to
+/// the right neighbour (the last pixel's, its left neighbour's; 0 for one pixel), `dy` from the
+/// pixel above (`above`, the same pixels one row up). Stops at the shorter slice.
+#[inline(always)]
+fn differences<'a>(
+    f: &'a [TexValue],
+    above: &'a [TexValue],
+) -> impl Iterator<Item = (TexValue, i32, i32)> + 'a {
+    let mut dx = 0i32;
+    let right = f.iter().skip(1).map(Some).chain(core::iter::once(None));
+    f.iter().zip(right).zip(above).map(move |((&v, r), &a)| {
+        if let Some(&r) = r {
+            dx = r.to_bits().wrapping_sub(v.to_bits());
+        }
+        (v, dx, v.to_bits().wrapping_sub(a.to_bits()))
+    })
+}
+
 /// A difference of 16 fraction bits as a gradient of 48.
 #[inline(always)]
 fn gradient48(d: i32) -> i64 {
@@ -208,14 +225,14 @@ fn shade_values<const N: usize, C: SpanColor, F: FnMut(C)>(
     }
     let filtered = stage.antialias() != Antialias::None;
     let mut widths = WidthStream::new(norm, log2(N));
-    for_each_difference(f, above, |v, dx, dy| {
+    for (v, dx, dy) in differences(f, above) {
         let w = if filtered {
             widths.width_with(gradient48(dx), gradient48(dy), extra48)
         } else {
             FilterWidth::ZERO
         };
         emit(C::at(stage, v, w));
-    });
+    }
 }
 
 /// The rows of a plane shaded with widths from differences: made by
