@@ -10,7 +10,9 @@ use texcore::raster::{DepthBuffer, Rasterizer, Rect, Segment};
 use texcore::render::{Blend, Output, RenderStats, Renderer, TriangleSource};
 use texcore::scene::{Scene, TextureSlot};
 use texcore::sink::{ChecksumSink, PixelSink, RgbaBuffer};
-use texcore::texture::Texture;
+use texcore::filter::WidthSource;
+use texcore::span::FaceCache;
+use texcore::texture::{DifferenceMemory, Texture};
 
 use crate::bridge;
 use crate::metrics::{compare_to_reference, Metrics};
@@ -18,7 +20,11 @@ use crate::output::Frame;
 use crate::reference::model::{Footprint, Nyquist};
 use crate::reference::perturbed::RefPerturbed;
 use crate::reference::table::RefTable;
-use crate::unit::{self, MaterialSpec, ShaderSpec, UnitConfig, UnitError};
+use crate::unit::{self, MaterialSpec, ShaderSpec, UnitConfig, UnitError, DIFFERENCES_MAX_WIDTH};
+
+/// Face-cache entries of a scene rendered with filter widths from differences
+/// (`texcore::span::FaceCache`; the values are the same with any number).
+pub const DIFFERENCES_FACES: usize = 128;
 
 /// The material of a texture slot: its preset with the slot's amplitude factor, phase and keys.
 pub fn slot_material(slot: &TextureSlot, hash: HashKind) -> Result<MaterialSpec, UnitError> {
@@ -74,19 +80,32 @@ pub(crate) fn render_n<const N: usize>(
     cfg: &UnitConfig,
     output: Output,
 ) -> Result<Rendered, UnitError> {
-    if cfg.widths == texcore::filter::WidthSource::Differences {
-        return Err(UnitError::Render(
-            "filter widths from differences (--widths differences) apply to check planes, not \
-             to scenes"
-                .into(),
-        ));
-    }
     let textures: Vec<Texture<{ texcore::presets::PRESET_TERMS }, N>> = materials
         .iter()
         .map(|m| unit::texture::<N>(m, cfg))
         .collect::<Result<_, _>>()?;
-    let renderer = Renderer::new(&textures).with_output(output);
     let (w, h) = scene.size();
+    // The memory of the filter widths from differences, only when the render takes them.
+    let mut memory = match cfg.widths {
+        WidthSource::Gradients => None,
+        WidthSource::Differences => {
+            if usize::from(w) > DIFFERENCES_MAX_WIDTH {
+                return Err(UnitError::TooWide {
+                    width: u32::from(w),
+                    max: DIFFERENCES_MAX_WIDTH,
+                });
+            }
+            Some((
+                Box::new(DifferenceMemory::<DIFFERENCES_MAX_WIDTH>::new()),
+                Box::new(FaceCache::<DIFFERENCES_FACES, { texcore::presets::PRESET_TERMS }>::new()),
+            ))
+        }
+    };
+    let renderer = match memory.as_mut() {
+        None => Renderer::new(&textures),
+        Some((mem, faces)) => Renderer::new(&textures).with_differences(&mut **mem, &mut **faces),
+    }
+    .with_output(output);
     let n = usize::from(w) * usize::from(h);
     let mut img = vec![Rgba8888::BLACK; n];
     let mut sink = RgbaBuffer::new(&mut img, w, 0, h).ok_or(UnitError::TableSize(0))?;

@@ -34,6 +34,10 @@ use crate::raster::{
 };
 use crate::sink::{PixelSink, RgbaBuffer};
 use crate::span::{EvalOptions, Span, SpanEvaluator};
+#[cfg(feature = "differences")]
+use crate::span::FaceCache;
+#[cfg(feature = "differences")]
+use crate::texture::{DifferenceMemory, MemoryRows};
 use crate::texture::{ShadeStats, Shader, Texture, TextureEvaluator};
 
 /// Most texture slots a scene may use.
@@ -375,6 +379,14 @@ pub enum RenderError {
     NeedsBands,
     /// The band or depth buffers are too small for one row of the image.
     BufferTooSmall,
+    /// The difference memory given to [`Renderer::with_differences`] (feature `differences`)
+    /// is narrower than the image.
+    MemoryTooNarrow {
+        /// The image's width in pixels.
+        width: u16,
+        /// The memory's width in pixels.
+        memory: usize,
+    },
 }
 
 impl core::fmt::Display for RenderError {
@@ -393,6 +405,10 @@ impl core::fmt::Display for RenderError {
             RenderError::BufferTooSmall => {
                 f.write_str("the band or depth buffer is too small for one row of the image")
             }
+            RenderError::MemoryTooNarrow { width, memory } => write!(
+                f,
+                "the difference memory holds rows of {memory} pixels, the image is {width} wide"
+            ),
         }
     }
 }
@@ -487,12 +503,45 @@ pub const CHUNK: usize = 64;
 pub struct Renderer<'t, const T: usize, const N: usize> {
     textures: &'t [Texture<T, N>],
     output: Output,
+    /// The memory of the filter widths from differences, when the renderer takes them so.
+    #[cfg(feature = "differences")]
+    differences: DifferenceSlot<'t>,
+}
+
+/// The memory of [`Renderer::with_differences`]: taken by a frame's render and put back after
+/// it (the render methods borrow the renderer shared).
+#[cfg(feature = "differences")]
+#[derive(Default)]
+struct DifferenceSlot<'t>(core::cell::Cell<Option<MemoryRows<'t>>>);
+
+#[cfg(feature = "differences")]
+impl core::fmt::Debug for DifferenceSlot<'_> {
+    fn fmt(&self, f: &mut core::fmt::Formatter<'_>) -> core::fmt::Result {
+        let m = self.0.take();
+        let width = m.as_ref().map(MemoryRows::width);
+        self.0.set(m);
+        f.debug_struct("DifferenceSlot").field("width", &width).finish()
+    }
 }
 
 /// Per-slot evaluators, created once per frame.
 struct Slots<'t, const T: usize, const N: usize> {
     evals: heapless::Vec<TextureEvaluator<'t, T, N>, MAX_TEXTURES>,
     widths: heapless::Vec<Option<WidthEval<'t, T, N>>, MAX_TEXTURES>,
+    /// The frame's difference memory ([`Renderer::with_differences`]).
+    #[cfg(feature = "differences")]
+    mem: Option<MemoryRows<'t>>,
+}
+
+impl<const T: usize, const N: usize> Slots<'_, T, N> {
+    /// A new triangle: the differences start again (they are taken within one triangle).
+    #[inline(always)]
+    fn new_triangle(&mut self) {
+        #[cfg(feature = "differences")]
+        if let Some(m) = self.mem.as_mut() {
+            m.forget();
+        }
+    }
 }
 
 /// Evaluates filter widths for [`Output::FilterWidth`].
@@ -507,6 +556,51 @@ impl<'t, const T: usize, const N: usize> Renderer<'t, T, N> {
         Renderer {
             textures,
             output: Output::Color,
+            #[cfg(feature = "differences")]
+            differences: DifferenceSlot::default(),
+        }
+    }
+
+    /// The same renderer taking every filtered texture's filter widths from the differences of
+    /// neighbouring values instead of the noise's gradients (feature `differences`; a named
+    /// approximate mode, `texture::DifferenceSpans` for planes): each segment's values are
+    /// evaluated without gradients (about half the noise's cost) and pixel `(x, y)`'s width is
+    /// the stage's width of `(f(x + 1, y) - f(x, y), f(x, y) - f(x, y - 1))`, both neighbours
+    /// taken within the pixel's triangle (extrapolated on its segment past the triangle's
+    /// pixels: the row above a triangle's first row in a band, a segment's last pixel takes its
+    /// left neighbour's horizontal difference), as a GPU's `ddx`/`ddy`. `mem` holds the row
+    /// above ([`TextureEvaluator::shade_differences`]: the row above each tile of
+    /// [`crate::texture::TILE_ROWS`] rows is extrapolated too, so the colours are the same
+    /// streamed and in bands of any multiple of that many rows); a frame wider than `W` pixels
+    /// is refused ([`RenderError::MemoryTooNarrow`]). The filter-width output
+    /// ([`Output::FilterWidth`]) still shows the gradients' widths. The colours are the same on
+    /// every target.
+    ///
+    /// What it costs and saves: about half the noise's cost on large triangles (the built-in
+    /// `fire` scene), but the rows above each triangle's first rows and each tile's are
+    /// evaluated once more, which a fine mesh of small triangles pays for (`docs/cycles.md`).
+    ///
+    /// `faces` keeps the face blends of the noise's axis-aligned terms across segments
+    /// ([`FaceCache`]: the same values, bit for bit, with fewer hashes; `FaceCache::<0, 0>`
+    /// for none): rows of a triangle, and the triangles of one surface, cross the same cell
+    /// faces.
+    #[cfg(feature = "differences")]
+    pub fn with_differences<const W: usize, const F: usize, const L: usize>(
+        self,
+        mem: &'t mut DifferenceMemory<W>,
+        faces: &'t mut FaceCache<F, L>,
+    ) -> Self {
+        mem.forget();
+        self.differences.0.set(Some(mem.rows_mut(faces.parts())));
+        self
+    }
+
+    /// Gives the frame's difference memory back (see [`DifferenceSlot`]).
+    #[cfg_attr(not(feature = "differences"), allow(unused_variables))]
+    fn put_back(&self, slots: &mut Slots<'t, T, N>) {
+        #[cfg(feature = "differences")]
+        if let Some(m) = slots.mem.take() {
+            self.differences.0.set(Some(m));
         }
     }
 
@@ -519,6 +613,16 @@ impl<'t, const T: usize, const N: usize> Renderer<'t, T, N> {
     fn check<S: TriangleSource>(&self, scene: &S) -> Result<bool, RenderError> {
         if self.textures.len() > MAX_TEXTURES {
             return Err(RenderError::TooManyTextures);
+        }
+        #[cfg(feature = "differences")]
+        {
+            let m = self.differences.0.take();
+            let memory = m.as_ref().map(MemoryRows::width);
+            self.differences.0.set(m);
+            let width = scene.size().0;
+            if let Some(memory) = memory.filter(|&w| w < usize::from(width)) {
+                return Err(RenderError::MemoryTooNarrow { width, memory });
+            }
         }
         let mut needs_bands = false;
         for i in 0..scene.object_count() {
@@ -564,7 +668,12 @@ impl<'t, const T: usize, const N: usize> Renderer<'t, T, N> {
             };
             let _ = widths.push(w);
         }
-        Slots { evals, widths }
+        Slots {
+            evals,
+            widths,
+            #[cfg(feature = "differences")]
+            mem: self.differences.0.take(),
+        }
     }
 
     /// Renders with no frame buffer: each segment's pixels go straight to `sink` (after the
@@ -603,6 +712,7 @@ impl<'t, const T: usize, const N: usize> Renderer<'t, T, N> {
         }
         #[cfg(not(feature = "lighting"))]
         scene.for_each_triangle(|obj, tri| draw.triangle(obj, tri, Unlit));
+        self.put_back(&mut draw.slots);
         Ok(RenderStats {
             raster: draw.raster.counters(),
             shade: slots_stats(&draw.slots),
@@ -795,6 +905,7 @@ impl<'t, const T: usize, const N: usize> Renderer<'t, T, N> {
             stats.bands += 1;
             y0 = y1;
         }
+        self.put_back(&mut draw.slots);
         stats.blended_pixels = draw.blended;
         stats.lit_pixels = draw.lit;
         stats.raster = draw.raster.counters();
@@ -825,6 +936,7 @@ impl<S: TriangleSource, P: PixelSink, const T: usize, const N: usize>
         };
         let (slots, output, sink, lit) =
             (&mut self.slots, self.output, &mut *self.sink, &mut self.lit);
+        slots.new_triangle();
         let mut plane = W::Plane::default();
         let mut seg_sink = |seg: &Segment| {
             let light = light.segment(&mut plane, tri);
@@ -891,6 +1003,7 @@ impl<S: TriangleSource, const T: usize, const N: usize> BandDraw<'_, '_, S, T, N
             return;
         };
         let (slots, output, buf) = (&mut self.slots, self.output, &mut self.buf);
+        slots.new_triangle();
         let (blended, lit) = (&mut self.blended, &mut self.lit);
         let mut plane = W::Plane::default();
         let mut seg_sink = |seg: &Segment| {
@@ -976,7 +1089,20 @@ fn shade_segment<const T: usize, const N: usize, L: SegmentLight, O: FnMut(u16, 
     match output {
         Output::Color => {
             if let Some(e) = slots.evals.get_mut(slot) {
-                e.shade(&span, &mut push);
+                // Widths from differences for a filtered texture (an unfiltered one needs no
+                // widths, and no row above).
+                #[cfg(feature = "differences")]
+                let done = match slots.mem.as_mut() {
+                    Some(m) if e.stage().antialias() != crate::filter::Antialias::None => {
+                        e.differences_in(m, seg.x0, seg.y, &span, &mut push)
+                    }
+                    _ => false,
+                };
+                #[cfg(not(feature = "differences"))]
+                let done = false;
+                if !done {
+                    e.shade(&span, &mut push);
+                }
             }
         }
         Output::FilterWidth => {

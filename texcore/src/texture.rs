@@ -27,7 +27,9 @@ use crate::span::{
 mod differences;
 mod rgb565;
 mod rows;
-pub use differences::{DifferenceMemory, DifferenceRows, DifferenceSpans};
+pub use differences::{DifferenceMemory, DifferenceRows, DifferenceSpans, TILE_ROWS};
+#[cfg(feature = "differences")]
+pub(crate) use differences::MemoryRows;
 pub use rows::TextureRows;
 
 /// What computes `f`.
@@ -442,8 +444,21 @@ impl<'t, const T: usize, const N: usize> TextureSpans<'_, 't, '_, T, N> {
     /// The values of `span` (any span) into `out`, as
     /// [`crate::span::SpanEvaluator::eval_values`] gives them: the span's spread.
     pub(super) fn span_values(&mut self, span: &Span, out: &mut [TexValue]) -> i64 {
-        match &mut self.ev.inner {
-            Inner::Model(e) => e.eval_values(span, out).extra_width48,
+        self.ev.values_into(span, out, &mut crate::span::Faces::none())
+    }
+}
+
+impl<const T: usize, const N: usize> TextureEvaluator<'_, T, N> {
+    /// The values of `span` into `out`, as [`crate::span::SpanEvaluator::eval_values`] gives
+    /// them (through the face cache parts `faces`, the same values): the span's spread.
+    pub(super) fn values_into(
+        &mut self,
+        span: &Span,
+        out: &mut [TexValue],
+        faces: &mut crate::span::Faces<'_>,
+    ) -> i64 {
+        match &mut self.inner {
+            Inner::Model(e) => e.values_through(span, out, faces).extra_width48,
             #[cfg(feature = "perturb")]
             Inner::Perturbed(e) => e.eval_values(span, out).extra_width48,
         }

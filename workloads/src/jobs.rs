@@ -192,6 +192,7 @@ pub static JOBS: &[Job] = &[
     job!("scene:marble-lit", scene_marble_lit),
     #[cfg(feature = "lighting")]
     job!("scene:marble-lit/setup", scene_marble_lit_setup),
+
     #[cfg(feature = "panic-never-canary")]
     Job {
         name: "panic_never_canary",
@@ -216,3 +217,16 @@ pub static SCENE_JOBS: &[Job] = &builtin_scene_jobs![
 /// With feature `accuracy`: none (the accuracy report's jobs are all in [`JOBS`]).
 #[cfg(feature = "accuracy")]
 pub static SCENE_JOBS: &[Job] = &[];
+
+/// With feature `differences`: the built-in scenes in the approximate mode of `texsim render
+/// --aa ramp --widths differences` (`crate::suite::scene_difference`), each a whole frame with
+/// its `/setup` job, after the hash the device shades with; the firmware's `difference-scenes`
+/// build runs them instead of [`JOBS`] (they do not fit its flash beside the whole suite).
+#[cfg(feature = "differences")]
+pub static DIFFERENCE_JOBS: &[Job] = &[
+    job!("config:hash", config_hash),
+    job!("scene:fire~ramp-diff", scene_difference::<0>),
+    job!("scene:fire~ramp-diff/setup", scene_difference_setup::<0>),
+    job!("scene:marble~ramp-diff", scene_difference::<1>),
+    job!("scene:marble~ramp-diff/setup", scene_difference_setup::<1>),
+];

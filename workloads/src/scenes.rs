@@ -22,6 +22,10 @@ use texcore::presets;
 use texcore::raster::{Perspective, ScreenVertex, TriangleOptions};
 use texcore::render::{Blend, DrawObject, FrameBins, GroupRows, Renderer, TriangleSource};
 use texcore::scene::{builtin, Scene, TextureSlot};
+#[cfg(feature = "differences")]
+use texcore::span::FaceCache;
+#[cfg(feature = "differences")]
+use texcore::texture::DifferenceMemory;
 use texcore::sink::ChecksumSink;
 use texcore::table::KeySpacing;
 use texcore::texture::Shader;
@@ -130,13 +134,41 @@ pub fn builtin_strip_job(what: &str) -> Option<(&'static str, usize)> {
     (k < STRIPS).then_some((name, k))
 }
 
+/// How a frame's textures are filtered and their filter widths taken.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum FrameMode {
+    /// Csat with the noise's gradients: the exact filter, as `texsim render` draws by default.
+    Exact,
+    /// The approximate mode of `texsim render --aa ramp --widths differences`: the RGB565 ramp
+    /// with filter widths from the differences of neighbouring values
+    /// (`Renderer::with_differences`, feature `differences`).
+    #[cfg(feature = "differences")]
+    RampDifferences,
+}
+
+impl FrameMode {
+    /// The filter of the slot textures.
+    fn antialias(self) -> Antialias {
+        match self {
+            FrameMode::Exact => Antialias::Csat,
+            #[cfg(feature = "differences")]
+            FrameMode::RampDifferences => Antialias::Ramp,
+        }
+    }
+}
+
 /// Builds the texture of every slot of `scene` into `textures` (false if one cannot be built or
 /// there are more than [`SCENE_SLOTS`]).
 #[inline(never)]
-fn slot_textures(scene: &Scene, hash: HashKind, textures: &mut SlotTextures) -> bool {
+fn slot_textures(
+    scene: &Scene,
+    hash: HashKind,
+    aa: Antialias,
+    textures: &mut SlotTextures,
+) -> bool {
     textures.clear();
     for slot in &scene.slots {
-        let Some(t) = slot_texture(slot, hash) else {
+        let Some(t) = slot_texture_with(slot, hash, aa) else {
             return false;
         };
         if textures.push(t).is_err() {
@@ -176,7 +208,17 @@ pub fn builtin_strip(
     let Some(scene) = builtin_frame(name) else {
         return 0;
     };
-    frame_rows(&scene, hash, work, Some(k), above, band, depth, bins)
+    frame_rows(
+        &scene,
+        hash,
+        FrameMode::Exact,
+        work,
+        Some(k),
+        above,
+        band,
+        depth,
+        bins,
+    )
 }
 
 /// The body of [`builtin_strip`] (`strip = Some(k)`) and [`lit_frame_job`] (`None`: the whole
@@ -187,6 +229,7 @@ pub fn builtin_strip(
 fn frame_rows(
     scene: &Scene,
     hash: HashKind,
+    mode: FrameMode,
     work: bool,
     strip: Option<usize>,
     above: u32,
@@ -195,11 +238,21 @@ fn frame_rows(
     bins: &mut [GroupRows],
 ) -> u32 {
     let mut textures = SlotTextures::new();
-    if !slot_textures(scene, hash, &mut textures) {
+    if !slot_textures(scene, hash, mode.antialias(), &mut textures) {
         return 0;
     }
     let (textures, scene) = core::hint::black_box((&textures[..], scene));
-    let renderer = Renderer::new(textures);
+    #[cfg(feature = "differences")]
+    let mut mem = DifferenceMemory::<{ WIDTH as usize }>::new();
+    #[cfg(feature = "differences")]
+    let mut faces = FaceCache::<FACE_ENTRIES, { crate::planes::TERMS }>::new();
+    let renderer = match mode {
+        FrameMode::Exact => Renderer::new(textures),
+        #[cfg(feature = "differences")]
+        FrameMode::RampDifferences => {
+            Renderer::new(textures).with_differences(&mut mem, &mut faces)
+        }
+    };
     let mut bins = FrameBins::new(bins);
     // A frame walks its whole scene once: strip 0's first band bins the quads; the later
     // strips take the frame's bins, filled here (in the job and in its set-up alike, so that
@@ -271,7 +324,47 @@ pub fn lit_frame_job(
     let Some(scene) = lit_frame(name) else {
         return 0;
     };
-    frame_rows(&scene, hash, work, None, FRAME_START, band, depth, bins)
+    let mode = FrameMode::Exact;
+    frame_rows(&scene, hash, mode, work, None, FRAME_START, band, depth, bins)
+}
+
+/// The built-in scenes the device also renders in the approximate mode of `texsim render --aa
+/// ramp --widths differences` ([`FrameMode::RampDifferences`], feature `differences`): job
+/// `scene:<name>~ramp-diff`, the whole frame ([`difference_frame_job`]).
+#[cfg(feature = "differences")]
+pub const DIFFERENCE_SCENES: [&str; 2] = ["fire", "marble"];
+
+/// Face-cache entries of the difference frames' renderer (`texcore::span::FaceCache`, 32 bytes
+/// each): the faces a row of the built-in scenes crosses.
+#[cfg(feature = "differences")]
+pub const FACE_ENTRIES: usize = 128;
+
+/// The whole frame of built-in scene `name` ([`builtin_frame`], one of [`DIFFERENCE_SCENES`]) in
+/// one job in the approximate mode [`FrameMode::RampDifferences`], as [`lit_frame_job`] renders
+/// (slot textures with the ramp, bins, bands of [`BAND_ROWS`] rows, `ChecksumSink` from
+/// [`FRAME_START`]), the renderer with a [`DifferenceMemory`] of [`WIDTH`] pixels and a
+/// [`FaceCache`] of [`FACE_ENTRIES`]: the checksum of the frame (`texsim render <name> --aa ramp
+/// --widths differences`), or the set-up's with `work == false`; 0 if the scene or a texture
+/// cannot be built.
+#[cfg(feature = "differences")]
+#[inline(never)]
+pub fn difference_frame_job(
+    name: &str,
+    hash: HashKind,
+    work: bool,
+    band: &mut [Rgba8888],
+    depth: &mut [u16],
+    bins: &mut [GroupRows],
+) -> u32 {
+    let Some(scene) = DIFFERENCE_SCENES
+        .contains(&name)
+        .then(|| builtin_frame(name))
+        .flatten()
+    else {
+        return 0;
+    };
+    let mode = FrameMode::RampDifferences;
+    frame_rows(&scene, hash, mode, work, None, FRAME_START, band, depth, bins)
 }
 
 /// The scene called `name`.
@@ -434,6 +527,15 @@ pub fn overlay(hash: HashKind, work: bool, band: &mut [Rgba8888], depth: &mut [u
 /// The texture of a scene's slot: the preset with the slot's amplitude factor, phase and keys
 /// (as `host_sim::scenes::slot_material`), csat.
 pub fn slot_texture(slot: &TextureSlot, hash: HashKind) -> Option<DeviceTexture> {
+    slot_texture_with(slot, hash, Antialias::Csat)
+}
+
+/// [`slot_texture`] with the filter `aa`.
+pub fn slot_texture_with(
+    slot: &TextureSlot,
+    hash: HashKind,
+    aa: Antialias,
+) -> Option<DeviceTexture> {
     let factor = i64::from(slot.amplitude);
     let scale = |a: Amplitude| -> Amplitude {
         Amplitude::from_bits(
@@ -468,5 +570,5 @@ pub fn slot_texture(slot: &TextureSlot, hash: HashKind) -> Option<DeviceTexture>
         Material::new(shader, p.wrap, p.keys).with_spacing(spacing)
     };
     let keys = slot.keys.unwrap_or(m.keys());
-    texture(&m.with_keys(keys), Antialias::Csat)
+    texture(&m.with_keys(keys), aa)
 }

@@ -291,6 +291,32 @@ pub fn scene_marble_lit_setup(_: &mut Ctx) -> u32 {
     with_bands(|b, d, g| scenes::lit_frame_job("marble-lit", hash(), false, b, d, g))
 }
 
+/// `scene:<DIFFERENCE_SCENES[S]>~ramp-diff` (feature `differences`): the built-in scene's whole
+/// frame in the approximate mode ([`scenes::difference_frame_job`]).
+#[cfg(feature = "differences")]
+pub fn scene_difference<const S: usize>(_: &mut Ctx) -> u32 {
+    difference_frame(S, true)
+}
+
+/// `scene:<DIFFERENCE_SCENES[S]>~ramp-diff/setup` (feature `differences`).
+#[cfg(feature = "differences")]
+pub fn scene_difference_setup<const S: usize>(_: &mut Ctx) -> u32 {
+    difference_frame(S, false)
+}
+
+/// The body of [`scene_difference`] and [`scene_difference_setup`].
+#[cfg(feature = "differences")]
+#[inline(never)]
+fn difference_frame(s: usize, work: bool) -> u32 {
+    if STUBBED {
+        return 0;
+    }
+    let Some(name) = scenes::DIFFERENCE_SCENES.get(s) else {
+        return 0;
+    };
+    with_bands(|b, d, g| scenes::difference_frame_job(name, hash(), work, b, d, g))
+}
+
 /// `scene:<BUILTIN_SCENES[S]>@<K>`: strip `K` of a built-in scene's frame.
 pub fn scene_strip<const S: usize, const K: usize>(ctx: &mut Ctx) -> u32 {
     builtin_strip(ctx, S, K, true)

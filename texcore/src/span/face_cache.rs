@@ -82,7 +82,8 @@ pub struct FaceCache<const N: usize, const L: usize = 4> {
 /// The parts of a face cache as the kernels take them (`entries` empty and no lanes: no
 /// cache).
 #[cfg_attr(texcore_lean, allow(dead_code))]
-pub(super) struct Faces<'a> {
+#[derive(Debug)]
+pub(crate) struct Faces<'a> {
     pub(super) entries: &'a mut [FaceEntry],
     /// The carried lanes' slots and what they hold.
     #[cfg(not(texcore_lean))]
@@ -96,7 +97,7 @@ pub(super) struct Faces<'a> {
 
 impl Faces<'_> {
     /// No cache.
-    pub(super) fn none() -> Faces<'static> {
+    pub(crate) fn none() -> Faces<'static> {
         Faces {
             entries: &mut [],
             #[cfg(not(texcore_lean))]
@@ -143,7 +144,7 @@ impl<const N: usize, const L: usize> FaceCache<N, L> {
 
     /// The parts, as the kernels take them.
     #[cfg_attr(texcore_lean, allow(dead_code))]
-    pub(super) fn parts(&mut self) -> Faces<'_> {
+    pub(crate) fn parts(&mut self) -> Faces<'_> {
         Faces {
             entries: &mut self.entries,
             #[cfg(not(texcore_lean))]

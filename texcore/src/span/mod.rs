@@ -128,6 +128,7 @@ mod setup;
 
 pub use chunk::{SampleChunk, SAMPLE_CHUNK};
 pub use face_cache::FaceCache;
+pub(crate) use face_cache::Faces;
 pub use plan::AUTO_FD_PIXELS;
 pub(crate) use plan::GRADIENTS;
 pub use plane::{PlaneSetup, SpanPlane, SpanPlaneError};
@@ -170,6 +171,20 @@ impl Span {
     /// The span one row up (`s0` less `dsdy`, wrapping): [`Span::next_row`] undone.
     pub(crate) fn prev_row(&self) -> Span {
         self.rows_down(-1)
+    }
+
+    /// The `len` pixels of the span from pixel `first` on: `s0` advanced by `first ds`
+    /// (wrapping), the steps kept.
+    pub(crate) fn part(&self, first: u16, len: u16) -> Span {
+        let b = self.s0.to_bits();
+        let d = self.ds.to_bits();
+        let n = i32::from(first);
+        let at = |k: usize| b[k].wrapping_add(d[k].wrapping_mul(n));
+        Span {
+            s0: TexPoint::from_bits(at(0), at(1), at(2)),
+            len,
+            ..*self
+        }
     }
 
     /// The span `n` rows below (`s0` advanced by `n dsdy`, wrapping).
@@ -623,7 +638,7 @@ impl<'m, const T: usize> SpanEvaluator<'m, T> {
     }
 
     /// [`SpanEvaluator::eval_values`] through the face cache entries `faces` (none: no cache).
-    fn values_through(
+    pub(crate) fn values_through(
         &mut self,
         span: &Span,
         out: &mut [TexValue],

@@ -59,7 +59,7 @@ use super::{log2, Texture, TextureEvaluator, TextureRows, TextureSpans};
 use crate::color::{Rgb565, Rgba8888};
 use crate::filter::{Antialias, ColorStage, GradientNorm, WidthStream};
 use crate::format::{FilterWidth, TexValue};
-use crate::span::{PlaneSetup, RowCache, Span};
+use crate::span::{Faces, PlaneSetup, RowCache, Span};
 
 /// The memory of the rows shaded with widths from differences: the values of two rows of up to
 /// `W` pixels (the row above and the row being shaded), `8 W` bytes, and which pixels of which
@@ -91,6 +91,23 @@ impl Held {
     fn covers(&self, y: u16, x: u16, len: u16) -> bool {
         self.row == Some(y) && self.lo <= x && u32::from(x) + u32::from(len) <= u32::from(self.hi)
     }
+
+    /// Holds pixels `x..x + len` of row `y` as well: the pixels held grow to the union when
+    /// they overlap or touch them (the values of a row are the same whichever span wrote them),
+    /// and are replaced otherwise.
+    fn hold(&mut self, y: u16, x: u16, len: u16) {
+        let end = x.saturating_add(len);
+        if self.row == Some(y) && x <= self.hi && end >= self.lo {
+            self.lo = self.lo.min(x);
+            self.hi = self.hi.max(end);
+        } else {
+            *self = Held {
+                row: Some(y),
+                lo: x,
+                hi: end,
+            };
+        }
+    }
 }
 
 impl<const W: usize> DifferenceMemory<W> {
@@ -107,27 +124,61 @@ impl<const W: usize> DifferenceMemory<W> {
         core::mem::size_of::<Self>()
     }
 
-    /// Forgets what is held.
-    fn clear(&mut self) {
+    /// Forgets every row held: the next span shaded through the memory evaluates the pixels
+    /// above it. [`TextureEvaluator::shade_differences`] takes the pixels above a span from the
+    /// memory whenever it holds them, so call this wherever the surface changes (at each
+    /// triangle, as the renderer does): the differences are then taken within one surface.
+    pub fn forget(&mut self) {
         self.held = [Held::NONE; 2];
     }
 
-    /// Records that memory row `k` now holds pixels `x..x + len` of row `y` as well: the pixels
-    /// held grow to the union when they overlap or touch them (the values of a row are the same
-    /// whichever span wrote them), and are replaced otherwise.
+    /// Records that memory row `k` now holds pixels `x..x + len` of row `y` as well
+    /// ([`Held::hold`]).
     fn hold(&mut self, k: usize, y: u16, x: u16, len: u16) {
         if let Some(h) = self.held.get_mut(k) {
-            let end = x + len;
-            if h.row == Some(y) && x <= h.hi && end >= h.lo {
-                h.lo = h.lo.min(x);
-                h.hi = h.hi.max(end);
-            } else {
-                *h = Held {
-                    row: Some(y),
-                    lo: x,
-                    hi: end,
-                };
-            }
+            h.hold(y, x, len);
+        }
+    }
+
+    /// The memory borrowed without its width in the type, with the face blends of `faces`
+    /// (none: [`Faces::none`]).
+    pub(crate) fn rows_mut<'m>(&'m mut self, faces: Faces<'m>) -> MemoryRows<'m> {
+        let [a, b] = &mut self.rows;
+        MemoryRows {
+            rows: [a, b],
+            held: &mut self.held,
+            faces,
+        }
+    }
+}
+
+/// A [`DifferenceMemory`] borrowed without its width in the type (what the renderer keeps),
+/// with a face cache's parts for the values ([`crate::span::FaceCache`]; none: no cache).
+#[derive(Debug)]
+pub(crate) struct MemoryRows<'m> {
+    rows: [&'m mut [TexValue]; 2],
+    held: &'m mut [Held; 2],
+    faces: Faces<'m>,
+}
+
+impl MemoryRows<'_> {
+    /// Pixels a row holds.
+    #[cfg_attr(not(feature = "differences"), allow(dead_code))]
+    pub(crate) fn width(&self) -> usize {
+        self.rows[0].len()
+    }
+
+    /// Forgets every row held ([`DifferenceMemory::forget`]).
+    #[cfg_attr(not(feature = "differences"), allow(dead_code))]
+    pub(crate) fn forget(&mut self) {
+        *self.held = [Held::NONE; 2];
+    }
+
+    /// Records that memory row `k` holds pixels `x..x + len` of row `y` as well
+    /// ([`Held::hold`]).
+    fn hold(&mut self, k: usize, y: u16, x: u16, len: u16) {
+        if let Some(h) = self.held.get_mut(k) {
+            h.hold(y, x, len);
         }
     }
 }
@@ -163,7 +214,7 @@ fn gradient48(d: i32) -> i64 {
 }
 
 /// A colour the values are shaded into: [`Rgba8888`] or [`Rgb565`].
-trait SpanColor: Sized {
+pub(crate) trait SpanColor: Sized {
     /// The stage's colour of `v` at width `w`.
     fn at<const N: usize>(stage: &ColorStage<N>, v: TexValue, w: FilterWidth) -> Self;
 
@@ -184,6 +235,18 @@ impl SpanColor for Rgba8888 {
     #[inline(always)]
     fn at<const N: usize>(stage: &ColorStage<N>, v: TexValue, w: FilterWidth) -> Self {
         stage.shade(v, w)
+    }
+
+    /// The ramp's RGB565 colours widened as [`ColorStage::shade`] widens them.
+    #[cfg(feature = "ramp")]
+    #[inline(always)]
+    fn one_read<const N: usize, F: FnMut(Self)>(
+        stage: &ColorStage<N>,
+        norm: GradientNorm,
+        values: (&[TexValue], &[TexValue], i64),
+        emit: &mut F,
+    ) -> bool {
+        Rgb565::one_read(stage, norm, values, &mut |c: Rgb565| emit(c.to_rgba8888()))
     }
 }
 
@@ -261,7 +324,7 @@ impl<'t, const T: usize, const N: usize> TextureEvaluator<'t, T, N> {
         if usize::from(first.len) > W {
             return None;
         }
-        mem.clear();
+        mem.forget();
         let tex = self.tex;
         Some(DifferenceRows {
             tex,
@@ -350,7 +413,7 @@ impl<'t, const T: usize, const N: usize> TextureEvaluator<'t, T, N> {
         if usize::from(plane.plane().width()) > W {
             return None;
         }
-        mem.clear();
+        mem.forget();
         let tex = self.tex;
         Some(DifferenceSpans {
             tex,
@@ -425,6 +488,134 @@ impl<const T: usize, const N: usize, const W: usize> DifferenceSpans<'_, '_, '_,
             self.spans
                 .count(tex.stage.antialias() != Antialias::None, len);
         }
+    }
+}
+
+/// Rows of the tiles of [`TextureEvaluator::shade_differences`]: the pixels above a row `y`
+/// with `y % TILE_ROWS == 0` are always evaluated one row up on its span, never taken from the
+/// memory, so that the colours do not depend on where a renderer's bands start (any multiple
+/// of `TILE_ROWS` rows).
+pub const TILE_ROWS: u16 = 8;
+
+impl<'t, const T: usize, const N: usize> TextureEvaluator<'t, T, N> {
+    /// Shades `span`, the pixels `x..x + span.len` of row `y` of any surface, with filter widths
+    /// from the differences of neighbouring values (see the module documentation), calling
+    /// `emit` with each pixel's colour in order; for a renderer's segments, drawn row by row.
+    ///
+    /// The pixels above come from `mem` where it holds them (row `y - 1`, shaded through it
+    /// since it was last [forgotten](DifferenceMemory::forget)), unless `y` is the first row of
+    /// a tile of [`TILE_ROWS`] rows; the others are evaluated on `span` one row up
+    /// (`s0 - dsdy`) and kept. The span's values are kept for the row below. So a triangle's
+    /// rows shaded top to bottom evaluate each pixel once, and the row above its first row and
+    /// above each tile's first row once more; and the colours are the same whether the rows are
+    /// drawn at once or in bands of any multiple of [`TILE_ROWS`] rows. Returns `false` (and
+    /// shades nothing) when the span reaches past pixel `W`.
+    pub fn shade_differences<const W: usize, F: FnMut(Rgba8888)>(
+        &mut self,
+        mem: &mut DifferenceMemory<W>,
+        x: u16,
+        y: u16,
+        span: &Span,
+        emit: F,
+    ) -> bool {
+        self.differences_in(&mut mem.rows_mut(Faces::none()), x, y, span, emit)
+    }
+
+    /// [`TextureEvaluator::shade_differences`] straight to RGB565: its colours reduced to
+    /// RGB565, bit for bit; with `Antialias::Ramp` (feature `ramp`) and the L2 norm, one ramp
+    /// read a pixel.
+    pub fn shade565_differences<const W: usize, F: FnMut(Rgb565)>(
+        &mut self,
+        mem: &mut DifferenceMemory<W>,
+        x: u16,
+        y: u16,
+        span: &Span,
+        emit: F,
+    ) -> bool {
+        self.differences_in(&mut mem.rows_mut(Faces::none()), x, y, span, emit)
+    }
+
+    /// [`TextureEvaluator::shade_differences`] through a borrowed memory, colours of type `C`.
+    #[inline]
+    pub(crate) fn differences_in<C: SpanColor, F: FnMut(C)>(
+        &mut self,
+        mem: &mut MemoryRows<'_>,
+        x: u16,
+        y: u16,
+        span: &Span,
+        emit: F,
+    ) -> bool {
+        let Some(values) = self.segment_values(mem, x, y, span) else {
+            return false;
+        };
+        let tex = self.tex;
+        shade_values(&tex.stage, tex.norm, values, emit);
+        let n = u64::from(span.len);
+        if tex.stage.antialias() != Antialias::None {
+            self.filter_lookups += n;
+        } else {
+            self.plain_lookups += n;
+        }
+        true
+    }
+
+    /// The values of `span` at pixels `x..` of row `y` and of the pixels above it (from `mem`
+    /// where it holds them, else evaluated one row up), both kept in `mem`, and the span's
+    /// spread; `None` when the span reaches past the memory's width.
+    fn segment_values<'m>(
+        &mut self,
+        mem: &'m mut MemoryRows<'_>,
+        x: u16,
+        y: u16,
+        span: &Span,
+    ) -> Option<(&'m [TexValue], &'m [TexValue], i64)> {
+        let len = span.len;
+        let (lo, hi) = (usize::from(x), usize::from(x) + usize::from(len));
+        if hi > mem.width() {
+            return None;
+        }
+        let end = x + len;
+        let held = *mem.held;
+        let above = y.checked_sub(1);
+        // The memory row holding pixels of the row above that meet or touch the span's (none
+        // for a tile's first row, whose pixels above are always extrapolated).
+        let reuse = y % TILE_ROWS != 0;
+        let meets = |h: &Held| reuse && h.row == above && h.lo <= end && h.hi >= x;
+        let found = held.iter().position(meets);
+        // The memory row for the pixels above: that one, or one not holding the span's row.
+        let up = found.unwrap_or(usize::from(held[0].row == Some(y)));
+        let prev = span.prev_row();
+        let [r0, r1] = &mut mem.rows;
+        let (up_row, cur_row) = if up == 0 { (r0, r1) } else { (r1, r0) };
+        let faces = &mut mem.faces;
+        // The pixels above to evaluate: `first..first + n` of the span, at most two runs.
+        let mut runs = [(0u16, len), (0, 0)];
+        if let Some(h) = found.and_then(|k| held.get(k)) {
+            let left = h.lo.saturating_sub(x).min(len);
+            let right = h.hi.max(x) - x;
+            runs = [(0, left), (right, len.saturating_sub(right))];
+        }
+        for (first, n) in runs {
+            if n > 0 {
+                let a = lo + usize::from(first);
+                let out = up_row.get_mut(a..a + usize::from(n))?;
+                self.values_into(&prev.part(first, n), out, faces);
+            }
+        }
+        let extra = self.values_into(span, cur_row.get_mut(lo..hi)?, faces);
+        let (u, c) = (up, 1 - up);
+        match above.filter(|_| reuse) {
+            Some(a) => mem.hold(u, a, x, len),
+            None => {
+                if let Some(h) = mem.held.get_mut(u) {
+                    *h = Held::NONE;
+                }
+            }
+        }
+        mem.hold(c, y, x, len);
+        let [r0, r1] = &mem.rows;
+        let (up_row, cur_row) = if up == 0 { (r0, r1) } else { (r1, r0) };
+        Some((cur_row.get(lo..hi)?, up_row.get(lo..hi)?, extra))
     }
 }
 
