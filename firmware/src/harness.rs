@@ -30,10 +30,10 @@ use crate::counter::{Counter, Sample, NAME, UNIT};
 use crate::stack;
 use defmt::println;
 use workloads::job::{Ctx, JobFn};
-#[cfg(not(any(feature = "peers", feature = "difference-scenes")))]
-use workloads::jobs::{JOBS, SCENE_JOBS};
 #[cfg(all(feature = "difference-scenes", not(feature = "peers")))]
 use workloads::jobs::DIFFERENCE_JOBS as JOBS;
+#[cfg(not(any(feature = "peers", feature = "difference-scenes")))]
+use workloads::jobs::{JOBS, SCENE_JOBS};
 #[cfg(feature = "peers-band")]
 use workloads::peer_jobs::BAND as JOBS;
 #[cfg(all(feature = "peers", not(feature = "peers-band")))]

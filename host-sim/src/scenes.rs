@@ -3,6 +3,7 @@
 
 use serde::Serialize;
 use texcore::color::Rgba8888;
+use texcore::filter::WidthSource;
 use texcore::format::Amplitude;
 use texcore::gouraud::TriangleLight;
 use texcore::hash::HashKind;
@@ -10,7 +11,6 @@ use texcore::raster::{DepthBuffer, Rasterizer, Rect, Segment};
 use texcore::render::{Blend, Output, RenderStats, Renderer, TriangleSource};
 use texcore::scene::{Scene, TextureSlot};
 use texcore::sink::{ChecksumSink, PixelSink, RgbaBuffer};
-use texcore::filter::WidthSource;
 use texcore::span::FaceCache;
 use texcore::texture::{DifferenceMemory, Texture};
 
@@ -97,7 +97,10 @@ pub(crate) fn render_n<const N: usize>(
             }
             Some((
                 Box::new(DifferenceMemory::<DIFFERENCES_MAX_WIDTH>::new()),
-                Box::new(FaceCache::<DIFFERENCES_FACES, { texcore::presets::PRESET_TERMS }>::new()),
+                Box::new(FaceCache::<
+                    DIFFERENCES_FACES,
+                    { texcore::presets::PRESET_TERMS },
+                >::new()),
             ))
         }
     };

@@ -541,10 +541,11 @@ fn lit_scene_file_renders_and_bad_lights_exit_2() {
 
 /// `--widths differences`: a preset's check plane keeps nearly the accuracy of the gradients
 /// (the marble plane within 1 dB of them, against the same reference: other widths), a perturbed
-/// material's plane renders too, and a scene (which it does not apply to) exits 2 with a
-/// message naming the option and writes nothing.
+/// material's plane renders too, and so do scenes (`Renderer::with_differences`): the fire with
+/// the ramp gives the checksum of the device's `scene:fire~ramp-diff` job (`docs/cycles.md`), and
+/// with csat a frame other than the gradients'.
 #[test]
-fn filter_widths_from_differences_on_check_planes_only() {
+fn filter_widths_from_differences_on_planes_and_scenes() {
     let psnr = |args: &[&str]| -> f64 {
         let r = texsim(args);
         ok(&r, &args.join(" "));
@@ -559,8 +560,21 @@ fn filter_widths_from_differences_on_check_planes_only() {
     assert!(perturbed > 40.0, "{perturbed}");
     let dir = tmp("widths");
     let out = dir.join("fire.png");
-    let r = texsim(&["render", "fire", "--widths", "differences", "-o", s(&out)]);
-    assert_eq!(r.status, 2, "{}", r.stderr);
-    assert!(r.stderr.contains("--widths differences"), "{}", r.stderr);
-    assert!(!out.exists());
+    let checksum = |extra: &[&str]| {
+        let mut args = vec!["render", "fire", "--checksum", "-o", s(&out)];
+        args.extend_from_slice(extra);
+        let r = texsim(&args);
+        ok(&r, &args.join(" "));
+        assert!(out.exists());
+        r.stdout.trim().to_string()
+    };
+    assert_eq!(
+        checksum(&["--aa", "ramp", "--widths", "differences"]),
+        "b8f00769"
+    );
+    assert_ne!(
+        checksum(&["--widths", "differences"]),
+        checksum(&["--widths", "gradients"])
+    );
+    let _ = std::fs::remove_dir_all(&dir);
 }

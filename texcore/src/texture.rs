@@ -27,9 +27,9 @@ use crate::span::{
 mod differences;
 mod rgb565;
 mod rows;
-pub use differences::{DifferenceMemory, DifferenceRows, DifferenceSpans, TILE_ROWS};
 #[cfg(feature = "differences")]
 pub(crate) use differences::MemoryRows;
+pub use differences::{DifferenceMemory, DifferenceRows, DifferenceSpans, TILE_ROWS};
 pub use rows::TextureRows;
 
 /// What computes `f`.
@@ -444,7 +444,8 @@ impl<'t, const T: usize, const N: usize> TextureSpans<'_, 't, '_, T, N> {
     /// The values of `span` (any span) into `out`, as
     /// [`crate::span::SpanEvaluator::eval_values`] gives them: the span's spread.
     pub(super) fn span_values(&mut self, span: &Span, out: &mut [TexValue]) -> i64 {
-        self.ev.values_into(span, out, &mut crate::span::Faces::none())
+        self.ev
+            .values_into(span, out, &mut crate::span::Faces::none())
     }
 }
 

@@ -192,7 +192,6 @@ pub static JOBS: &[Job] = &[
     job!("scene:marble-lit", scene_marble_lit),
     #[cfg(feature = "lighting")]
     job!("scene:marble-lit/setup", scene_marble_lit_setup),
-
     #[cfg(feature = "panic-never-canary")]
     Job {
         name: "panic_never_canary",

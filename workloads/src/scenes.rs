@@ -22,12 +22,12 @@ use texcore::presets;
 use texcore::raster::{Perspective, ScreenVertex, TriangleOptions};
 use texcore::render::{Blend, DrawObject, FrameBins, GroupRows, Renderer, TriangleSource};
 use texcore::scene::{builtin, Scene, TextureSlot};
+use texcore::sink::ChecksumSink;
 #[cfg(feature = "differences")]
 use texcore::span::FaceCache;
+use texcore::table::KeySpacing;
 #[cfg(feature = "differences")]
 use texcore::texture::DifferenceMemory;
-use texcore::sink::ChecksumSink;
-use texcore::table::KeySpacing;
 use texcore::texture::Shader;
 use texcore::TexPoint;
 
@@ -325,7 +325,17 @@ pub fn lit_frame_job(
         return 0;
     };
     let mode = FrameMode::Exact;
-    frame_rows(&scene, hash, mode, work, None, FRAME_START, band, depth, bins)
+    frame_rows(
+        &scene,
+        hash,
+        mode,
+        work,
+        None,
+        FRAME_START,
+        band,
+        depth,
+        bins,
+    )
 }
 
 /// The built-in scenes the device also renders in the approximate mode of `texsim render --aa
@@ -364,7 +374,17 @@ pub fn difference_frame_job(
         return 0;
     };
     let mode = FrameMode::RampDifferences;
-    frame_rows(&scene, hash, mode, work, None, FRAME_START, band, depth, bins)
+    frame_rows(
+        &scene,
+        hash,
+        mode,
+        work,
+        None,
+        FRAME_START,
+        band,
+        depth,
+        bins,
+    )
 }
 
 /// The scene called `name`.
