@@ -6,7 +6,7 @@
 # firmware's (tests, reports, .ci/firmware-matrix.sh).
 set -euo pipefail
 cd "$(dirname "$0")/.."
-features=(perm-hash fd gradients smooth-fade gradient-noise mnoise csat mip ramp perturb turbulence-fd fd32 reanchor fused multipass atlas defmt embedded-graphics lighting)
+features=(perm-hash fd gradients smooth-fade gradient-noise mnoise csat mip ramp differences perturb turbulence-fd fd32 reanchor fused multipass atlas defmt embedded-graphics lighting)
 for target in x86_64-unknown-linux-gnu thumbv7em-none-eabihf riscv32imc-unknown-none-elf; do
   echo "-- $target: no features"
   RUSTFLAGS="-D warnings" cargo check -q -p texcore --no-default-features --target "$target"
@@ -33,4 +33,7 @@ for target in x86_64-unknown-linux-gnu thumbv7em-none-eabihf riscv32imc-unknown-
   # The ramp beside every other filter and with perturbed materials (its per-sample path).
   echo "-- $target: full,ramp,defmt"
   RUSTFLAGS="-D warnings" cargo check -q -p texcore --features "full,ramp,defmt" --target "$target"
+  # The renderer's differences with the ramp and every filter (the `difference-scenes` firmware).
+  echo "-- $target: full,ramp,differences,defmt"
+  RUSTFLAGS="-D warnings" cargo check -q -p texcore --features "full,ramp,differences,defmt" --target "$target"
 done

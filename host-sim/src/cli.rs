@@ -156,7 +156,7 @@ pub enum AaArg {
 pub enum WidthsArg {
     /// The analytic gradients of the texture (exact).
     Gradients,
-    /// The differences of neighbouring values (approximate, cheaper; check planes only).
+    /// The differences of neighbouring values (approximate, cheaper: no gradients; within each triangle in scenes).
     Differences,
 }
 

@@ -74,8 +74,8 @@ pub struct UnitConfig {
     #[serde(serialize_with = "ser_precision")]
     pub precision: Precision,
     /// Where the filter widths come from: the analytic gradients (exact, the default) or the
-    /// differences of neighbouring values (approximate; check planes only,
-    /// `texcore::texture::DifferenceSpans`).
+    /// differences of neighbouring values (approximate: check planes through
+    /// `texcore::texture::DifferenceSpans`, scenes through `Renderer::with_differences`).
     #[serde(serialize_with = "ser_display")]
     pub widths: WidthSource,
 }

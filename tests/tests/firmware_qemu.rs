@@ -693,3 +693,68 @@ fn cortex_m4f_stack_guard() {
         other => panic!("expected the stack guard to stop the canary (exit 103), got {other:?}"),
     }
 }
+
+/// The bound of a built-in scene in the approximate difference mode (`scene:<name>~ramp-diff`,
+/// instructions a frame pixel; about 5% above the figures when it was set: fire 272.9 / 386.3,
+/// marble 967.9 / 1274.5).
+fn difference_scene_bound(target: DeviceTarget, scene: &str) -> f64 {
+    match (target, scene) {
+        (DeviceTarget::CortexM4F, "scene:fire~ramp-diff") => 287.0,
+        (DeviceTarget::Riscv32imc, "scene:fire~ramp-diff") => 406.0,
+        (DeviceTarget::CortexM4F, _) => 1017.0,
+        (DeviceTarget::Riscv32imc, _) => 1339.0,
+    }
+}
+
+/// The firmware's `difference-scenes` build: every frame's checksum is the host's (`texsim
+/// render <scene> --aa ramp --widths differences`), repeatably, within its bound.
+fn check_difference_scenes(target: DeviceTarget) {
+    if !qemu_or_skip(target) {
+        return;
+    }
+    let elf = build(target, &[report::DIFFERENCE_FEATURE]);
+    let timeout = RunOptions::default().timeout;
+    let a = device::run_elf(target, &elf, timeout).unwrap_or_else(|e| panic!("{e}"));
+    assert!(a.pass(), "{}", a.log.join("\n"));
+    let rows = cycles::rows_for_run(target, &a, &report::difference_suite())
+        .unwrap_or_else(|e| panic!("{e}"));
+    assert_eq!(rows.len(), 2);
+    for r in &rows {
+        eprintln!(
+            "{target}: {:<28} {:>10.1} instructions/{}",
+            r.scene, r.instructions_per_pixel, r.unit
+        );
+        assert!(
+            r.checksum_match,
+            "{target} {}: device and host differ",
+            r.scene
+        );
+        let bound = difference_scene_bound(target, &r.scene);
+        assert!(
+            r.instructions_per_pixel <= bound,
+            "{target} {}: {:.1} instructions a pixel, bound {bound}",
+            r.scene,
+            r.instructions_per_pixel
+        );
+        if target == DeviceTarget::CortexM4F {
+            assert!(
+                r.max_job_instructions < cycles::M4F_WINDOW,
+                "{target} {}",
+                r.scene
+            );
+        }
+    }
+    for j in &a.jobs {
+        assert_eq!(j.instructions, j.repeat, "{target} {}", j.name);
+    }
+}
+
+#[test]
+fn cortex_m4f_difference_scenes_match_host() {
+    check_difference_scenes(DeviceTarget::CortexM4F);
+}
+
+#[test]
+fn riscv32imc_difference_scenes_match_host() {
+    check_difference_scenes(DeviceTarget::Riscv32imc);
+}

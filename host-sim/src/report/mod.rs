@@ -167,6 +167,26 @@ pub fn suite() -> Vec<SuiteJob> {
     jobs
 }
 
+/// The rows of the firmware's `difference-scenes` build ([`scenes::DIFFERENCE_SCENES`] in the
+/// approximate mode, `scene:<name>~ramp-diff`, whole frames on both devices), which `texsim
+/// report cycles` runs beside the default build ([`DIFFERENCE_FEATURE`]).
+pub fn difference_suite() -> Vec<SuiteJob> {
+    scenes::DIFFERENCE_SCENES
+        .iter()
+        .map(|name| {
+            let (w, h) = scenes::builtin_frame(name).map_or((0, 0), |s| s.size());
+            let name = format!("scene:{name}{DIFFERENCE_SUFFIX}");
+            SuiteJob {
+                device_jobs: vec![name.clone()],
+                name,
+                kind: JobKind::Scene,
+                units: u64::from(w) * u64::from(h),
+                unit: "pixel",
+            }
+        })
+        .collect()
+}
+
 /// The lattice hash the firmware of `target` shades with (its `config:hash` job reports it; this
 /// is the default build's choice): permutation table on the Cortex-M4F, integer hash on rv32imc.
 pub fn default_hash(target: DeviceTarget) -> HashKind {
@@ -272,6 +292,42 @@ pub fn host_lit_scene_checksum(name: &str, hash: HashKind) -> Option<u32> {
     Some(crate::scenes::checksum(&frame))
 }
 
+/// The firmware feature of the build that runs [`difference_suite`].
+pub const DIFFERENCE_FEATURE: &str = "difference-scenes";
+
+/// The suffix of the jobs of [`scenes::DIFFERENCE_SCENES`] (`scene:fire~ramp-diff`).
+pub const DIFFERENCE_SUFFIX: &str = "~ramp-diff";
+
+/// The built-in scene of a difference job's scene part (`fire~ramp-diff`: `fire`).
+pub fn difference_scene(what: &str) -> Option<&'static str> {
+    let name = what.strip_suffix(DIFFERENCE_SUFFIX)?;
+    scenes::DIFFERENCE_SCENES
+        .iter()
+        .copied()
+        .find(|n| *n == name)
+}
+
+/// The host's checksum of built-in scene `name` in the approximate mode of the difference jobs,
+/// as `texsim render <name> --aa ramp --widths differences --checksum` prints it: its still
+/// frame through the host's own scene textures and renderer.
+pub fn host_difference_scene_checksum(name: &str, hash: HashKind) -> Option<u32> {
+    let scene = texcore::scene::builtin::by_name(name)?;
+    let cfg = UnitConfig {
+        aa: texcore::filter::Antialias::Ramp,
+        widths: texcore::filter::WidthSource::Differences,
+        ..UnitConfig::default()
+    };
+    let r = crate::scenes::render_frame(
+        &scene,
+        scene.still(),
+        &cfg,
+        hash,
+        texcore::render::Output::Color,
+    )
+    .ok()?;
+    Some(crate::scenes::checksum(&r.frame))
+}
+
 /// The set-up checksum of a built-in scene strip job (scene and textures built, nothing
 /// rendered), through the device's own code.
 fn host_builtin_strip_setup(name: &str, k: usize, hash: HashKind) -> u32 {
@@ -345,6 +401,19 @@ pub fn host_checksum(name: &str, hash: HashKind) -> Option<u32> {
         }
         "scene" if texcore::scene::builtin::by_name(what).is_some() => {
             work.then(|| host_builtin_scene_checksum(what, hash))?
+        }
+        "scene" if difference_scene(what).is_some() => {
+            let name = difference_scene(what)?;
+            if work {
+                host_difference_scene_checksum(name, hash)
+            } else {
+                let mut band = vec![Rgba8888::TRANSPARENT; scenes::BAND_PIXELS];
+                let mut depth = vec![0u16; scenes::BAND_PIXELS];
+                let mut bins = vec![texcore::render::GroupRows::EMPTY; scenes::SCENE_GROUPS];
+                Some(scenes::difference_frame_job(
+                    name, hash, false, &mut band, &mut depth, &mut bins,
+                ))
+            }
         }
         "scene" if scenes::LIT_SCENES.contains(&what) => {
             if work {
