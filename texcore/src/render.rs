@@ -379,7 +379,7 @@ pub enum RenderError {
     NeedsBands,
     /// The band or depth buffers are too small for one row of the image.
     BufferTooSmall,
-    /// The difference memory given to [`Renderer::with_differences`] (feature `differences`)
+    /// The difference memory given to `Renderer::with_differences` (feature `differences`)
     /// is narrower than the image.
     MemoryTooNarrow {
         /// The image's width in pixels.
