@@ -169,11 +169,40 @@ impl Rgb565 {
         ((self.b() as u16 * 255 + 15) / 31) as u8
     }
 
-    /// Expands to an opaque [`Rgba8888`] (channels rounded to nearest; see the module docs).
+    /// Expands to an opaque [`Rgba8888`] (channels rounded to nearest; see the module docs):
+    /// [`Rgb565::r8`], [`Rgb565::g8`] and [`Rgb565::b8`], read from their tables (128 bytes)
+    /// instead of computed (the ramp's colours, `crate::filter::Ramp565`, take this once a
+    /// pixel).
     pub const fn to_rgba8888(self) -> Rgba8888 {
-        Rgba8888::rgb(self.r8(), self.g8(), self.b8())
+        Rgba8888::rgb(
+            EXPAND5[(self.0 >> 11) as usize & 31],
+            EXPAND6[(self.0 >> 5) as usize & 63],
+            EXPAND5[self.0 as usize & 31],
+        )
     }
 }
+
+/// `round(v * 255 / 31)` for every 5-bit `v` ([`Rgb565::r8`], [`Rgb565::b8`]).
+const EXPAND5: [u8; 32] = {
+    let mut t = [0u8; 32];
+    let mut v = 0;
+    while v < 32 {
+        t[v] = Rgb565::new(v as u8, 0, 0).r8();
+        v += 1;
+    }
+    t
+};
+
+/// `round(v * 255 / 63)` for every 6-bit `v` ([`Rgb565::g8`]).
+const EXPAND6: [u8; 64] = {
+    let mut t = [0u8; 64];
+    let mut v = 0;
+    while v < 64 {
+        t[v] = Rgb565::new(0, v as u8, 0).g8();
+        v += 1;
+    }
+    t
+};
 
 impl From<u16> for Rgb565 {
     fn from(v: u16) -> Self {
@@ -299,6 +328,24 @@ mod tests {
     /// Round-half-up of `num / den` by exact integer arithmetic (u64).
     fn round_div(num: u64, den: u64) -> u64 {
         (2 * num + den) / (2 * den)
+    }
+
+    #[test]
+    fn the_tables_expand_as_the_formulas() {
+        for v in 0..=u16::MAX {
+            let c = Rgb565(v);
+            let want = |x: u64, max: u64| round_div(x * 255, max) as u8;
+            let e = c.to_rgba8888();
+            assert_eq!(e, Rgba8888::rgb(c.r8(), c.g8(), c.b8()), "{v:#06x}");
+            assert_eq!(
+                e.to_array()[..3],
+                [
+                    want(u64::from(c.r()), 31),
+                    want(u64::from(c.g()), 63),
+                    want(u64::from(c.b()), 31)
+                ]
+            );
+        }
     }
 
     #[test]

@@ -1073,6 +1073,23 @@ fn shade_segment<const T: usize, const N: usize, L: SegmentLight, O: FnMut(u16, 
         dsdy: seg.dsdy,
         len: seg.len,
     };
+    // Widths from differences for a filtered texture (an unfiltered one needs no widths, and
+    // no row above): the segment's colours a chunk at a time.
+    #[cfg(feature = "differences")]
+    if let (Output::Color, Some(m), Some(e)) =
+        (output, slots.mem.as_mut(), slots.evals.get_mut(slot))
+    {
+        if e.stage().antialias() != crate::filter::Antialias::None {
+            let piece = |off: u16, px: &mut [Rgba8888]| {
+                let x = seg.x0.saturating_add(off);
+                light.light_span(x, seg.y, px);
+                out(x, px);
+            };
+            if e.differences_pieces::<_, _, CHUNK>(m, seg.x0, seg.y, &span, piece) {
+                return;
+            }
+        }
+    }
     let mut chunk = [Rgba8888::TRANSPARENT; CHUNK];
     let mut n = 0usize;
     let mut x = seg.x0;
@@ -1091,20 +1108,7 @@ fn shade_segment<const T: usize, const N: usize, L: SegmentLight, O: FnMut(u16, 
     match output {
         Output::Color => {
             if let Some(e) = slots.evals.get_mut(slot) {
-                // Widths from differences for a filtered texture (an unfiltered one needs no
-                // widths, and no row above).
-                #[cfg(feature = "differences")]
-                let done = match slots.mem.as_mut() {
-                    Some(m) if e.stage().antialias() != crate::filter::Antialias::None => {
-                        e.differences_in(m, seg.x0, seg.y, &span, &mut push)
-                    }
-                    _ => false,
-                };
-                #[cfg(not(feature = "differences"))]
-                let done = false;
-                if !done {
-                    e.shade(&span, &mut push);
-                }
+                e.shade(&span, &mut push);
             }
         }
         Output::FilterWidth => {

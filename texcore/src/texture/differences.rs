@@ -559,6 +559,61 @@ impl<'t, const T: usize, const N: usize> TextureEvaluator<'t, T, N> {
         true
     }
 
+    /// [`TextureEvaluator::differences_in`] a piece of at most `K` pixels at a time: each
+    /// piece's colours written into a buffer of `K` and handed to `out` with the piece's first
+    /// pixel (relative to `x`), so that no call is made per pixel. The same colours.
+    #[cfg_attr(not(feature = "differences"), allow(dead_code))]
+    #[inline]
+    pub(crate) fn differences_pieces<C, O, const K: usize>(
+        &mut self,
+        mem: &mut MemoryRows<'_>,
+        x: u16,
+        y: u16,
+        span: &Span,
+        mut out: O,
+    ) -> bool
+    where
+        C: SpanColor + Copy + Default,
+        O: FnMut(u16, &mut [C]),
+    {
+        let Some((f, above, extra)) = self.segment_values(mem, x, y, span) else {
+            return false;
+        };
+        let tex = self.tex;
+        let n = f.len();
+        let mut buf = [C::default(); K];
+        let mut a = 0;
+        while a < n {
+            let b = (a + K).min(n);
+            // One pixel past the piece, so that its last pixel takes its right neighbour's
+            // difference; that pixel's colour falls past the buffer.
+            let e = (b + 1).min(n);
+            let mut k = 0;
+            let piece = (
+                f.get(a..e).unwrap_or(&[]),
+                above.get(a..e).unwrap_or(&[]),
+                extra,
+            );
+            shade_values(&tex.stage, tex.norm, piece, |c| {
+                if let Some(p) = buf.get_mut(k) {
+                    *p = c;
+                }
+                k += 1;
+            });
+            if let Some(p) = buf.get_mut(..b - a) {
+                out(a as u16, p);
+            }
+            a = b;
+        }
+        let n = u64::from(span.len);
+        if tex.stage.antialias() != Antialias::None {
+            self.filter_lookups += n;
+        } else {
+            self.plain_lookups += n;
+        }
+        true
+    }
+
     /// The values of `span` at pixels `x..` of row `y` and of the pixels above it (from `mem`
     /// where it holds them, else evaluated one row up), both kept in `mem`, and the span's
     /// spread; `None` when the span reaches past the memory's width.
