@@ -25,6 +25,7 @@ probe_sets=(
   "eval|turbulence-fd,fd32,reanchor|release-size"
   "perturb|perturb|release-size"
   "render|render|release-size"
+  "render-diff|render,ramp,render-differences|release-size"
   "multipass|fd,multipass|release-size"
   "atlas|atlas|release-size"
   "lighting|render,lighting|release-size"
@@ -43,6 +44,8 @@ for target in thumbv7em-none-eabihf riscv32imc-unknown-none-elf; do
   cargo check -q -p firmware --bins --target "$target" --release
   echo "-- $target: firmware --no-default-features --features full"
   cargo check -q -p firmware --bins --target "$target" --release --no-default-features --features full
+  echo "-- $target: firmware difference-scenes"
+  cargo check -q -p firmware --bins --target "$target" --release --features difference-scenes
   for part in accuracy-planes accuracy-small-tables accuracy-large-tables accuracy-scenes; do
     echo "-- $target: firmware $part"
     cargo check -q -p firmware --bins --target "$target" --release --features "$part"

@@ -6,7 +6,8 @@
 //! loaded at run time, so every code path the compiled-in features allow stays reachable: every
 //! noise basis, every evaluation mode, every colour filter), shades a 64 x 64 check plane into a
 //! `ChecksumSink`, and with feature `render` also renders a scene through the banded renderer
-//! (perspective, depth test, alpha blending), and with feature `atlas` bakes and samples a small
+//! (perspective, depth test, alpha blending; with `render-differences` also with the filter widths
+//! from differences, `Renderer::with_differences`), and with feature `atlas` bakes and samples a small
 //! texture atlas (`texcore::atlas`, `texcore::packed_mesh`), and with feature `differences` shades
 //! the plane once more with the filter widths from differences
 //! (`texcore::texture::DifferenceSpans`). It exits through semihosting with status 0, so it also
@@ -247,7 +248,20 @@ mod probe {
         let mut depth = [0u16; 64 * 8];
         let mut sink = ChecksumSink::new();
         let textures = core::slice::from_ref(tex);
-        match Renderer::new(textures).render_banded(&scene, &mut band, &mut depth, 8, &mut sink) {
+        let renderer = Renderer::new(textures);
+        // With `render-differences`, the widths from differences as far as the optimiser knows.
+        #[cfg(feature = "render-differences")]
+        let (mut mem, mut faces) = (
+            texcore::texture::DifferenceMemory::<64>::new(),
+            texcore::span::FaceCache::<64, T>::new(),
+        );
+        #[cfg(feature = "render-differences")]
+        let renderer = if black_box(true) {
+            renderer.with_differences(&mut mem, &mut faces)
+        } else {
+            renderer
+        };
+        match renderer.render_banded(&scene, &mut band, &mut depth, 8, &mut sink) {
             Ok(_) => sink.checksum(),
             Err(_) => 0,
         }

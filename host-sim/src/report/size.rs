@@ -61,7 +61,7 @@ pub struct FeatureSet {
 
 /// The probe's feature sets, from `minimal` to `full`, and `full` in the fast code shape.
 /// `perm-hash` only takes effect on the Cortex-M4F (the rv32imc build is table-free in every set).
-pub const FEATURE_SETS: [FeatureSet; 15] = [
+pub const FEATURE_SETS: [FeatureSet; 16] = [
     FeatureSet {
         name: "minimal",
         features: &[],
@@ -143,6 +143,15 @@ pub const FEATURE_SETS: [FeatureSet; 15] = [
         profile: "release-size",
         what: "minimal + meshed texture atlases: packed-mesh validation, the atlas bake, nearest, \
                bilinear and MIP atlas look-ups (a system of its own, not part of `full`)",
+    },
+    FeatureSet {
+        name: "render-diff",
+        features: &["render", "ramp", "render-differences"],
+        profile: "release-size",
+        what: "render + ramp + the renderer's filter widths from differences \
+               (`Renderer::with_differences`, texcore `differences`: segment values without \
+               gradients, the row above in the caller's `DifferenceMemory`, a face cache; \
+               compare with `render` and `ramp`)",
     },
     FeatureSet {
         name: "lighting",
