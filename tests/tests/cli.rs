@@ -570,7 +570,7 @@ fn filter_widths_from_differences_on_planes_and_scenes() {
     };
     assert_eq!(
         checksum(&["--aa", "ramp", "--widths", "differences"]),
-        "b8f00769"
+        "e668a2be"
     );
     assert_ne!(
         checksum(&["--widths", "differences"]),

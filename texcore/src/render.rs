@@ -1989,6 +1989,17 @@ mod difference_tests {
                             corner(101, 103, 0, 1 << 30, [1.0, 2.2, 3.0]),
                         ],
                     ),
+                    // Flat: its rows reach past the row above by more than a 16-pixel
+                    // piece.
+                    (
+                        object(0, per, false),
+                        [
+                            corner(750, 320, 0, 1 << 30, [0.0, 1.0, 0.0]),
+                            corner(765, 320, 0, 1 << 28, [5.0, 1.0, 0.0]),
+                            corner(765, 370, 0, 1 << 28, [5.0, 1.5, 0.5]),
+                            corner(0, 355, 0, 1 << 30, [0.0, 1.5, 0.5]),
+                        ],
+                    ),
                     (
                         object(0, per, false),
                         [
@@ -2017,9 +2028,10 @@ mod difference_tests {
 
     /// The streamed frame of `scene` with widths from differences, by hand: each triangle's
     /// segments from the rasterizer, each pixel's value from the span evaluator, the pixel
-    /// above from the same triangle's row above unless the pixel is on a tile's first row or
-    /// that row does not hold it (then on the segment one row up), the colour the stage's at
-    /// the width of the differences.
+    /// above from the same triangle's row above unless the pixel is on a tile's first row; a
+    /// pixel the row above does not have takes the vertical difference of the nearest one that
+    /// has it, and a segment none of whose pixels has it is evaluated one row up; the colour
+    /// is the stage's at the width of the differences.
     fn reference(scene: &Quads, tex: &[Texture<8, 256>]) -> Vec<Rgba8888> {
         let n = usize::from(scene.size);
         let mut img = vec![scene.background(); n * n];
@@ -2047,22 +2059,38 @@ mod difference_tests {
                     len: seg.len,
                 };
                 let (f, extra) = values(&span);
-                let above: Vec<TexValue> = (0..seg.len)
+                let bits = |v: TexValue| v.to_bits();
+                // The same triangle's values of the row above, unless on a tile's first row.
+                let kept: Vec<Option<TexValue>> = (0..seg.len)
                     .map(|i| {
                         let x = seg.x0 + i;
-                        let kept = (seg.y % TILE_ROWS != 0)
-                            .then(|| held.get(&(x, seg.y - 1)))
-                            .flatten();
-                        match kept {
-                            Some(&v) => v,
-                            None => values(&span.prev_row().part(i, 1)).0[0],
-                        }
+                        (seg.y % TILE_ROWS != 0)
+                            .then(|| held.get(&(x, seg.y - 1)).copied())
+                            .flatten()
                     })
                     .collect();
+                let first = kept.iter().position(Option::is_some);
+                let last = kept.iter().rposition(Option::is_some);
+                let above: Vec<TexValue> = match (first, last) {
+                    // None kept: the segment one row up.
+                    (None, _) | (_, None) => values(&span.prev_row()).0,
+                    // The others take the vertical difference of the nearest kept one.
+                    (Some(a), Some(b)) => {
+                        let dy = |k: usize| bits(f[k]).wrapping_sub(bits(kept[k].unwrap()));
+                        (0..f.len())
+                            .map(|i| match kept[i] {
+                                Some(v) => v,
+                                None => {
+                                    let d = if i < a { dy(a) } else { dy(b) };
+                                    TexValue::from_bits(bits(f[i]).wrapping_sub(d))
+                                }
+                            })
+                            .collect()
+                    }
+                };
                 for (i, &v) in f.iter().enumerate() {
                     held.insert((seg.x0 + i as u16, seg.y), v);
                 }
-                let bits = |v: TexValue| v.to_bits();
                 for i in 0..f.len() {
                     let dx = match (f.get(i + 1), i.checked_sub(1)) {
                         (Some(&r), _) => bits(r).wrapping_sub(bits(f[i])),

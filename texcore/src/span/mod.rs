@@ -175,6 +175,7 @@ impl Span {
 
     /// The `len` pixels of the span from pixel `first` on: `s0` advanced by `first ds`
     /// (wrapping), the steps kept.
+    #[cfg(test)]
     pub(crate) fn part(&self, first: u16, len: u16) -> Span {
         let b = self.s0.to_bits();
         let d = self.ds.to_bits();

@@ -637,33 +637,58 @@ impl<'t, const T: usize, const N: usize> TextureEvaluator<'t, T, N> {
         let reuse = y % TILE_ROWS != 0;
         let meets = |h: &Held| reuse && h.row == above && h.lo <= end && h.hi >= x;
         let found = held.iter().position(meets);
-        // The memory row for the pixels above: that one, or one not holding the span's row.
-        let up = found.unwrap_or(usize::from(held[0].row == Some(y)));
-        let prev = span.prev_row();
+        // The span's pixels `c0..c1` whose pixels above the memory holds (empty: none).
+        let covered = found
+            .and_then(|k| held.get(k))
+            .map(|h| (h.lo.max(x), h.hi.min(end)))
+            .filter(|(c0, c1)| c0 < c1);
+        // The memory row for the pixels above: the one holding the row above, or one not
+        // holding the span's row.
+        let up = found
+            .or_else(|| held.iter().position(|h| reuse && h.row == above))
+            .unwrap_or(usize::from(held[0].row == Some(y)));
         let [r0, r1] = &mut mem.rows;
         let (up_row, cur_row) = if up == 0 { (r0, r1) } else { (r1, r0) };
         let faces = &mut mem.faces;
-        // The pixels above to evaluate: `first..first + n` of the span, at most two runs.
-        let mut runs = [(0u16, len), (0, 0)];
-        if let Some(h) = found.and_then(|k| held.get(k)) {
-            let left = h.lo.saturating_sub(x).min(len);
-            let right = h.hi.max(x) - x;
-            runs = [(0, left), (right, len.saturating_sub(right))];
-        }
-        for (first, n) in runs {
-            if n > 0 {
-                let a = lo + usize::from(first);
-                let out = up_row.get_mut(a..a + usize::from(n))?;
-                self.values_into(&prev.part(first, n), out, faces);
-            }
+        if covered.is_none() {
+            // None held: the span one row up, evaluated.
+            let out = up_row.get_mut(lo..hi)?;
+            self.values_into(&span.prev_row(), out, faces);
         }
         let extra = self.values_into(span, cur_row.get_mut(lo..hi)?, faces);
+        if let Some((c0, c1)) = covered {
+            // The pixels left and right of those held take the vertical difference of the
+            // nearest held one (no evaluation: a triangle's edges move along its rows).
+            let (f, u) = (cur_row.get(lo..hi)?, up_row.get_mut(lo..hi)?);
+            let (a, b) = (usize::from(c0 - x), usize::from(c1 - x));
+            let dy = |i: usize| {
+                let (fi, ui) = (
+                    f.get(i).map_or(0, |v| v.to_bits()),
+                    u.get(i).map_or(0, |v| v.to_bits()),
+                );
+                fi.wrapping_sub(ui)
+            };
+            let (left, right) = (dy(a), dy(b - 1));
+            for (i, (p, v)) in u.iter_mut().zip(f).enumerate() {
+                if i < a {
+                    *p = TexValue::from_bits(v.to_bits().wrapping_sub(left));
+                } else if i >= b {
+                    *p = TexValue::from_bits(v.to_bits().wrapping_sub(right));
+                }
+            }
+        }
+        // What the memory holds: the row above as it was when it holds it (its own values,
+        // not the ones made here), else the pixels evaluated one row up (none above a tile's
+        // first row or the image's); the span's row grows by the span.
         let (u, c) = (up, 1 - up);
-        match above.filter(|_| reuse) {
-            Some(a) => mem.hold(u, a, x, len),
-            None => {
-                if let Some(h) = mem.held.get_mut(u) {
-                    *h = Held::NONE;
+        let holds_above = held.get(u).is_some_and(|h| reuse && h.row == above);
+        if !holds_above {
+            match above.filter(|_| reuse) {
+                Some(a) => mem.hold(u, a, x, len),
+                None => {
+                    if let Some(h) = mem.held.get_mut(u) {
+                        *h = Held::NONE;
+                    }
                 }
             }
         }
