@@ -173,21 +173,6 @@ impl Span {
         self.rows_down(-1)
     }
 
-    /// The `len` pixels of the span from pixel `first` on: `s0` advanced by `first ds`
-    /// (wrapping), the steps kept.
-    #[cfg(test)]
-    pub(crate) fn part(&self, first: u16, len: u16) -> Span {
-        let b = self.s0.to_bits();
-        let d = self.ds.to_bits();
-        let n = i32::from(first);
-        let at = |k: usize| b[k].wrapping_add(d[k].wrapping_mul(n));
-        Span {
-            s0: TexPoint::from_bits(at(0), at(1), at(2)),
-            len,
-            ..*self
-        }
-    }
-
     /// The span `n` rows below (`s0` advanced by `n dsdy`, wrapping).
     #[inline(always)]
     fn rows_down(&self, n: i32) -> Span {
