@@ -8,7 +8,9 @@
 //!   rotation, an anchor point and an animation phase (a shift along the plane's normal, which
 //!   slides the plane through the solid).
 //! - [`TexturedScene`]: a scene (any [`TriangleSource`]: a [`crate::scene::Scene`], a mesh
-//!   object) drawn through the [`Renderer`] as one `Drawable`.
+//!   object) drawn through the [`Renderer`] as one `Drawable`; with feature `differences`,
+//!   `TexturedScene::with_differences` draws it with the filter widths from differences (the
+//!   renderer's approximate mode, its memory on the stack during `draw`).
 //!
 //! ```
 //! use embedded_graphics::{mock_display::MockDisplay, pixelcolor::Rgb565, prelude::*};
@@ -632,12 +634,45 @@ where
 /// (`BAND * 6` bytes; `BAND / width` rows per band, at least one row). `draw` returns
 /// `Err(D::Error)` for a display error and `Ok` with the renderer's result (its counters, or
 /// why the scene could not be rendered: [`RenderError`]).
+///
+/// With `W > 0` (feature `differences`, [`TexturedScene::with_differences`]) the filter widths
+/// come from the differences of neighbouring values (`Renderer::with_differences`, a named
+/// approximate mode), the memory of rows of `W` pixels and a face cache of [`DRAW_FACES`]
+/// entries on the stack during `draw` (`8 W + 32 DRAW_FACES` bytes and the cache's lanes); a
+/// scene wider than `W` pixels is refused ([`RenderError::MemoryTooNarrow`]). Its bands are
+/// then whole tiles of `texture::TILE_ROWS` rows, so the image is the streamed one (and
+/// `texsim render --widths differences`'s) whenever `BAND` holds that many rows.
 #[derive(Debug)]
-pub struct TexturedScene<'a, S, C, const T: usize, const N: usize, const BAND: usize = 2048> {
+pub struct TexturedScene<
+    'a,
+    S,
+    C,
+    const T: usize,
+    const N: usize,
+    const BAND: usize = 2048,
+    const W: usize = 0,
+> {
     scene: &'a S,
     textures: &'a [Texture<T, N>],
     color: PhantomData<fn() -> C>,
 }
+
+impl<S, C, const T: usize, const N: usize, const BAND: usize, const W: usize> Clone
+    for TexturedScene<'_, S, C, T, N, BAND, W>
+{
+    fn clone(&self) -> Self {
+        *self
+    }
+}
+
+impl<S, C, const T: usize, const N: usize, const BAND: usize, const W: usize> Copy
+    for TexturedScene<'_, S, C, T, N, BAND, W>
+{
+}
+
+/// Face-cache entries of a [`TexturedScene`] drawn with the widths from differences (32 bytes
+/// each, on the stack during `draw`; the values are the same with any number).
+pub const DRAW_FACES: usize = 64;
 
 impl<'a, S, C, const T: usize, const N: usize, const BAND: usize>
     TexturedScene<'a, S, C, T, N, BAND>
@@ -652,8 +687,25 @@ impl<'a, S, C, const T: usize, const N: usize, const BAND: usize>
     }
 }
 
-impl<S, C, const T: usize, const N: usize, const BAND: usize> Drawable
-    for TexturedScene<'_, S, C, T, N, BAND>
+#[cfg(feature = "differences")]
+impl<'a, S, C, const T: usize, const N: usize, const BAND: usize, const W: usize>
+    TexturedScene<'a, S, C, T, N, BAND, W>
+{
+    /// The same scene drawn with the filter widths from the differences of neighbouring values
+    /// (see the type's documentation), rows of up to `W2` pixels (at least the scene's width).
+    pub const fn with_differences<const W2: usize>(
+        self,
+    ) -> TexturedScene<'a, S, C, T, N, BAND, W2> {
+        TexturedScene {
+            scene: self.scene,
+            textures: self.textures,
+            color: PhantomData,
+        }
+    }
+}
+
+impl<S, C, const T: usize, const N: usize, const BAND: usize, const W: usize> Drawable
+    for TexturedScene<'_, S, C, T, N, BAND, W>
 where
     S: TriangleSource,
     C: PixelColor + From<Rgb888>,
@@ -665,7 +717,32 @@ where
     where
         D: DrawTarget<Color = C>,
     {
-        let renderer = Renderer::new(self.textures);
+        #[cfg(feature = "differences")]
+        if W > 0 {
+            let mut mem = crate::texture::DifferenceMemory::<W>::new();
+            let mut faces = crate::span::FaceCache::<DRAW_FACES, T>::new();
+            let renderer = Renderer::new(self.textures).with_differences(&mut mem, &mut faces);
+            return self.draw_with(&renderer, target);
+        }
+        self.draw_with(&Renderer::new(self.textures), target)
+    }
+}
+
+impl<S, C, const T: usize, const N: usize, const BAND: usize, const W: usize>
+    TexturedScene<'_, S, C, T, N, BAND, W>
+where
+    S: TriangleSource,
+    C: PixelColor + From<Rgb888>,
+{
+    /// Draws the scene through `renderer`.
+    fn draw_with<D>(
+        &self,
+        renderer: &Renderer<'_, T, N>,
+        target: &mut D,
+    ) -> Result<Result<RenderStats, RenderError>, D::Error>
+    where
+        D: DrawTarget<Color = C>,
+    {
         let mut sink = TargetSink {
             target,
             error: None,
@@ -677,7 +754,11 @@ where
                 let mut band = [Rgba8888::BLACK; BAND];
                 let mut depth = [0u16; BAND];
                 let w = usize::from(self.scene.size().0.max(1));
-                let rows = (BAND / w).min(usize::from(u16::MAX)) as u16;
+                let mut rows = (BAND / w).min(usize::from(u16::MAX)) as u16;
+                // Bands of whole tiles with the widths from differences: the streamed image.
+                if W > 0 && rows >= crate::texture::TILE_ROWS {
+                    rows -= rows % crate::texture::TILE_ROWS;
+                }
                 renderer.render_banded(self.scene, &mut band, &mut depth, rows, &mut sink)
             }
         };
@@ -1100,5 +1181,82 @@ mod tests {
                 }
             }
         }
+    }
+
+    /// With the widths from differences a scene drawn as a `Drawable` equals the renderer's
+    /// streamed render with a memory of its own (bands of 12 rows' room drawn as bands of 8),
+    /// differs from the gradients' frame, and a memory narrower than the scene is refused.
+    #[cfg(feature = "differences")]
+    #[test]
+    fn textured_scene_with_differences_equals_the_renderer() {
+        use crate::sink::RgbaBuffer;
+        let scene = crate::scene::by_name("marble").unwrap();
+        let scene = scene.at_frame(scene.still());
+        let textures: Vec<Texture<8, 256>> = scene
+            .slots
+            .iter()
+            .map(|s| {
+                let m = Material::by_name(s.material, crate::hash::HashKind::default()).unwrap();
+                let keys = s.keys.unwrap_or(m.keys());
+                m.with_keys(keys).texture(Antialias::Csat).unwrap()
+            })
+            .collect();
+        let (w, h) = scene.size();
+        let mut img = std::vec![Rgba8888::BLACK; usize::from(w) * usize::from(h)];
+        let mut buf = RgbaBuffer::new(&mut img, w, 0, h).unwrap();
+        let mut mem = crate::texture::DifferenceMemory::<320>::new();
+        let mut faces = crate::span::FaceCache::<16, 8>::new();
+        let r = Renderer::new(&textures).with_differences(&mut mem, &mut faces);
+        let mut band = std::vec![Rgba8888::BLACK; usize::from(w) * usize::from(h)];
+        let mut depth = std::vec![0u16; usize::from(w) * usize::from(h)];
+        r.render_banded(&scene, &mut band, &mut depth, h, &mut buf)
+            .unwrap();
+        /// A whole frame as a display.
+        struct Frame(u32, Vec<Rgb888>);
+        impl OriginDimensions for Frame {
+            fn size(&self) -> Size {
+                Size::new(self.0, self.1.len() as u32 / self.0)
+            }
+        }
+        impl DrawTarget for Frame {
+            type Color = Rgb888;
+            type Error = core::convert::Infallible;
+            fn draw_iter<I: IntoIterator<Item = Pixel<Rgb888>>>(
+                &mut self,
+                pixels: I,
+            ) -> Result<(), Self::Error> {
+                for Pixel(p, c) in pixels {
+                    let i = p.y as usize * self.0 as usize + p.x as usize;
+                    if let Some(px) = self.1.get_mut(i) {
+                        *px = c;
+                    }
+                }
+                Ok(())
+            }
+        }
+        let n = usize::from(w) * usize::from(h);
+        let mut d = Frame(u32::from(w), std::vec![Rgb888::BLACK; n]);
+        let ts: TexturedScene<'_, _, Rgb888, 8, 256, { 320 * 12 }> =
+            TexturedScene::new(&scene, &textures);
+        ts.with_differences::<320>().draw(&mut d).unwrap().unwrap();
+        let mut plain = Frame(u32::from(w), std::vec![Rgb888::BLACK; n]);
+        ts.draw(&mut plain).unwrap().unwrap();
+        let want: Vec<Rgb888> = img.iter().map(|c| Rgb888::new(c.r, c.g, c.b)).collect();
+        assert!(d.1 == want);
+        let differ = d.1.iter().zip(&plain.1).filter(|(a, b)| a != b).count();
+        assert!(differ > 1000, "{differ}");
+        let mut d = MockDisplay::<Rgb888>::new();
+        d.set_allow_out_of_bounds_drawing(true);
+        let ts: TexturedScene<'_, _, Rgb888, 8, 256> = TexturedScene::new(&scene, &textures);
+        assert_eq!(
+            ts.with_differences::<64>()
+                .draw(&mut d)
+                .unwrap()
+                .unwrap_err(),
+            RenderError::MemoryTooNarrow {
+                width: w,
+                memory: 64
+            }
+        );
     }
 }
