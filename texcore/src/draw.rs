@@ -635,7 +635,7 @@ where
 /// `Err(D::Error)` for a display error and `Ok` with the renderer's result (its counters, or
 /// why the scene could not be rendered: [`RenderError`]).
 ///
-/// With `W > 0` (feature `differences`, [`TexturedScene::with_differences`]) the filter widths
+/// With `W > 0` (feature `differences`, `TexturedScene::with_differences`) the filter widths
 /// come from the differences of neighbouring values (`Renderer::with_differences`, a named
 /// approximate mode), the memory of rows of `W` pixels and a face cache of [`DRAW_FACES`]
 /// entries on the stack during `draw` (`8 W + 32 DRAW_FACES` bytes and the cache's lanes); a
