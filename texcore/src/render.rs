@@ -1170,10 +1170,11 @@ mod tests {
     use crate::span::EvalMode;
     use crate::table::{ColorTable, TableLookup, TableWrap};
 
-    /// A full-screen quad with s = x / size, t = y / size at the corners, plus optional objects.
-    struct Quads {
-        size: u16,
-        objects: Vec<(DrawObject, [ScreenVertex; 4])>,
+    /// A full-screen quad with s = x / size, t = y / size at the corners, plus optional objects
+    /// (quads of two triangles each, drawn in order).
+    pub(super) struct Quads {
+        pub(super) size: u16,
+        pub(super) objects: Vec<(DrawObject, [ScreenVertex; 4])>,
     }
 
     fn corner(x: i32, y: i32, s: i32, t: i32, z: u16) -> ScreenVertex {
@@ -1906,32 +1907,7 @@ mod difference_tests {
     use crate::span::FaceCache;
     use crate::texture::{DifferenceMemory, TILE_ROWS};
 
-    /// Quads (two triangles each) over a `size` x `size` image, drawn in order.
-    struct Quads {
-        size: u16,
-        objects: Vec<(DrawObject, [ScreenVertex; 4])>,
-    }
-
-    impl TriangleSource for Quads {
-        fn size(&self) -> (u16, u16) {
-            (self.size, self.size)
-        }
-        fn background(&self) -> Rgba8888 {
-            Rgba8888::new(1, 2, 3, 255)
-        }
-        fn object_count(&self) -> usize {
-            self.objects.len()
-        }
-        fn object(&self, i: usize) -> Option<DrawObject> {
-            self.objects.get(i).map(|o| o.0)
-        }
-        fn for_each_triangle<F: FnMut(usize, &[ScreenVertex; 3])>(&self, mut f: F) {
-            for (i, (_, v)) in self.objects.iter().enumerate() {
-                f(i, &[v[0], v[1], v[2]]);
-                f(i, &[v[0], v[2], v[3]]);
-            }
-        }
-    }
+    use super::tests::Quads;
 
     /// A corner at pixel `(x, y)` (1/16 pixel units) with `1/w = q` and texture point `s`.
     fn corner(x: i32, y: i32, z: u16, q: u32, s: [f64; 3]) -> ScreenVertex {

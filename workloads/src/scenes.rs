@@ -324,9 +324,23 @@ pub fn lit_frame_job(
     let Some(scene) = lit_frame(name) else {
         return 0;
     };
-    let mode = FrameMode::Exact;
+    whole_frame(&scene, hash, FrameMode::Exact, work, band, depth, bins)
+}
+
+/// A whole frame in one job ([`frame_rows`] from the first row, the checksum from
+/// [`FRAME_START`]).
+#[cfg(any(feature = "lighting", feature = "differences"))]
+fn whole_frame(
+    scene: &Scene,
+    hash: HashKind,
+    mode: FrameMode,
+    work: bool,
+    band: &mut [Rgba8888],
+    depth: &mut [u16],
+    bins: &mut [GroupRows],
+) -> u32 {
     frame_rows(
-        &scene,
+        scene,
         hash,
         mode,
         work,
@@ -374,17 +388,7 @@ pub fn difference_frame_job(
         return 0;
     };
     let mode = FrameMode::RampDifferences;
-    frame_rows(
-        &scene,
-        hash,
-        mode,
-        work,
-        None,
-        FRAME_START,
-        band,
-        depth,
-        bins,
-    )
+    whole_frame(&scene, hash, mode, work, band, depth, bins)
 }
 
 /// The scene called `name`.
