@@ -565,22 +565,25 @@ impl<'t, const T: usize, const N: usize> Renderer<'t, T, N> {
 
     /// The same renderer taking every filtered texture's filter widths from the differences of
     /// neighbouring values instead of the noise's gradients (feature `differences`; a named
-    /// approximate mode, `texture::DifferenceSpans` for planes): each segment's values are
-    /// evaluated without gradients (about half the noise's cost) and pixel `(x, y)`'s width is
-    /// the stage's width of `(f(x + 1, y) - f(x, y), f(x, y) - f(x, y - 1))`, both neighbours
-    /// taken within the pixel's triangle (extrapolated on its segment past the triangle's
-    /// pixels: the row above a triangle's first row in a band, a segment's last pixel takes its
-    /// left neighbour's horizontal difference), as a GPU's `ddx`/`ddy`. `mem` holds the row
-    /// above ([`TextureEvaluator::shade_differences`]: the row above each tile of
-    /// [`crate::texture::TILE_ROWS`] rows is extrapolated too, so the colours are the same
-    /// streamed and in bands of any multiple of that many rows); a frame wider than `W` pixels
-    /// is refused ([`RenderError::MemoryTooNarrow`]). The filter-width output
+    /// approximate mode, `texture::DifferenceSpans` for planes; `docs/model.md` 8.4.1): each
+    /// segment's values are evaluated without gradients and pixel `(x, y)`'s width is the
+    /// stage's width of `(f(x + 1, y) - f(x, y), f(x, y) - f(x, y - 1))`, both neighbours taken
+    /// within the pixel's triangle, as a GPU's `ddx`/`ddy`: a segment's last pixel takes its
+    /// left neighbour's horizontal difference; a pixel whose triangle lacks the pixel above
+    /// takes the vertical difference of the segment's nearest pixel that has it, and a segment
+    /// with none (a triangle's first row, and the first row of every tile of
+    /// [`crate::texture::TILE_ROWS`] rows) is evaluated once more one row up
+    /// ([`TextureEvaluator::shade_differences`]). So the colours are the same streamed and in
+    /// bands of any multiple of that many rows. `mem` holds the row above; a frame wider than
+    /// `W` pixels is refused ([`RenderError::MemoryTooNarrow`]). The filter-width output
     /// ([`Output::FilterWidth`]) still shows the gradients' widths. The colours are the same on
     /// every target.
     ///
-    /// What it costs and saves: about half the noise's cost on large triangles (the built-in
-    /// `fire` scene), but the rows above each triangle's first rows and each tile's are
-    /// evaluated once more, which a fine mesh of small triangles pays for (`docs/cycles.md`).
+    /// What it costs and saves (`docs/cycles.md`, `scene:<name>~ramp-diff`): the colour stage's
+    /// root (and with the ramp, one read a pixel); the values alone cost about what the values
+    /// and gradients cost on the exact path, and the rows above each triangle's and each tile's
+    /// first row are evaluated once more. The built-in fire (two large triangles) is 40% cheaper
+    /// with the ramp; a fine mesh (the marble scene) about as dear as its exact frame.
     ///
     /// `faces` keeps the face blends of the noise's axis-aligned terms across segments
     /// ([`FaceCache`]: the same values, bit for bit, with fewer hashes whatever its size;
