@@ -21,6 +21,11 @@
 //!   [`DifferenceSpans`] reuses the row above when it holds the span's pixels (spans shaded row
 //!   by row, left to right, as a display is drawn); any other order is served by evaluating the
 //!   row above the span once more (the same colours, at twice the cost).
+//! - [`TextureEvaluator::shade_differences`] shades any span at a pixel position (a
+//!   rasterizer's segments, `Renderer::with_differences`): the pixel above from the memory
+//!   where it holds the row above (not on a tile's first row, [`TILE_ROWS`]), else the
+//!   vertical difference of the span's nearest pixel that has one, else the span evaluated one
+//!   row up; the values are the span's own, bit for bit.
 //! - Deterministic integer arithmetic: the same colours on the host and on every device.
 //!
 //! ```
