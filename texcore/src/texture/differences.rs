@@ -843,6 +843,57 @@ mod tests {
         }
     }
 
+    /// `shade_differences` over a plane's rows, each cut into two touching spans, across tile
+    /// boundaries: each span is the reference (the memory's rows above are the plane's own, and
+    /// a tile's first row extrapolated on its span is the same row), in RGBA and RGB565; a span
+    /// past the memory is refused. Models only: a perturbed material's values depend (in the
+    /// last bits of its perturbed coordinates) on where its span starts, so the pixels above
+    /// kept from a span cut elsewhere differ from the reference's.
+    #[test]
+    fn spans_at_positions_are_the_reference() {
+        let models: Vec<_> = textures()
+            .into_iter()
+            .filter(|t| matches!(t.shader(), Shader::Model(_)))
+            .collect();
+        assert!(models.len() >= 4, "{}", models.len());
+        for tex in models {
+            for (k, p) in planes().into_iter().enumerate() {
+                let tex = &tex.clone().with_culling(k == 1);
+                let first = first_span(p, 48);
+                let mut mem = DifferenceMemory::<48>::new();
+                let mut ev = tex.evaluator();
+                let mut row = first;
+                for y in 0..20u16 {
+                    let cut = (y * 7) % 48;
+                    for (x, len) in [(0, cut), (cut, 48 - cut)] {
+                        let mut span = row;
+                        span.s0 = TexPoint::from_bits(
+                            row.s0.to_bits()[0].wrapping_add(row.ds.to_bits()[0] * i32::from(x)),
+                            row.s0.to_bits()[1].wrapping_add(row.ds.to_bits()[1] * i32::from(x)),
+                            row.s0.to_bits()[2].wrapping_add(row.ds.to_bits()[2] * i32::from(x)),
+                        );
+                        span.len = len;
+                        let want = reference(tex, &span);
+                        let mut got = Vec::new();
+                        if y % 2 == 0 {
+                            assert!(ev.shade_differences(&mut mem, x, y, &span, |c| got.push(c)));
+                            assert_eq!(got, want, "plane {k} row {y} at {x}");
+                        } else {
+                            let f = |c: Rgb565| got.push(c.to_rgba8888());
+                            assert!(ev.shade565_differences(&mut mem, x, y, &span, f));
+                            let want: Vec<_> =
+                                want.iter().map(|c| c.to_rgb565().to_rgba8888()).collect();
+                            assert_eq!(got, want, "plane {k} row {y} at {x} (RGB565)");
+                        }
+                    }
+                    row = row.next_row();
+                }
+                let span = Span { len: 8, ..first };
+                assert!(!ev.shade_differences(&mut mem, 41, 0, &span, |_| ()));
+            }
+        }
+    }
+
     /// The plane of `p` over `w` x `h` pixels.
     fn plane(p: (TexPoint, TexPoint, TexPoint), w: u16, h: u16) -> SpanPlane {
         SpanPlane::new(p.0, p.1, p.2, w, h).unwrap()
