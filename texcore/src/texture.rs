@@ -246,6 +246,14 @@ impl<'t, const T: usize, const N: usize> TextureEvaluator<'t, T, N> {
             }
             return;
         }
+        // The ramp (feature `ramp`): its RGB565 colours from the squared gradients (no root:
+        // the same level as the width's, `Ramp565::shade_l2`), widened as `ColorStage::shade`
+        // widens them.
+        #[cfg(feature = "ramp")]
+        if stage.ramp().is_some() {
+            self.ramp_with(span, from, |c: crate::color::Rgb565| emit(c.to_rgba8888()));
+            return;
+        }
         self.filter_lookups += n;
         let norm = self.tex.norm;
         let lg = log2(N);
@@ -553,6 +561,55 @@ mod tests {
                 let tex = Texture::new(shader.clone(), stage(aa), GradientNorm::L2, EvalMode::Auto);
                 let c = shade_both_shapes(&tex, &span);
                 assert_eq!(c.len(), 150);
+            }
+        }
+    }
+
+    /// With the ramp, `shade` (its colours from the squared gradients, no root) is the stage's
+    /// colour at the stream's width of each sample, pixel by pixel, for both wraps and norms,
+    /// models and perturbed materials, short and long spans.
+    #[cfg(feature = "ramp")]
+    #[test]
+    fn the_ramp_shades_as_the_stage_at_each_width() {
+        let ramps: Vec<_> = zebra_textures(EvalMode::Auto)
+            .into_iter()
+            .filter(|t| t.stage().antialias() == Antialias::Ramp)
+            .collect();
+        assert!(ramps.len() >= 4);
+        for tex in &ramps {
+            for len in [1u16, 5, 150] {
+                let span = Span {
+                    s0: TexPoint::from_f64(0.3, -0.2, 0.9),
+                    ds: TexPoint::from_f64(0.004, 0.001, -0.002),
+                    dsdy: TexPoint::from_f64(0.0, 0.004, 0.0),
+                    len,
+                };
+                let mut want = Vec::new();
+                let mut widths = WidthStream::new(tex.norm(), log2(256));
+                let opts = EvalOptions {
+                    gradients: true,
+                    ..tex.options()
+                };
+                match tex.shader() {
+                    Shader::Model(m) => {
+                        let mut e = SpanEvaluator::new(m, opts);
+                        let extra = e.extra_width48(&span);
+                        e.eval(&span, |s| {
+                            let w = widths.width_with(s.gx, s.gy, extra);
+                            want.push(tex.stage().shade(s.f, w));
+                        });
+                    }
+                    #[cfg(feature = "perturb")]
+                    Shader::Perturbed(p) => {
+                        let mut e = MaterialEvaluator::new(p, opts);
+                        let extra = e.extra_width48(&span);
+                        e.eval(&span, |s| {
+                            let w = widths.width_with(s.gx, s.gy, extra);
+                            want.push(tex.stage().shade(s.f, w));
+                        });
+                    }
+                }
+                assert_eq!(shade_both_shapes(tex, &span), want, "len {len}");
             }
         }
     }

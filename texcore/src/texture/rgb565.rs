@@ -57,7 +57,7 @@ impl<'t, const T: usize, const N: usize> TextureEvaluator<'t, T, N> {
     }
 
     /// [`TextureEvaluator::shade565`] with the model's set-up from `from` (as `shade_with`).
-    #[cfg_attr(any(texcore_lean, not(feature = "ramp")), allow(unused_mut))]
+    #[cfg_attr(not(texcore_lean), allow(unused_mut))]
     pub(super) fn shade565_with<F: FnMut(Rgb565), S: Source<'t, T>>(
         &mut self,
         span: &Span,
@@ -66,28 +66,7 @@ impl<'t, const T: usize, const N: usize> TextureEvaluator<'t, T, N> {
     ) {
         #[cfg(feature = "ramp")]
         if self.tex.stage.ramp().is_some() {
-            self.filter_lookups += u64::from(span.len);
-            let (stage, norm) = (&self.tex.stage, self.tex.norm);
-            match &mut self.inner {
-                Inner::Model(e) => {
-                    let mut each = |c: &SampleChunk| ramp_chunk(stage, norm, c, &mut emit);
-                    #[cfg(texcore_lean)]
-                    {
-                        let _ = &mut from;
-                        e.eval_chunks(span, &mut each);
-                    }
-                    #[cfg(not(texcore_lean))]
-                    from.chunks(e, span, &mut each);
-                }
-                #[cfg(feature = "perturb")]
-                Inner::Perturbed(e) => {
-                    let extra = e.extra_width48(span);
-                    let mut widths = WidthStream::new(norm, super::log2(N));
-                    e.eval(span, |s| {
-                        emit(stage.shade565(s.f, widths.width_with(s.gx, s.gy, extra)));
-                    });
-                }
-            }
+            self.ramp_with(span, from, emit);
             return;
         }
         #[cfg(texcore_lean)]
@@ -97,6 +76,42 @@ impl<'t, const T: usize, const N: usize> TextureEvaluator<'t, T, N> {
         }
         #[cfg(not(texcore_lean))]
         self.shade_with(span, from, |c| emit(c.to_rgb565()));
+    }
+
+    /// The colours of a span of a texture with [`Antialias::Ramp`](crate::filter::Antialias):
+    /// with the L2 norm each level from the squared gradients (`Ramp565::shade_l2`, no root),
+    /// else at the stream's width; the ramp's own RGB565 samples, those of
+    /// `ColorStage::shade565` (and, widened, of `ColorStage::shade`).
+    #[cfg(feature = "ramp")]
+    #[cfg_attr(texcore_lean, allow(unused_mut))]
+    pub(super) fn ramp_with<F: FnMut(Rgb565), S: Source<'t, T>>(
+        &mut self,
+        span: &Span,
+        mut from: S,
+        mut emit: F,
+    ) {
+        self.filter_lookups += u64::from(span.len);
+        let (stage, norm) = (&self.tex.stage, self.tex.norm);
+        match &mut self.inner {
+            Inner::Model(e) => {
+                let mut each = |c: &SampleChunk| ramp_chunk(stage, norm, c, &mut emit);
+                #[cfg(texcore_lean)]
+                {
+                    let _ = &mut from;
+                    e.eval_chunks(span, &mut each);
+                }
+                #[cfg(not(texcore_lean))]
+                from.chunks(e, span, &mut each);
+            }
+            #[cfg(feature = "perturb")]
+            Inner::Perturbed(e) => {
+                let extra = e.extra_width48(span);
+                let mut widths = WidthStream::new(norm, super::log2(N));
+                e.eval(span, |s| {
+                    emit(stage.shade565(s.f, widths.width_with(s.gx, s.gy, extra)));
+                });
+            }
+        }
     }
 }
 
