@@ -33,7 +33,7 @@ for target in x86_64-unknown-linux-gnu thumbv7em-none-eabihf riscv32imc-unknown-
   # The ramp beside every other filter and with perturbed materials (its per-sample path).
   echo "-- $target: full,ramp,defmt"
   RUSTFLAGS="-D warnings" cargo check -q -p texcore --features "full,ramp,defmt" --target "$target"
-  # The renderer's differences with the ramp and every filter (the `difference-scenes` firmware).
+  # The renderer's differences with the ramp and every filter (the `approximate-scenes` firmware).
   echo "-- $target: full,ramp,differences,defmt"
   RUSTFLAGS="-D warnings" cargo check -q -p texcore --features "full,ramp,differences,defmt" --target "$target"
 done

@@ -44,8 +44,8 @@ for target in thumbv7em-none-eabihf riscv32imc-unknown-none-elf; do
   cargo check -q -p firmware --bins --target "$target" --release
   echo "-- $target: firmware --no-default-features --features full"
   cargo check -q -p firmware --bins --target "$target" --release --no-default-features --features full
-  echo "-- $target: firmware difference-scenes"
-  cargo check -q -p firmware --bins --target "$target" --release --features difference-scenes
+  echo "-- $target: firmware approximate-scenes"
+  cargo check -q -p firmware --bins --target "$target" --release --features approximate-scenes
   for part in accuracy-planes accuracy-small-tables accuracy-large-tables accuracy-scenes; do
     echo "-- $target: firmware $part"
     cargo check -q -p firmware --bins --target "$target" --release --features "$part"

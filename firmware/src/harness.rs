@@ -30,17 +30,17 @@ use crate::counter::{Counter, Sample, NAME, UNIT};
 use crate::stack;
 use defmt::println;
 use workloads::job::{Ctx, JobFn};
-#[cfg(all(feature = "difference-scenes", not(feature = "peers")))]
-use workloads::jobs::DIFFERENCE_JOBS as JOBS;
-#[cfg(not(any(feature = "peers", feature = "difference-scenes")))]
+#[cfg(all(feature = "approximate-scenes", not(feature = "peers")))]
+use workloads::jobs::APPROXIMATE_JOBS as JOBS;
+#[cfg(not(any(feature = "peers", feature = "approximate-scenes")))]
 use workloads::jobs::{JOBS, SCENE_JOBS};
 #[cfg(feature = "peers-band")]
 use workloads::peer_jobs::BAND as JOBS;
 #[cfg(all(feature = "peers", not(feature = "peers-band")))]
 use workloads::peer_jobs::PLANE as JOBS;
 
-/// The peer-comparison firmware and the difference-scenes firmware run no strip jobs.
-#[cfg(any(feature = "peers", feature = "difference-scenes"))]
+/// The peer-comparison firmware and the approximate-scenes firmware run no strip jobs.
+#[cfg(any(feature = "peers", feature = "approximate-scenes"))]
 static SCENE_JOBS: &[workloads::job::Job] = &[];
 
 const TARGET: &str = env!("FIRMWARE_TARGET");

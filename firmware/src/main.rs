@@ -65,8 +65,9 @@
 //!
 //! - `rtt`: log over RTT (`defmt-rtt`, real hardware with probe-rs) instead of semihosting.
 //! - `dwt`: Cortex-M hardware cycle counter (DWT CYCCNT) instead of the QEMU SysTick vernier.
-//! - `difference-scenes`: run the built-in scenes in the approximate difference mode
-//!   (`workloads::jobs::DIFFERENCE_JOBS`, `texsim report cycles`) instead of the default jobs.
+//! - `approximate-scenes`: run the built-in scenes in the approximate modes (the ramp, with and
+//!   without the filter widths from differences: `workloads::jobs::APPROXIMATE_JOBS`, `texsim
+//!   report cycles`) instead of the default jobs.
 //! - `peers`: run the peer-comparison jobs (`workloads::peer_jobs`, `texsim report peers`) instead of the
 //!   default jobs: texcore next to `fastnoise-lite`; `peers-band` shortens them to one band.
 //! - `panic-never`: the panic handler calls an undefined symbol, so the release link fails if

@@ -217,15 +217,25 @@ pub static SCENE_JOBS: &[Job] = &builtin_scene_jobs![
 #[cfg(feature = "accuracy")]
 pub static SCENE_JOBS: &[Job] = &[];
 
-/// With feature `differences`: the built-in scenes in the approximate mode of `texsim render
-/// --aa ramp --widths differences` (`crate::suite::scene_difference`), each a whole frame with
-/// its `/setup` job, after the hash the device shades with; the firmware's `difference-scenes`
+/// With feature `approximate`: the built-in scenes in the approximate modes of `texsim render
+/// --aa ramp [--widths differences]` (`crate::suite::scene_approximate`), each a whole frame with
+/// its `/setup` job, after the hash the device shades with; the firmware's `approximate-scenes`
 /// build runs them instead of [`JOBS`] (they do not fit its flash beside the whole suite).
-#[cfg(feature = "differences")]
-pub static DIFFERENCE_JOBS: &[Job] = &[
+#[cfg(feature = "approximate")]
+pub static APPROXIMATE_JOBS: &[Job] = &[
     job!("config:hash", config_hash),
-    job!("scene:fire~ramp-diff", scene_difference::<0>),
-    job!("scene:fire~ramp-diff/setup", scene_difference_setup::<0>),
-    job!("scene:marble~ramp-diff", scene_difference::<1>),
-    job!("scene:marble~ramp-diff/setup", scene_difference_setup::<1>),
+    job!("scene:fire~ramp", scene_approximate::<0, 0>),
+    job!("scene:fire~ramp/setup", scene_approximate_setup::<0, 0>),
+    job!("scene:fire~ramp-diff", scene_approximate::<0, 1>),
+    job!(
+        "scene:fire~ramp-diff/setup",
+        scene_approximate_setup::<0, 1>
+    ),
+    job!("scene:marble~ramp", scene_approximate::<1, 0>),
+    job!("scene:marble~ramp/setup", scene_approximate_setup::<1, 0>),
+    job!("scene:marble~ramp-diff", scene_approximate::<1, 1>),
+    job!(
+        "scene:marble~ramp-diff/setup",
+        scene_approximate_setup::<1, 1>
+    ),
 ];

@@ -23,10 +23,10 @@ use texcore::raster::{Perspective, ScreenVertex, TriangleOptions};
 use texcore::render::{Blend, DrawObject, FrameBins, GroupRows, Renderer, TriangleSource};
 use texcore::scene::{builtin, Scene, TextureSlot};
 use texcore::sink::ChecksumSink;
-#[cfg(feature = "differences")]
+#[cfg(feature = "approximate")]
 use texcore::span::FaceCache;
 use texcore::table::KeySpacing;
-#[cfg(feature = "differences")]
+#[cfg(feature = "approximate")]
 use texcore::texture::DifferenceMemory;
 use texcore::texture::Shader;
 use texcore::TexPoint;
@@ -139,10 +139,14 @@ pub fn builtin_strip_job(what: &str) -> Option<(&'static str, usize)> {
 pub enum FrameMode {
     /// Csat with the noise's gradients: the exact filter, as `texsim render` draws by default.
     Exact,
-    /// The approximate mode of `texsim render --aa ramp --widths differences`: the RGB565 ramp
-    /// with filter widths from the differences of neighbouring values
-    /// (`Renderer::with_differences`, feature `differences`).
-    #[cfg(feature = "differences")]
+    /// The approximate mode of `texsim render --aa ramp`: the pre-filtered RGB565 ramp, its
+    /// level from the noise's gradients (feature `approximate`).
+    #[cfg(feature = "approximate")]
+    Ramp,
+    /// The approximate mode of `texsim render --aa ramp --widths differences`: the ramp with
+    /// filter widths from the differences of neighbouring values (`Renderer::with_differences`,
+    /// feature `approximate`).
+    #[cfg(feature = "approximate")]
     RampDifferences,
 }
 
@@ -151,8 +155,8 @@ impl FrameMode {
     fn antialias(self) -> Antialias {
         match self {
             FrameMode::Exact => Antialias::Csat,
-            #[cfg(feature = "differences")]
-            FrameMode::RampDifferences => Antialias::Ramp,
+            #[cfg(feature = "approximate")]
+            FrameMode::Ramp | FrameMode::RampDifferences => Antialias::Ramp,
         }
     }
 }
@@ -242,13 +246,15 @@ fn frame_rows(
         return 0;
     }
     let (textures, scene) = core::hint::black_box((&textures[..], scene));
-    #[cfg(feature = "differences")]
+    #[cfg(feature = "approximate")]
     let mut mem = DifferenceMemory::<{ WIDTH as usize }>::new();
-    #[cfg(feature = "differences")]
+    #[cfg(feature = "approximate")]
     let mut faces = FaceCache::<FACE_ENTRIES, { crate::planes::TERMS }>::new();
     let renderer = match mode {
         FrameMode::Exact => Renderer::new(textures),
-        #[cfg(feature = "differences")]
+        #[cfg(feature = "approximate")]
+        FrameMode::Ramp => Renderer::new(textures),
+        #[cfg(feature = "approximate")]
         FrameMode::RampDifferences => {
             Renderer::new(textures).with_differences(&mut mem, &mut faces)
         }
@@ -329,7 +335,7 @@ pub fn lit_frame_job(
 
 /// A whole frame in one job ([`frame_rows`] from the first row, the checksum from
 /// [`FRAME_START`]).
-#[cfg(any(feature = "lighting", feature = "differences"))]
+#[cfg(any(feature = "lighting", feature = "approximate"))]
 fn whole_frame(
     scene: &Scene,
     hash: HashKind,
@@ -352,42 +358,50 @@ fn whole_frame(
     )
 }
 
-/// The built-in scenes the device also renders in the approximate mode of `texsim render --aa
-/// ramp --widths differences` ([`FrameMode::RampDifferences`], feature `differences`): job
-/// `scene:<name>~ramp-diff`, the whole frame ([`difference_frame_job`]).
-#[cfg(feature = "differences")]
-pub const DIFFERENCE_SCENES: [&str; 2] = ["fire", "marble"];
+/// The built-in scenes the device also renders in the approximate modes ([`APPROXIMATE_MODES`],
+/// feature `approximate`), whole frames ([`approximate_frame_job`]).
+#[cfg(feature = "approximate")]
+pub const APPROXIMATE_SCENES: [&str; 2] = ["fire", "marble"];
+
+/// The approximate modes of [`APPROXIMATE_SCENES`] and their job suffixes: job
+/// `scene:<name><suffix>`, as `texsim render <name> --aa ramp` (`~ramp`) and with `--widths
+/// differences` (`~ramp-diff`) draw it.
+#[cfg(feature = "approximate")]
+pub const APPROXIMATE_MODES: [(FrameMode, &str); 2] = [
+    (FrameMode::Ramp, "~ramp"),
+    (FrameMode::RampDifferences, "~ramp-diff"),
+];
 
 /// Face-cache entries of the difference frames' renderer (`texcore::span::FaceCache`, 32 bytes
 /// each): the faces a row of the built-in scenes crosses.
-#[cfg(feature = "differences")]
+#[cfg(feature = "approximate")]
 pub const FACE_ENTRIES: usize = 128;
 
-/// The whole frame of built-in scene `name` ([`builtin_frame`], one of [`DIFFERENCE_SCENES`]) in
-/// one job in the approximate mode [`FrameMode::RampDifferences`], as [`lit_frame_job`] renders
-/// (slot textures with the ramp, bins, bands of [`BAND_ROWS`] rows, `ChecksumSink` from
-/// [`FRAME_START`]), the renderer with a [`DifferenceMemory`] of [`WIDTH`] pixels and a
-/// [`FaceCache`] of [`FACE_ENTRIES`]: the checksum of the frame (`texsim render <name> --aa ramp
-/// --widths differences`), or the set-up's with `work == false`; 0 if the scene or a texture
-/// cannot be built.
-#[cfg(feature = "differences")]
+/// The whole frame of built-in scene `name` ([`builtin_frame`], one of [`APPROXIMATE_SCENES`])
+/// in one job in the approximate mode `mode`, as [`lit_frame_job`] renders (slot textures with
+/// the ramp, bins, bands of [`BAND_ROWS`] rows, `ChecksumSink` from [`FRAME_START`]); with
+/// [`FrameMode::RampDifferences`] the renderer has a [`DifferenceMemory`] of [`WIDTH`] pixels
+/// and a [`FaceCache`] of [`FACE_ENTRIES`]: the checksum of the frame (`texsim render <name>
+/// --aa ramp [--widths differences]`), or the set-up's with `work == false`; 0 if the scene or
+/// a texture cannot be built.
+#[cfg(feature = "approximate")]
 #[inline(never)]
-pub fn difference_frame_job(
+pub fn approximate_frame_job(
     name: &str,
+    mode: FrameMode,
     hash: HashKind,
     work: bool,
     band: &mut [Rgba8888],
     depth: &mut [u16],
     bins: &mut [GroupRows],
 ) -> u32 {
-    let Some(scene) = DIFFERENCE_SCENES
+    let Some(scene) = APPROXIMATE_SCENES
         .contains(&name)
         .then(|| builtin_frame(name))
         .flatten()
     else {
         return 0;
     };
-    let mode = FrameMode::RampDifferences;
     whole_frame(&scene, hash, mode, work, band, depth, bins)
 }
 

@@ -291,30 +291,33 @@ pub fn scene_marble_lit_setup(_: &mut Ctx) -> u32 {
     with_bands(|b, d, g| scenes::lit_frame_job("marble-lit", hash(), false, b, d, g))
 }
 
-/// `scene:<DIFFERENCE_SCENES[S]>~ramp-diff` (feature `differences`): the built-in scene's whole
-/// frame in the approximate mode ([`scenes::difference_frame_job`]).
-#[cfg(feature = "differences")]
-pub fn scene_difference<const S: usize>(_: &mut Ctx) -> u32 {
-    difference_frame(S, true)
+/// `scene:<APPROXIMATE_SCENES[S]><APPROXIMATE_MODES[M] suffix>` (feature `approximate`): the
+/// built-in scene's whole frame in an approximate mode ([`scenes::approximate_frame_job`]).
+#[cfg(feature = "approximate")]
+pub fn scene_approximate<const S: usize, const M: usize>(_: &mut Ctx) -> u32 {
+    approximate_frame(S, M, true)
 }
 
-/// `scene:<DIFFERENCE_SCENES[S]>~ramp-diff/setup` (feature `differences`).
-#[cfg(feature = "differences")]
-pub fn scene_difference_setup<const S: usize>(_: &mut Ctx) -> u32 {
-    difference_frame(S, false)
+/// The `/setup` job of [`scene_approximate`] (feature `approximate`).
+#[cfg(feature = "approximate")]
+pub fn scene_approximate_setup<const S: usize, const M: usize>(_: &mut Ctx) -> u32 {
+    approximate_frame(S, M, false)
 }
 
-/// The body of [`scene_difference`] and [`scene_difference_setup`].
-#[cfg(feature = "differences")]
+/// The body of [`scene_approximate`] and [`scene_approximate_setup`].
+#[cfg(feature = "approximate")]
 #[inline(never)]
-fn difference_frame(s: usize, work: bool) -> u32 {
+fn approximate_frame(s: usize, m: usize, work: bool) -> u32 {
     if STUBBED {
         return 0;
     }
-    let Some(name) = scenes::DIFFERENCE_SCENES.get(s) else {
+    let (Some(name), Some(&(mode, _))) = (
+        scenes::APPROXIMATE_SCENES.get(s),
+        scenes::APPROXIMATE_MODES.get(m),
+    ) else {
         return 0;
     };
-    with_bands(|b, d, g| scenes::difference_frame_job(name, hash(), work, b, d, g))
+    with_bands(|b, d, g| scenes::approximate_frame_job(name, mode, hash(), work, b, d, g))
 }
 
 /// `scene:<BUILTIN_SCENES[S]>@<K>`: strip `K` of a built-in scene's frame.

@@ -23,8 +23,8 @@ use serde::Serialize;
 use texcore::hash::HashKind;
 
 use super::{
-    difference_suite, hash_from_config, host_checksum, suite_for, write_atomic, JobKind, SuiteJob,
-    DIFFERENCE_FEATURE,
+    approximate_suite, hash_from_config, host_checksum, suite_for, write_atomic, JobKind, SuiteJob,
+    APPROXIMATE_FEATURE,
 };
 use crate::device::{self, DeviceError, DeviceRun, DeviceTarget, RunOptions};
 
@@ -221,7 +221,7 @@ pub fn report(opts: &CyclesOptions) -> Result<Vec<CycleRow>, CyclesError> {
         };
         rows.extend(rows_for_run(target, &run, &jobs)?);
         if !opts.quick {
-            rows.extend(difference_rows(target, &opts.run)?);
+            rows.extend(approximate_rows(target, &opts.run)?);
         }
     }
     if !opts.quick {
@@ -236,21 +236,21 @@ pub fn report(opts: &CyclesOptions) -> Result<Vec<CycleRow>, CyclesError> {
     Ok(rows)
 }
 
-/// The rows of the built-in scenes in the approximate difference mode
-/// ([`difference_suite`]), from the firmware's own build for them ([`DIFFERENCE_FEATURE`]:
-/// they do not fit the default build's flash).
-pub fn difference_rows(
+/// The rows of the built-in scenes in the approximate modes ([`approximate_suite`]), from the
+/// firmware's own build for them ([`APPROXIMATE_FEATURE`]: they do not fit the default build's
+/// flash).
+pub fn approximate_rows(
     target: DeviceTarget,
     run: &RunOptions,
 ) -> Result<Vec<CycleRow>, CyclesError> {
     let mut opts = run.clone();
-    opts.features.push(DIFFERENCE_FEATURE.to_string());
+    opts.features.push(APPROXIMATE_FEATURE.to_string());
     let run = match device::run_firmware(target, &opts) {
         Ok(run) => run,
         Err(DeviceError::Failed(run)) => *run,
         Err(e) => return Err(e.into()),
     };
-    rows_for_run(target, &run, &difference_suite())
+    rows_for_run(target, &run, &approximate_suite())
 }
 
 /// The Cortex-M0 row: the `qemu-m0` board example (QEMU `microbit`, 16 KB RAM) shading a

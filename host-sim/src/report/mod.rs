@@ -167,24 +167,26 @@ pub fn suite() -> Vec<SuiteJob> {
     jobs
 }
 
-/// The rows of the firmware's `difference-scenes` build ([`scenes::DIFFERENCE_SCENES`] in the
-/// approximate mode, `scene:<name>~ramp-diff`, whole frames on both devices), which `texsim
-/// report cycles` runs beside the default build ([`DIFFERENCE_FEATURE`]).
-pub fn difference_suite() -> Vec<SuiteJob> {
-    scenes::DIFFERENCE_SCENES
-        .iter()
-        .map(|name| {
-            let (w, h) = scenes::builtin_frame(name).map_or((0, 0), |s| s.size());
-            let name = format!("scene:{name}{DIFFERENCE_SUFFIX}");
-            SuiteJob {
+/// The rows of the firmware's `approximate-scenes` build ([`scenes::APPROXIMATE_SCENES`] in
+/// each of [`scenes::APPROXIMATE_MODES`], `scene:<name>~ramp` and `scene:<name>~ramp-diff`, whole
+/// frames on both devices), which `texsim report cycles` runs beside the default build
+/// ([`APPROXIMATE_FEATURE`]).
+pub fn approximate_suite() -> Vec<SuiteJob> {
+    let mut jobs = Vec::new();
+    for name in scenes::APPROXIMATE_SCENES {
+        let (w, h) = scenes::builtin_frame(name).map_or((0, 0), |s| s.size());
+        for (_, suffix) in scenes::APPROXIMATE_MODES {
+            let name = format!("scene:{name}{suffix}");
+            jobs.push(SuiteJob {
                 device_jobs: vec![name.clone()],
                 name,
                 kind: JobKind::Scene,
                 units: u64::from(w) * u64::from(h),
                 unit: "pixel",
-            }
-        })
-        .collect()
+            });
+        }
+    }
+    jobs
 }
 
 /// The lattice hash the firmware of `target` shades with (its `config:hash` job reports it; this
@@ -292,29 +294,37 @@ pub fn host_lit_scene_checksum(name: &str, hash: HashKind) -> Option<u32> {
     Some(crate::scenes::checksum(&frame))
 }
 
-/// The firmware feature of the build that runs [`difference_suite`].
-pub const DIFFERENCE_FEATURE: &str = "difference-scenes";
+/// The firmware feature of the build that runs [`approximate_suite`].
+pub const APPROXIMATE_FEATURE: &str = "approximate-scenes";
 
-/// The suffix of the jobs of [`scenes::DIFFERENCE_SCENES`] (`scene:fire~ramp-diff`).
-pub const DIFFERENCE_SUFFIX: &str = "~ramp-diff";
-
-/// The built-in scene of a difference job's scene part (`fire~ramp-diff`: `fire`).
-pub fn difference_scene(what: &str) -> Option<&'static str> {
-    let name = what.strip_suffix(DIFFERENCE_SUFFIX)?;
-    scenes::DIFFERENCE_SCENES
-        .iter()
-        .copied()
-        .find(|n| *n == name)
+/// The built-in scene and approximate mode of a job's scene part (`fire~ramp-diff`: `fire` with
+/// the ramp and the widths from differences).
+pub fn approximate_scene(what: &str) -> Option<(&'static str, scenes::FrameMode)> {
+    scenes::APPROXIMATE_SCENES.iter().find_map(|name| {
+        let suffix = what.strip_prefix(name)?;
+        scenes::APPROXIMATE_MODES
+            .iter()
+            .find(|(_, s)| *s == suffix)
+            .map(|&(mode, _)| (*name, mode))
+    })
 }
 
-/// The host's checksum of built-in scene `name` in the approximate mode of the difference jobs,
-/// as `texsim render <name> --aa ramp --widths differences --checksum` prints it: its still
-/// frame through the host's own scene textures and renderer.
-pub fn host_difference_scene_checksum(name: &str, hash: HashKind) -> Option<u32> {
+/// The host's checksum of built-in scene `name` in approximate mode `mode`, as `texsim render
+/// <name> --aa ramp [--widths differences] --checksum` prints it: its still frame through the
+/// host's own scene textures and renderer.
+pub fn host_approximate_scene_checksum(
+    name: &str,
+    mode: scenes::FrameMode,
+    hash: HashKind,
+) -> Option<u32> {
     let scene = texcore::scene::builtin::by_name(name)?;
+    let widths = match mode {
+        scenes::FrameMode::RampDifferences => texcore::filter::WidthSource::Differences,
+        _ => texcore::filter::WidthSource::Gradients,
+    };
     let cfg = UnitConfig {
         aa: texcore::filter::Antialias::Ramp,
-        widths: texcore::filter::WidthSource::Differences,
+        widths,
         ..UnitConfig::default()
     };
     let r = crate::scenes::render_frame(
@@ -402,16 +412,16 @@ pub fn host_checksum(name: &str, hash: HashKind) -> Option<u32> {
         "scene" if texcore::scene::builtin::by_name(what).is_some() => {
             work.then(|| host_builtin_scene_checksum(what, hash))?
         }
-        "scene" if difference_scene(what).is_some() => {
-            let name = difference_scene(what)?;
+        "scene" if approximate_scene(what).is_some() => {
+            let (name, mode) = approximate_scene(what)?;
             if work {
-                host_difference_scene_checksum(name, hash)
+                host_approximate_scene_checksum(name, mode, hash)
             } else {
                 let mut band = vec![Rgba8888::TRANSPARENT; scenes::BAND_PIXELS];
                 let mut depth = vec![0u16; scenes::BAND_PIXELS];
                 let mut bins = vec![texcore::render::GroupRows::EMPTY; scenes::SCENE_GROUPS];
-                Some(scenes::difference_frame_job(
-                    name, hash, false, &mut band, &mut depth, &mut bins,
+                Some(scenes::approximate_frame_job(
+                    name, mode, hash, false, &mut band, &mut depth, &mut bins,
                 ))
             }
         }
