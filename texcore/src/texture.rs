@@ -426,11 +426,7 @@ impl<'t, const T: usize, const N: usize> TextureSpans<'_, 't, '_, T, N> {
     /// Counts a span's `n` pixels as filtered or plain look-ups (spans shaded elsewhere from
     /// [`TextureSpans::values`]).
     pub(super) fn count(&mut self, filtered: bool, n: u16) {
-        if filtered {
-            self.ev.filter_lookups += u64::from(n);
-        } else {
-            self.ev.plain_lookups += u64::from(n);
-        }
+        self.ev.count_lookups(filtered, u64::from(n));
     }
 
     /// The values of the span of `out.len()` pixels at `(x, y)` of the plane into `out` (from
@@ -458,6 +454,15 @@ impl<'t, const T: usize, const N: usize> TextureSpans<'_, 't, '_, T, N> {
 }
 
 impl<const T: usize, const N: usize> TextureEvaluator<'_, T, N> {
+    /// Counts `n` pixels shaded from their values as filtered or plain look-ups.
+    pub(super) fn count_lookups(&mut self, filtered: bool, n: u64) {
+        if filtered {
+            self.filter_lookups += n;
+        } else {
+            self.plain_lookups += n;
+        }
+    }
+
     /// The values of `span` into `out`, as [`crate::span::SpanEvaluator::eval_values`] gives
     /// them (through the face cache parts `faces`, the same values): the span's spread.
     pub(super) fn values_into(

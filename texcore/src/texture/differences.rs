@@ -523,7 +523,7 @@ impl<'t, const T: usize, const N: usize> TextureEvaluator<'t, T, N> {
         span: &Span,
         emit: F,
     ) -> bool {
-        self.differences_in(&mut mem.rows_mut(Faces::none()), x, y, span, emit)
+        self.differences_each(&mut mem.rows_mut(Faces::none()), x, y, span, emit)
     }
 
     /// [`TextureEvaluator::shade_differences`] straight to RGB565: its colours reduced to
@@ -537,37 +537,32 @@ impl<'t, const T: usize, const N: usize> TextureEvaluator<'t, T, N> {
         span: &Span,
         emit: F,
     ) -> bool {
-        self.differences_in(&mut mem.rows_mut(Faces::none()), x, y, span, emit)
+        self.differences_each(&mut mem.rows_mut(Faces::none()), x, y, span, emit)
     }
 
-    /// [`TextureEvaluator::shade_differences`] through a borrowed memory, colours of type `C`.
-    #[inline]
-    pub(crate) fn differences_in<C: SpanColor, F: FnMut(C)>(
+    /// [`TextureEvaluator::shade_differences`] through a borrowed memory, colours of type `C`
+    /// handed to `emit` one by one (from [`TextureEvaluator::differences_pieces`]).
+    fn differences_each<C, F>(
         &mut self,
         mem: &mut MemoryRows<'_>,
         x: u16,
         y: u16,
         span: &Span,
-        emit: F,
-    ) -> bool {
-        let Some(values) = self.segment_values(mem, x, y, span) else {
-            return false;
-        };
-        let tex = self.tex;
-        shade_values(&tex.stage, tex.norm, values, emit);
-        let n = u64::from(span.len);
-        if tex.stage.antialias() != Antialias::None {
-            self.filter_lookups += n;
-        } else {
-            self.plain_lookups += n;
-        }
-        true
+        mut emit: F,
+    ) -> bool
+    where
+        C: SpanColor + Copy + Default,
+        F: FnMut(C),
+    {
+        self.differences_pieces::<C, _, 64>(mem, x, y, span, |_, px| {
+            px.iter().for_each(|&c| emit(c));
+        })
     }
 
-    /// [`TextureEvaluator::differences_in`] a piece of at most `K` pixels at a time: each
-    /// piece's colours written into a buffer of `K` and handed to `out` with the piece's first
-    /// pixel (relative to `x`), so that no call is made per pixel. The same colours.
-    #[cfg_attr(not(feature = "differences"), allow(dead_code))]
+    /// [`TextureEvaluator::shade_differences`] through a borrowed memory, a piece of at most
+    /// `K` pixels at a time: each piece's colours written into a buffer of `K` and handed to
+    /// `out` with the piece's first pixel (relative to `x`), so that no call is made per pixel
+    /// (the renderer's chunks).
     #[inline]
     pub(crate) fn differences_pieces<C, O, const K: usize>(
         &mut self,
@@ -610,12 +605,10 @@ impl<'t, const T: usize, const N: usize> TextureEvaluator<'t, T, N> {
             }
             a = b;
         }
-        let n = u64::from(span.len);
-        if tex.stage.antialias() != Antialias::None {
-            self.filter_lookups += n;
-        } else {
-            self.plain_lookups += n;
-        }
+        self.count_lookups(
+            tex.stage.antialias() != Antialias::None,
+            u64::from(span.len),
+        );
         true
     }
 
