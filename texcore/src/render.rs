@@ -1249,7 +1249,7 @@ mod tests {
             .unwrap()
     }
 
-    fn render_full(
+    pub(super) fn render_full(
         r: &Renderer<'_, 8, 256>,
         scene: &Quads,
         rows: u16,
@@ -2090,19 +2090,9 @@ mod difference_tests {
         img
     }
 
+    /// The frame of `scene` streamed (`rows` 0) or in bands of `rows` rows.
     fn render(r: &Renderer<'_, 8, 256>, scene: &Quads, rows: u16) -> Vec<Rgba8888> {
-        let n = usize::from(scene.size);
-        let mut img = vec![Rgba8888::BLACK; n * n];
-        let mut sink = RgbaBuffer::new(&mut img, scene.size, 0, scene.size).unwrap();
-        if rows == 0 {
-            r.render_streamed(scene, &mut sink).unwrap();
-        } else {
-            let mut band = vec![Rgba8888::BLACK; n * usize::from(rows)];
-            let mut depth = vec![0u16; n * usize::from(rows)];
-            r.render_banded(scene, &mut band, &mut depth, rows, &mut sink)
-                .unwrap();
-        }
-        img
+        super::tests::render_full(r, scene, rows).0
     }
 
     #[test]
