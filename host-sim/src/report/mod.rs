@@ -223,16 +223,24 @@ pub fn host_plane_checksum(name: &str, hash: HashKind) -> Option<u32> {
 /// frame, default knobs, `hash`), through the host's own scene textures and renderer
 /// ([`crate::scenes::render_frame`]).
 fn host_builtin_frame(name: &str, hash: HashKind) -> Option<crate::output::Frame> {
-    host_still_frame(&texcore::scene::builtin::by_name(name)?, hash)
+    host_still_frame(
+        &texcore::scene::builtin::by_name(name)?,
+        hash,
+        &UnitConfig::default(),
+    )
 }
 
-/// The still frame of `scene` with the default knobs and `hash`, through the host's own scene
+/// The still frame of `scene` with the knobs `cfg` and `hash`, through the host's own scene
 /// textures and renderer ([`crate::scenes::render_frame`]).
-fn host_still_frame(scene: &texcore::scene::Scene, hash: HashKind) -> Option<crate::output::Frame> {
+fn host_still_frame(
+    scene: &texcore::scene::Scene,
+    hash: HashKind,
+    cfg: &UnitConfig,
+) -> Option<crate::output::Frame> {
     let r = crate::scenes::render_frame(
         scene,
         scene.still(),
-        &UnitConfig::default(),
+        cfg,
         hash,
         texcore::render::Output::Color,
     )
@@ -290,7 +298,7 @@ fn host_frame_rows(name: &str, hash: HashKind) -> Option<std::sync::Arc<Vec<u32>
 /// the host's own scene textures and renderer ([`crate::scenes::render_frame`], default knobs),
 /// FNV-1a over the RGB565 pixels as `texsim render` prints it.
 pub fn host_lit_scene_checksum(name: &str, hash: HashKind) -> Option<u32> {
-    let frame = host_still_frame(&scenes::lit_scene(name)?, hash)?;
+    let frame = host_still_frame(&scenes::lit_scene(name)?, hash, &UnitConfig::default())?;
     Some(crate::scenes::checksum(&frame))
 }
 
@@ -327,15 +335,8 @@ pub fn host_approximate_scene_checksum(
         widths,
         ..UnitConfig::default()
     };
-    let r = crate::scenes::render_frame(
-        &scene,
-        scene.still(),
-        &cfg,
-        hash,
-        texcore::render::Output::Color,
-    )
-    .ok()?;
-    Some(crate::scenes::checksum(&r.frame))
+    let frame = host_still_frame(&scene, hash, &cfg)?;
+    Some(crate::scenes::checksum(&frame))
 }
 
 /// The set-up checksum of a built-in scene strip job (scene and textures built, nothing
