@@ -246,18 +246,19 @@ fn frame_rows(
         return 0;
     }
     let (textures, scene) = core::hint::black_box((&textures[..], scene));
+    // The memory of the widths from differences, made only for that mode.
     #[cfg(feature = "approximate")]
-    let mut mem = DifferenceMemory::<{ WIDTH as usize }>::new();
+    let mut differences = (mode == FrameMode::RampDifferences).then(|| {
+        (
+            DifferenceMemory::<{ WIDTH as usize }>::new(),
+            FaceCache::<FACE_ENTRIES, { crate::planes::TERMS }>::new(),
+        )
+    });
+    let renderer = Renderer::new(textures);
     #[cfg(feature = "approximate")]
-    let mut faces = FaceCache::<FACE_ENTRIES, { crate::planes::TERMS }>::new();
-    let renderer = match mode {
-        FrameMode::Exact => Renderer::new(textures),
-        #[cfg(feature = "approximate")]
-        FrameMode::Ramp => Renderer::new(textures),
-        #[cfg(feature = "approximate")]
-        FrameMode::RampDifferences => {
-            Renderer::new(textures).with_differences(&mut mem, &mut faces)
-        }
+    let renderer = match differences.as_mut() {
+        Some((mem, faces)) => renderer.with_differences(mem, faces),
+        None => renderer,
     };
     let mut bins = FrameBins::new(bins);
     // A frame walks its whole scene once: strip 0's first band bins the quads; the later
