@@ -33,7 +33,11 @@
 //!   the cells it enters, as through a [`FaceCache`] whose lanes are carried from span to span:
 //!   a span that goes on from the last one counts the cell events at its pixels, any other span
 //!   one cell a term plus the events after its first pixel (a row cut into contiguous spans
-//!   sets up exactly the cells of the whole row). The row's plan decides the terms' strategies, so in [`EvalMode::Auto`] a
+//!   sets up exactly the cells of the whole row). "Goes on" is the carried lanes' own test:
+//!   every term's lattice point at the span's first pixel is where the last walked span left
+//!   it, so a span on another row that starts there (rows of the same points, no step across
+//!   them) is counted as going on too, a cell for each term whose first pixel leaves the cell
+//!   of the pixel before. The row's plan decides the terms' strategies, so in [`EvalMode::Auto`] a
 //!   walked span counts the row's forward-differenced pixels.
 //! - Nothing is assumed about the spans: a span outside the plane's rectangle is not evaluated
 //!   (the default facts are returned, as `eval_plane_values` does), and a row the schedule does
@@ -58,6 +62,11 @@ struct Cursor<const T: usize> {
     x: u16,
     /// The quadric's kind (`QuadStep::value_kind`: 0 zero, 1 affine, 2 curved).
     kind: u8,
+    /// The row was set up for a span that resumes the last walked span, as a face cache's
+    /// carried lanes would (every term's lattice point at its pixel 0 is where the last span's
+    /// left off): the number of its terms that enter a cell at its first pixel (taken by
+    /// that span's walk).
+    resume: Option<u8>,
     /// The walk at pixel `x` (fast shape only).
     #[cfg(not(texcore_lean))]
     walk: RowWalk<T>,
@@ -101,6 +110,7 @@ impl<'c, 'm, const T: usize> PlaneWalk<'c, 'm, T> {
                 grads: false,
                 x: 0,
                 kind: 0,
+                resume: None,
                 #[cfg(not(texcore_lean))]
                 walk: RowWalk::new(QuadStep {
                     q: 0,
@@ -127,7 +137,7 @@ impl<'c, 'm, const T: usize> PlaneWalk<'c, 'm, T> {
     fn walks(&mut self, ev: &mut SpanEvaluator<'m, T>, x: u16, y: u16, grads: bool) -> bool {
         let c = &self.cursor;
         if c.row != Some(y) || c.x > x || c.grads != grads {
-            self.start_row(ev, y, grads);
+            self.start_row(ev, x, y, grads);
         }
         self.cursor.served
     }
@@ -190,16 +200,28 @@ impl<'c, 'm, const T: usize> PlaneWalk<'c, 'm, T> {
         ev.eval_chunks_from(&span, SetupFrom::Plane(self.plane, x, y), out)
     }
 
-    /// Sets row `y` up across the plane's width (`(0, y)`, gradients when `grads`) and makes
-    /// the schedule serve it when the plane, the evaluator and the row allow it: the cursor at
-    /// its pixel 0. The row's set-up is not counted (its spans are).
+    /// Sets row `y` up across the plane's width (`(0, y)`, gradients when `grads`) for the
+    /// span at `x` and makes the schedule serve it when the plane, the evaluator and the row
+    /// allow it: the cursor at its pixel 0. The row's set-up is not counted (its spans are).
     #[cfg(not(texcore_lean))]
     #[inline(never)]
-    fn start_row(&mut self, ev: &mut SpanEvaluator<'m, T>, y: u16, grads: bool) {
+    fn start_row(&mut self, ev: &mut SpanEvaluator<'m, T>, x: u16, y: u16, grads: bool) {
+        // Where the last walked span left its terms (its row's lattice points moved on to the
+        // pixel after it), as a face cache's carried lanes hold them: the term, its amplitude
+        // and lattice point.
+        let c = &mut self.cursor;
+        let mut ends: heapless::Vec<(usize, i32, [i32; 3]), T> = heapless::Vec::new();
+        if c.served {
+            let n = i32::from(c.x);
+            for l in self.state.lanes.iter() {
+                let at = core::array::from_fn(|i| l.at[i].wrapping_add(l.du[i].wrapping_mul(n)));
+                // At most T lanes: never full.
+                let _ = ends.push((l.term, l.amp, at));
+            }
+        }
         // Not served until the schedule is made: every span of the row is then evaluated on
         // its own, without trying again (the cursor at pixel 0, before every span).
-        let c = &mut self.cursor;
-        (c.row, c.served, c.grads, c.x) = (Some(y), false, grads, 0);
+        (c.row, c.served, c.grads, c.x, c.resume) = (Some(y), false, grads, 0, None);
         let core = &mut ev.core;
         let plane = self.plane;
         // `Direct` never forward differences: its rows are never served (not even tried).
@@ -234,6 +256,26 @@ impl<'c, 'm, const T: usize> PlaneWalk<'c, 'm, T> {
         c.walk = RowWalk::new(QuadStep::new(&setup));
         row_weights(&setup, &self.state, c.walk.weights_mut());
         (c.served, c.kind) = (true, kind);
+        // The span resumes the last one when every term starts where that one's left off
+        // (`Carried::resumes`): a term then sets up a cell at its first pixel only when that
+        // pixel leaves the cell of the pixel before (the carried lane's event at pixel 0).
+        let lanes = &self.state.lanes;
+        let n = i32::from(x);
+        let mut entering = 0u8;
+        let resumes = ends.len() == lanes.len()
+            && lanes.iter().zip(ends.iter()).all(|(l, &(term, amp, end))| {
+                let at: [i32; 3] =
+                    core::array::from_fn(|i| l.at[i].wrapping_add(l.du[i].wrapping_mul(n)));
+                let k = l.k.min(2);
+                let before = at[k].wrapping_sub(l.du[k]);
+                entering += u8::from((at[k] as u32 >> 16) != (before as u32 >> 16));
+                // Word by word (an array comparison is a library call on the devices).
+                let differ = (at[0] ^ end[0]) | (at[1] ^ end[1]) | (at[2] ^ end[2]);
+                l.term == term && l.amp == amp && differ == 0
+            });
+        if resumes {
+            c.resume = Some(entering);
+        }
     }
 
     /// Span `x` (`len > 0` pixels) of the row the cursor stands on (`x` at or after the
@@ -255,7 +297,10 @@ impl<'c, 'm, const T: usize> PlaneWalk<'c, 'm, T> {
         let events = self.events.get(..self.state.used).unwrap_or_default();
         let fvs = ev.core.model.noise_frac_bits() & 31;
         let c = &mut self.cursor;
-        let fresh = c.x != x;
+        // A span that resumes the last one (its row set up for it) is counted from its own
+        // first pixel: the walk moved onto it first, as for any span that does not go on.
+        let resume = c.resume.take();
+        let fresh = c.x != x || resume.is_some();
         let w = &mut c.walk;
         if fresh {
             w.skip(events, x.wrapping_sub(c.x));
@@ -267,7 +312,12 @@ impl<'c, 'm, const T: usize> PlaneWalk<'c, 'm, T> {
         c.x = x.wrapping_add(len);
         // Counters: as the span on its own, its cells as the module documentation states.
         let lanes = self.state.lanes.len() as u64;
-        let entered = walked as u64 + if fresh { lanes } else { 0 };
+        let entered = walked as u64
+            + match (fresh, resume) {
+                (false, _) => 0,
+                (true, None) => lanes,
+                (true, Some(k)) => u64::from(k),
+            };
         let (culled, faded, extra_width48) = self.plane.span_facts();
         let px = u64::from(len);
         let st = &mut ev.core.stats;
@@ -706,6 +756,67 @@ mod tests {
         let walked = spans.ev.core.row_spans;
         if FD && !cfg!(texcore_lean) {
             assert_eq!(walked, 6 * 16);
+        }
+    }
+
+    /// A plane whose rows are the same points (no step across them), handed over in 16-pixel
+    /// spans that take turns between two rows: each span starts where the last one left off,
+    /// on the other row. Through [`PlaneSpans`] every span is walked and counts the cells a face
+    /// cache's carried lanes set up, a cell a term only where its first pixel leaves the cell
+    /// of the pixel before: the cells of the whole row once, as the row in one span.
+    #[test]
+    fn spans_that_resume_on_another_row_count_the_carried_lanes() {
+        let m = model(3, 0, 0, false, 0, false);
+        let opts = EvalOptions {
+            mode: EvalMode::Fd,
+            gradients: false,
+            ..Default::default()
+        };
+        // 1/24 of a cell a pixel at the first octave: pieces that end inside cells and at
+        // their ends.
+        let plane = SpanPlane::new(
+            TexPoint::from_bits(-40_000, 1_000, 24_248),
+            TexPoint::from_bits(65536 / 24, 0, 0),
+            TexPoint::from_bits(0, 0, 0),
+            192,
+            2,
+        )
+        .unwrap();
+        let [mut ev, mut reference, mut direct] = evaluators(&m, opts);
+        let mut whole = SpanEvaluator::new(&m, opts);
+        let setup = ev.plane_setup(&plane);
+        let ref_setup = reference.plane_setup(&plane);
+        let mut faces = FaceCache::<64, 8>::new();
+        let mut cache = RowCache::<128>::new();
+        let mut spans = ev.plane_spans(&setup, &mut cache);
+        let mut got = [TexValue::ZERO; 192];
+        let mut want = [TexValue::ZERO; 192];
+        for (i, x) in (0u16..192).step_by(16).enumerate() {
+            let y = (i % 2) as u16;
+            let r = usize::from(x)..usize::from(x) + 16;
+            let (before, ref_before) = (*spans.stats(), *reference.stats());
+            spans.values(x, y, &mut got[r.clone()]);
+            reference.eval_plane_values(&ref_setup, x, y, &mut want[r.clone()], &mut faces);
+            assert_eq!(got[r.clone()], want[r], "span {x}");
+            if FD && !cfg!(texcore_lean) {
+                let cells = |a: &SpanStats, b: &SpanStats| a.cell_setups - b.cell_setups;
+                assert_eq!(
+                    cells(spans.stats(), &before),
+                    cells(reference.stats(), &ref_before),
+                    "span {x}: the carried lanes' cells"
+                );
+            }
+        }
+        let mut row = [TexValue::ZERO; 192];
+        whole.eval_values(&plane.span(0, 1, 192).unwrap(), &mut row);
+        assert_eq!(got, row);
+        direct.eval_values(&plane.span(0, 0, 192).unwrap(), &mut row);
+        assert_eq!(got, row, "Direct");
+        if FD && !cfg!(texcore_lean) {
+            assert_eq!(spans.ev.core.row_spans, 12, "every span walked");
+            let cells = spans.stats().cell_setups;
+            assert_eq!(cells, whole.stats().cell_setups, "the whole row's cells");
+            assert_eq!(cells, reference.stats().cell_setups);
         }
     }
 
