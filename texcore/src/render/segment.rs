@@ -1,0 +1,152 @@
+//! Shading one segment of a triangle: the per-slot evaluators of a frame ([`Slots`]), the
+//! segment's colours (or, for [`Output::FilterWidth`], its filter widths as grey) in chunks of at
+//! most [`CHUNK`] pixels, lit and handed on. With a difference memory
+//! ([`Renderer::with_differences`]) a filtered texture takes its widths from the differences of
+//! neighbouring values. Nothing here allocates or panics.
+
+use super::*;
+
+/// Per-slot evaluators, created once per frame.
+pub(super) struct Slots<'t, const T: usize, const N: usize> {
+    pub(super) evals: heapless::Vec<TextureEvaluator<'t, T, N>, MAX_TEXTURES>,
+    pub(super) widths: heapless::Vec<Option<WidthEval<'t, T, N>>, MAX_TEXTURES>,
+    /// The frame's difference memory ([`Renderer::with_differences`]).
+    #[cfg(feature = "differences")]
+    pub(super) mem: Option<MemoryRows<'t>>,
+}
+
+impl<const T: usize, const N: usize> Slots<'_, T, N> {
+    /// A new triangle: the differences start again (they are taken within one triangle).
+    #[inline(always)]
+    pub(super) fn new_triangle(&mut self) {
+        #[cfg(feature = "differences")]
+        if let Some(m) = self.mem.as_mut() {
+            m.forget();
+        }
+    }
+}
+
+/// Evaluates filter widths for [`Output::FilterWidth`].
+pub(super) struct WidthEval<'t, const T: usize, const N: usize> {
+    pub(super) tex: &'t Texture<T, N>,
+    pub(super) eval: Option<SpanEvaluator<'t, T>>,
+}
+
+pub(super) fn slots_stats<const T: usize, const N: usize>(slots: &Slots<'_, T, N>) -> ShadeStats {
+    let mut s = ShadeStats::default();
+    for e in &slots.evals {
+        s.add(&e.stats());
+    }
+    for w in slots.widths.iter().flatten() {
+        if let Some(e) = &w.eval {
+            s.span.add(e.stats());
+        }
+    }
+    s
+}
+
+/// `log2 N` of a power of two.
+pub(super) const fn log2(n: usize) -> u32 {
+    usize::BITS - 1 - n.leading_zeros()
+}
+
+/// Shades one segment into chunks of at most [`CHUNK`] pixels, calling `out(x, chunk)`.
+pub(super) fn shade_segment<
+    const T: usize,
+    const N: usize,
+    L: SegmentLight,
+    O: FnMut(u16, &[Rgba8888]),
+>(
+    slots: &mut Slots<'_, T, N>,
+    slot: usize,
+    output: Output,
+    seg: &Segment,
+    light: L,
+    mut out: O,
+) {
+    let span = Span {
+        s0: seg.s0,
+        ds: seg.ds,
+        dsdy: seg.dsdy,
+        len: seg.len,
+    };
+    // Widths from differences for a filtered texture (an unfiltered one needs no widths, and
+    // no row above): the segment's colours a chunk at a time.
+    #[cfg(feature = "differences")]
+    if let (Output::Color, Some(m), Some(e)) =
+        (output, slots.mem.as_mut(), slots.evals.get_mut(slot))
+    {
+        if e.stage().antialias() != crate::filter::Antialias::None {
+            let piece = |off: u16, px: &mut [Rgba8888]| {
+                let x = seg.x0.saturating_add(off);
+                light.light_span(x, seg.y, px);
+                out(x, px);
+            };
+            if e.differences_pieces::<_, _, CHUNK>(m, seg.x0, seg.y, &span, piece) {
+                return;
+            }
+        }
+    }
+    let mut chunk = [Rgba8888::TRANSPARENT; CHUNK];
+    let mut n = 0usize;
+    let mut x = seg.x0;
+    let mut push = |c: Rgba8888| {
+        if let Some(p) = chunk.get_mut(n) {
+            *p = c;
+        }
+        n += 1;
+        if n == CHUNK {
+            light.light_span(x, seg.y, &mut chunk);
+            out(x, &chunk);
+            x = x.saturating_add(CHUNK as u16);
+            n = 0;
+        }
+    };
+    match output {
+        Output::Color => {
+            if let Some(e) = slots.evals.get_mut(slot) {
+                e.shade(&span, &mut push);
+            }
+        }
+        Output::FilterWidth => {
+            if let Some(Some(we)) = slots.widths.get_mut(slot) {
+                width_span(we, &span, &mut push);
+            }
+        }
+    }
+    if let Some(rest) = chunk.get_mut(..n).filter(|r| !r.is_empty()) {
+        light.light_span(x, seg.y, rest);
+        out(x, rest);
+    }
+}
+
+/// The filter width of each pixel of `span` as grey: `(w - 1) * 255 / (N - 1)`, clamped.
+pub(super) fn width_span<const T: usize, const N: usize, F: FnMut(Rgba8888)>(
+    we: &mut WidthEval<'_, T, N>,
+    span: &Span,
+    mut emit: F,
+) {
+    let lg = log2(N);
+    let norm = we.tex.norm();
+    let grey = |w: FilterWidth| {
+        let one = 1u64 << 16;
+        let w = u64::from(w.to_bits()).max(one) - one;
+        let den = ((N as u64).max(2) - 1) << 16;
+        let v = (w * 255 + den / 2) / den;
+        let v = v.min(255) as u8;
+        Rgba8888::new(v, v, v, 255)
+    };
+    match we.eval.as_mut() {
+        Some(e) => {
+            let extra = e.extra_width48(span);
+            e.eval(span, |s| {
+                emit(grey(filter_width_spread(s.gx, s.gy, extra, norm, lg)))
+            });
+        }
+        None => {
+            for _ in 0..span.len {
+                emit(Rgba8888::new(255, 0, 255, 255));
+            }
+        }
+    }
+}
