@@ -246,20 +246,62 @@ fn frame_rows(
         return 0;
     }
     let (textures, scene) = core::hint::black_box((&textures[..], scene));
-    // The memory of the widths from differences, made only for that mode.
     #[cfg(feature = "approximate")]
-    let mut differences = (mode == FrameMode::RampDifferences).then(|| {
-        (
-            DifferenceMemory::<{ WIDTH as usize }>::new(),
-            FaceCache::<FACE_ENTRIES, { crate::planes::TERMS }>::new(),
-        )
-    });
-    let renderer = Renderer::new(textures);
-    #[cfg(feature = "approximate")]
-    let renderer = match differences.as_mut() {
-        Some((mem, faces)) => renderer.with_differences(mem, faces),
-        None => renderer,
-    };
+    if mode == FrameMode::RampDifferences {
+        return difference_rows(textures, scene, work, strip, above, band, depth, bins);
+    }
+    draw_rows(
+        &Renderer::new(textures),
+        textures.len(),
+        scene,
+        work,
+        strip,
+        above,
+        band,
+        depth,
+        bins,
+    )
+}
+
+/// [`frame_rows`] with the filter widths from differences: the renderer's [`DifferenceMemory`]
+/// of [`WIDTH`] pixels and [`FaceCache`] of [`FACE_ENTRIES`] live in this frame only (out of
+/// line: no other mode's stack holds them).
+#[cfg(feature = "approximate")]
+#[inline(never)]
+#[allow(clippy::too_many_arguments)]
+fn difference_rows(
+    textures: &[DeviceTexture],
+    scene: &Scene,
+    work: bool,
+    strip: Option<usize>,
+    above: u32,
+    band: &mut [Rgba8888],
+    depth: &mut [u16],
+    bins: &mut [GroupRows],
+) -> u32 {
+    let mut mem = DifferenceMemory::<{ WIDTH as usize }>::new();
+    let mut faces = FaceCache::<FACE_ENTRIES, { crate::planes::TERMS }>::new();
+    let renderer = Renderer::new(textures).with_differences(&mut mem, &mut faces);
+    let n = textures.len();
+    draw_rows(&renderer, n, scene, work, strip, above, band, depth, bins)
+}
+
+/// The rows of [`frame_rows`] drawn by `renderer` (with `textures` slot textures): the bins (strip 0's first band fills them,
+/// the later strips' set-ups), then the rows' checksum continuing `above` (with `work ==
+/// false` the set-up's checksum).
+#[inline(always)]
+#[allow(clippy::too_many_arguments)]
+fn draw_rows(
+    renderer: &Renderer<'_, { crate::planes::TERMS }, { crate::planes::TABLE }>,
+    textures: usize,
+    scene: &Scene,
+    work: bool,
+    strip: Option<usize>,
+    above: u32,
+    band: &mut [Rgba8888],
+    depth: &mut [u16],
+    bins: &mut [GroupRows],
+) -> u32 {
     let mut bins = FrameBins::new(bins);
     // A frame walks its whole scene once: strip 0's first band bins the quads; the later
     // strips take the frame's bins, filled here (in the job and in its set-up alike, so that
@@ -268,7 +310,7 @@ fn frame_rows(
         return 0;
     }
     if !work {
-        return scene.objects.len() as u32 ^ textures.len() as u32;
+        return scene.objects.len() as u32 ^ textures as u32;
     }
     let height = scene.size().1;
     let rows = match strip {
