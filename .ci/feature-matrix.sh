@@ -36,4 +36,7 @@ for target in x86_64-unknown-linux-gnu thumbv7em-none-eabihf riscv32imc-unknown-
   # The renderer's differences with the ramp and every filter (the `approximate-scenes` firmware).
   echo "-- $target: full,ramp,differences,defmt"
   RUSTFLAGS="-D warnings" cargo check -q -p texcore --features "full,ramp,differences,defmt" --target "$target"
+  # The shapes' and scenes' drawables with the widths from differences.
+  echo "-- $target: embedded-graphics,differences"
+  RUSTFLAGS="-D warnings" cargo check -q -p texcore --no-default-features --features "embedded-graphics,differences" --target "$target"
 done
