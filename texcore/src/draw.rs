@@ -1050,6 +1050,7 @@ mod tests {
     /// Shapes drawn through their area's plane set-up equal their rows shaded span by span,
     /// also where the mapping's coordinates wrap inside the area (no plane: the spans are set
     /// up one by one) or come within a pixel of wrapping (a plane whose origin has wrapped).
+    #[cfg(feature = "csat")]
     #[test]
     fn plane_set_up_areas_equal_their_spans() {
         let marble = Material::preset(PresetName::Marble)
@@ -1101,7 +1102,7 @@ mod tests {
     /// through one memory, in row order, rows counted from the visible part's top-left (a
     /// rectangle partly off the display too); the same pixels as the exact style, and colours
     /// near its; a shape wider than `W` and an unfiltered texture are drawn as without it.
-    #[cfg(feature = "differences")]
+    #[cfg(all(feature = "differences", feature = "csat"))]
     #[test]
     fn difference_styles_shade_their_runs() {
         use std::collections::BTreeMap;
@@ -1210,14 +1211,17 @@ mod tests {
     }
 
     /// A 300 x 3 frame (rows longer than [`RUN_CHUNK`]).
+    #[cfg(feature = "csat")]
     struct Wide(Vec<Option<Rgb888>>);
 
+    #[cfg(feature = "csat")]
     impl Dimensions for Wide {
         fn bounding_box(&self) -> Rectangle {
             Rectangle::new(Point::zero(), Size::new(300, 3))
         }
     }
 
+    #[cfg(feature = "csat")]
     impl DrawTarget for Wide {
         type Color = Rgb888;
         type Error = core::convert::Infallible;
@@ -1236,6 +1240,7 @@ mod tests {
 
     /// Rows longer than a chunk, shaded in pieces (the rectangle's iterator and a circle's
     /// runs), equal whole-row spans.
+    #[cfg(feature = "csat")]
     #[test]
     fn chunked_rows_equal_whole_spans() {
         let marble = Material::preset(PresetName::Marble)
@@ -1402,7 +1407,7 @@ mod tests {
     /// With the widths from differences a scene drawn as a `Drawable` equals the renderer's
     /// streamed render with a memory of its own (bands of 12 rows' room drawn as bands of 8),
     /// differs from the gradients' frame, and a memory narrower than the scene is refused.
-    #[cfg(feature = "differences")]
+    #[cfg(all(feature = "differences", feature = "csat"))]
     #[test]
     fn textured_scene_with_differences_equals_the_renderer() {
         use crate::sink::RgbaBuffer;

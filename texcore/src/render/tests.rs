@@ -285,7 +285,7 @@ fn filter_width_output() {
     assert!((i32::from(img[128].r) - 49).abs() <= 1, "{}", img[128].r);
 }
 
-#[cfg(feature = "embedded-graphics")]
+#[cfg(all(feature = "embedded-graphics", feature = "csat"))]
 #[test]
 fn draw_target_sink_equals_buffer() {
     use embedded_graphics_core::draw_target::DrawTarget;
