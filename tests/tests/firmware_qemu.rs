@@ -346,22 +346,7 @@ fn check(target: DeviceTarget) {
         );
     }
     // The stack kept its margin above the static data.
-    let stack = a
-        .stack
-        .as_ref()
-        .expect("the firmware reports its stack use");
-    eprintln!(
-        "{target}: stack used {} of {} bytes (deepest: {})",
-        stack.used, stack.size, stack.job
-    );
-    assert!(
-        stack.used + STACK_MARGIN <= stack.size,
-        "{target}: the stack came within {} bytes of the static data ({} of {} bytes, job {})",
-        stack.size.saturating_sub(stack.used),
-        stack.used,
-        stack.size,
-        stack.job
-    );
+    stack_kept_its_margin(target, &a);
     let marble = rows
         .iter()
         .find(|r| r.scene == "plane:marble")
@@ -478,6 +463,27 @@ fn check(target: DeviceTarget) {
             .collect()
     };
     assert_eq!(counts(&a), counts(&b), "{target}: second run differs");
+}
+
+/// The stack of run `a` kept [`STACK_MARGIN`] bytes above the static data; the deepest job.
+fn stack_kept_its_margin(target: DeviceTarget, a: &DeviceRun) -> String {
+    let stack = a
+        .stack
+        .as_ref()
+        .expect("the firmware reports its stack use");
+    eprintln!(
+        "{target}: stack used {} of {} bytes (deepest: {})",
+        stack.used, stack.size, stack.job
+    );
+    assert!(
+        stack.used + STACK_MARGIN <= stack.size,
+        "{target}: the stack came within {} bytes of the static data ({} of {} bytes, job {})",
+        stack.size.saturating_sub(stack.used),
+        stack.used,
+        stack.size,
+        stack.job
+    );
+    stack.job.clone()
 }
 
 /// Bytes of stack that must never have been used (of about 113 KiB between the static data and
@@ -756,26 +762,10 @@ fn check_approximate_scenes(target: DeviceTarget) {
     // and face cache on the stack: it kept its margin above the static data (94.4 KB of
     // 111.5 KB used on the Cortex-M4F, deepest `scene:marble~ramp-diff`, when this was
     // written).
-    let stack = a
-        .stack
-        .as_ref()
-        .expect("the firmware reports its stack use");
-    eprintln!(
-        "{target}: stack used {} of {} bytes (deepest: {})",
-        stack.used, stack.size, stack.job
-    );
+    let deepest = stack_kept_its_margin(target, &a);
     assert!(
-        stack.used + STACK_MARGIN <= stack.size,
-        "{target}: the stack came within {} bytes of the static data ({} of {} bytes, job {})",
-        stack.size.saturating_sub(stack.used),
-        stack.used,
-        stack.size,
-        stack.job
-    );
-    assert!(
-        stack.job.starts_with("scene:") && stack.job.contains('~'),
-        "{target}: the deepest job ({}) is an approximate scene's",
-        stack.job
+        deepest.starts_with("scene:") && deepest.contains('~'),
+        "{target}: the deepest job ({deepest}) is an approximate scene's"
     );
     for j in &a.jobs {
         assert_eq!(j.instructions, j.repeat, "{target} {}", j.name);
