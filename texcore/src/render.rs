@@ -55,6 +55,8 @@ use bins::triangle_rows;
 pub use bins::{FrameBins, GroupRows};
 use draw::{flush_rows, BandDraw, StreamDraw};
 use light::{SegmentLight, Unlit, WalkLight};
+#[cfg(feature = "differences")]
+pub use segment::DIFFERENCE_MIN_ROWS;
 use segment::{slots_stats, Slots, WidthEval};
 
 /// Most texture slots a scene may use.
@@ -348,7 +350,10 @@ impl<'t, const T: usize, const N: usize> Renderer<'t, T, N> {
     /// with none (a triangle's first row, and the first row of every tile of
     /// [`crate::texture::TILE_ROWS`] rows) is evaluated once more one row up
     /// ([`TextureEvaluator::shade_differences`]). So the colours are the same streamed and in
-    /// bands of any multiple of that many rows. `mem` holds the row above; a frame wider than
+    /// bands of any multiple of that many rows. A triangle spanning fewer than
+    /// [`DIFFERENCE_MIN_ROWS`] rows (its vertices' vertical extent) takes the gradients' widths
+    /// instead: on so few rows the re-evaluated row above costs more than the gradients save,
+    /// and the differences of its edge pixels are the coarsest. `mem` holds the row above; a frame wider than
     /// `W` pixels is refused ([`RenderError::MemoryTooNarrow`]). The filter-width output
     /// ([`Output::FilterWidth`]) still shows the gradients' widths. The colours are the same on
     /// every target.
@@ -356,8 +361,8 @@ impl<'t, const T: usize, const N: usize> Renderer<'t, T, N> {
     /// What it costs and saves (`docs/cycles.md`, `scene:<name>~ramp-diff`): the colour stage's
     /// root (and with the ramp, one read a pixel); the values alone cost about what the values
     /// and gradients cost on the exact path, and the rows above each triangle's and each tile's
-    /// first row are evaluated once more. The built-in fire (two large triangles) is 40% cheaper
-    /// with the ramp; a fine mesh (the marble scene) about as dear as its exact frame.
+    /// first row are evaluated once more. The built-in fire (large triangles) is 40% cheaper
+    /// with the ramp; a fine mesh (the marble scene, most of its triangles short) about 6%.
     ///
     /// `faces` keeps the face blends of the noise's axis-aligned terms across segments
     /// ([`FaceCache`]: the same values, bit for bit, with fewer hashes whatever its size;
@@ -452,6 +457,8 @@ impl<'t, const T: usize, const N: usize> Renderer<'t, T, N> {
             widths,
             #[cfg(feature = "differences")]
             mem: self.differences.0.take(),
+            #[cfg(feature = "differences")]
+            short: false,
         }
     }
 

@@ -108,8 +108,9 @@ fn textures() -> Vec<Texture<8, 256>> {
     ]
 }
 
-/// The streamed frame of `scene` with widths from differences, by hand: each triangle's
-/// segments from the rasterizer, each pixel's value from the span evaluator, the pixel
+/// The streamed frame of `scene` with widths from differences, by hand: each triangle of at
+/// least `DIFFERENCE_MIN_ROWS` rows' segments from the rasterizer (a shorter one's colours
+/// those of the gradients' widths), each pixel's value from the span evaluator, the pixel
 /// above from the same triangle's row above unless the pixel is on a tile's first row; a
 /// pixel the row above does not have takes the vertical difference of the nearest one that
 /// has it, and a segment none of whose pixels has it is evaluated one row up; the colour
@@ -132,6 +133,9 @@ fn reference(scene: &Quads, tex: &[Texture<8, 256>]) -> Vec<Rgba8888> {
         };
         let mut segs = Vec::new();
         raster.draw(tri, &o.raster, &mut |s: &Segment| segs.push(*s));
+        // A triangle of fewer than `DIFFERENCE_MIN_ROWS` rows: the gradients' widths.
+        let [_, _, y0, y1] = crate::raster::bounding_box(tri);
+        let short = y1 - y0 < 16 * i32::from(segment::DIFFERENCE_MIN_ROWS);
         let mut held: BTreeMap<(u16, u16), TexValue> = BTreeMap::new();
         for seg in segs {
             let span = Span {
@@ -140,6 +144,15 @@ fn reference(scene: &Quads, tex: &[Texture<8, 256>]) -> Vec<Rgba8888> {
                 dsdy: seg.dsdy,
                 len: seg.len,
             };
+            if short {
+                let at = usize::from(seg.y) * n + usize::from(seg.x0);
+                let mut i = 0;
+                t.evaluator().shade(&span, |c| {
+                    img[at + i] = c;
+                    i += 1;
+                });
+                continue;
+            }
             let (f, extra) = values(&span);
             let bits = |v: TexValue| v.to_bits();
             // The same triangle's values of the row above, unless on a tile's first row.

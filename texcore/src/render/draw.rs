@@ -28,7 +28,7 @@ impl<S: TriangleSource, P: PixelSink, const T: usize, const N: usize>
         };
         let (slots, output, sink, lit) =
             (&mut self.slots, self.output, &mut *self.sink, &mut self.lit);
-        slots.new_triangle();
+        slots.new_triangle(tri);
         let mut plane = W::Plane::default();
         let mut seg_sink = |seg: &Segment| {
             let light = light.segment(&mut plane, tri);
@@ -101,7 +101,7 @@ impl<S: TriangleSource, const T: usize, const N: usize> BandDraw<'_, '_, S, T, N
             return;
         };
         let (slots, output, buf) = (&mut self.slots, self.output, &mut self.buf);
-        slots.new_triangle();
+        slots.new_triangle(tri);
         let (blended, lit) = (&mut self.blended, &mut self.lit);
         let mut plane = W::Plane::default();
         let mut seg_sink = |seg: &Segment| {

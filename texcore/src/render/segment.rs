@@ -6,6 +6,15 @@
 
 use super::*;
 
+/// The least vertical extent, in rows (of its vertices' bounding box), of a triangle that takes
+/// its filter widths from differences when the renderer has a difference memory
+/// ([`Renderer::with_differences`]): a shorter one takes them from the gradients (two tiles of
+/// `texture::TILE_ROWS`; on the built-in marble scene's mesh 905.0 -> 843.8 instructions a frame
+/// pixel on the Cortex-M4F with the ramp, and 49.4 -> 51.8 dB; the same from 16 to 64 rows, 861.9
+/// from 8).
+#[cfg(feature = "differences")]
+pub const DIFFERENCE_MIN_ROWS: u16 = 16;
+
 /// Per-slot evaluators, created once per frame.
 pub(super) struct Slots<'t, const T: usize, const N: usize> {
     pub(super) evals: heapless::Vec<TextureEvaluator<'t, T, N>, MAX_TEXTURES>,
@@ -13,16 +22,24 @@ pub(super) struct Slots<'t, const T: usize, const N: usize> {
     /// The frame's difference memory ([`Renderer::with_differences`]).
     #[cfg(feature = "differences")]
     pub(super) mem: Option<MemoryRows<'t>>,
+    /// The triangle being drawn takes its widths from the gradients although the renderer has
+    /// a difference memory (it spans fewer than [`DIFFERENCE_MIN_ROWS`] rows).
+    #[cfg(feature = "differences")]
+    pub(super) short: bool,
 }
 
 impl<const T: usize, const N: usize> Slots<'_, T, N> {
     /// A new triangle: the differences start again (they are taken within one triangle).
     #[inline(always)]
-    pub(super) fn new_triangle(&mut self) {
+    pub(super) fn new_triangle(&mut self, tri: &[ScreenVertex; 3]) {
         #[cfg(feature = "differences")]
         if let Some(m) = self.mem.as_mut() {
             m.forget();
+            let [_, _, y0, y1] = crate::raster::bounding_box(tri);
+            self.short = i64::from(y1) - i64::from(y0) < 16 * i64::from(DIFFERENCE_MIN_ROWS);
         }
+        #[cfg(not(feature = "differences"))]
+        let _ = tri;
     }
 }
 
@@ -73,9 +90,12 @@ pub(super) fn shade_segment<
     // Widths from differences for a filtered texture (an unfiltered one needs no widths, and
     // no row above): the segment's colours a chunk at a time.
     #[cfg(feature = "differences")]
-    if let (Output::Color, Some(m), Some(e)) =
-        (output, slots.mem.as_mut(), slots.evals.get_mut(slot))
-    {
+    if let (Output::Color, false, Some(m), Some(e)) = (
+        output,
+        slots.short,
+        slots.mem.as_mut(),
+        slots.evals.get_mut(slot),
+    ) {
         if e.stage().antialias() != crate::filter::Antialias::None {
             let piece = |off: u16, px: &mut [Rgba8888]| {
                 let x = seg.x0.saturating_add(off);
