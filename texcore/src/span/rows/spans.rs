@@ -62,11 +62,6 @@ struct Cursor<const T: usize> {
     x: u16,
     /// The quadric's kind (`QuadStep::value_kind`: 0 zero, 1 affine, 2 curved).
     kind: u8,
-    /// The row was set up for a span that resumes the last walked span, as a face cache's
-    /// carried lanes would (every term's lattice point at its pixel 0 is where the last span's
-    /// left off): the number of its terms that enter a cell at its first pixel (taken by
-    /// that span's walk).
-    resume: Option<u8>,
     /// The walk at pixel `x` (fast shape only).
     #[cfg(not(texcore_lean))]
     walk: RowWalk<T>,
@@ -110,7 +105,6 @@ impl<'c, 'm, const T: usize> PlaneWalk<'c, 'm, T> {
                 grads: false,
                 x: 0,
                 kind: 0,
-                resume: None,
                 #[cfg(not(texcore_lean))]
                 walk: RowWalk::new(QuadStep {
                     q: 0,
@@ -221,7 +215,7 @@ impl<'c, 'm, const T: usize> PlaneWalk<'c, 'm, T> {
         }
         // Not served until the schedule is made: every span of the row is then evaluated on
         // its own, without trying again (the cursor at pixel 0, before every span).
-        (c.row, c.served, c.grads, c.x, c.resume) = (Some(y), false, grads, 0, None);
+        (c.row, c.served, c.grads, c.x) = (Some(y), false, grads, 0);
         let core = &mut ev.core;
         let plane = self.plane;
         // `Direct` never forward differences: its rows are never served (not even tried).
@@ -258,7 +252,10 @@ impl<'c, 'm, const T: usize> PlaneWalk<'c, 'm, T> {
         (c.served, c.kind) = (true, kind);
         // The span resumes the last one when every term starts where that one's left off
         // (`Carried::resumes`): a term then sets up a cell at its first pixel only when that
-        // pixel leaves the cell of the pixel before (the carried lane's event at pixel 0).
+        // pixel leaves the cell of the pixel before (the carried lane's event at pixel 0). The
+        // span's walk counts one cell a term at its first pixel (a span that does not go on,
+        // or the entries at a row's pixel 0): those are taken back here, so that the walk's
+        // code is the same for every span.
         let lanes = &self.state.lanes;
         let n = i32::from(x);
         let mut entering = 0u8;
@@ -274,7 +271,11 @@ impl<'c, 'm, const T: usize> PlaneWalk<'c, 'm, T> {
                 l.term == term && l.amp == amp && differ == 0
             });
         if resumes {
-            c.resume = Some(entering);
+            let st = &mut ev.core.stats;
+            st.cell_setups = st
+                .cell_setups
+                .wrapping_add(u64::from(entering))
+                .wrapping_sub(lanes.len() as u64);
         }
     }
 
@@ -297,10 +298,7 @@ impl<'c, 'm, const T: usize> PlaneWalk<'c, 'm, T> {
         let events = self.events.get(..self.state.used).unwrap_or_default();
         let fvs = ev.core.model.noise_frac_bits() & 31;
         let c = &mut self.cursor;
-        // A span that resumes the last one (its row set up for it) is counted from its own
-        // first pixel: the walk moved onto it first, as for any span that does not go on.
-        let resume = c.resume.take();
-        let fresh = c.x != x || resume.is_some();
+        let fresh = c.x != x;
         let w = &mut c.walk;
         if fresh {
             w.skip(events, x.wrapping_sub(c.x));
@@ -312,12 +310,7 @@ impl<'c, 'm, const T: usize> PlaneWalk<'c, 'm, T> {
         c.x = x.wrapping_add(len);
         // Counters: as the span on its own, its cells as the module documentation states.
         let lanes = self.state.lanes.len() as u64;
-        let entered = walked as u64
-            + match (fresh, resume) {
-                (false, _) => 0,
-                (true, None) => lanes,
-                (true, Some(k)) => u64::from(k),
-            };
+        let entered = walked as u64 + if fresh { lanes } else { 0 };
         let (culled, faded, extra_width48) = self.plane.span_facts();
         let px = u64::from(len);
         let st = &mut ev.core.stats;
