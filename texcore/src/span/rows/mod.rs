@@ -142,9 +142,6 @@ struct RowLane {
     /// The lattice step along the row and the coordinate along `k` at pixel 0.
     du: [i32; 3],
     u0k: i32,
-    /// The lattice point at pixel 0 of the row served last (kept for [`PlaneSpans`]' counters:
-    /// where a face cache's carried lanes would stand).
-    at: [i32; 3],
     /// The lattice step to the next row (the derivative across the rows).
     dy: [i32; 3],
     /// The cells along `m` and `o`, the fraction along `o` and the amplitude the term's entries
@@ -558,7 +555,6 @@ impl<'m, const T: usize> EvalCore<'m, T> {
                 o,
                 du: ts.du,
                 u0k: ts.u0[k],
-                at: ts.u0,
                 dy: ts.dy,
                 cm: 0,
                 co: 0,
@@ -612,7 +608,6 @@ impl<'m, const T: usize> EvalCore<'m, T> {
             else {
                 return false;
             };
-            lane.at = ts.u0;
             let (cell, frac) = split(ts.u0);
             let (mi, oi) = (lane.m.min(2), lane.o.min(2)); // always 0..=2: no bounds checks
             let (cm, co, fo) = (cell[mi], cell[oi], frac[oi]);
@@ -1345,7 +1340,6 @@ mod tests {
                 o,
                 du: [0; 3],
                 u0k: 0,
-                at: [0; 3],
                 dy: {
                     let mut dy = [0; 3];
                     dy[m] = (next() as i32) >> 15;

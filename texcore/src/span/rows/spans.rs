@@ -62,6 +62,13 @@ struct Cursor<const T: usize> {
     x: u16,
     /// The quadric's kind (`QuadStep::value_kind`: 0 zero, 1 affine, 2 curved).
     kind: u8,
+    /// The served row's lanes' terms (bit `t` for term `t`) and each one's lattice point at the
+    /// row's pixel 0 and amplitude (`[u0, amp]`): where a face cache's carried lanes stand after
+    /// a span of the row, for the counters.
+    #[cfg(not(texcore_lean))]
+    terms: u32,
+    #[cfg(not(texcore_lean))]
+    starts: [[i32; 4]; T],
     /// The walk at pixel `x` (fast shape only).
     #[cfg(not(texcore_lean))]
     walk: RowWalk<T>,
@@ -105,6 +112,10 @@ impl<'c, 'm, const T: usize> PlaneWalk<'c, 'm, T> {
                 grads: false,
                 x: 0,
                 kind: 0,
+                #[cfg(not(texcore_lean))]
+                terms: 0,
+                #[cfg(not(texcore_lean))]
+                starts: [[0; 4]; T],
                 #[cfg(not(texcore_lean))]
                 walk: RowWalk::new(QuadStep {
                     q: 0,
@@ -200,19 +211,9 @@ impl<'c, 'm, const T: usize> PlaneWalk<'c, 'm, T> {
     #[cfg(not(texcore_lean))]
     #[inline(never)]
     fn start_row(&mut self, ev: &mut SpanEvaluator<'m, T>, x: u16, y: u16, grads: bool) {
-        // Where the last walked span left its terms (its row's lattice points moved on to the
-        // pixel after it), as a face cache's carried lanes hold them: the term, its amplitude
-        // and lattice point.
+        // The last walked span (its row served): its row's terms and its end.
         let c = &mut self.cursor;
-        let mut ends: heapless::Vec<(usize, i32, [i32; 3]), T> = heapless::Vec::new();
-        if c.served {
-            let n = i32::from(c.x);
-            for l in self.state.lanes.iter() {
-                let at = core::array::from_fn(|i| l.at[i].wrapping_add(l.du[i].wrapping_mul(n)));
-                // At most T lanes: never full.
-                let _ = ends.push((l.term, l.amp, at));
-            }
-        }
+        let (last, last_x) = (c.served.then_some(c.terms), c.x);
         // Not served until the schedule is made: every span of the row is then evaluated on
         // its own, without trying again (the cursor at pixel 0, before every span).
         (c.row, c.served, c.grads, c.x) = (Some(y), false, grads, 0);
@@ -256,21 +257,36 @@ impl<'c, 'm, const T: usize> PlaneWalk<'c, 'm, T> {
         // span's walk counts one cell a term at its first pixel (a span that does not go on,
         // or the entries at a row's pixel 0): those are taken back here, so that the walk's
         // code is the same for every span.
-        let lanes = &self.state.lanes;
-        let n = i32::from(x);
-        let mut entering = 0u8;
-        let resumes = ends.len() == lanes.len()
-            && lanes.iter().zip(ends.iter()).all(|(l, &(term, amp, end))| {
-                let at: [i32; 3] =
-                    core::array::from_fn(|i| l.at[i].wrapping_add(l.du[i].wrapping_mul(n)));
+        // Each term's lattice point at the span's first pixel against the last span's end
+        // (`u0 + x du` on both rows: a term's step along the rows is the plane's), compared
+        // until one differs; the row's own kept for the next row.
+        let (n, m) = (i32::from(x), i32::from(last_x));
+        let mut resumes = last.is_some();
+        let (mut terms, mut entering) = (0u32, 0u8);
+        for l in self.state.lanes.iter() {
+            let (Some(ts), Some(kept)) = (setup.terms.get(l.term), c.starts.get_mut(l.term)) else {
+                resumes = false;
+                continue;
+            };
+            let (u, d) = (ts.u0, ts.du);
+            if resumes {
+                let at = |i: usize, p: i32| u[i].wrapping_add(d[i].wrapping_mul(p));
+                let end = |i: usize| kept[i].wrapping_add(d[i].wrapping_mul(m));
+                let differ = (at(0, n) ^ end(0)) | (at(1, n) ^ end(1)) | (at(2, n) ^ end(2));
+                resumes = differ == 0 && kept[3] == ts.amp;
                 let k = l.k.min(2);
-                let before = at[k].wrapping_sub(l.du[k]);
-                entering += u8::from((at[k] as u32 >> 16) != (before as u32 >> 16));
-                // Word by word (an array comparison is a library call on the devices).
-                let differ = (at[0] ^ end[0]) | (at[1] ^ end[1]) | (at[2] ^ end[2]);
-                l.term == term && l.amp == amp && differ == 0
-            });
-        if resumes {
+                entering += u8::from((at(k, n) as u32 >> 16) != (at(k, n - 1) as u32 >> 16));
+            }
+            *kept = [u[0], u[1], u[2], ts.amp];
+            // A term past the mask's 32 bits is never resumed (no model has that many).
+            match 1u32.checked_shl(l.term as u32) {
+                Some(b) => terms |= b,
+                None => resumes = false,
+            }
+        }
+        c.terms = terms;
+        let lanes = &self.state.lanes;
+        if resumes && last == Some(terms) {
             let st = &mut ev.core.stats;
             st.cell_setups = st
                 .cell_setups
