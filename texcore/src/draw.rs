@@ -408,7 +408,7 @@ const fn mul_q30(a: i32, c: i32) -> i32 {
 /// A primitive style that fills a shape with a texture placed by a [`PlaneMapping`]. `C` is the
 /// display colour (inferred from the draw target).
 ///
-/// With `W > 0` (feature `differences`, [`TextureStyle::with_differences`]) a filtered texture
+/// With `W > 0` (feature `differences`, `TextureStyle::with_differences`) a filtered texture
 /// takes its filter widths from the differences of neighbouring values (the named approximate
 /// mode of [`crate::texture::DifferenceSpans`]: exact values without their gradients, about
 /// half the noise's cost), a memory of two rows of `W` pixels (`8 W` bytes) on the stack during
