@@ -643,9 +643,16 @@ where
         if area.size.width == 0 || area.size.height == 0 {
             return Ok(());
         }
+        // With the widths from differences, each visible row is one run (as a shape's runs).
         #[cfg(feature = "differences")]
         if W > 0 {
-            return fill_points(area.points(), area, style, target);
+            let mut ev = AreaShader::<T, N, W>::new(style.texture, &style.mapping, &area);
+            let (x, w) = (area.top_left.x, area.size.width);
+            for dy in 0..area.size.height {
+                let y = area.top_left.y.saturating_add(dy as i32);
+                fill_run(&mut ev, (x, y, w), target)?;
+            }
+            return Ok(());
         }
         let mut ev = AreaShader::<T, N, 0>::new(style.texture, &style.mapping, &area);
         let colors = RectColors {
