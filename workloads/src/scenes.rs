@@ -246,53 +246,41 @@ fn frame_rows(
         return 0;
     }
     let (textures, scene) = core::hint::black_box((&textures[..], scene));
+    let n = textures.len();
+    let mut draw = |renderer: &FrameRenderer<'_>| {
+        draw_rows(renderer, n, scene, work, strip, above, band, depth, bins)
+    };
     #[cfg(feature = "approximate")]
     if mode == FrameMode::RampDifferences {
-        return difference_rows(textures, scene, work, strip, above, band, depth, bins);
+        return difference_rows(textures, draw);
     }
-    draw_rows(
-        &Renderer::new(textures),
-        textures.len(),
-        scene,
-        work,
-        strip,
-        above,
-        band,
-        depth,
-        bins,
-    )
+    draw(&Renderer::new(textures))
 }
 
-/// [`frame_rows`] with the filter widths from differences: the renderer's [`DifferenceMemory`]
-/// of [`WIDTH`] pixels and [`FaceCache`] of [`FACE_ENTRIES`] live in this frame only (out of
-/// line: no other mode's stack holds them).
+/// The renderer of the device's frames.
+type FrameRenderer<'t> = Renderer<'t, { crate::planes::TERMS }, { crate::planes::TABLE }>;
+
+/// `draw` of [`frame_rows`] through a renderer with the filter widths from differences: its
+/// [`DifferenceMemory`] of [`WIDTH`] pixels and [`FaceCache`] of [`FACE_ENTRIES`] live in this
+/// frame only (out of line: no other mode's stack holds them).
 #[cfg(feature = "approximate")]
 #[inline(never)]
-#[allow(clippy::too_many_arguments)]
 fn difference_rows(
     textures: &[DeviceTexture],
-    scene: &Scene,
-    work: bool,
-    strip: Option<usize>,
-    above: u32,
-    band: &mut [Rgba8888],
-    depth: &mut [u16],
-    bins: &mut [GroupRows],
+    draw: impl FnOnce(&FrameRenderer<'_>) -> u32,
 ) -> u32 {
     let mut mem = DifferenceMemory::<{ WIDTH as usize }>::new();
     let mut faces = FaceCache::<FACE_ENTRIES, { crate::planes::TERMS }>::new();
-    let renderer = Renderer::new(textures).with_differences(&mut mem, &mut faces);
-    let n = textures.len();
-    draw_rows(&renderer, n, scene, work, strip, above, band, depth, bins)
+    draw(&Renderer::new(textures).with_differences(&mut mem, &mut faces))
 }
 
-/// The rows of [`frame_rows`] drawn by `renderer` (with `textures` slot textures): the bins (strip 0's first band fills them,
-/// the later strips' set-ups), then the rows' checksum continuing `above` (with `work ==
-/// false` the set-up's checksum).
+/// The rows of [`frame_rows`] drawn by `renderer` (with `textures` slot textures): the bins
+/// (strip 0's first band fills them, the later strips' set-ups), then the rows' checksum
+/// continuing `above` (with `work == false` the set-up's checksum).
 #[inline(always)]
 #[allow(clippy::too_many_arguments)]
 fn draw_rows(
-    renderer: &Renderer<'_, { crate::planes::TERMS }, { crate::planes::TABLE }>,
+    renderer: &FrameRenderer<'_>,
     textures: usize,
     scene: &Scene,
     work: bool,
