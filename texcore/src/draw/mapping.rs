@@ -223,14 +223,7 @@ pub(super) fn f32_to_q16(x: f32) -> i32 {
 
 /// `a k / 2^16`, saturating.
 const fn mul_q16(a: i32, k: i32) -> i32 {
-    let v = (a as i64 * k as i64) >> 16;
-    if v > i32::MAX as i64 {
-        i32::MAX
-    } else if v < i32::MIN as i64 {
-        i32::MIN
-    } else {
-        v as i32
-    }
+    crate::scene::math::sat_i32((a as i64 * k as i64) >> 16)
 }
 
 /// `a c / 2^30` rounded (`|c| <= 2^30`, so it fits).
