@@ -4,7 +4,7 @@
 use super::*;
 
 /// The rows a screen triangle can cover in an image `h` rows high (a superset).
-pub(super) fn triangle_rows(tri: &[ScreenVertex; 3], h: u16) -> Option<(u16, u16)> {
+fn triangle_rows(tri: &[ScreenVertex; 3], h: u16) -> Option<(u16, u16)> {
     let ys = tri.map(|v| v.y.to_bits());
     let (lo, hi) = (
         ys.iter().min()?.div_euclid(16),
@@ -117,7 +117,7 @@ pub(super) struct ListedVertex {
 }
 
 impl ListedVertex {
-    pub(super) fn new(v: &ScreenVertex) -> Option<ListedVertex> {
+    fn new(v: &ScreenVertex) -> Option<ListedVertex> {
         let w = v.inv_w.to_bits();
         Some(ListedVertex {
             x: i16::try_from(v.x.to_bits()).ok()?,
@@ -127,7 +127,7 @@ impl ListedVertex {
         })
     }
 
-    pub(super) fn vertex(&self, uv: [i32; 2]) -> ScreenVertex {
+    fn vertex(&self, uv: [i32; 2]) -> ScreenVertex {
         let w = u32::from(self.inv_w[0]) | (u32::from(self.inv_w[1]) << 16);
         ScreenVertex::new(
             ScreenCoord::from_bits(i32::from(self.x)),
@@ -170,7 +170,7 @@ impl FrameQuad {
     /// The bands the entry's drawn halves can cover (empty for an entry whose triangles cover
     /// no row: its bands stay `[u8::MAX, 0]`).
     #[inline(always)]
-    pub(super) fn band_span(&self) -> core::ops::Range<usize> {
+    fn band_span(&self) -> core::ops::Range<usize> {
         usize::from(self.bands[0])..usize::from(self.bands[1]) + 1
     }
 }
@@ -238,7 +238,7 @@ impl HalfCorners {
 /// such a quad takes two entries). `false` when the triangle cannot be listed exactly (clipped,
 /// a vertex past `i16`, an object or group past the entry's fields, or the list full). The
 /// frame has at most 4096 rows (its bands fit a byte).
-pub(super) fn list_triangle(
+fn list_triangle(
     list: &mut [FrameQuad],
     n: &mut usize,
     g: usize,

@@ -99,7 +99,7 @@ impl QuadAtlas {
     }
 
     /// The solid triangle of half `k`.
-    pub(super) fn half_solid(&self, k: usize) -> [[i32; 3]; 3] {
+    fn half_solid(&self, k: usize) -> [[i32; 3]; 3] {
         HALF_CORNERS[k & 1].1.map(|i| self.solid[i & 3])
     }
 
@@ -156,7 +156,7 @@ impl QuadAtlas {
 
 /// Barycentric coordinates `(beta, gamma)` (`Q16`) of `p` in solid triangle `s`, in the plane
 /// of the two axes the triangle's normal is least along; `None` for a degenerate triangle.
-pub(super) fn bary(s: &[[i32; 3]; 3], p: [i32; 3]) -> Option<(i64, i64)> {
+fn bary(s: &[[i32; 3]; 3], p: [i32; 3]) -> Option<(i64, i64)> {
     let sub = |a: [i32; 3], b: [i32; 3]| {
         [
             i64::from(a[0]) - i64::from(b[0]),

@@ -4,7 +4,7 @@
 use super::*;
 
 /// The configurations the README calls "exact", "within one step" and "cheapest".
-pub(super) struct Front<'a> {
+struct Front<'a> {
     /// The baseline row.
     baseline: &'a RowReport,
     /// The cheapest configuration with exactly the baseline's image.
@@ -15,7 +15,7 @@ pub(super) struct Front<'a> {
     cheapest: &'a RowReport,
 }
 
-pub(super) fn front(report: &Report) -> Option<Front<'_>> {
+fn front(report: &Report) -> Option<Front<'_>> {
     let cands: Vec<&RowReport> = report.rows.iter().filter(|r| r.base.is_some()).collect();
     let psnr = |r: &RowReport| r.base.map_or(0.0, |b| b.psnr);
     let baseline = cands.iter().copied().find(|r| r.baseline)?;
@@ -52,7 +52,7 @@ pub(super) fn front(report: &Report) -> Option<Front<'_>> {
     })
 }
 
-pub(super) fn costs(r: &RowReport) -> String {
+fn costs(r: &RowReport) -> String {
     match (
         r.device_instructions_per_pixel.get(M4F),
         r.device_instructions_per_pixel.get(RV),

@@ -166,7 +166,7 @@ pub(super) fn code_note(rows: &[&RowReport], base: Option<&RowReport>) -> String
 }
 
 /// Whether some measured row's instance RAM differs from the baseline's.
-pub(super) fn ram_differs(rows: &[&RowReport], base: Option<&RowReport>) -> bool {
+fn ram_differs(rows: &[&RowReport], base: Option<&RowReport>) -> bool {
     rows.iter().any(|r| {
         r.code_size.is_some()
             && [M4F, RV].iter().any(|t| {
