@@ -19,6 +19,12 @@
 //!   in caller-owned [`FrameBins`] (4 bytes per group), so that each band generates only the
 //!   groups that can touch it ([`TriangleSource::for_each_triangle_grouped`]), and a frame
 //!   rendered as several strips walks the whole scene once;
+//! - [`Renderer::render_banded_rows_binned_rgb565`] (and [`Renderer::render_banded_rgb565`]): the
+//!   same rows reduced to RGB565, bit for bit, through an RGB565 band of half the bytes, for a
+//!   display that takes RGB565 and a scene that does not blend: the alpha channel and the 8-bit
+//!   colours are a stage such a scene does not use, so its unlit segments are shaded straight
+//!   to RGB565 (one ramp read a pixel with `Antialias::Ramp`) and its rows reach the sink
+//!   without a conversion ([`PixelSink::write_rgb565_span`]);
 //! - a texture without antialiasing computes no gradients, a model without noise no noise, an
 //!   affine object no perspective divides (see [`crate::texture`], [`crate::span`],
 //!   [`crate::raster`]).
@@ -32,7 +38,7 @@ use crate::format::FilterWidth;
 use crate::raster::{
     Counters, DepthBuffer, Rasterizer, Rect, ScreenVertex, Segment, TriangleOptions,
 };
-use crate::sink::{PixelSink, RgbaBuffer};
+use crate::sink::{PixelSink, Rgb565Buffer, RgbaBuffer};
 #[cfg(feature = "differences")]
 use crate::span::FaceCache;
 use crate::span::{EvalOptions, Span, SpanEvaluator};
@@ -40,17 +46,21 @@ use crate::span::{EvalOptions, Span, SpanEvaluator};
 use crate::texture::{DifferenceMemory, MemoryRows};
 use crate::texture::{ShadeStats, Shader, Texture, TextureEvaluator};
 
+mod band;
 mod bins;
 #[cfg(all(test, feature = "differences", feature = "csat"))]
 mod difference_tests;
 mod draw;
 mod light;
+#[cfg(test)]
+mod rgb565_tests;
 mod segment;
 #[cfg(test)]
 // Without `csat` the tests that shade through the summed-area filter are left out.
 #[cfg_attr(not(feature = "csat"), allow(dead_code, unused_imports))]
 mod tests;
 
+use band::Band;
 use bins::triangle_rows;
 pub use bins::{FrameBins, GroupRows};
 use draw::{flush_rows, BandDraw, StreamDraw};
@@ -181,6 +191,12 @@ pub enum RenderError {
     NeedsBands,
     /// The band or depth buffers are too small for one row of the image.
     BufferTooSmall,
+    /// An object blends ([`Blend::Over`]), which needs its colours' alpha: render the scene
+    /// into an RGBA band ([`Renderer::render_banded_rows_binned`]), not an RGB565 one.
+    NeedsRgbaBand {
+        /// The first blended object.
+        object: usize,
+    },
     /// The difference memory given to `Renderer::with_differences` (feature `differences`)
     /// is narrower than the image.
     MemoryTooNarrow {
@@ -207,6 +223,10 @@ impl core::fmt::Display for RenderError {
             RenderError::BufferTooSmall => {
                 f.write_str("the band or depth buffer is too small for one row of the image")
             }
+            RenderError::NeedsRgbaBand { object } => write!(
+                f,
+                "object {object} blends, which needs an RGBA band: an RGB565 band has no alpha"
+            ),
             RenderError::MemoryTooNarrow { width, memory } => write!(
                 f,
                 "the difference memory holds rows of {memory} pixels, the image is {width} wide"
@@ -617,12 +637,83 @@ impl<'t, const T: usize, const N: usize> Renderer<'t, T, N> {
     ) -> Result<RenderStats, RenderError> {
         self.check(scene)?;
         let (w, h) = scene.size();
+        let rows_n = band_rows.max(1).min(h.max(1));
+        let buf = RgbaBuffer::new(band, w, 0, rows_n).ok_or(RenderError::BufferTooSmall)?;
+        self.render_bands(scene, rows, buf, depth, band_rows, bins, sink)
+    }
+
+    /// [`Renderer::render_banded`] into an RGB565 band (`band`: at least `width * band_rows`
+    /// pixels, raw [`crate::color::Rgb565`] bits), each finished row handed to the sink's
+    /// [`PixelSink::write_rgb565_span`]. See
+    /// [`Renderer::render_banded_rows_binned_rgb565`].
+    pub fn render_banded_rgb565<S: TriangleSource, P: PixelSink>(
+        &self,
+        scene: &S,
+        band: &mut [u16],
+        depth: &mut [u16],
+        band_rows: u16,
+        sink: &mut P,
+    ) -> Result<RenderStats, RenderError> {
+        let h = scene.size().1;
+        let mut bins = FrameBins::new(&mut []);
+        self.render_banded_rows_binned_rgb565(scene, 0..h, band, depth, band_rows, &mut bins, sink)
+    }
+
+    /// [`Renderer::render_banded_rows_binned`] into an RGB565 band (`band`: at least
+    /// `width * band_rows` pixels, raw [`crate::color::Rgb565`] bits), for a display that takes
+    /// RGB565: an unlit object's segments are shaded straight to RGB565
+    /// (`TextureEvaluator::shade565`: one ramp read a pixel with `Antialias::Ramp`), the band
+    /// holds half the bytes, and each finished row goes to the sink's
+    /// [`PixelSink::write_rgb565_span`] as it is (the RGBA band reduces every pixel at the flush
+    /// instead).
+    ///
+    /// Guarantees: the rows the sink receives are [`Renderer::render_banded_rows_binned`]'s rows
+    /// reduced to RGB565 ([`Rgba8888::to_rgb565`]), bit for bit, lit or not (a lit object is
+    /// shaded and lit in RGBA8888 and reduced as it is written), so a [`crate::sink::ChecksumSink`]
+    /// gives the same checksum either way. A scene with a blended object ([`Blend::Over`])
+    /// needs its colours' alpha: [`RenderError::NeedsRgbaBand`], nothing drawn.
+    #[allow(clippy::too_many_arguments)]
+    pub fn render_banded_rows_binned_rgb565<S: TriangleSource, P: PixelSink>(
+        &self,
+        scene: &S,
+        rows: core::ops::Range<u16>,
+        band: &mut [u16],
+        depth: &mut [u16],
+        band_rows: u16,
+        bins: &mut FrameBins<'_>,
+        sink: &mut P,
+    ) -> Result<RenderStats, RenderError> {
+        self.check(scene)?;
+        if let Some(object) = (0..scene.object_count())
+            .find(|&i| scene.object(i).is_some_and(|o| o.blend == Blend::Over))
+        {
+            return Err(RenderError::NeedsRgbaBand { object });
+        }
+        let (w, h) = scene.size();
+        let rows_n = band_rows.max(1).min(h.max(1));
+        let buf = Rgb565Buffer::new(band, w, 0, rows_n).ok_or(RenderError::BufferTooSmall)?;
+        self.render_bands(scene, rows, buf, depth, band_rows, bins, sink)
+    }
+
+    /// The banded render of [`Renderer::render_banded_rows_binned`] into the band `buf`
+    /// (`band_rows` rows of the image's width), for a scene [`Renderer::check`] passed.
+    #[allow(clippy::too_many_arguments)]
+    fn render_bands<S: TriangleSource, P: PixelSink, B: Band>(
+        &self,
+        scene: &S,
+        rows: core::ops::Range<u16>,
+        buf: B,
+        depth: &mut [u16],
+        band_rows: u16,
+        bins: &mut FrameBins<'_>,
+        sink: &mut P,
+    ) -> Result<RenderStats, RenderError> {
+        let (w, h) = scene.size();
         let reuse = bins.is_filled_for((w, h));
         let (first, end) = (rows.start.min(h), rows.end.min(h));
         let uses_depth =
             (0..scene.object_count()).any(|i| scene.object(i).is_some_and(|o| o.depth));
         let rows = band_rows.max(1).min(h.max(1));
-        let buf = RgbaBuffer::new(band, w, 0, rows).ok_or(RenderError::BufferTooSmall)?;
         let need = usize::from(w) * usize::from(rows);
         if uses_depth && depth.len() < need {
             return Err(RenderError::BufferTooSmall);
@@ -687,7 +778,7 @@ impl<'t, const T: usize, const N: usize> Renderer<'t, T, N> {
             #[cfg(not(feature = "lighting"))]
             draw.walk_unlit(keep);
             stats.skipped_groups += skipped;
-            flush_rows(&draw.buf, y0..y1, sink);
+            draw.buf.flush(y0..y1, sink);
             stats.bands += 1;
             y0 = y1;
         }

@@ -1,8 +1,9 @@
 //! Pixel sinks: where rendered rows go.
 //!
 //! [`PixelSink`] has one required method, [`PixelSink::write_span`] (a run of pixels of one row),
-//! and an overridable fast path, [`PixelSink::fill_span`] (a run of one colour), in the manner of
-//! `embedded_graphics::DrawTarget::fill_contiguous`. Implementations:
+//! and two overridable fast paths, [`PixelSink::fill_span`] (a run of one colour), in the manner
+//! of `embedded_graphics::DrawTarget::fill_contiguous`, and [`PixelSink::write_rgb565_span`] (a
+//! run of RGB565 pixels, what an RGB565 frame hands over). Implementations:
 //! - [`RgbaBuffer`]: an RGBA8888 buffer over a caller-owned slice (a whole frame, or a band);
 //! - [`Rgb565Buffer`]: an RGB565 buffer over a caller-owned `u16` slice;
 //! - [`ChecksumSink`]: only a checksum, for comparing device and host renders;
@@ -12,12 +13,32 @@
 //! Guarantees: sinks clip every write to their rectangle and never panic, whatever the
 //! coordinates.
 
-use crate::color::Rgba8888;
+use crate::color::{Rgb565, Rgba8888};
 
 /// A destination for rows of pixels.
 pub trait PixelSink {
     /// Writes `colors` to pixels `x .. x + colors.len()` of row `y`.
     fn write_span(&mut self, x: u16, y: u16, colors: &[Rgba8888]);
+
+    /// Writes the RGB565 pixels `bits` (raw, [`Rgb565::to_bits`]: the layout of a display's
+    /// frame memory) to pixels `x .. x + bits.len()` of row `y`. The default widens them
+    /// ([`Rgb565::to_rgba8888`], opaque) through [`PixelSink::write_span`] in chunks of 32; a sink
+    /// that stores or hashes RGB565 overrides it and takes them as they are. Either way an RGB565
+    /// pixel reduced by the sink ([`Rgba8888::to_rgb565`]) comes back unchanged.
+    fn write_rgb565_span(&mut self, x: u16, y: u16, bits: &[u16]) {
+        let mut wide = [Rgba8888::TRANSPARENT; 32];
+        let mut at = x;
+        for part in bits.chunks(32) {
+            let Some(w) = wide.get_mut(..part.len()) else {
+                return;
+            };
+            for (d, &s) in w.iter_mut().zip(part) {
+                *d = Rgb565(s).to_rgba8888();
+            }
+            self.write_span(at, y, w);
+            at = at.saturating_add(part.len() as u16);
+        }
+    }
 
     /// Fills `len` pixels of row `y` from `x` with one colour. The default writes chunks through
     /// [`PixelSink::write_span`].
@@ -176,18 +197,70 @@ impl<'a> Rgb565Buffer<'a> {
         })
     }
 
+    /// Width in pixels.
+    pub fn width(&self) -> u16 {
+        self.width
+    }
+
+    /// First row.
+    pub fn y0(&self) -> u16 {
+        self.y0
+    }
+
+    /// Number of rows.
+    pub fn height(&self) -> u16 {
+        self.height
+    }
+
     /// Moves the buffer to rows from `y0`.
     pub fn set_y0(&mut self, y0: u16) {
         self.y0 = y0;
     }
 
-    fn row_mut(&mut self, y: u16) -> Option<&mut [u16]> {
+    /// The pixels of row `y` (absolute), if inside.
+    pub fn row(&self, y: u16) -> Option<&[u16]> {
+        let r = usize::from(y.checked_sub(self.y0)?);
+        if r >= usize::from(self.height) {
+            return None;
+        }
+        let w = usize::from(self.width);
+        self.data.get(r * w..(r + 1) * w)
+    }
+
+    /// Mutable pixels of row `y` (absolute), if inside.
+    pub fn row_mut(&mut self, y: u16) -> Option<&mut [u16]> {
         let r = usize::from(y.checked_sub(self.y0)?);
         if r >= usize::from(self.height) {
             return None;
         }
         let w = usize::from(self.width);
         self.data.get_mut(r * w..(r + 1) * w)
+    }
+
+    /// Fills every pixel.
+    pub fn clear(&mut self, c: Rgb565) {
+        let n = usize::from(self.width) * usize::from(self.height);
+        if let Some(d) = self.data.get_mut(..n) {
+            crate::raster::fill_u16(d, c.to_bits());
+        }
+    }
+
+    /// Composites `colors` over pixels `x ..` of row `y` (alpha "over", [`crate::color::over`])
+    /// against the stored RGB565 pixels widened ([`Rgb565::to_rgba8888`]), the result reduced
+    /// ([`Rgba8888::to_rgb565`]): what blending into an RGB565 frame can do. (An RGBA8888 frame
+    /// reduced afterwards can differ where several blends stack: it keeps 8 bits a channel
+    /// between them.)
+    pub fn blend_span(&mut self, x: u16, y: u16, colors: &[Rgba8888]) {
+        let width = self.width;
+        if let (Some(row), Some((x0, off, n))) = (self.row_mut(y), clip_run(x, colors.len(), width))
+        {
+            if let (Some(dst), Some(src)) = (row.get_mut(x0..x0 + n), colors.get(off..off + n)) {
+                for (d, s) in dst.iter_mut().zip(src) {
+                    let under = Rgb565(*d).to_rgba8888();
+                    *d = crate::color::over(*s, under).to_rgb565().to_bits();
+                }
+            }
+        }
     }
 }
 
@@ -198,6 +271,15 @@ impl PixelSink for Rgb565Buffer<'_> {
         {
             for (d, s) in row[x0..x0 + n].iter_mut().zip(&colors[off..off + n]) {
                 *d = s.to_rgb565().to_bits();
+            }
+        }
+    }
+
+    fn write_rgb565_span(&mut self, x: u16, y: u16, bits: &[u16]) {
+        let width = self.width;
+        if let (Some(row), Some((x0, off, n))) = (self.row_mut(y), clip_run(x, bits.len(), width)) {
+            if let (Some(dst), Some(src)) = (row.get_mut(x0..x0 + n), bits.get(off..off + n)) {
+                dst.copy_from_slice(src);
             }
         }
     }
@@ -248,6 +330,20 @@ where
         let pixels = colors
             .iter()
             .map(|c| embedded_graphics_core::pixelcolor::Rgb565::from(c.to_rgb565()));
+        if self.target.fill_contiguous(&area, pixels).is_err() {
+            self.error = true;
+        }
+    }
+
+    /// The pixels as they are, one `fill_contiguous` call.
+    fn write_rgb565_span(&mut self, x: u16, y: u16, bits: &[u16]) {
+        use embedded_graphics_core::geometry::{Point, Size};
+        use embedded_graphics_core::primitives::Rectangle;
+        let n = bits.len().min(usize::from(u16::MAX)) as u32;
+        let area = Rectangle::new(Point::new(i32::from(x), i32::from(y)), Size::new(n, 1));
+        let pixels = bits
+            .iter()
+            .map(|&b| embedded_graphics_core::pixelcolor::Rgb565::from(Rgb565(b)));
         if self.target.fill_contiguous(&area, pixels).is_err() {
             self.error = true;
         }
@@ -362,6 +458,14 @@ impl PixelSink for ChecksumSink {
         }
         self.hash = h;
         self.pixels += colors.len() as u64;
+    }
+
+    /// The pixels as they are: the checksum [`PixelSink::write_span`] gives their widened
+    /// colours (`to_rgba8888().to_rgb565()` is the pixel itself).
+    /// The pixels as they are ([`ChecksumSink::add_rgb565_row`]): the checksum
+    /// [`PixelSink::write_span`] gives their widened colours.
+    fn write_rgb565_span(&mut self, _x: u16, _y: u16, bits: &[u16]) {
+        self.add_rgb565_row(bits);
     }
 }
 

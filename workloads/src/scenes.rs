@@ -306,12 +306,45 @@ fn draw_rows(
         None => 0..height,
     };
     let mut sink = ChecksumSink::resume(above);
-    match renderer
-        .render_banded_rows_binned(scene, rows, band, depth, BAND_ROWS, &mut bins, &mut sink)
-    {
-        Ok(_) => sink.checksum(),
-        Err(_) => 0,
+    let rgba =
+        !cfg!(feature = "rgb565-frames") || scene.objects.iter().any(|o| o.blend == Blend::Over);
+    let drawn = if rgba {
+        renderer
+            .render_banded_rows_binned(scene, rows, band, depth, BAND_ROWS, &mut bins, &mut sink)
+            .is_ok()
+    } else {
+        #[cfg(feature = "rgb565-frames")]
+        let drawn = rgb565_rows(renderer, scene, rows, depth, &mut bins, &mut sink);
+        #[cfg(not(feature = "rgb565-frames"))]
+        let drawn = false;
+        drawn
+    };
+    if drawn {
+        sink.checksum()
+    } else {
+        0
     }
+}
+
+/// Rows `rows` of `scene` (no object blends) through `renderer` into an RGB565 band of
+/// [`BAND_ROWS`] rows (`Renderer::render_banded_rows_binned_rgb565`: unlit segments shaded
+/// straight to RGB565, each row handed to `sink` as it is), on this frame's stack (5 KB, half
+/// the static RGBA band the blended scenes take). The sink's checksum is the RGBA band's: the
+/// RGB565 rows are its rows reduced. Whether the renderer drew.
+#[cfg(feature = "rgb565-frames")]
+#[inline(never)]
+fn rgb565_rows(
+    renderer: &FrameRenderer<'_>,
+    scene: &Scene,
+    rows: core::ops::Range<u16>,
+    depth: &mut [u16],
+    bins: &mut FrameBins<'_>,
+    sink: &mut ChecksumSink,
+) -> bool {
+    let mut band = [0u16; BAND_PIXELS];
+    renderer
+        .render_banded_rows_binned_rgb565(scene, rows, &mut band, depth, BAND_ROWS, bins, sink)
+        .is_ok()
 }
 
 /// The lit scenes the device renders (feature `lighting`): `<built-in>-lit` is the built-in

@@ -3,6 +3,7 @@
 //! by [`shade_segment`]. A walk without light compiles the same code whether the lit walk exists
 //! or not.
 
+use super::band::Band;
 use super::segment::shade_segment;
 use super::*;
 
@@ -32,24 +33,32 @@ impl<S: TriangleSource, P: PixelSink, const T: usize, const N: usize>
         let mut plane = W::Plane::default();
         let mut seg_sink = |seg: &Segment| {
             let light = light.segment(&mut plane, tri);
-            shade_segment(slots, o.texture, output, seg, light, |x, chunk| {
-                if W::LIT {
-                    *lit += chunk.len() as u64;
-                }
-                sink.write_span(x, seg.y, chunk)
-            });
+            shade_segment::<Rgba8888, T, N, _, _>(
+                slots,
+                o.texture,
+                output,
+                seg,
+                light,
+                |x, chunk| {
+                    if W::LIT {
+                        *lit += chunk.len() as u64;
+                    }
+                    sink.write_span(x, seg.y, chunk)
+                },
+            );
         };
         self.raster.draw(tri, &o.raster, &mut seg_sink);
     }
 }
 
-/// What the banded renderer draws a triangle with ([`Renderer::render_banded_rows_binned`]).
-pub(super) struct BandDraw<'a, 't, S, const T: usize, const N: usize> {
+/// What the banded renderer draws a triangle with ([`Renderer::render_banded_rows_binned`]), into
+/// a band `B` ([`Band`]: RGBA8888 or RGB565).
+pub(super) struct BandDraw<'a, 't, S, B, const T: usize, const N: usize> {
     pub(super) scene: &'a S,
     pub(super) slots: Slots<'t, T, N>,
     pub(super) output: Output,
     pub(super) raster: Rasterizer,
-    pub(super) buf: RgbaBuffer<'a>,
+    pub(super) buf: B,
     pub(super) depth: Option<DepthBuffer<'a>>,
     /// The bins this band's walk fills (the first band's, unless they were filled already).
     pub(super) binning: Option<&'a [core::cell::Cell<GroupRows>]>,
@@ -61,7 +70,7 @@ pub(super) struct BandDraw<'a, 't, S, const T: usize, const N: usize> {
     pub(super) lit: u64,
 }
 
-impl<S: TriangleSource, const T: usize, const N: usize> BandDraw<'_, '_, S, T, N> {
+impl<S: TriangleSource, B: Band, const T: usize, const N: usize> BandDraw<'_, '_, S, B, T, N> {
     /// One band's walk over the scene without light: the groups `keep` takes, each triangle
     /// drawn by [`BandDraw::triangle`]. Out of line, as is [`BandDraw::walk_lit`], so that each
     /// walk is compiled on its own: the unlit walk is the same code whether the lit one exists
@@ -104,19 +113,46 @@ impl<S: TriangleSource, const T: usize, const N: usize> BandDraw<'_, '_, S, T, N
         slots.new_triangle(tri);
         let (blended, lit) = (&mut self.blended, &mut self.lit);
         let mut plane = W::Plane::default();
+        // An unlit walk shades in the band's pixel (an RGB565 band: straight to RGB565); a lit
+        // one in RGBA8888, lit, then written (reduced by an RGB565 band), so that both bands
+        // hold the same colours. The choice is the walk's type: one shading path is compiled
+        // into each walk.
         let mut seg_sink = |seg: &Segment| {
             let light = light.segment(&mut plane, tri);
-            shade_segment(slots, o.texture, output, seg, light, |x, chunk| {
-                if W::LIT {
-                    *lit += chunk.len() as u64;
-                }
-                if o.blend == Blend::Over {
-                    *blended += chunk.len() as u64;
-                    buf.blend_span(x, seg.y, chunk);
-                } else {
-                    buf.write_span(x, seg.y, chunk);
-                }
-            });
+            if W::LIT {
+                shade_segment::<Rgba8888, T, N, _, _>(
+                    slots,
+                    o.texture,
+                    output,
+                    seg,
+                    light,
+                    |x, chunk| {
+                        *lit += chunk.len() as u64;
+                        if o.blend == Blend::Over {
+                            *blended += chunk.len() as u64;
+                            buf.blend_rgba(x, seg.y, chunk);
+                        } else {
+                            buf.write_rgba(x, seg.y, chunk);
+                        }
+                    },
+                );
+            } else {
+                shade_segment::<B::Px, T, N, _, _>(
+                    slots,
+                    o.texture,
+                    output,
+                    seg,
+                    light,
+                    |x, chunk| {
+                        if o.blend == Blend::Over {
+                            *blended += chunk.len() as u64;
+                            buf.blend(x, seg.y, chunk);
+                        } else {
+                            buf.write(x, seg.y, chunk);
+                        }
+                    },
+                );
+            }
         };
         match (o.depth, self.depth.as_mut()) {
             (true, Some(d)) => self.raster.draw_depth(tri, &o.raster, d, &mut seg_sink),

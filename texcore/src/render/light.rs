@@ -25,6 +25,9 @@ pub(super) trait WalkLight: Copy {
 
 /// The light of one segment's pixels (see [`WalkLight`]).
 pub(super) trait SegmentLight: Copy {
+    /// Whether [`SegmentLight::light_span`] changes the pixels (an unlit segment's does not).
+    const LIGHTS: bool = true;
+
     /// The lighting stage: multiplies the pixels `x..` of row `y` by the light.
     fn light_span(self, x: u16, y: u16, px: &mut [Rgba8888]);
 }
@@ -45,6 +48,8 @@ impl WalkLight for Unlit {
 }
 
 impl SegmentLight for Unlit {
+    const LIGHTS: bool = false;
+
     #[inline(always)]
     fn light_span(self, _: u16, _: u16, _: &mut [Rgba8888]) {}
 }

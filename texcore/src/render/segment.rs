@@ -4,6 +4,7 @@
 //! ([`Renderer::with_differences`]) a filtered texture takes its widths from the differences of
 //! neighbouring values. Nothing here allocates or panics.
 
+use super::band::ChunkColor;
 use super::*;
 
 /// The least vertical extent, in rows (of its vertices' bounding box), of a triangle that takes
@@ -67,12 +68,14 @@ pub(super) const fn log2(n: usize) -> u32 {
     usize::BITS - 1 - n.leading_zeros()
 }
 
-/// Shades one segment into chunks of at most [`CHUNK`] pixels, calling `out(x, chunk)`.
+/// Shades one segment into chunks of at most [`CHUNK`] pixels of colour `C` (the band's pixel,
+/// [`ChunkColor`]), calling `out(x, chunk)`.
 pub(super) fn shade_segment<
+    C: ChunkColor,
     const T: usize,
     const N: usize,
     L: SegmentLight,
-    O: FnMut(u16, &[Rgba8888]),
+    O: FnMut(u16, &[C]),
 >(
     slots: &mut Slots<'_, T, N>,
     slot: usize,
@@ -97,26 +100,26 @@ pub(super) fn shade_segment<
         slots.evals.get_mut(slot),
     ) {
         if e.stage().antialias() != crate::filter::Antialias::None {
-            let piece = |off: u16, px: &mut [Rgba8888]| {
+            let piece = |off: u16, px: &mut [C]| {
                 let x = seg.x0.saturating_add(off);
-                light.light_span(x, seg.y, px);
+                C::light(light, x, seg.y, px);
                 out(x, px);
             };
-            if e.differences_pieces::<_, _, CHUNK>(m, seg.x0, seg.y, &span, piece) {
+            if C::difference_pieces(e, m, seg.x0, seg.y, &span, piece) {
                 return;
             }
         }
     }
-    let mut chunk = [Rgba8888::TRANSPARENT; CHUNK];
+    let mut chunk = [C::BLANK; CHUNK];
     let mut n = 0usize;
     let mut x = seg.x0;
-    let mut push = |c: Rgba8888| {
+    let mut push = |c: C| {
         if let Some(p) = chunk.get_mut(n) {
             *p = c;
         }
         n += 1;
         if n == CHUNK {
-            light.light_span(x, seg.y, &mut chunk);
+            C::light(light, x, seg.y, &mut chunk);
             out(x, &chunk);
             x = x.saturating_add(CHUNK as u16);
             n = 0;
@@ -125,17 +128,17 @@ pub(super) fn shade_segment<
     match output {
         Output::Color => {
             if let Some(e) = slots.evals.get_mut(slot) {
-                e.shade(&span, &mut push);
+                C::shade_span(e, &span, &mut push);
             }
         }
         Output::FilterWidth => {
             if let Some(Some(we)) = slots.widths.get_mut(slot) {
-                width_span(we, &span, &mut push);
+                width_span(we, &span, |c| push(C::from_rgba(c)));
             }
         }
     }
     if let Some(rest) = chunk.get_mut(..n).filter(|r| !r.is_empty()) {
-        light.light_span(x, seg.y, rest);
+        C::light(light, x, seg.y, rest);
         out(x, rest);
     }
 }

@@ -355,6 +355,22 @@ fn draw_target_sink_equals_buffer() {
     // background fill per row (fill_solid).
     assert!(disp.pixels == buf, "DrawTarget and buffer differ");
     assert_eq!(disp.calls, st.raster.segments as usize + 64);
+    // An RGB565 band hands each finished row to the display as it is: one call a row, the
+    // same pixels.
+    let mut disp = Display {
+        pixels: vec![0; 64 * 64],
+        calls: 0,
+    };
+    let mut sink = crate::sink::DrawTargetSink::new(&mut disp);
+    let mut band = vec![0u16; 64 * 8];
+    r.render_banded_rgb565(&scene, &mut band, &mut [], 8, &mut sink)
+        .unwrap();
+    assert!(!sink.had_error());
+    assert!(
+        disp.pixels == buf,
+        "RGB565 band to DrawTarget and buffer differ"
+    );
+    assert_eq!(disp.calls, 64);
 }
 
 /// Built-in scene `name` at its still frame, and its textures ([`scene_textures`]).
