@@ -667,12 +667,18 @@ impl<'t, const T: usize, const N: usize> TextureEvaluator<'t, T, N> {
                 fi.wrapping_sub(ui)
             };
             let (left, right) = (dy(a), dy(b - 1));
-            for (i, (p, v)) in u.iter_mut().zip(f).enumerate() {
-                if i < a {
-                    *p = TexValue::from_bits(v.to_bits().wrapping_sub(left));
-                } else if i >= b {
-                    *p = TexValue::from_bits(v.to_bits().wrapping_sub(right));
+            // Only the pixels outside the held ones `a..b` (a loop over the whole span tested
+            // every pixel: about 6 instructions a pixel of `scene:fire~ramp-diff`).
+            let shift = |u: &mut [TexValue], f: &[TexValue], d: i32| {
+                for (p, v) in u.iter_mut().zip(f) {
+                    *p = TexValue::from_bits(v.to_bits().wrapping_sub(d));
                 }
+            };
+            if let (Some(u), Some(f)) = (u.get_mut(..a), f.get(..a)) {
+                shift(u, f, left);
+            }
+            if let (Some(u), Some(f)) = (u.get_mut(b..), f.get(b..)) {
+                shift(u, f, right);
             }
         }
         // What the memory holds: the row above as it was when it holds it (its own values,
