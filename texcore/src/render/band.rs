@@ -47,6 +47,19 @@ pub(super) trait ChunkColor: Copy {
         out: O,
     ) -> bool;
 
+    /// [`ChunkColor::difference_pieces`] written straight into `dst` (`put` making each element
+    /// from its colour: `TextureEvaluator::differences_into`); whether it could.
+    #[cfg(feature = "differences")]
+    fn difference_into<const T: usize, const N: usize, R, P: Fn(Self) -> R>(
+        e: &mut TextureEvaluator<'_, T, N>,
+        mem: &mut MemoryRows<'_>,
+        x: u16,
+        y: u16,
+        span: &Span,
+        dst: &mut [R],
+        put: P,
+    ) -> bool;
+
     /// Multiplies the pixels `x..` of row `y` by `light` (nothing for an unlit walk).
     fn light<L: SegmentLight>(light: L, x: u16, y: u16, px: &mut [Self]);
 }
@@ -79,6 +92,20 @@ impl ChunkColor for Rgba8888 {
         out: O,
     ) -> bool {
         e.differences_pieces::<Self, O, CHUNK>(mem, x, y, span, out)
+    }
+
+    #[cfg(feature = "differences")]
+    #[inline(always)]
+    fn difference_into<const T: usize, const N: usize, R, P: Fn(Self) -> R>(
+        e: &mut TextureEvaluator<'_, T, N>,
+        mem: &mut MemoryRows<'_>,
+        x: u16,
+        y: u16,
+        span: &Span,
+        dst: &mut [R],
+        put: P,
+    ) -> bool {
+        e.differences_into::<Self, R, P>(mem, x, y, span, dst, put)
     }
 
     #[inline(always)]
@@ -117,6 +144,20 @@ impl ChunkColor for Rgb565 {
         e.differences_pieces::<Self, O, CHUNK>(mem, x, y, span, out)
     }
 
+    #[cfg(feature = "differences")]
+    #[inline(always)]
+    fn difference_into<const T: usize, const N: usize, R, P: Fn(Self) -> R>(
+        e: &mut TextureEvaluator<'_, T, N>,
+        mem: &mut MemoryRows<'_>,
+        x: u16,
+        y: u16,
+        span: &Span,
+        dst: &mut [R],
+        put: P,
+    ) -> bool {
+        e.differences_into::<Self, R, P>(mem, x, y, span, dst, put)
+    }
+
     /// Widened, lit and reduced again (a band draw lights in RGBA8888 instead: see
     /// [`BandDraw::triangle`](super::draw::BandDraw::triangle)).
     #[inline(always)]
@@ -145,6 +186,15 @@ pub(super) trait Band {
     /// The band's pixel, in which unlit segments are shaded.
     type Px: ChunkColor;
 
+    /// What the band stores a pixel as.
+    type Raw;
+
+    /// The stored form of `p`.
+    fn to_raw(p: Self::Px) -> Self::Raw;
+
+    /// The storage of pixels `x .. x + len` of row `y`, if all of them are inside the band.
+    fn raw_row(&mut self, x: u16, y: u16, len: u16) -> Option<&mut [Self::Raw]>;
+
     /// The band's width in pixels.
     fn width(&self) -> u16;
 
@@ -172,6 +222,18 @@ pub(super) trait Band {
 
 impl Band for RgbaBuffer<'_> {
     type Px = Rgba8888;
+    type Raw = Rgba8888;
+
+    #[inline(always)]
+    fn to_raw(p: Rgba8888) -> Rgba8888 {
+        p
+    }
+
+    #[inline(always)]
+    fn raw_row(&mut self, x: u16, y: u16, len: u16) -> Option<&mut [Rgba8888]> {
+        let x = usize::from(x);
+        self.row_mut(y)?.get_mut(x..x + usize::from(len))
+    }
 
     #[inline(always)]
     fn width(&self) -> u16 {
@@ -216,6 +278,18 @@ impl Band for RgbaBuffer<'_> {
 
 impl Band for Rgb565Buffer<'_> {
     type Px = Rgb565;
+    type Raw = u16;
+
+    #[inline(always)]
+    fn to_raw(p: Rgb565) -> u16 {
+        p.to_bits()
+    }
+
+    #[inline(always)]
+    fn raw_row(&mut self, x: u16, y: u16, len: u16) -> Option<&mut [u16]> {
+        let x = usize::from(x);
+        self.row_mut(y)?.get_mut(x..x + usize::from(len))
+    }
 
     #[inline(always)]
     fn width(&self) -> u16 {

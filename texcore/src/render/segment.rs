@@ -68,21 +68,40 @@ pub(super) const fn log2(n: usize) -> u32 {
     usize::BITS - 1 - n.leading_zeros()
 }
 
-/// Shades one segment into chunks of at most [`CHUNK`] pixels of colour `C` (the band's pixel,
-/// [`ChunkColor`]), calling `out(x, chunk)`.
+/// Where a segment's colours go: chunks of pixels ([`SegmentOut::put`]), or, for a destination
+/// that holds the segment's pixels as they are (an RGB565 band's row, an unlit opaque object),
+/// straight into its storage ([`SegmentOut::direct`]).
+pub(super) trait SegmentOut<C: ChunkColor> {
+    /// What the destination stores a pixel as.
+    type Raw;
+
+    /// The stored form of `c`.
+    fn raw(c: C) -> Self::Raw;
+
+    /// The storage of pixels `x .. x + len` of row `y`, when the colours may be written there
+    /// as they are shaded (all of them inside the destination; no light, no blending).
+    fn direct(&mut self, x: u16, y: u16, len: u16) -> Option<&mut [Self::Raw]>;
+
+    /// Writes the chunk `px` at pixels `x..` of row `y`.
+    fn put(&mut self, x: u16, y: u16, px: &[C]);
+}
+
+/// Shades one segment into `dst`: chunks of at most [`CHUNK`] pixels of colour `C` (the band's
+/// pixel, [`ChunkColor`]), or, when `dst` takes them ([`SegmentOut::direct`]) and no light
+/// applies, the segment's colours straight into its storage (the same colours).
 pub(super) fn shade_segment<
     C: ChunkColor,
     const T: usize,
     const N: usize,
     L: SegmentLight,
-    O: FnMut(u16, &[C]),
+    D: SegmentOut<C>,
 >(
     slots: &mut Slots<'_, T, N>,
     slot: usize,
     output: Output,
     seg: &Segment,
     light: L,
-    mut out: O,
+    dst: &mut D,
 ) {
     let span = Span {
         s0: seg.s0,
@@ -91,7 +110,8 @@ pub(super) fn shade_segment<
         len: seg.len,
     };
     // Widths from differences for a filtered texture (an unfiltered one needs no widths, and
-    // no row above): the segment's colours a chunk at a time.
+    // no row above): the segment's colours straight into the destination, or a chunk at a
+    // time.
     #[cfg(feature = "differences")]
     if let (Output::Color, false, Some(m), Some(e)) = (
         output,
@@ -100,14 +120,36 @@ pub(super) fn shade_segment<
         slots.evals.get_mut(slot),
     ) {
         if e.stage().antialias() != crate::filter::Antialias::None {
+            if !L::LIGHTS {
+                if let Some(row) = dst.direct(seg.x0, seg.y, seg.len) {
+                    if C::difference_into(e, m, seg.x0, seg.y, &span, row, D::raw) {
+                        return;
+                    }
+                }
+            }
             let piece = |off: u16, px: &mut [C]| {
                 let x = seg.x0.saturating_add(off);
                 C::light(light, x, seg.y, px);
-                out(x, px);
+                dst.put(x, seg.y, px);
             };
             if C::difference_pieces(e, m, seg.x0, seg.y, &span, piece) {
                 return;
             }
+        }
+    }
+    // Unlit colours straight into a destination that takes them.
+    if let (Output::Color, false) = (output, L::LIGHTS) {
+        if let (Some(e), Some(row)) = (
+            slots.evals.get_mut(slot),
+            dst.direct(seg.x0, seg.y, seg.len),
+        ) {
+            let mut px = row.iter_mut();
+            C::shade_span(e, &span, |c| {
+                if let Some(p) = px.next() {
+                    *p = D::raw(c);
+                }
+            });
+            return;
         }
     }
     let mut chunk = [C::BLANK; CHUNK];
@@ -120,7 +162,7 @@ pub(super) fn shade_segment<
         n += 1;
         if n == CHUNK {
             C::light(light, x, seg.y, &mut chunk);
-            out(x, &chunk);
+            dst.put(x, seg.y, &chunk);
             x = x.saturating_add(CHUNK as u16);
             n = 0;
         }
@@ -139,7 +181,7 @@ pub(super) fn shade_segment<
     }
     if let Some(rest) = chunk.get_mut(..n).filter(|r| !r.is_empty()) {
         C::light(light, x, seg.y, rest);
-        out(x, rest);
+        dst.put(x, seg.y, rest);
     }
 }
 

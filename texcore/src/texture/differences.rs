@@ -612,6 +612,46 @@ impl<'t, const T: usize, const N: usize> TextureEvaluator<'t, T, N> {
         true
     }
 
+    /// [`TextureEvaluator::differences_pieces`] written straight into `dst` (one element a pixel
+    /// of the span, `put` making each from its colour) instead of pieces: the same colours
+    /// (the pieces are the whole span's colours cut into runs). `false` (nothing written) when
+    /// the span reaches past the memory's width or past `dst`. (The renderer's, feature
+    /// `differences`.)
+    #[cfg(feature = "differences")]
+    #[inline]
+    pub(crate) fn differences_into<C, D, P>(
+        &mut self,
+        mem: &mut MemoryRows<'_>,
+        x: u16,
+        y: u16,
+        span: &Span,
+        dst: &mut [D],
+        put: P,
+    ) -> bool
+    where
+        C: SpanColor,
+        P: Fn(C) -> D,
+    {
+        let Some(dst) = dst.get_mut(..usize::from(span.len)) else {
+            return false;
+        };
+        let Some(values) = self.segment_values(mem, x, y, span) else {
+            return false;
+        };
+        let tex = self.tex;
+        let mut out = dst.iter_mut();
+        shade_values(&tex.stage, tex.norm, values, |c: C| {
+            if let Some(d) = out.next() {
+                *d = put(c);
+            }
+        });
+        self.count_lookups(
+            tex.stage.antialias() != Antialias::None,
+            u64::from(span.len),
+        );
+        true
+    }
+
     /// The values of `span` at pixels `x..` of row `y` and of the pixels above it (from `mem`
     /// where it holds them, else evaluated one row up), both kept in `mem`, and the span's
     /// spread; `None` when the span reaches past the memory's width.
