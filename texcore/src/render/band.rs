@@ -186,12 +186,15 @@ pub(super) trait Band {
     /// The band's pixel, in which unlit segments are shaded.
     type Px: ChunkColor;
 
+    #[cfg(feature = "differences")]
     /// What the band stores a pixel as.
     type Raw;
 
+    #[cfg(feature = "differences")]
     /// The stored form of `p`.
     fn to_raw(p: Self::Px) -> Self::Raw;
 
+    #[cfg(feature = "differences")]
     /// The storage of pixels `x .. x + len` of row `y`, if all of them are inside the band.
     fn raw_row(&mut self, x: u16, y: u16, len: u16) -> Option<&mut [Self::Raw]>;
 
@@ -222,13 +225,16 @@ pub(super) trait Band {
 
 impl Band for RgbaBuffer<'_> {
     type Px = Rgba8888;
+    #[cfg(feature = "differences")]
     type Raw = Rgba8888;
 
+    #[cfg(feature = "differences")]
     #[inline(always)]
     fn to_raw(p: Rgba8888) -> Rgba8888 {
         p
     }
 
+    #[cfg(feature = "differences")]
     #[inline(always)]
     fn raw_row(&mut self, x: u16, y: u16, len: u16) -> Option<&mut [Rgba8888]> {
         let x = usize::from(x);
@@ -278,13 +284,16 @@ impl Band for RgbaBuffer<'_> {
 
 impl Band for Rgb565Buffer<'_> {
     type Px = Rgb565;
+    #[cfg(feature = "differences")]
     type Raw = u16;
 
+    #[cfg(feature = "differences")]
     #[inline(always)]
     fn to_raw(p: Rgb565) -> u16 {
         p.to_bits()
     }
 
+    #[cfg(feature = "differences")]
     #[inline(always)]
     fn raw_row(&mut self, x: u16, y: u16, len: u16) -> Option<&mut [u16]> {
         let x = usize::from(x);

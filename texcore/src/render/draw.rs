@@ -147,19 +147,22 @@ struct StreamOut<'o, P, W> {
 }
 
 impl<P: PixelSink, W: WalkLight> SegmentOut<Rgba8888> for StreamOut<'_, P, W> {
+    #[cfg(feature = "differences")]
     type Raw = Rgba8888;
 
+    #[cfg(feature = "differences")]
     #[inline(always)]
     fn raw(c: Rgba8888) -> Rgba8888 {
         c
     }
 
+    #[cfg(feature = "differences")]
     #[inline(always)]
     fn direct(&mut self, _: u16, _: u16, _: u16) -> Option<&mut [Rgba8888]> {
         None
     }
 
-    #[inline(always)]
+    #[inline]
     fn put(&mut self, x: u16, y: u16, px: &[Rgba8888]) {
         if W::LIT {
             *self.lit += px.len() as u64;
@@ -177,13 +180,16 @@ struct BandOut<'o, B> {
 }
 
 impl<B: Band> SegmentOut<B::Px> for BandOut<'_, B> {
+    #[cfg(feature = "differences")]
     type Raw = B::Raw;
 
+    #[cfg(feature = "differences")]
     #[inline(always)]
     fn raw(c: B::Px) -> B::Raw {
         B::to_raw(c)
     }
 
+    #[cfg(feature = "differences")]
     #[inline(always)]
     fn direct(&mut self, x: u16, y: u16, len: u16) -> Option<&mut [B::Raw]> {
         if self.blend {
@@ -192,7 +198,7 @@ impl<B: Band> SegmentOut<B::Px> for BandOut<'_, B> {
         self.buf.raw_row(x, y, len)
     }
 
-    #[inline(always)]
+    #[inline]
     fn put(&mut self, x: u16, y: u16, px: &[B::Px]) {
         if self.blend {
             *self.blended += px.len() as u64;
@@ -213,19 +219,22 @@ struct LitBandOut<'o, B> {
 }
 
 impl<B: Band> SegmentOut<Rgba8888> for LitBandOut<'_, B> {
+    #[cfg(feature = "differences")]
     type Raw = Rgba8888;
 
+    #[cfg(feature = "differences")]
     #[inline(always)]
     fn raw(c: Rgba8888) -> Rgba8888 {
         c
     }
 
+    #[cfg(feature = "differences")]
     #[inline(always)]
     fn direct(&mut self, _: u16, _: u16, _: u16) -> Option<&mut [Rgba8888]> {
         None
     }
 
-    #[inline(always)]
+    #[inline]
     fn put(&mut self, x: u16, y: u16, px: &[Rgba8888]) {
         *self.lit += px.len() as u64;
         if self.blend {

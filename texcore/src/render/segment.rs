@@ -72,12 +72,15 @@ pub(super) const fn log2(n: usize) -> u32 {
 /// that holds the segment's pixels as they are (an RGB565 band's row, an unlit opaque object),
 /// straight into its storage ([`SegmentOut::direct`]).
 pub(super) trait SegmentOut<C: ChunkColor> {
+    #[cfg(feature = "differences")]
     /// What the destination stores a pixel as.
     type Raw;
 
+    #[cfg(feature = "differences")]
     /// The stored form of `c`.
     fn raw(c: C) -> Self::Raw;
 
+    #[cfg(feature = "differences")]
     /// The storage of pixels `x .. x + len` of row `y`, when the colours may be written there
     /// as they are shaded (all of them inside the destination; no light, no blending).
     fn direct(&mut self, x: u16, y: u16, len: u16) -> Option<&mut [Self::Raw]>;
@@ -87,8 +90,11 @@ pub(super) trait SegmentOut<C: ChunkColor> {
 }
 
 /// Shades one segment into `dst`: chunks of at most [`CHUNK`] pixels of colour `C` (the band's
-/// pixel, [`ChunkColor`]), or, when `dst` takes them ([`SegmentOut::direct`]) and no light
-/// applies, the segment's colours straight into its storage (the same colours).
+/// pixel, [`ChunkColor`]), or, with widths from differences, when `dst` takes them
+/// ([`SegmentOut::direct`]) and no light applies, the segment's colours straight into its
+/// storage (the same colours). (Only the differences' path writes straight into the storage:
+/// the gradients' path would compile its whole evaluation a second time, 9 KB of the fast
+/// shape and 0.2 KB past the `full` size budget, for 9 to 14 instructions a pixel.)
 pub(super) fn shade_segment<
     C: ChunkColor,
     const T: usize,
@@ -135,21 +141,6 @@ pub(super) fn shade_segment<
             if C::difference_pieces(e, m, seg.x0, seg.y, &span, piece) {
                 return;
             }
-        }
-    }
-    // Unlit colours straight into a destination that takes them.
-    if let (Output::Color, false) = (output, L::LIGHTS) {
-        if let (Some(e), Some(row)) = (
-            slots.evals.get_mut(slot),
-            dst.direct(seg.x0, seg.y, seg.len),
-        ) {
-            let mut px = row.iter_mut();
-            C::shade_span(e, &span, |c| {
-                if let Some(p) = px.next() {
-                    *p = D::raw(c);
-                }
-            });
-            return;
         }
     }
     let mut chunk = [C::BLANK; CHUNK];
