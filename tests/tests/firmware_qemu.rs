@@ -702,8 +702,8 @@ fn cortex_m4f_stack_guard() {
 
 /// The bound of a built-in scene in an approximate mode (`scene:<name>~ramp` and
 /// `scene:<name>~ramp-diff`, instructions a frame pixel; about 5% above the figures when it was
-/// set, with the frames in an RGB565 band, M4F / rv32imc: fire 277.4 / 356.4 and 201.2 /
-/// 270.5, marble 836.6 / 1127.7 and 817.4 / 1087.3).
+/// set, with the frames in an RGB565 band, M4F / rv32imc: fire 277.6 / 356.6 and 200.1 /
+/// 270.5, marble 838.2 / 1129.1 and 818.3 / 1088.4).
 fn approximate_scene_bound(target: DeviceTarget, scene: &str) -> f64 {
     match (target, scene) {
         (DeviceTarget::CortexM4F, "scene:fire~ramp") => 292.0,

@@ -315,7 +315,11 @@ pub fn markdown(rows: &[CycleRow], quick: bool) -> String {
          the scene, as one whole-frame call does), one device job each (their counts are summed here), \
          each strip's checksum continuing the previous one's: \
          the last strip's is the checksum of the whole frame, which must equal \
-         `texsim render <scene> --checksum` (with `--hash int` on rv32imc). `match`: the device's \
+         `texsim render <scene> --checksum` (with `--hash int` on rv32imc). The approximate rows \
+         (`scene:<name>~ramp`, `scene:<name>~ramp-diff`) are whole frames of the firmware's \
+         `approximate-scenes` build, rendered into an RGB565 band \
+         (`Renderer::render_banded_rows_binned_rgb565`: the RGBA band's rows reduced, the same \
+         checksum). `match`: the device's \
          checksum equals the host's for the same job, its set-up and (built-in scenes) every \
          strip, with the same lattice hash (Cortex-M4F: permutation table, rv32imc: integer \
          hash). The Cortex-M4F counter (SysTick vernier) measures at most {} instructions per \

@@ -4,7 +4,9 @@
 //! or not.
 
 use super::band::Band;
-use super::segment::{shade_segment, SegmentOut};
+use super::segment::shade_segment;
+#[cfg(feature = "differences")]
+use super::segment::shade_segment_into;
 use super::*;
 
 /// What the streamed renderer draws a triangle with ([`Renderer::render_streamed`]).
@@ -33,12 +35,19 @@ impl<S: TriangleSource, P: PixelSink, const T: usize, const N: usize>
         let mut plane = W::Plane::default();
         let mut seg_sink = |seg: &Segment| {
             let light = light.segment(&mut plane, tri);
-            let mut out = StreamOut::<P, W> {
-                sink: &mut *sink,
-                lit: &mut *lit,
-                walk: core::marker::PhantomData,
-            };
-            shade_segment::<Rgba8888, T, N, _, _>(slots, o.texture, output, seg, light, &mut out);
+            shade_segment::<Rgba8888, T, N, _, _>(
+                slots,
+                o.texture,
+                output,
+                seg,
+                light,
+                |x, chunk| {
+                    if W::LIT {
+                        *lit += chunk.len() as u64;
+                    }
+                    sink.write_span(x, seg.y, chunk)
+                },
+            );
         };
         self.raster.draw(tri, &o.raster, &mut seg_sink);
     }
@@ -110,138 +119,57 @@ impl<S: TriangleSource, B: Band, const T: usize, const N: usize> BandDraw<'_, '_
         // one in RGBA8888, lit, then written (reduced by an RGB565 band), so that both bands
         // hold the same colours. The choice is the walk's type: one shading path is compiled
         // into each walk.
-        let blend = o.blend == Blend::Over;
         let mut seg_sink = |seg: &Segment| {
             let light = light.segment(&mut plane, tri);
             if W::LIT {
-                let mut out = LitBandOut {
-                    buf: &mut *buf,
-                    blend,
-                    blended: &mut *blended,
-                    lit: &mut *lit,
-                };
                 shade_segment::<Rgba8888, T, N, _, _>(
-                    slots, o.texture, output, seg, light, &mut out,
+                    slots,
+                    o.texture,
+                    output,
+                    seg,
+                    light,
+                    |x, chunk| {
+                        *lit += chunk.len() as u64;
+                        if o.blend == Blend::Over {
+                            *blended += chunk.len() as u64;
+                            buf.blend_rgba(x, seg.y, chunk);
+                        } else {
+                            buf.write_rgba(x, seg.y, chunk);
+                        }
+                    },
                 );
             } else {
-                let mut out = BandOut {
-                    buf: &mut *buf,
-                    blend,
-                    blended: &mut *blended,
-                };
-                shade_segment::<B::Px, T, N, _, _>(slots, o.texture, output, seg, light, &mut out);
+                // An opaque segment with widths from differences straight into the band's
+                // row.
+                #[cfg(feature = "differences")]
+                if o.blend != Blend::Over {
+                    if let Some(row) = buf.raw_row(seg.x0, seg.y, seg.len) {
+                        let into = shade_segment_into::<B::Px, T, N, _>;
+                        if into(slots, o.texture, output, seg, row, B::to_raw) {
+                            return;
+                        }
+                    }
+                }
+                shade_segment::<B::Px, T, N, _, _>(
+                    slots,
+                    o.texture,
+                    output,
+                    seg,
+                    light,
+                    |x, chunk| {
+                        if o.blend == Blend::Over {
+                            *blended += chunk.len() as u64;
+                            buf.blend(x, seg.y, chunk);
+                        } else {
+                            buf.write(x, seg.y, chunk);
+                        }
+                    },
+                );
             }
         };
         match (o.depth, self.depth.as_mut()) {
             (true, Some(d)) => self.raster.draw_depth(tri, &o.raster, d, &mut seg_sink),
             _ => self.raster.draw(tri, &o.raster, &mut seg_sink),
-        }
-    }
-}
-
-/// A streamed segment's chunks: to the sink, counted as lit by a lit walk `W`.
-struct StreamOut<'o, P, W> {
-    sink: &'o mut P,
-    lit: &'o mut u64,
-    walk: core::marker::PhantomData<W>,
-}
-
-impl<P: PixelSink, W: WalkLight> SegmentOut<Rgba8888> for StreamOut<'_, P, W> {
-    #[cfg(feature = "differences")]
-    type Raw = Rgba8888;
-
-    #[cfg(feature = "differences")]
-    #[inline(always)]
-    fn raw(c: Rgba8888) -> Rgba8888 {
-        c
-    }
-
-    #[cfg(feature = "differences")]
-    #[inline(always)]
-    fn direct(&mut self, _: u16, _: u16, _: u16) -> Option<&mut [Rgba8888]> {
-        None
-    }
-
-    #[inline]
-    fn put(&mut self, x: u16, y: u16, px: &[Rgba8888]) {
-        if W::LIT {
-            *self.lit += px.len() as u64;
-        }
-        self.sink.write_span(x, y, px);
-    }
-}
-
-/// An unlit segment's pixels in the band's own format: straight into the band's row (opaque),
-/// or chunks written or blended.
-struct BandOut<'o, B> {
-    buf: &'o mut B,
-    blend: bool,
-    blended: &'o mut u64,
-}
-
-impl<B: Band> SegmentOut<B::Px> for BandOut<'_, B> {
-    #[cfg(feature = "differences")]
-    type Raw = B::Raw;
-
-    #[cfg(feature = "differences")]
-    #[inline(always)]
-    fn raw(c: B::Px) -> B::Raw {
-        B::to_raw(c)
-    }
-
-    #[cfg(feature = "differences")]
-    #[inline(always)]
-    fn direct(&mut self, x: u16, y: u16, len: u16) -> Option<&mut [B::Raw]> {
-        if self.blend {
-            return None;
-        }
-        self.buf.raw_row(x, y, len)
-    }
-
-    #[inline]
-    fn put(&mut self, x: u16, y: u16, px: &[B::Px]) {
-        if self.blend {
-            *self.blended += px.len() as u64;
-            self.buf.blend(x, y, px);
-        } else {
-            self.buf.write(x, y, px);
-        }
-    }
-}
-
-/// A lit segment's RGBA8888 chunks, written or blended into the band (reduced by an RGB565
-/// band), counted as lit.
-struct LitBandOut<'o, B> {
-    buf: &'o mut B,
-    blend: bool,
-    blended: &'o mut u64,
-    lit: &'o mut u64,
-}
-
-impl<B: Band> SegmentOut<Rgba8888> for LitBandOut<'_, B> {
-    #[cfg(feature = "differences")]
-    type Raw = Rgba8888;
-
-    #[cfg(feature = "differences")]
-    #[inline(always)]
-    fn raw(c: Rgba8888) -> Rgba8888 {
-        c
-    }
-
-    #[cfg(feature = "differences")]
-    #[inline(always)]
-    fn direct(&mut self, _: u16, _: u16, _: u16) -> Option<&mut [Rgba8888]> {
-        None
-    }
-
-    #[inline]
-    fn put(&mut self, x: u16, y: u16, px: &[Rgba8888]) {
-        *self.lit += px.len() as u64;
-        if self.blend {
-            *self.blended += px.len() as u64;
-            self.buf.blend_rgba(x, y, px);
-        } else {
-            self.buf.write_rgba(x, y, px);
         }
     }
 }

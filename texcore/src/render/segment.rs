@@ -68,46 +68,58 @@ pub(super) const fn log2(n: usize) -> u32 {
     usize::BITS - 1 - n.leading_zeros()
 }
 
-/// Where a segment's colours go: chunks of pixels ([`SegmentOut::put`]), or, for a destination
-/// that holds the segment's pixels as they are (an RGB565 band's row, an unlit opaque object),
-/// straight into its storage ([`SegmentOut::direct`]).
-pub(super) trait SegmentOut<C: ChunkColor> {
-    #[cfg(feature = "differences")]
-    /// What the destination stores a pixel as.
-    type Raw;
-
-    #[cfg(feature = "differences")]
-    /// The stored form of `c`.
-    fn raw(c: C) -> Self::Raw;
-
-    #[cfg(feature = "differences")]
-    /// The storage of pixels `x .. x + len` of row `y`, when the colours may be written there
-    /// as they are shaded (all of them inside the destination; no light, no blending).
-    fn direct(&mut self, x: u16, y: u16, len: u16) -> Option<&mut [Self::Raw]>;
-
-    /// Writes the chunk `px` at pixels `x..` of row `y`.
-    fn put(&mut self, x: u16, y: u16, px: &[C]);
+/// Shades an unlit segment with widths from differences straight into `row` (one element a
+/// pixel of the segment, `put` making each from its colour: an opaque object's pixels in the
+/// band's own storage, no chunk and no copy); whether it could (the texture is filtered, the
+/// renderer has a difference memory and the triangle takes its widths from it). The colours
+/// are [`shade_segment`]'s. (The gradients' path keeps its chunks: written straight into the row
+/// it compiled its whole evaluation a second time, 9 KB of the fast shape and 0.2 KB past the
+/// `full` size budget, for 9 to 14 instructions a pixel.)
+#[cfg(feature = "differences")]
+#[inline(always)]
+pub(super) fn shade_segment_into<C: ChunkColor, const T: usize, const N: usize, R>(
+    slots: &mut Slots<'_, T, N>,
+    slot: usize,
+    output: Output,
+    seg: &Segment,
+    row: &mut [R],
+    put: impl Fn(C) -> R,
+) -> bool {
+    let (Output::Color, false, Some(m), Some(e)) = (
+        output,
+        slots.short,
+        slots.mem.as_mut(),
+        slots.evals.get_mut(slot),
+    ) else {
+        return false;
+    };
+    if e.stage().antialias() == crate::filter::Antialias::None {
+        return false;
+    }
+    let span = Span {
+        s0: seg.s0,
+        ds: seg.ds,
+        dsdy: seg.dsdy,
+        len: seg.len,
+    };
+    C::difference_into(e, m, seg.x0, seg.y, &span, row, put)
 }
 
-/// Shades one segment into `dst`: chunks of at most [`CHUNK`] pixels of colour `C` (the band's
-/// pixel, [`ChunkColor`]), or, with widths from differences, when `dst` takes them
-/// ([`SegmentOut::direct`]) and no light applies, the segment's colours straight into its
-/// storage (the same colours). (Only the differences' path writes straight into the storage:
-/// the gradients' path would compile its whole evaluation a second time, 9 KB of the fast
-/// shape and 0.2 KB past the `full` size budget, for 9 to 14 instructions a pixel.)
+/// Shades one segment into chunks of at most [`CHUNK`] pixels of colour `C` (the band's pixel,
+/// [`ChunkColor`]), calling `out(x, chunk)`.
 pub(super) fn shade_segment<
     C: ChunkColor,
     const T: usize,
     const N: usize,
     L: SegmentLight,
-    D: SegmentOut<C>,
+    O: FnMut(u16, &[C]),
 >(
     slots: &mut Slots<'_, T, N>,
     slot: usize,
     output: Output,
     seg: &Segment,
     light: L,
-    dst: &mut D,
+    mut out: O,
 ) {
     let span = Span {
         s0: seg.s0,
@@ -116,8 +128,7 @@ pub(super) fn shade_segment<
         len: seg.len,
     };
     // Widths from differences for a filtered texture (an unfiltered one needs no widths, and
-    // no row above): the segment's colours straight into the destination, or a chunk at a
-    // time.
+    // no row above): the segment's colours a chunk at a time.
     #[cfg(feature = "differences")]
     if let (Output::Color, false, Some(m), Some(e)) = (
         output,
@@ -126,17 +137,10 @@ pub(super) fn shade_segment<
         slots.evals.get_mut(slot),
     ) {
         if e.stage().antialias() != crate::filter::Antialias::None {
-            if !L::LIGHTS {
-                if let Some(row) = dst.direct(seg.x0, seg.y, seg.len) {
-                    if C::difference_into(e, m, seg.x0, seg.y, &span, row, D::raw) {
-                        return;
-                    }
-                }
-            }
             let piece = |off: u16, px: &mut [C]| {
                 let x = seg.x0.saturating_add(off);
                 C::light(light, x, seg.y, px);
-                dst.put(x, seg.y, px);
+                out(x, px);
             };
             if C::difference_pieces(e, m, seg.x0, seg.y, &span, piece) {
                 return;
@@ -153,7 +157,7 @@ pub(super) fn shade_segment<
         n += 1;
         if n == CHUNK {
             C::light(light, x, seg.y, &mut chunk);
-            dst.put(x, seg.y, &chunk);
+            out(x, &chunk);
             x = x.saturating_add(CHUNK as u16);
             n = 0;
         }
@@ -172,7 +176,7 @@ pub(super) fn shade_segment<
     }
     if let Some(rest) = chunk.get_mut(..n).filter(|r| !r.is_empty()) {
         C::light(light, x, seg.y, rest);
-        dst.put(x, seg.y, rest);
+        out(x, rest);
     }
 }
 
