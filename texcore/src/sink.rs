@@ -64,19 +64,6 @@ fn clip_run(x: u16, n: usize, width: u16) -> Option<(usize, usize, usize)> {
     Some((x, 0, n.min(w - x)))
 }
 
-/// The pixels of `row` (a row `width` pixels wide, if inside the buffer) that a run of `src`
-/// from `x` covers, and the part of `src` that lands on them: the run clipped to the row.
-#[inline]
-fn clipped<'r, 's, T, S>(
-    row: Option<&'r mut [T]>,
-    x: u16,
-    width: u16,
-    src: &'s [S],
-) -> Option<(&'r mut [T], &'s [S])> {
-    let (x0, off, n) = clip_run(x, src.len(), width)?;
-    Some((row?.get_mut(x0..x0 + n)?, src.get(off..off + n)?))
-}
-
 /// An RGBA8888 image over a caller-owned slice: rows `y0 .. y0 + height` of a `width`-pixel image
 /// (a full frame with `y0 = 0`, or one band).
 #[derive(Debug)]
@@ -153,9 +140,12 @@ impl<'a> RgbaBuffer<'a> {
     /// Composites `colors` over pixels `x ..` of row `y` (alpha "over").
     pub fn blend_span(&mut self, x: u16, y: u16, colors: &[Rgba8888]) {
         let width = self.width;
-        if let Some((dst, src)) = clipped(self.row_mut(y), x, width, colors) {
-            for (d, s) in dst.iter_mut().zip(src) {
-                *d = crate::color::over(*s, *d);
+        if let (Some(row), Some((x0, off, n))) = (self.row_mut(y), clip_run(x, colors.len(), width))
+        {
+            if let (Some(dst), Some(src)) = (row.get_mut(x0..x0 + n), colors.get(off..off + n)) {
+                for (d, s) in dst.iter_mut().zip(src) {
+                    *d = crate::color::over(*s, *d);
+                }
             }
         }
     }
@@ -164,8 +154,11 @@ impl<'a> RgbaBuffer<'a> {
 impl PixelSink for RgbaBuffer<'_> {
     fn write_span(&mut self, x: u16, y: u16, colors: &[Rgba8888]) {
         let width = self.width;
-        if let Some((dst, src)) = clipped(self.row_mut(y), x, width, colors) {
-            dst.copy_from_slice(src);
+        if let (Some(row), Some((x0, off, n))) = (self.row_mut(y), clip_run(x, colors.len(), width))
+        {
+            if let (Some(dst), Some(src)) = (row.get_mut(x0..x0 + n), colors.get(off..off + n)) {
+                dst.copy_from_slice(src);
+            }
         }
     }
 
@@ -259,10 +252,13 @@ impl<'a> Rgb565Buffer<'a> {
     /// between them.)
     pub fn blend_span(&mut self, x: u16, y: u16, colors: &[Rgba8888]) {
         let width = self.width;
-        if let Some((dst, src)) = clipped(self.row_mut(y), x, width, colors) {
-            for (d, s) in dst.iter_mut().zip(src) {
-                let under = Rgb565(*d).to_rgba8888();
-                *d = crate::color::over(*s, under).to_rgb565().to_bits();
+        if let (Some(row), Some((x0, off, n))) = (self.row_mut(y), clip_run(x, colors.len(), width))
+        {
+            if let (Some(dst), Some(src)) = (row.get_mut(x0..x0 + n), colors.get(off..off + n)) {
+                for (d, s) in dst.iter_mut().zip(src) {
+                    let under = Rgb565(*d).to_rgba8888();
+                    *d = crate::color::over(*s, under).to_rgb565().to_bits();
+                }
             }
         }
     }
@@ -271,8 +267,9 @@ impl<'a> Rgb565Buffer<'a> {
 impl PixelSink for Rgb565Buffer<'_> {
     fn write_span(&mut self, x: u16, y: u16, colors: &[Rgba8888]) {
         let width = self.width;
-        if let Some((dst, src)) = clipped(self.row_mut(y), x, width, colors) {
-            for (d, s) in dst.iter_mut().zip(src) {
+        if let (Some(row), Some((x0, off, n))) = (self.row_mut(y), clip_run(x, colors.len(), width))
+        {
+            for (d, s) in row[x0..x0 + n].iter_mut().zip(&colors[off..off + n]) {
                 *d = s.to_rgb565().to_bits();
             }
         }
@@ -280,8 +277,10 @@ impl PixelSink for Rgb565Buffer<'_> {
 
     fn write_rgb565_span(&mut self, x: u16, y: u16, bits: &[u16]) {
         let width = self.width;
-        if let Some((dst, src)) = clipped(self.row_mut(y), x, width, bits) {
-            dst.copy_from_slice(src);
+        if let (Some(row), Some((x0, off, n))) = (self.row_mut(y), clip_run(x, bits.len(), width)) {
+            if let (Some(dst), Some(src)) = (row.get_mut(x0..x0 + n), bits.get(off..off + n)) {
+                dst.copy_from_slice(src);
+            }
         }
     }
 }
