@@ -29,6 +29,7 @@ mod rgb565;
 mod rows;
 #[cfg(feature = "differences")]
 pub(crate) use differences::MemoryRows;
+pub(crate) use differences::SpanColor;
 pub use differences::{DifferenceMemory, DifferenceRows, DifferenceSpans, TILE_ROWS};
 pub use rows::TextureRows;
 

@@ -19,9 +19,10 @@
 use super::*;
 use crate::color::Rgb565;
 use crate::sink::Rgb565Buffer;
+use crate::texture::SpanColor;
 
 /// The colour a segment is shaded in, chunk by chunk: the pixel of the band it goes to.
-pub(super) trait ChunkColor: Copy {
+pub(super) trait ChunkColor: SpanColor + Copy + Default {
     /// A chunk's initial pixel (overwritten before it is read).
     const BLANK: Self;
 
@@ -34,31 +35,6 @@ pub(super) trait ChunkColor: Copy {
         span: &Span,
         emit: F,
     );
-
-    /// The segment's colours with widths from differences, a piece of at most [`CHUNK`] pixels
-    /// at a time (`TextureEvaluator::differences_pieces`); whether it could.
-    #[cfg(feature = "differences")]
-    fn difference_pieces<const T: usize, const N: usize, O: FnMut(u16, &mut [Self])>(
-        e: &mut TextureEvaluator<'_, T, N>,
-        mem: &mut MemoryRows<'_>,
-        x: u16,
-        y: u16,
-        span: &Span,
-        out: O,
-    ) -> bool;
-
-    /// [`ChunkColor::difference_pieces`] written straight into `dst` (`put` making each element
-    /// from its colour: `TextureEvaluator::differences_into`); whether it could.
-    #[cfg(feature = "differences")]
-    fn difference_into<const T: usize, const N: usize, R, P: Fn(Self) -> R>(
-        e: &mut TextureEvaluator<'_, T, N>,
-        mem: &mut MemoryRows<'_>,
-        x: u16,
-        y: u16,
-        span: &Span,
-        dst: &mut [R],
-        put: P,
-    ) -> bool;
 
     /// Multiplies the pixels `x..` of row `y` by `light` (nothing for an unlit walk).
     fn light<L: SegmentLight>(light: L, x: u16, y: u16, px: &mut [Self]);
@@ -79,33 +55,6 @@ impl ChunkColor for Rgba8888 {
         emit: F,
     ) {
         e.shade(span, emit);
-    }
-
-    #[cfg(feature = "differences")]
-    #[inline(always)]
-    fn difference_pieces<const T: usize, const N: usize, O: FnMut(u16, &mut [Self])>(
-        e: &mut TextureEvaluator<'_, T, N>,
-        mem: &mut MemoryRows<'_>,
-        x: u16,
-        y: u16,
-        span: &Span,
-        out: O,
-    ) -> bool {
-        e.differences_pieces::<Self, O, CHUNK>(mem, x, y, span, out)
-    }
-
-    #[cfg(feature = "differences")]
-    #[inline(always)]
-    fn difference_into<const T: usize, const N: usize, R, P: Fn(Self) -> R>(
-        e: &mut TextureEvaluator<'_, T, N>,
-        mem: &mut MemoryRows<'_>,
-        x: u16,
-        y: u16,
-        span: &Span,
-        dst: &mut [R],
-        put: P,
-    ) -> bool {
-        e.differences_into::<Self, R, P>(mem, x, y, span, dst, put)
     }
 
     #[inline(always)]
@@ -129,33 +78,6 @@ impl ChunkColor for Rgb565 {
         emit: F,
     ) {
         e.shade565(span, emit);
-    }
-
-    #[cfg(feature = "differences")]
-    #[inline(always)]
-    fn difference_pieces<const T: usize, const N: usize, O: FnMut(u16, &mut [Self])>(
-        e: &mut TextureEvaluator<'_, T, N>,
-        mem: &mut MemoryRows<'_>,
-        x: u16,
-        y: u16,
-        span: &Span,
-        out: O,
-    ) -> bool {
-        e.differences_pieces::<Self, O, CHUNK>(mem, x, y, span, out)
-    }
-
-    #[cfg(feature = "differences")]
-    #[inline(always)]
-    fn difference_into<const T: usize, const N: usize, R, P: Fn(Self) -> R>(
-        e: &mut TextureEvaluator<'_, T, N>,
-        mem: &mut MemoryRows<'_>,
-        x: u16,
-        y: u16,
-        span: &Span,
-        dst: &mut [R],
-        put: P,
-    ) -> bool {
-        e.differences_into::<Self, R, P>(mem, x, y, span, dst, put)
     }
 
     /// Widened, lit and reduced again (a band draw lights in RGBA8888 instead: see

@@ -102,7 +102,7 @@ pub(super) fn shade_segment_into<C: ChunkColor, const T: usize, const N: usize, 
         dsdy: seg.dsdy,
         len: seg.len,
     };
-    C::difference_into(e, m, seg.x0, seg.y, &span, row, put)
+    e.differences_into::<C, R, _>(m, seg.x0, seg.y, &span, row, put)
 }
 
 /// Shades one segment into chunks of at most [`CHUNK`] pixels of colour `C` (the band's pixel,
@@ -142,7 +142,7 @@ pub(super) fn shade_segment<
                 C::light(light, x, seg.y, px);
                 out(x, px);
             };
-            if C::difference_pieces(e, m, seg.x0, seg.y, &span, piece) {
+            if e.differences_pieces::<C, _, CHUNK>(m, seg.x0, seg.y, &span, piece) {
                 return;
             }
         }
