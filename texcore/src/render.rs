@@ -207,6 +207,29 @@ pub enum RenderError {
     },
 }
 
+/// What a scene's objects call for ([`Renderer::check`]).
+#[derive(Clone, Copy, Debug)]
+struct SceneUse {
+    /// Some object tests and writes the depth buffer.
+    depth: bool,
+    /// The first object that blends ([`Blend::Over`]).
+    blended: Option<usize>,
+}
+
+impl SceneUse {
+    /// Depth or blending: the scene needs bands.
+    fn needs_bands(self) -> bool {
+        self.depth || self.blended.is_some()
+    }
+}
+
+/// The width of `scene` and the rows of a band of (at most) `band_rows` rows: at least one, at
+/// most the image's height.
+fn band_size<S: TriangleSource>(scene: &S, band_rows: u16) -> (u16, u16) {
+    let (w, h) = scene.size();
+    (w, band_rows.max(1).min(h.max(1)))
+}
+
 impl core::fmt::Display for RenderError {
     fn fmt(&self, f: &mut core::fmt::Formatter<'_>) -> core::fmt::Result {
         match *self {
@@ -414,7 +437,9 @@ impl<'t, const T: usize, const N: usize> Renderer<'t, T, N> {
         self
     }
 
-    fn check<S: TriangleSource>(&self, scene: &S) -> Result<bool, RenderError> {
+    /// Checks `scene` against this renderer (texture slots, the difference memory's width) and
+    /// finds what its objects call for.
+    fn check<S: TriangleSource>(&self, scene: &S) -> Result<SceneUse, RenderError> {
         if self.textures.len() > MAX_TEXTURES {
             return Err(RenderError::TooManyTextures);
         }
@@ -428,7 +453,10 @@ impl<'t, const T: usize, const N: usize> Renderer<'t, T, N> {
                 return Err(RenderError::MemoryTooNarrow { width, memory });
             }
         }
-        let mut needs_bands = false;
+        let mut uses = SceneUse {
+            depth: false,
+            blended: None,
+        };
         for i in 0..scene.object_count() {
             if let Some(o) = scene.object(i) {
                 if o.texture >= self.textures.len() {
@@ -437,15 +465,18 @@ impl<'t, const T: usize, const N: usize> Renderer<'t, T, N> {
                         slot: o.texture,
                     });
                 }
-                needs_bands |= o.depth || o.blend == Blend::Over;
+                uses.depth |= o.depth;
+                if o.blend == Blend::Over && uses.blended.is_none() {
+                    uses.blended = Some(i);
+                }
             }
         }
-        Ok(needs_bands)
+        Ok(uses)
     }
 
     /// Whether `scene` needs [`Renderer::render_banded`] (depth or blending).
     pub fn needs_bands<S: TriangleSource>(&self, scene: &S) -> Result<bool, RenderError> {
-        self.check(scene)
+        self.check(scene).map(SceneUse::needs_bands)
     }
 
     fn slots(&self) -> Slots<'t, T, N> {
@@ -490,7 +521,7 @@ impl<'t, const T: usize, const N: usize> Renderer<'t, T, N> {
         scene: &S,
         sink: &mut P,
     ) -> Result<RenderStats, RenderError> {
-        if self.check(scene)? {
+        if self.check(scene)?.needs_bands() {
             return Err(RenderError::NeedsBands);
         }
         let (w, h) = scene.size();
@@ -635,11 +666,10 @@ impl<'t, const T: usize, const N: usize> Renderer<'t, T, N> {
         bins: &mut FrameBins<'_>,
         sink: &mut P,
     ) -> Result<RenderStats, RenderError> {
-        self.check(scene)?;
-        let (w, h) = scene.size();
-        let rows_n = band_rows.max(1).min(h.max(1));
-        let buf = RgbaBuffer::new(band, w, 0, rows_n).ok_or(RenderError::BufferTooSmall)?;
-        self.render_bands(scene, rows, buf, depth, band_rows, bins, sink)
+        let uses = self.check(scene)?;
+        let (w, band_rows) = band_size(scene, band_rows);
+        let buf = RgbaBuffer::new(band, w, 0, band_rows).ok_or(RenderError::BufferTooSmall)?;
+        self.render_bands(scene, uses, rows, buf, depth, bins, sink)
     }
 
     /// [`Renderer::render_banded`] into an RGB565 band (`band`: at least `width * band_rows`
@@ -683,37 +713,34 @@ impl<'t, const T: usize, const N: usize> Renderer<'t, T, N> {
         bins: &mut FrameBins<'_>,
         sink: &mut P,
     ) -> Result<RenderStats, RenderError> {
-        self.check(scene)?;
-        if let Some(object) = (0..scene.object_count())
-            .find(|&i| scene.object(i).is_some_and(|o| o.blend == Blend::Over))
-        {
+        let uses = self.check(scene)?;
+        if let Some(object) = uses.blended {
             return Err(RenderError::NeedsRgbaBand { object });
         }
-        let (w, h) = scene.size();
-        let rows_n = band_rows.max(1).min(h.max(1));
-        let buf = Rgb565Buffer::new(band, w, 0, rows_n).ok_or(RenderError::BufferTooSmall)?;
-        self.render_bands(scene, rows, buf, depth, band_rows, bins, sink)
+        let (w, band_rows) = band_size(scene, band_rows);
+        let buf = Rgb565Buffer::new(band, w, 0, band_rows).ok_or(RenderError::BufferTooSmall)?;
+        self.render_bands(scene, uses, rows, buf, depth, bins, sink)
     }
 
-    /// The banded render of [`Renderer::render_banded_rows_binned`] into the band `buf`
-    /// (`band_rows` rows of the image's width), for a scene [`Renderer::check`] passed.
+    /// The banded render of [`Renderer::render_banded_rows_binned`] into the band `buf` (its
+    /// rows of the image's width, [`band_size`]), for a scene [`Renderer::check`] passed with
+    /// `uses`.
     #[allow(clippy::too_many_arguments)]
     fn render_bands<S: TriangleSource, P: PixelSink, B: Band>(
         &self,
         scene: &S,
+        uses: SceneUse,
         rows: core::ops::Range<u16>,
         buf: B,
         depth: &mut [u16],
-        band_rows: u16,
         bins: &mut FrameBins<'_>,
         sink: &mut P,
     ) -> Result<RenderStats, RenderError> {
         let (w, h) = scene.size();
         let reuse = bins.is_filled_for((w, h));
         let (first, end) = (rows.start.min(h), rows.end.min(h));
-        let uses_depth =
-            (0..scene.object_count()).any(|i| scene.object(i).is_some_and(|o| o.depth));
-        let rows = band_rows.max(1).min(h.max(1));
+        let uses_depth = uses.depth;
+        let rows = buf.height();
         let need = usize::from(w) * usize::from(rows);
         if uses_depth && depth.len() < need {
             return Err(RenderError::BufferTooSmall);

@@ -20,6 +20,8 @@ use texcore::hash::HashKind;
 use texcore::material::PerturbedMaterial;
 use texcore::presets;
 use texcore::raster::{Perspective, ScreenVertex, TriangleOptions};
+#[cfg(feature = "rgb565-frames")]
+use texcore::render::RenderError;
 use texcore::render::{Blend, DrawObject, FrameBins, GroupRows, Renderer, TriangleSource};
 use texcore::scene::{builtin, Scene, TextureSlot};
 use texcore::sink::ChecksumSink;
@@ -306,31 +308,26 @@ fn draw_rows(
         None => 0..height,
     };
     let mut sink = ChecksumSink::resume(above);
-    let rgba =
-        !cfg!(feature = "rgb565-frames") || scene.objects.iter().any(|o| o.blend == Blend::Over);
-    let drawn = if rgba {
-        renderer
-            .render_banded_rows_binned(scene, rows, band, depth, BAND_ROWS, &mut bins, &mut sink)
-            .is_ok()
-    } else {
-        #[cfg(feature = "rgb565-frames")]
-        let drawn = rgb565_rows(renderer, scene, rows, depth, &mut bins, &mut sink);
-        #[cfg(not(feature = "rgb565-frames"))]
-        let drawn = false;
-        drawn
-    };
-    if drawn {
-        sink.checksum()
-    } else {
-        0
+    // An RGB565 band where the scene allows it: the renderer refuses a scene that blends before
+    // it draws anything, and that one takes the RGBA band. The same checksum either way.
+    #[cfg(feature = "rgb565-frames")]
+    match rgb565_rows(renderer, scene, rows.clone(), depth, &mut bins, &mut sink) {
+        Err(RenderError::NeedsRgbaBand { .. }) => {}
+        drawn => return if drawn.is_ok() { sink.checksum() } else { 0 },
+    }
+    match renderer
+        .render_banded_rows_binned(scene, rows, band, depth, BAND_ROWS, &mut bins, &mut sink)
+    {
+        Ok(_) => sink.checksum(),
+        Err(_) => 0,
     }
 }
 
-/// Rows `rows` of `scene` (no object blends) through `renderer` into an RGB565 band of
-/// [`BAND_ROWS`] rows (`Renderer::render_banded_rows_binned_rgb565`: unlit segments shaded
-/// straight to RGB565, each row handed to `sink` as it is), on this frame's stack (5 KB, half
-/// the static RGBA band the blended scenes take). The sink's checksum is the RGBA band's: the
-/// RGB565 rows are its rows reduced. Whether the renderer drew.
+/// Rows `rows` of `scene` through `renderer` into an RGB565 band of [`BAND_ROWS`] rows
+/// (`Renderer::render_banded_rows_binned_rgb565`: unlit segments shaded straight to RGB565,
+/// each row handed to `sink` as it is), on this frame's stack (5 KB, half the static RGBA band
+/// the blended scenes take). The sink's checksum is the RGBA band's: the RGB565 rows are its
+/// rows reduced. A scene that blends is refused (`RenderError::NeedsRgbaBand`), nothing drawn.
 #[cfg(feature = "rgb565-frames")]
 #[inline(never)]
 fn rgb565_rows(
@@ -340,11 +337,9 @@ fn rgb565_rows(
     depth: &mut [u16],
     bins: &mut FrameBins<'_>,
     sink: &mut ChecksumSink,
-) -> bool {
+) -> Result<texcore::render::RenderStats, RenderError> {
     let mut band = [0u16; BAND_PIXELS];
-    renderer
-        .render_banded_rows_binned_rgb565(scene, rows, &mut band, depth, BAND_ROWS, bins, sink)
-        .is_ok()
+    renderer.render_banded_rows_binned_rgb565(scene, rows, &mut band, depth, BAND_ROWS, bins, sink)
 }
 
 /// The lit scenes the device renders (feature `lighting`): `<built-in>-lit` is the built-in

@@ -90,7 +90,9 @@ impl ChunkColor for Rgb565 {
         let mut wide = [Rgba8888::TRANSPARENT; CHUNK];
         let mut at = x;
         for part in px.chunks_mut(CHUNK) {
-            let w = &mut wide[..part.len()];
+            let Some(w) = wide.get_mut(..part.len()) else {
+                return;
+            };
             for (d, s) in w.iter_mut().zip(part.iter()) {
                 *d = s.to_rgba8888();
             }
@@ -122,6 +124,9 @@ pub(super) trait Band {
 
     /// The band's width in pixels.
     fn width(&self) -> u16;
+
+    /// The band's rows.
+    fn height(&self) -> u16;
 
     /// Moves the band to rows from `y0`.
     fn set_y0(&mut self, y0: u16);
@@ -166,6 +171,11 @@ impl Band for RgbaBuffer<'_> {
     #[inline(always)]
     fn width(&self) -> u16 {
         RgbaBuffer::width(self)
+    }
+
+    #[inline(always)]
+    fn height(&self) -> u16 {
+        RgbaBuffer::height(self)
     }
 
     #[inline(always)]
@@ -225,6 +235,11 @@ impl Band for Rgb565Buffer<'_> {
     #[inline(always)]
     fn width(&self) -> u16 {
         Rgb565Buffer::width(self)
+    }
+
+    #[inline(always)]
+    fn height(&self) -> u16 {
+        Rgb565Buffer::height(self)
     }
 
     #[inline(always)]
