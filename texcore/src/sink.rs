@@ -64,18 +64,6 @@ fn clip_run(x: u16, n: usize, width: u16) -> Option<(usize, usize, usize)> {
     Some((x, 0, n.min(w - x)))
 }
 
-/// The elements of absolute row `y` in a buffer of rows `y0 .. y0 + height`, `width` pixels
-/// each, row-major; `None` outside.
-#[inline]
-fn row_range(y0: u16, height: u16, width: u16, y: u16) -> Option<core::ops::Range<usize>> {
-    let r = usize::from(y.checked_sub(y0)?);
-    if r >= usize::from(height) {
-        return None;
-    }
-    let w = usize::from(width);
-    Some(r * w..(r + 1) * w)
-}
-
 /// An RGBA8888 image over a caller-owned slice: rows `y0 .. y0 + height` of a `width`-pixel image
 /// (a full frame with `y0 = 0`, or one band).
 #[derive(Debug)]
@@ -123,12 +111,22 @@ impl<'a> RgbaBuffer<'a> {
 
     /// The pixels of row `y` (absolute), if inside.
     pub fn row(&self, y: u16) -> Option<&[Rgba8888]> {
-        self.data.get(row_range(self.y0, self.height, self.width, y)?)
+        let r = usize::from(y.checked_sub(self.y0)?);
+        if r >= usize::from(self.height) {
+            return None;
+        }
+        let w = usize::from(self.width);
+        self.data.get(r * w..(r + 1) * w)
     }
 
     /// Mutable pixels of row `y` (absolute), if inside.
     pub fn row_mut(&mut self, y: u16) -> Option<&mut [Rgba8888]> {
-        self.data.get_mut(row_range(self.y0, self.height, self.width, y)?)
+        let r = usize::from(y.checked_sub(self.y0)?);
+        if r >= usize::from(self.height) {
+            return None;
+        }
+        let w = usize::from(self.width);
+        self.data.get_mut(r * w..(r + 1) * w)
     }
 
     /// Fills every pixel.
@@ -221,12 +219,22 @@ impl<'a> Rgb565Buffer<'a> {
 
     /// The pixels of row `y` (absolute), if inside.
     pub fn row(&self, y: u16) -> Option<&[u16]> {
-        self.data.get(row_range(self.y0, self.height, self.width, y)?)
+        let r = usize::from(y.checked_sub(self.y0)?);
+        if r >= usize::from(self.height) {
+            return None;
+        }
+        let w = usize::from(self.width);
+        self.data.get(r * w..(r + 1) * w)
     }
 
     /// Mutable pixels of row `y` (absolute), if inside.
     pub fn row_mut(&mut self, y: u16) -> Option<&mut [u16]> {
-        self.data.get_mut(row_range(self.y0, self.height, self.width, y)?)
+        let r = usize::from(y.checked_sub(self.y0)?);
+        if r >= usize::from(self.height) {
+            return None;
+        }
+        let w = usize::from(self.width);
+        self.data.get_mut(r * w..(r + 1) * w)
     }
 
     /// Fills every pixel.
