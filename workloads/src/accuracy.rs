@@ -20,7 +20,7 @@
 //!   [`SCENE_W`] x [`SCENE_H`], every object drawn in the row's perspective mode, streamed into a
 //!   `ChecksumSink` (FNV-1a over RGB565 in drawing order).
 //!
-//! Each row is two jobs that call the same function ([`row_job`]): `acc:<knob>=<setting>/setup`
+//! Each row is two jobs that call the same function (`device::row_job`): `acc:<knob>=<setting>/setup`
 //! only builds the texture (tables, filters, scene), `acc:<knob>=<setting>` builds it and
 //! renders. The rendering's count is the difference of the two (exact up to the few instructions
 //! of the branch between them); building on the job's own stack keeps the firmware's context

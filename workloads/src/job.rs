@@ -7,7 +7,7 @@
 //! (`tests/tests/firmware_qemu.rs`).
 //!
 //! To add a workload: write the function (in the module of its concept), fold what it produces
-//! with [`fold`] / [`fold_line`] starting from [`FNV_OFFSET`], and append a [`job!`] to
+//! with [`fold`] / [`fold_line`] starting from [`FNV_OFFSET`], and append a [`job!`](crate::job!) to
 //! [`crate::jobs::JOBS`]. Keep it panic-free: `firmware/check-panic-never.sh` links every job with
 //! a panic handler that cannot link.
 //!

@@ -3,10 +3,10 @@
 //! units of every job and to recompute their checksums (`host_sim::report`, `host_sim::accuracy`,
 //! `tests/tests/firmware_qemu.rs`).
 //!
-//! - [`job`]: a job (`fn(&mut Ctx) -> u32` returning a checksum), its context, the checksum fold
+//! - [`mod@job`]: a job (`fn(&mut Ctx) -> u32` returning a checksum), its context, the checksum fold
 //!   and the one [`job!`] macro that names a job;
 //! - [`jobs`]: the list the firmware runs, in order;
-//! - [`bench`]: lattice hash, span evaluator and marble benchmarks;
+//! - [`mod@bench`]: lattice hash, span evaluator and marble benchmarks;
 //! - [`suite`]: the texture-unit suite's job wrappers around [`planes`], [`stages`], [`scenes`],
 //!   [`band`];
 //! - `atlas` (feature `atlas`): a built-in scene baked into a texture atlas and drawn from it;

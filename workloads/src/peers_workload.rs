@@ -1,7 +1,7 @@
 //! The job suite's rows of the peers' plane (`peers:<workload>` in `texsim report cycles`): the
 //! workloads of `texcore::texture::workload::peers` evaluated by its own row kernel
 //! ([`peers::value_plane`]), the very code of `texsim report peers`' `texcore-fd` and
-//! `texcore-direct` rows ([`crate::peers`]), so that both reports measure one thing.
+//! `texcore-direct` rows (`crate::peers`, feature `peers`), so that both reports measure one thing.
 //!
 //! A 256 x 256 plane, pixel `(x, y)` at `s = (x / 32, y / 32, 0.37)` (8 octave-0 cells across
 //! the image), `f = sum_{i < octaves} 2^-i n(2^i s)`, evaluated through
