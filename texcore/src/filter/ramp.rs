@@ -97,6 +97,21 @@ const fn norm2(a: u32, b: u32, e2: u32) -> u32 {
     (a * a).saturating_add(b * b).saturating_add(e2)
 }
 
+/// The squared L2 norm of the differences `dx`, `dy` (16 fraction bits) and the spread's square
+/// `e2`, saturated at `u32::MAX` ([`norm2`] of their magnitudes): below 2^32 without saturation
+/// when both differences lie in `[-2^15, 2^15)` (squares at most 2^30) and the spread is below
+/// 2^15 (`SMALL_E`: `e2 < 2^30`), otherwise from the saturated magnitudes. The same sum either
+/// way.
+#[cfg_attr(not(texcore_lean), inline(always))]
+fn norm_sq<const SMALL_E: bool>(dx: i32, dy: i32, e2: u32) -> u32 {
+    let bias = |d: i32| (d as u32).wrapping_add(1 << 15);
+    if SMALL_E && (bias(dx) | bias(dy)) >> 16 == 0 {
+        (dx * dx + dy * dy) as u32 + e2
+    } else {
+        norm2(magnitude16(dx), magnitude16(dy), e2)
+    }
+}
+
 /// The level of a filter width: `round(log2 w)` in entries (`w` raw `U16F16`), ties at
 /// `2^(k + 1/2)` upwards, below one entry 0, at most `max_level`. That is
 /// `min(max_level, max(0, floor(bitlen(w^2) / 2) - 16))`, with `bitlen` the number of
@@ -343,6 +358,84 @@ impl<const N: usize> Ramp565<N> {
         }
     }
 
+    /// [`Ramp565::shade_differences_l2`] written into `dst` (`dst[i] = put(colour of pixel
+    /// i)`): the same colours, bit for bit, for the first `min(f.len(), above.len(), dst.len())`
+    /// pixels (the last of them taking its left neighbour's `gx` when `f` ends there). One loop
+    /// over the values and the destination together, compiled apart from its caller (its own
+    /// register file: the table, the spread and the three slices stay in registers). `N <=
+    /// 2^15`.
+    #[cfg_attr(not(texcore_lean), inline(never))]
+    pub fn shade_differences_l2_into<D, P: Fn(Rgb565) -> D>(
+        &self,
+        f: &[crate::format::TexValue],
+        above: &[crate::format::TexValue],
+        extra48: i64,
+        dst: &mut [D],
+        put: P,
+    ) {
+        let n = f.len().min(above.len()).min(dst.len());
+        let (Some(above), Some(dst)) = (above.get(..n), dst.get_mut(..n)) else {
+            return;
+        };
+        let e = magnitude48(extra48);
+        let e2 = e * e;
+        match (self.wrap, e2 < 1 << 30) {
+            (TableWrap::Mod, true) => {
+                self.differences_into::<false, true, D, P>(f, above, e2, dst, put)
+            }
+            (TableWrap::Mod, false) => {
+                self.differences_into::<false, false, D, P>(f, above, e2, dst, put)
+            }
+            (TableWrap::Clamp, true) => {
+                self.differences_into::<true, true, D, P>(f, above, e2, dst, put)
+            }
+            (TableWrap::Clamp, false) => {
+                self.differences_into::<true, false, D, P>(f, above, e2, dst, put)
+            }
+        }
+    }
+
+    /// The loop of [`Ramp565::shade_differences_l2_into`]: `above` and `dst` of one length
+    /// `n <= f.len()`.
+    #[inline(always)]
+    fn differences_into<const CLAMP: bool, const SMALL_E: bool, D, P: Fn(Rgb565) -> D>(
+        &self,
+        f: &[crate::format::TexValue],
+        above: &[crate::format::TexValue],
+        e2: u32,
+        dst: &mut [D],
+        put: P,
+    ) {
+        let d = |a: crate::format::TexValue, b: crate::format::TexValue| {
+            a.to_bits().wrapping_sub(b.to_bits())
+        };
+        // Pixels with a right neighbour in `f`, then (when `f` ends with the destination) the
+        // last with its left neighbour's difference.
+        let inner = dst.len().min(f.len().saturating_sub(1));
+        let (Some(v0), Some(v1), Some(up), Some(head)) = (
+            f.get(..inner),
+            f.get(1..inner + 1),
+            above.get(..inner),
+            dst.get_mut(..inner),
+        ) else {
+            return;
+        };
+        // One index over four slices of one length: one counter, no bounds checks.
+        let mut dx = 0;
+        for i in 0..head.len() {
+            let (Some(&v), Some(&r), Some(&u), Some(o)) =
+                (v0.get(i), v1.get(i), up.get(i), head.get_mut(i))
+            else {
+                break;
+            };
+            dx = d(r, v);
+            *o = put(self.sample_sq::<CLAMP>(v, norm_sq::<SMALL_E>(dx, d(v, u), e2)));
+        }
+        if let (Some(o), Some(&v), Some(&u)) = (dst.get_mut(inner), f.get(inner), above.get(inner)) {
+            *o = put(self.sample_sq::<CLAMP>(v, norm_sq::<SMALL_E>(dx, d(v, u), e2)));
+        }
+    }
+
     /// [`Ramp565::shade_differences_l2`] with the wrap `CLAMP` and the spread's square `e2`.
     #[cfg_attr(not(texcore_lean), inline(always))]
     fn shade_differences<const CLAMP: bool, F: FnMut(Rgb565)>(
@@ -374,17 +467,7 @@ impl<const N: usize> Ramp565<N> {
         let (Some(f), Some(above)) = (f.get(..n), above.get(..n)) else {
             return;
         };
-        // The squared norm: below 2^32 without saturation when both differences lie in
-        // [-2^15, 2^15) (squares at most 2^30) and the spread is below 2^15 (`e2 < 2^30`);
-        // otherwise from the saturated magnitudes ([`norm2`]). The same sum either way.
-        let norm = |dx: i32, dy: i32| {
-            let bias = |d: i32| (d as u32).wrapping_add(1 << 15);
-            if SMALL_E && (bias(dx) | bias(dy)) >> 16 == 0 {
-                (dx * dx + dy * dy) as u32 + e2
-            } else {
-                norm2(magnitude16(dx), magnitude16(dy), e2)
-            }
-        };
+        let norm = |dx: i32, dy: i32| norm_sq::<SMALL_E>(dx, dy, e2);
         let d = |a: crate::format::TexValue, b: crate::format::TexValue| {
             a.to_bits().wrapping_sub(b.to_bits())
         };
@@ -752,6 +835,63 @@ mod tests {
         check::<16>(6);
         check::<256>(7);
         check::<1024>(8);
+    }
+
+    #[test]
+    fn shade_differences_l2_into_writes_the_emitted_colours() {
+        fn check<const N: usize>(seed: u64) {
+            let t = lcg_table::<N>(seed);
+            let mut next = lcg(seed ^ 0x5EED);
+            for wrap in [TableWrap::Mod, TableWrap::Clamp] {
+                let r = Ramp565::new(&t, wrap);
+                for round in 0..400 {
+                    let len = [0usize, 1, 2, 3, 17, 64][round % 6];
+                    // Small differences (the unsaturated norm), then any.
+                    let scale = if round % 3 == 0 { 20 + next() % 12 } else { next() % 32 };
+                    let mut row = |n: usize| -> std::vec::Vec<crate::format::TexValue> {
+                        (0..n)
+                            .map(|_| {
+                                crate::format::TexValue::from_bits(((next() >> 32) as i32) >> scale)
+                            })
+                            .collect()
+                    };
+                    let (f, above) = (row(len), row(len));
+                    let extra = match round % 4 {
+                        0 => 0,
+                        1 => (1i64 << 47) - 1,
+                        2 => i64::MAX,
+                        _ => (next() >> 1) as i64 >> (next() % 63),
+                    };
+                    let mut want = std::vec::Vec::new();
+                    r.shade_differences_l2(&f, &above, extra, |c| want.push(c.0));
+                    // A destination as long as the values, shorter (its last pixel keeps its
+                    // right neighbour's difference) and longer (untouched past the values).
+                    for dlen in [len, len.saturating_sub(1), len + 2] {
+                        let mut got = std::vec![0xA5A5_u32; dlen];
+                        r.shade_differences_l2_into(&f, &above, extra, &mut got, |c| {
+                            u32::from(c.0) | 1 << 16
+                        });
+                        for (i, g) in got.iter().enumerate() {
+                            let w = if i < len {
+                                u32::from(want[i]) | 1 << 16
+                            } else {
+                                0xA5A5
+                            };
+                            assert_eq!(*g, w, "N {N} {wrap:?} round {round} dlen {dlen} i {i}");
+                        }
+                    }
+                    // `above` shorter than the values: only its pixels are written.
+                    let mut got = std::vec![0u16; len];
+                    let short = &above[..len / 2];
+                    r.shade_differences_l2_into(&f, short, extra, &mut got, |c| c.0);
+                    assert_eq!(got[..len / 2], want[..len / 2], "N {N} round {round}");
+                    assert!(got[len / 2..].iter().all(|&g| g == 0));
+                }
+            }
+        }
+        check::<16>(16);
+        check::<256>(17);
+        check::<1024>(18);
     }
 
     #[test]

@@ -234,6 +234,19 @@ pub(crate) trait SpanColor: Sized {
     ) -> bool {
         false
     }
+
+    /// [`SpanColor::one_read`] written into `dst` (`dst[i] = put(colour of pixel i)`, `dst` as
+    /// long as the values): whether it did.
+    #[inline(always)]
+    fn one_read_into<const N: usize, D, P: Fn(Self) -> D>(
+        _stage: &ColorStage<N>,
+        _norm: GradientNorm,
+        _values: (&[TexValue], &[TexValue], i64),
+        _dst: &mut [D],
+        _put: P,
+    ) -> bool {
+        false
+    }
 }
 
 impl SpanColor for Rgba8888 {
@@ -252,6 +265,19 @@ impl SpanColor for Rgba8888 {
         emit: &mut F,
     ) -> bool {
         Rgb565::one_read(stage, norm, values, &mut |c: Rgb565| emit(c.to_rgba8888()))
+    }
+
+    /// The ramp's RGB565 colours widened as [`ColorStage::shade`] widens them.
+    #[cfg(feature = "ramp")]
+    #[inline(always)]
+    fn one_read_into<const N: usize, D, P: Fn(Self) -> D>(
+        stage: &ColorStage<N>,
+        norm: GradientNorm,
+        values: (&[TexValue], &[TexValue], i64),
+        dst: &mut [D],
+        put: P,
+    ) -> bool {
+        Rgb565::one_read_into(stage, norm, values, dst, |c: Rgb565| put(c.to_rgba8888()))
     }
 }
 
@@ -272,6 +298,24 @@ impl SpanColor for Rgb565 {
         match (stage.ramp(), norm, log2(N) <= 15) {
             (Some((_, r)), GradientNorm::L2, true) => {
                 r.shade_differences_l2(f, above, extra48, emit);
+                true
+            }
+            _ => false,
+        }
+    }
+
+    #[cfg(feature = "ramp")]
+    #[inline(always)]
+    fn one_read_into<const N: usize, D, P: Fn(Self) -> D>(
+        stage: &ColorStage<N>,
+        norm: GradientNorm,
+        (f, above, extra48): (&[TexValue], &[TexValue], i64),
+        dst: &mut [D],
+        put: P,
+    ) -> bool {
+        match (stage.ramp(), norm, log2(N) <= 15) {
+            (Some((_, r)), GradientNorm::L2, true) => {
+                r.shade_differences_l2_into(f, above, extra48, dst, put);
                 true
             }
             _ => false,
@@ -639,6 +683,13 @@ impl<'t, const T: usize, const N: usize> TextureEvaluator<'t, T, N> {
             return false;
         };
         let tex = self.tex;
+        if C::one_read_into(&tex.stage, tex.norm, values, dst, &put) {
+            self.count_lookups(
+                tex.stage.antialias() != Antialias::None,
+                u64::from(span.len),
+            );
+            return true;
+        }
         let mut out = dst.iter_mut();
         shade_values(&tex.stage, tex.norm, values, |c: C| {
             if let Some(d) = out.next() {
