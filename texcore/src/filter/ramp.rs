@@ -431,7 +431,8 @@ impl<const N: usize> Ramp565<N> {
             dx = d(r, v);
             *o = put(self.sample_sq::<CLAMP>(v, norm_sq::<SMALL_E>(dx, d(v, u), e2)));
         }
-        if let (Some(o), Some(&v), Some(&u)) = (dst.get_mut(inner), f.get(inner), above.get(inner)) {
+        if let (Some(o), Some(&v), Some(&u)) = (dst.get_mut(inner), f.get(inner), above.get(inner))
+        {
             *o = put(self.sample_sq::<CLAMP>(v, norm_sq::<SMALL_E>(dx, d(v, u), e2)));
         }
     }
@@ -847,7 +848,11 @@ mod tests {
                 for round in 0..400 {
                     let len = [0usize, 1, 2, 3, 17, 64][round % 6];
                     // Small differences (the unsaturated norm), then any.
-                    let scale = if round % 3 == 0 { 20 + next() % 12 } else { next() % 32 };
+                    let scale = if round % 3 == 0 {
+                        20 + next() % 12
+                    } else {
+                        next() % 32
+                    };
                     let mut row = |n: usize| -> std::vec::Vec<crate::format::TexValue> {
                         (0..n)
                             .map(|_| {
