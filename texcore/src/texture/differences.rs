@@ -237,6 +237,7 @@ pub(crate) trait SpanColor: Sized {
 
     /// [`SpanColor::one_read`] written into `dst` (`dst[i] = put(colour of pixel i)`, `dst` as
     /// long as the values): whether it did.
+    #[cfg_attr(not(feature = "differences"), allow(dead_code))]
     #[inline(always)]
     fn one_read_into<const N: usize, D, P: Fn(Self) -> D>(
         _stage: &ColorStage<N>,
