@@ -43,6 +43,35 @@ pub const HEIGHT: u16 = 240;
 pub const BAND_ROWS: u16 = 8;
 /// Pixels of the RGBA band and entries of the depth band: one band of the widest scene.
 pub const BAND_PIXELS: usize = WIDTH as usize * BAND_ROWS as usize;
+/// Rows per band of the RGB565 frames (feature `rgb565-frames`): twice [`BAND_ROWS`] in the
+/// bytes of the RGBA band, so a triangle is set up, and its quad walked, in half as many bands.
+pub const RGB565_BAND_ROWS: u16 = 2 * BAND_ROWS;
+/// Pixels of the RGB565 band (feature `rgb565-frames`): one band of the widest scene.
+pub const RGB565_BAND_PIXELS: usize = WIDTH as usize * RGB565_BAND_ROWS as usize;
+/// Rows of the device's static RGBA band ([`BAND_ROWS`]). With `rgb565-frames` only a scene
+/// that blends takes it (the RGB565 band is refused to those), in bands of 2 rows: the bytes
+/// saved hold the RGB565 frames' taller depth band ([`DEPTH_PIXELS`]).
+pub const RGBA_BAND_ROWS: u16 = if cfg!(feature = "rgb565-frames") {
+    2
+} else {
+    BAND_ROWS
+};
+/// Pixels of the device's static RGBA band ([`RGBA_BAND_ROWS`] rows of the widest scene).
+pub const RGBA_BAND_PIXELS: usize = WIDTH as usize * RGBA_BAND_ROWS as usize;
+/// Entries of the device's static depth band: [`BAND_PIXELS`], or with `rgb565-frames` one
+/// band of [`RGB565_BAND_ROWS`] rows.
+pub const DEPTH_PIXELS: usize = if cfg!(feature = "rgb565-frames") {
+    RGB565_BAND_PIXELS
+} else {
+    BAND_PIXELS
+};
+
+/// Rows of a band of `pixels` pixels (a band buffer's length) for a scene `width` pixels wide,
+/// at most `rows`.
+fn band_rows(pixels: usize, width: u16, rows: u16) -> u16 {
+    let r = pixels / usize::from(width.max(1));
+    u16::try_from(r).unwrap_or(u16::MAX).min(rows)
+}
 
 /// One scene workload.
 #[derive(Clone, Copy)]
@@ -315,19 +344,21 @@ fn draw_rows(
         Err(RenderError::NeedsRgbaBand { .. }) => {}
         drawn => return if drawn.is_ok() { sink.checksum() } else { 0 },
     }
-    match renderer
-        .render_banded_rows_binned(scene, rows, band, depth, BAND_ROWS, &mut bins, &mut sink)
-    {
+    // As many rows as both bands hold (the device's RGBA band is shorter with `rgb565-frames`).
+    let w = scene.size().0;
+    let n = band_rows(band.len().min(depth.len()), w, BAND_ROWS);
+    match renderer.render_banded_rows_binned(scene, rows, band, depth, n, &mut bins, &mut sink) {
         Ok(_) => sink.checksum(),
         Err(_) => 0,
     }
 }
 
-/// Rows `rows` of `scene` through `renderer` into an RGB565 band of [`BAND_ROWS`] rows
+/// Rows `rows` of `scene` through `renderer` into an RGB565 band of [`RGB565_BAND_ROWS`] rows
 /// (`Renderer::render_banded_rows_binned_rgb565`: unlit segments shaded straight to RGB565,
-/// each row handed to `sink` as it is), on this frame's stack (5 KB, half the static RGBA band
-/// the blended scenes take). The sink's checksum is the RGBA band's: the RGB565 rows are its
-/// rows reduced. A scene that blends is refused (`RenderError::NeedsRgbaBand`), nothing drawn.
+/// each row handed to `sink` as it is), on this frame's stack (10 KB, the bytes of an RGBA band
+/// of [`BAND_ROWS`] rows), or as many rows as `depth` holds. The sink's checksum is the RGBA
+/// band's: the RGB565 rows are its rows reduced, and a frame's pixels do not depend on its
+/// bands' height. A scene that blends is refused (`RenderError::NeedsRgbaBand`), nothing drawn.
 #[cfg(feature = "rgb565-frames")]
 #[inline(never)]
 fn rgb565_rows(
@@ -338,8 +369,9 @@ fn rgb565_rows(
     bins: &mut FrameBins<'_>,
     sink: &mut ChecksumSink,
 ) -> Result<texcore::render::RenderStats, RenderError> {
-    let mut band = [0u16; BAND_PIXELS];
-    renderer.render_banded_rows_binned_rgb565(scene, rows, &mut band, depth, BAND_ROWS, bins, sink)
+    let mut band = [0u16; RGB565_BAND_PIXELS];
+    let n = band_rows(depth.len(), scene.size().0, RGB565_BAND_ROWS);
+    renderer.render_banded_rows_binned_rgb565(scene, rows, &mut band, depth, n, bins, sink)
 }
 
 /// The lit scenes the device renders (feature `lighting`): `<built-in>-lit` is the built-in
@@ -471,8 +503,8 @@ pub fn scene(name: &str) -> Option<&'static SceneJob> {
     SCENES.iter().find(|s| s.name == name)
 }
 
-/// Renders `scene` with `textures` in bands of [`BAND_ROWS`] rows through `band` and `depth`;
-/// returns the image checksum (0 if the renderer refused the scene).
+/// Renders `scene` with `textures` in bands of [`BAND_ROWS`] rows (or as many rows of the widest
+/// scene as `band` and `depth` hold) through `band` and `depth`; returns the image checksum (0 if the renderer refused the scene).
 #[inline(never)]
 pub fn render_checksum<S: TriangleSource>(
     scene: &S,
@@ -481,7 +513,8 @@ pub fn render_checksum<S: TriangleSource>(
     depth: &mut [u16],
 ) -> u32 {
     let mut sink = ChecksumSink::new();
-    match Renderer::new(textures).render_banded(scene, band, depth, BAND_ROWS, &mut sink) {
+    let n = band_rows(band.len().min(depth.len()), WIDTH, BAND_ROWS);
+    match Renderer::new(textures).render_banded(scene, band, depth, n, &mut sink) {
         Ok(_) => sink.checksum(),
         Err(_) => 0,
     }

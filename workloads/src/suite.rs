@@ -19,7 +19,7 @@
 #![cfg_attr(feature = "accuracy", allow(unused_macros, unused_imports))]
 
 use crate::job::Ctx;
-use crate::scenes::{self, BAND_PIXELS, SCENE_GROUPS};
+use crate::scenes::{self, DEPTH_PIXELS, RGBA_BAND_PIXELS, SCENE_GROUPS};
 use crate::{planes, stages};
 use texcore::color::Rgba8888;
 use texcore::hash::HashKind;
@@ -186,16 +186,18 @@ band_jobs! {
 
 /// The RGBA band and the depth band of the scene renders: one band of [`scenes::BAND_ROWS`] rows
 /// of the widest scene, in static RAM (no frame buffer anywhere); and the bins of the built-in
-/// scene renders ([`SCENE_GROUPS`] entries of 4 bytes).
+/// scene renders ([`SCENE_GROUPS`] entries of 4 bytes). With `rgb565-frames` the depth band
+/// holds a band of the RGB565 frames' [`scenes::RGB565_BAND_ROWS`] rows, and the RGBA band,
+/// which only a scene that blends takes, [`scenes::RGBA_BAND_ROWS`].
 struct Bands {
-    rgba: [Rgba8888; BAND_PIXELS],
-    depth: [u16; BAND_PIXELS],
+    rgba: [Rgba8888; RGBA_BAND_PIXELS],
+    depth: [u16; DEPTH_PIXELS],
     bins: [GroupRows; SCENE_GROUPS],
 }
 
 static mut BANDS: Bands = Bands {
-    rgba: [Rgba8888::TRANSPARENT; BAND_PIXELS],
-    depth: [0; BAND_PIXELS],
+    rgba: [Rgba8888::TRANSPARENT; RGBA_BAND_PIXELS],
+    depth: [0; DEPTH_PIXELS],
     // Any value: the renderer resets every bin it uses on each call. `new(0, 0)` is all zero bits,
     // so the whole static stays in `.bss` (`EMPTY` is not, and would put ~20 KB into `.data`).
     bins: [GroupRows::new(0, 0); SCENE_GROUPS],
