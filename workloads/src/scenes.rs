@@ -43,9 +43,12 @@ pub const HEIGHT: u16 = 240;
 pub const BAND_ROWS: u16 = 8;
 /// Pixels of the RGBA band and entries of the depth band: one band of the widest scene.
 pub const BAND_PIXELS: usize = WIDTH as usize * BAND_ROWS as usize;
-/// Rows per band of the RGB565 frames (feature `rgb565-frames`): twice [`BAND_ROWS`] in the
-/// bytes of the RGBA band, so a triangle is set up, and its quad walked, in half as many bands.
-pub const RGB565_BAND_ROWS: u16 = 2 * BAND_ROWS;
+/// Rows per band of the RGB565 frames (feature `rgb565-frames`): four times [`BAND_ROWS`] (the
+/// bytes of two RGBA bands), so a triangle is set up, and its quad walked, in a quarter as many
+/// bands. The approximate frames, which take it, hold one slot texture
+/// ([`APPROXIMATE_SLOTS`]) where the other frames hold [`SCENE_SLOTS`]: the stack of the three
+/// they do not hold takes the taller band.
+pub const RGB565_BAND_ROWS: u16 = 4 * BAND_ROWS;
 /// Pixels of the RGB565 band (feature `rgb565-frames`): one band of the widest scene.
 pub const RGB565_BAND_PIXELS: usize = WIDTH as usize * RGB565_BAND_ROWS as usize;
 /// Rows of the device's static RGBA band ([`BAND_ROWS`]). With `rgb565-frames` only a scene
@@ -195,11 +198,11 @@ impl FrameMode {
 /// Builds the texture of every slot of `scene` into `textures` (false if one cannot be built or
 /// there are more than [`SCENE_SLOTS`]).
 #[inline(never)]
-fn slot_textures(
+fn slot_textures<const S: usize>(
     scene: &Scene,
     hash: HashKind,
     aa: Antialias,
-    textures: &mut SlotTextures,
+    textures: &mut heapless::Vec<DeviceTexture, S>,
 ) -> bool {
     textures.clear();
     for slot in &scene.slots {
@@ -243,7 +246,7 @@ pub fn builtin_strip(
     let Some(scene) = builtin_frame(name) else {
         return 0;
     };
-    frame_rows(
+    frame_rows::<SCENE_SLOTS>(
         &scene,
         hash,
         FrameMode::Exact,
@@ -261,7 +264,7 @@ pub fn builtin_strip(
 /// returns their checksum continuing `above` (with `work == false` the set-up's checksum).
 #[inline(always)]
 #[allow(clippy::too_many_arguments)]
-fn frame_rows(
+fn frame_rows<const S: usize>(
     scene: &Scene,
     hash: HashKind,
     mode: FrameMode,
@@ -272,7 +275,8 @@ fn frame_rows(
     depth: &mut [u16],
     bins: &mut [GroupRows],
 ) -> u32 {
-    let mut textures = SlotTextures::new();
+    // At most `S` slot textures (about 8 KB each, on this frame's stack).
+    let mut textures = heapless::Vec::<DeviceTexture, S>::new();
     if !slot_textures(scene, hash, mode.antialias(), &mut textures) {
         return 0;
     }
@@ -355,8 +359,8 @@ fn draw_rows(
 
 /// Rows `rows` of `scene` through `renderer` into an RGB565 band of [`RGB565_BAND_ROWS`] rows
 /// (`Renderer::render_banded_rows_binned_rgb565`: unlit segments shaded straight to RGB565,
-/// each row handed to `sink` as it is), on this frame's stack (10 KB, the bytes of an RGBA band
-/// of [`BAND_ROWS`] rows), or as many rows as `depth` holds. The sink's checksum is the RGBA
+/// each row handed to `sink` as it is), on this frame's stack (20 KB, the bytes of two RGBA
+/// bands of [`BAND_ROWS`] rows), or as many rows as `depth` holds. The sink's checksum is the RGBA
 /// band's: the RGB565 rows are its rows reduced, and a frame's pixels do not depend on its
 /// bands' height. A scene that blends is refused (`RenderError::NeedsRgbaBand`), nothing drawn.
 #[cfg(feature = "rgb565-frames")]
@@ -421,13 +425,13 @@ pub fn lit_frame_job(
     let Some(scene) = lit_frame(name) else {
         return 0;
     };
-    whole_frame(&scene, hash, FrameMode::Exact, work, band, depth, bins)
+    whole_frame::<SCENE_SLOTS>(&scene, hash, FrameMode::Exact, work, band, depth, bins)
 }
 
 /// A whole frame in one job ([`frame_rows`] from the first row, the checksum from
 /// [`FRAME_START`]).
 #[cfg(any(feature = "lighting", feature = "approximate"))]
-fn whole_frame(
+fn whole_frame<const S: usize>(
     scene: &Scene,
     hash: HashKind,
     mode: FrameMode,
@@ -436,7 +440,7 @@ fn whole_frame(
     depth: &mut [u16],
     bins: &mut [GroupRows],
 ) -> u32 {
-    frame_rows(
+    frame_rows::<S>(
         scene,
         hash,
         mode,
@@ -453,6 +457,12 @@ fn whole_frame(
 /// feature `approximate`), whole frames ([`approximate_frame_job`]).
 #[cfg(feature = "approximate")]
 pub const APPROXIMATE_SCENES: [&str; 2] = ["fire", "marble"];
+
+/// Slot textures an approximate frame holds ([`APPROXIMATE_SCENES`] have one each: a scene with
+/// more renders nothing, checksum 0; the host test `approximate_scenes_fit_their_slots` checks
+/// them). The whole-suite frames hold [`SCENE_SLOTS`].
+#[cfg(feature = "approximate")]
+pub const APPROXIMATE_SLOTS: usize = 1;
 
 /// The approximate modes of [`APPROXIMATE_SCENES`] and their job suffixes: job
 /// `scene:<name><suffix>`, as `texsim render <name> --aa ramp` (`~ramp`) and with `--widths
@@ -495,7 +505,7 @@ pub fn approximate_frame_job(
     else {
         return 0;
     };
-    whole_frame(&scene, hash, mode, work, band, depth, bins)
+    whole_frame::<APPROXIMATE_SLOTS>(&scene, hash, mode, work, band, depth, bins)
 }
 
 /// The scene called `name`.

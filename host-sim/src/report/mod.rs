@@ -494,6 +494,24 @@ mod tests {
         assert_eq!(scenes::BUILTIN_SCENES, texcore::scene::BUILTIN);
     }
 
+    /// The approximate frames hold `APPROXIMATE_SLOTS` slot textures (a scene with more would
+    /// render nothing on the device), and their widest RGB565 band fits the device's buffers.
+    #[test]
+    fn approximate_scenes_fit_their_slots() {
+        for name in scenes::APPROXIMATE_SCENES {
+            let s = scenes::builtin_frame(name).expect("a built-in scene");
+            assert!(
+                s.slots.len() <= scenes::APPROXIMATE_SLOTS,
+                "{name}: {} texture slots, the approximate frames hold {}",
+                s.slots.len(),
+                scenes::APPROXIMATE_SLOTS
+            );
+            let (w, _) = s.size();
+            let band = usize::from(w) * usize::from(scenes::RGB565_BAND_ROWS);
+            assert!(band <= scenes::RGB565_BAND_PIXELS, "{name}");
+        }
+    }
+
     /// The band jobs: native multipass gives the direct samples (the same checksum), the
     /// reduced precisions differ, on both hashes; set-up is the same model for every mode.
     #[test]
