@@ -264,6 +264,43 @@ fn walk_acc<const ADD: bool>(acc: &mut [i64], v: &mut i64, s: i64) {
     *v = x;
 }
 
+/// `run` pixels of the first lane from `(v, s)` into the accumulators `acc`, each with the folded
+/// affine quadric `qf = [Q, dQ]` added (`Q` the quadric shifted left by the value shift, stepped
+/// with it; see [`fold_quadric`]).
+#[inline(always)]
+fn walk_acc_folded(acc: &mut [i64], v: &mut i64, s: i64, qf: &mut [i64; 2]) {
+    let mut x = *v;
+    let [mut q, dq] = *qf;
+    for a in acc.iter_mut() {
+        *a = x.wrapping_add(q);
+        x = x.wrapping_add(s);
+        q = q.wrapping_add(dq);
+    }
+    *v = x;
+    qf[0] = q;
+}
+
+/// Whether the affine quadric `q = [q0, dq, 0]` (48 fraction bits, wrapping i64) of a span of
+/// `len` pixels can be folded into the first lane's accumulators, shifted left by the value
+/// shift `fv` (`4 <= fv <= 16`, the model's noise fraction bits), so that the last lane writes
+/// `f = ((A >> 32) as i32) >> fv` from their sum `A = (q << fv) + N` (wrapping) instead of
+/// `f = (q + (N >> fv)) >> 32`: the fast shape's last lane then holds no quadric and shifts one
+/// word. Both give bits 32.. of `B = q + (N >> fv)` (mod 2^64), the first sign-extended from bit
+/// `63 - fv`, so they agree exactly when `B` lies in `[-2^(63 - fv), 2^(63 - fv))`. The noise
+/// sum is bounded by the model (`|N >> fv| <= sumA 2^48 <= 2^(61 - fv)`, `docs/model.md` 4.4),
+/// and the quadric is checked at both ends of the span (an affine quadric lies between them):
+/// `|q| <= 2^(62 - fv)` gives `|B| <= 3 2^(61 - fv)`. Never in the size-lean shape.
+#[inline(always)]
+fn fold_quadric(q: &[i64; 3], quad: u8, len: u32, fv: u32) -> bool {
+    if cfg!(texcore_lean) || quad != 1 || !(4..=16).contains(&fv) || len == 0 {
+        return false;
+    }
+    let limit = 1i128 << (62 - fv);
+    let first = i128::from(q[0]);
+    let last = first + i128::from(q[1]) * i128::from(len - 1);
+    first.abs() <= limit && last.abs() <= limit
+}
+
 /// `run` pixels of a lane from `(v, s)` written as samples (`ADD`: plus the accumulators, which
 /// are zeroed as they are read when `CLEAR`; without `ADD` the accumulators are not read):
 /// `f = (q + (N >> fv)) >> 32`, `q` the quadric (`NOQ`: zero, `f = (N >> 32) >> fv`; `AFFINE`:
@@ -482,6 +519,11 @@ fn walk_lanes(
     let fvs = fv & 31;
     let mut events = 0u64;
     let clear = sink.clears();
+    // The affine quadric folded into the first lane's accumulators where a bound allows it
+    // (`fold_quadric`): the last lane then writes as without a quadric.
+    let folded = nl > 1 && fold_quadric(&q, quad, len, fv);
+    let mut qf = [q[0].wrapping_shl(fvs), q[1].wrapping_shl(fvs)];
+    let quad = if folded { 0 } else { quad };
     let mut i = 0u32;
     while i < len {
         let n = ((len - i) as usize).min(sink.room(nl));
@@ -505,7 +547,11 @@ fn walk_lanes(
                 let run = (n - j).min(t.left as usize);
                 if let Some(o) = out.get_mut(j..j + run) {
                     let a = acc.get_mut(j..j + run).unwrap_or_default();
-                    walk(clear, role, quad, a, o, fvs, &mut t.v, t.s, &mut q);
+                    if folded && role == Role::First {
+                        walk_acc_folded(a, &mut t.v, t.s, &mut qf);
+                    } else {
+                        walk(clear, role, quad, a, o, fvs, &mut t.v, t.s, &mut q);
+                    }
                 }
                 j += run;
                 t.left -= run as u32;
