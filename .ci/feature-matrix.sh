@@ -40,3 +40,10 @@ for target in x86_64-unknown-linux-gnu thumbv7em-none-eabihf riscv32imc-unknown-
   echo "-- $target: embedded-graphics,differences"
   RUSTFLAGS="-D warnings" cargo check -q -p texcore --no-default-features --features "embedded-graphics,differences" --target "$target"
 done
+
+# The workloads crate on the host without its defaults and with each of its features alone (the
+# accuracy features are firmware-only: a device build picks one of their parts).
+for f in "" perm-hash atlas lighting multipass approximate rgb565-frames peers; do
+  echo "-- workloads: --no-default-features ${f:+--features $f}"
+  RUSTFLAGS="-D warnings" cargo check -q -p workloads --no-default-features ${f:+--features "$f"}
+done
