@@ -315,6 +315,20 @@ pub(super) fn walk_out<const ADD: bool, const CLEAR: bool, const NOQ: bool, cons
     q: &mut [i64; 3],
 ) {
     let mut x = *v;
+    if ADD && NOQ {
+        // The last lane without a quadric (or with it folded into the first lane's
+        // accumulators): the samples and the accumulators zipped, one counter.
+        for (o, a) in out.iter_mut().zip(acc.iter_mut()) {
+            let n = a.wrapping_add(x);
+            if CLEAR {
+                *a = 0;
+            }
+            *o = TexValue::from_bits(((n >> 32) as i32) >> fvs);
+            x = x.wrapping_add(s);
+        }
+        *v = x;
+        return;
+    }
     let [mut qq, mut dq, ddq] = *q;
     let mut acc = acc.iter_mut();
     for o in out.iter_mut() {
