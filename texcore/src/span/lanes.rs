@@ -247,6 +247,8 @@ enum Role {
     Only,
     /// The first of several: stores to the accumulators.
     First,
+    /// The first of several with the quadric folded into the accumulators ([`fold_quadric`]).
+    FirstFolded,
     /// A middle one: adds to the accumulators.
     Add,
     /// The last of several: adds to the accumulators and writes the samples.
@@ -266,8 +268,8 @@ fn walk_acc<const ADD: bool>(acc: &mut [i64], v: &mut i64, s: i64) {
 
 /// `run` pixels of the first lane from `(v, s)` into the accumulators `acc`, each with the folded
 /// affine quadric `qf = [Q, dQ]` added (`Q` the quadric shifted left by the value shift, stepped
-/// with it; see [`fold_quadric`]).
-#[inline(always)]
+/// with it; see [`fold_quadric`]). Out of line: the walk's other roles keep their registers.
+#[inline(never)]
 fn walk_acc_folded(acc: &mut [i64], v: &mut i64, s: i64, qf: &mut [i64; 2]) {
     let mut x = *v;
     let [mut q, dq] = *qf;
@@ -375,8 +377,10 @@ fn walk(
     v: &mut i64,
     s: i64,
     q: &mut [i64; 3],
+    qf: &mut [i64; 2],
 ) {
     match (role, quad) {
+        (Role::FirstFolded, _) => walk_acc_folded(acc, v, s, qf),
         (Role::First, _) => walk_acc::<false>(acc, v, s),
         (Role::Add, _) => walk_acc::<true>(acc, v, s),
         (Role::Only, 0) => walk_out::<false, false, true, true>(out, acc, fvs, v, s, q),
@@ -552,6 +556,7 @@ fn walk_lanes(
         for (li, t) in lanes.iter_mut().enumerate() {
             let role = match (li == 0, li + 1 == nl) {
                 (true, true) => Role::Only,
+                (true, false) if folded => Role::FirstFolded,
                 (true, false) => Role::First,
                 (false, true) => Role::Last,
                 (false, false) => Role::Add,
@@ -561,11 +566,7 @@ fn walk_lanes(
                 let run = (n - j).min(t.left as usize);
                 if let Some(o) = out.get_mut(j..j + run) {
                     let a = acc.get_mut(j..j + run).unwrap_or_default();
-                    if folded && role == Role::First {
-                        walk_acc_folded(a, &mut t.v, t.s, &mut qf);
-                    } else {
-                        walk(clear, role, quad, a, o, fvs, &mut t.v, t.s, &mut q);
-                    }
+                    walk(clear, role, quad, a, o, fvs, &mut t.v, t.s, &mut q, &mut qf);
                 }
                 j += run;
                 t.left -= run as u32;
