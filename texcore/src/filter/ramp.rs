@@ -548,6 +548,17 @@ mod tests {
     use crate::filter::{filter_width_spread, isqrt, GradientNorm};
     use fixed::types::U16F16;
 
+    /// `n` values of `next`'s high words shifted right by `scale` (0..32).
+    fn random_values(
+        next: &mut impl FnMut() -> u64,
+        n: usize,
+        scale: u64,
+    ) -> std::vec::Vec<crate::format::TexValue> {
+        (0..n)
+            .map(|_| crate::format::TexValue::from_bits(((next() >> 32) as i32) >> scale))
+            .collect()
+    }
+
     /// A 64-bit linear congruential generator from `seed`: each call its next state.
     fn lcg(seed: u64) -> impl FnMut() -> u64 {
         let mut s = seed;
@@ -799,14 +810,10 @@ mod tests {
                 for round in 0..300 {
                     let len = [0usize, 1, 2, 31][round % 4];
                     let scale = next() % 32;
-                    let mut row = |n: usize| -> std::vec::Vec<crate::format::TexValue> {
-                        (0..n)
-                            .map(|_| {
-                                crate::format::TexValue::from_bits(((next() >> 32) as i32) >> scale)
-                            })
-                            .collect()
-                    };
-                    let (f, above) = (row(len), row(len));
+                    let (f, above) = (
+                        random_values(&mut next, len, scale),
+                        random_values(&mut next, len, scale),
+                    );
                     let extra = match round % 5 {
                         0 => 0,
                         1 => (1i64 << 47) - 1,
@@ -853,14 +860,10 @@ mod tests {
                     } else {
                         next() % 32
                     };
-                    let mut row = |n: usize| -> std::vec::Vec<crate::format::TexValue> {
-                        (0..n)
-                            .map(|_| {
-                                crate::format::TexValue::from_bits(((next() >> 32) as i32) >> scale)
-                            })
-                            .collect()
-                    };
-                    let (f, above) = (row(len), row(len));
+                    let (f, above) = (
+                        random_values(&mut next, len, scale),
+                        random_values(&mut next, len, scale),
+                    );
                     let extra = match round % 4 {
                         0 => 0,
                         1 => (1i64 << 47) - 1,
