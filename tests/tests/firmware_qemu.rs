@@ -703,7 +703,7 @@ fn cortex_m4f_stack_guard() {
 /// The bound of a built-in scene in an approximate mode (`scene:<name>~ramp` and
 /// `scene:<name>~ramp-diff`, instructions a frame pixel; about 5% above the figures when it was
 /// set, with the frames in RGB565 bands of 32 rows, M4F / rv32imc: fire 272.3 / 348.9 and
-/// 175.4 / 250.4, marble 798.4 / 1079.0 and 777.3 / 1037.9).
+/// 175.4 / 250.4, marble 798.4 / 1079.0 and 777.4 / 1038.0).
 fn approximate_scene_bound(target: DeviceTarget, scene: &str) -> f64 {
     match (target, scene) {
         (DeviceTarget::CortexM4F, "scene:fire~ramp") => 286.0,

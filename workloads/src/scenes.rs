@@ -131,8 +131,9 @@ pub const SCENE_SLOTS: usize = 4;
 /// checks that every built-in scene fits.
 pub const SCENE_GROUPS: usize = 1024;
 
-/// The textures of a built-in scene's slots (about 8 KB each, csat).
-pub type SlotTextures = heapless::Vec<DeviceTexture, SCENE_SLOTS>;
+/// The textures of a built-in scene's slots (about 8 KB each, csat), at most `S`
+/// ([`SCENE_SLOTS`] by default).
+pub type SlotTextures<const S: usize = SCENE_SLOTS> = heapless::Vec<DeviceTexture, S>;
 
 /// The checksum a frame's first strip continues: the checksum of no pixels.
 pub const FRAME_START: u32 = 0x811C_9DC5;
@@ -196,13 +197,13 @@ impl FrameMode {
 }
 
 /// Builds the texture of every slot of `scene` into `textures` (false if one cannot be built or
-/// there are more than [`SCENE_SLOTS`]).
+/// there are more than its `S`).
 #[inline(never)]
 fn slot_textures<const S: usize>(
     scene: &Scene,
     hash: HashKind,
     aa: Antialias,
-    textures: &mut heapless::Vec<DeviceTexture, S>,
+    textures: &mut SlotTextures<S>,
 ) -> bool {
     textures.clear();
     for slot in &scene.slots {
@@ -276,7 +277,7 @@ fn frame_rows<const S: usize>(
     bins: &mut [GroupRows],
 ) -> u32 {
     // At most `S` slot textures (about 8 KB each, on this frame's stack).
-    let mut textures = heapless::Vec::<DeviceTexture, S>::new();
+    let mut textures = SlotTextures::<S>::new();
     if !slot_textures(scene, hash, mode.antialias(), &mut textures) {
         return 0;
     }
@@ -514,7 +515,8 @@ pub fn scene(name: &str) -> Option<&'static SceneJob> {
 }
 
 /// Renders `scene` with `textures` in bands of [`BAND_ROWS`] rows (or as many rows of the widest
-/// scene as `band` and `depth` hold) through `band` and `depth`; returns the image checksum (0 if the renderer refused the scene).
+/// scene as `band` and `depth` hold) through `band` and `depth`; returns the image checksum (0
+/// if the renderer refused the scene).
 #[inline(never)]
 pub fn render_checksum<S: TriangleSource>(
     scene: &S,

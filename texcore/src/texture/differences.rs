@@ -296,13 +296,11 @@ impl SpanColor for Rgb565 {
         (f, above, extra48): (&[TexValue], &[TexValue], i64),
         emit: &mut F,
     ) -> bool {
-        match (stage.ramp(), norm, log2(N) <= 15) {
-            (Some((_, r)), GradientNorm::L2, true) => {
-                r.shade_differences_l2(f, above, extra48, emit);
-                true
-            }
-            _ => false,
+        let ramp = one_read_ramp(stage, norm);
+        if let Some(r) = ramp {
+            r.shade_differences_l2(f, above, extra48, emit);
         }
+        ramp.is_some()
     }
 
     #[cfg(feature = "ramp")]
@@ -314,13 +312,25 @@ impl SpanColor for Rgb565 {
         dst: &mut [D],
         put: P,
     ) -> bool {
-        match (stage.ramp(), norm, log2(N) <= 15) {
-            (Some((_, r)), GradientNorm::L2, true) => {
-                r.shade_differences_l2_into(f, above, extra48, dst, put);
-                true
-            }
-            _ => false,
+        let ramp = one_read_ramp(stage, norm);
+        if let Some(r) = ramp {
+            r.shade_differences_l2_into(f, above, extra48, dst, put);
         }
+        ramp.is_some()
+    }
+}
+
+/// The stage's ramp when it has a one-read path for widths from differences: a ramp, the L2
+/// norm and `N <= 2^15`.
+#[cfg(feature = "ramp")]
+#[inline(always)]
+fn one_read_ramp<const N: usize>(
+    stage: &ColorStage<N>,
+    norm: GradientNorm,
+) -> Option<&crate::filter::Ramp565<N>> {
+    match (stage.ramp(), norm, log2(N) <= 15) {
+        (Some((_, r)), GradientNorm::L2, true) => Some(r),
+        _ => None,
     }
 }
 
@@ -684,19 +694,14 @@ impl<'t, const T: usize, const N: usize> TextureEvaluator<'t, T, N> {
             return false;
         };
         let tex = self.tex;
-        if C::one_read_into(&tex.stage, tex.norm, values, dst, &put) {
-            self.count_lookups(
-                tex.stage.antialias() != Antialias::None,
-                u64::from(span.len),
-            );
-            return true;
+        if !C::one_read_into(&tex.stage, tex.norm, values, dst, &put) {
+            let mut out = dst.iter_mut();
+            shade_values(&tex.stage, tex.norm, values, |c: C| {
+                if let Some(d) = out.next() {
+                    *d = put(c);
+                }
+            });
         }
-        let mut out = dst.iter_mut();
-        shade_values(&tex.stage, tex.norm, values, |c: C| {
-            if let Some(d) = out.next() {
-                *d = put(c);
-            }
-        });
         self.count_lookups(
             tex.stage.antialias() != Antialias::None,
             u64::from(span.len),
