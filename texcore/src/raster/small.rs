@@ -180,11 +180,15 @@ fn small_run<const WRITE: bool>(
     let [zplane, up, vp, dp] = &set_up.planes;
     let [mut zp, mut nu, mut nv, mut dd] = start.planes(set_up);
     let dx = [zplane[1], up[1], vp[1], dp[1]];
-    let [zlo, zhi] = set_up.zlim;
     let (bias, shift, max, log2, texels) = (run.bias, run.shift, run.max, run.log2, run.texels);
     let mut shown = 0u32;
     for (d, c) in depth.iter_mut().zip(colour.iter_mut()) {
-        let z = ((zp >> 32) as i32).max(zlo).min(zhi) as u32;
+        // The depth without the general path's clamp to the vertex depths: at a covered pixel
+        // of a small triangle the clamp never acts (`SmallSetup::planes`), so this is the
+        // clamped value itself.
+        let z = (zp >> 32) as u32;
+        #[cfg(debug_assertions)]
+        assert!(set_up.zlim[0] <= z as i32 && z as i32 <= set_up.zlim[1]);
         if z < u32::from(*d) + bias {
             if WRITE {
                 *d = z as u16;
@@ -275,8 +279,21 @@ fn first_centre(v: i32) -> i32 {
 pub(crate) struct SmallSetup {
     pub(crate) cov: SmallCoverage,
     /// Depth, `N_u`, `N_v`, `D` planes `[c, dx, dy]` (the depth's rounding folded into `c`).
+    ///
+    /// The depth plane's high word at a covered pixel lies between the least and the greatest
+    /// vertex depth, so the general path's clamp to them never acts here and the walk leaves
+    /// it out: each coefficient is within 1/2 of its exact value (`round_plane_shifted`) and a
+    /// covered pixel lies within `2^10` pixels of the origin in either axis, so the plane is
+    /// within `2^11` of the exact `2^32 sum_i z_i E_i / area2`. That is a convex combination of
+    /// the `z_i 2^32` (the pixel's centre lies in the closed triangle: every `E_i / area2 >= 0`),
+    /// and with the folded `2^31` the value lies in `[zlo 2^32 + 2^31 - 2^11, zhi 2^32 + 2^31 +
+    /// 2^11]`, inside `[zlo 2^32, (zhi + 1) 2^32)`. The plane's words wrap, but its value at a
+    /// covered pixel (below `2^49`) fits `i64`, so the wrapping sum is that value. Checked by a
+    /// debug assertion in the walk and by `small_path_equals_the_wide_path` and
+    /// `small_depth_needs_no_clamp` (against the clamping wide path).
     pub(crate) planes: [[i64; 3]; 4],
-    /// The depth clamp.
+    /// The least and greatest vertex depth (for the debug assertion of the walk only).
+    #[cfg(debug_assertions)]
     pub(crate) zlim: [i32; 2],
 }
 
@@ -384,8 +401,6 @@ impl Small {
         };
         let (zsx, zsy) = steps(z);
         let [zc, zdx, zdy] = round_plane_shifted([dot(z, c0), zsx, zsy], area2);
-        let zlo = z.iter().copied().min().unwrap_or(0);
-        let zhi = z.iter().copied().max().unwrap_or(0);
         // The homogeneous planes (`textured::Homogeneous::new`): weights q_i u_i, q_i v_i, q_i
         // below 2^30, edge functions below 2^29.01: each sum of three products below 2^60.6,
         // exact in i64, then scaled by 2^k and negated for a negative area modulo 2^64.
@@ -434,7 +449,11 @@ impl Small {
                 plane(1),
                 plane(2),
             ],
-            zlim: [zlo, zhi],
+            #[cfg(debug_assertions)]
+            zlim: [
+                z.iter().copied().min().unwrap_or(0),
+                z.iter().copied().max().unwrap_or(0),
+            ],
         })
     }
 }

@@ -169,7 +169,13 @@ pub(crate) fn homogeneous_texel(
     let u = ((nu >> 32) as u32).checked_div(den).unwrap_or(0) >> shift;
     let t = ((nv >> 32) as u32).checked_div(den).unwrap_or(0) >> shift;
     let i = ((t.min(max) << log2) | u.min(max)) as usize;
-    texels.get(i).copied().unwrap_or(0)
+    // For a `Texture565` (`max = side - 1`, `log2 = log2(side)`, `len = side^2`),
+    // i <= max 2^log2 + max = side^2 - 1 = len - 1, so the mask keeps i as it is, and its bound
+    // (`i & (len - 1) < len` for every non-empty slice) replaces a bounds check per pixel.
+    texels
+        .get(i & texels.len().wrapping_sub(1))
+        .copied()
+        .unwrap_or(0)
 }
 
 impl Rasterizer {
@@ -572,5 +578,70 @@ mod tests {
             drawn += ks.pixels;
         }
         assert!(drawn > 20_000, "{drawn} pixels drawn");
+    }
+
+    /// The small path writes its depths without the wide path's clamp to the vertex depths
+    /// (`SmallSetup::planes`: it never acts at a covered pixel). Steep depth planes at their
+    /// extremes: vertex depths 0 and 65535, slivers and needles one raw unit wide, vertices at
+    /// the small range's edges, every pixel written (`Always`), against the clamping wide path.
+    #[test]
+    fn small_depth_needs_no_clamp() {
+        let (w, h) = (64u16, 32u16);
+        let texels = index_texture(128);
+        let tex = Texture565::new(&texels, 128).unwrap();
+        let mut st = 0x2545_f491_4f6c_dd1du64;
+        let mut rnd = |m: u64| {
+            st ^= st << 13;
+            st ^= st >> 7;
+            st ^= st << 17;
+            st % m
+        };
+        let depths = [0u16, 1, 32_768, 65_534, 65_535];
+        let mut drawn = 0u64;
+        for n in 0..3000u32 {
+            // Raw 28.4 coordinates over the band and a little past it; one vertex of every
+            // fourth triangle far out (up to the small range's edge), every third triangle a
+            // sliver: its second vertex one raw unit from the first.
+            let c = |r: &mut dyn FnMut(u64) -> u64, span: u64| r(2 * span) as i32 - span as i32;
+            let mut p = [[0i32; 2]; 3];
+            for (k, v) in p.iter_mut().enumerate() {
+                let span = if k == 2 && n % 4 == 0 { 16_383 } else { 600 };
+                *v = [c(&mut rnd, span) + 512, c(&mut rnd, span) + 256];
+            }
+            if n % 3 == 0 {
+                p[1] = [p[0][0] + 1, p[0][1] + (rnd(3) as i32 - 1)];
+            }
+            let tri: [ScreenVertex; 3] = core::array::from_fn(|k| {
+                ScreenVertex::from_bits(
+                    p[k][0].clamp(-16_383, 16_383),
+                    p[k][1].clamp(-16_383, 16_383),
+                    depths[rnd(5) as usize],
+                    rnd(1 << 31) as u32 + 1,
+                    TexPoint::from_bits(rnd(1 << 23) as i32, rnd(1 << 23) as i32, 0),
+                )
+            });
+            let mut opts = TriangleOptions::new(if n % 2 == 0 {
+                Perspective::Affine
+            } else {
+                Perspective::Every16
+            });
+            opts.depth_func = DepthFunc::Always;
+            let rect = Rect::from_size(w, h);
+            let draw = |small: bool| {
+                let mut z = vec![0x5555u16; usize::from(w) * usize::from(h)];
+                let mut colour = vec![0u16; z.len()];
+                let mut r = Rasterizer::new(rect);
+                let mut db = DepthBuffer::new(&mut z, rect).unwrap();
+                r.draw_textured_with(&tri, &opts, &mut db, &tex, &mut colour, small);
+                (z, colour, r.counters())
+            };
+            let (zs, cs, ks) = draw(true);
+            let (zw, cw, kw) = draw(false);
+            assert_eq!(zs, zw, "triangle {n}: depth");
+            assert_eq!(cs, cw, "triangle {n}: colour");
+            assert_eq!(ks, kw, "triangle {n}: counters");
+            drawn += ks.pixels;
+        }
+        assert!(drawn > 50_000, "{drawn} pixels drawn");
     }
 }
