@@ -162,7 +162,7 @@ impl RunStart {
 
 /// One run of a small triangle set up as `set_up`, from `start` along `depth` and `colour`: the
 /// planes at its first pixel, then stepped; the depth written when `WRITE`. Returns the pixels
-/// shown.
+/// that failed the depth test (counted on the rarer branch: most pixels of a frame pass).
 ///
 /// Out of line on rv32imc: its many registers then hold the run's eight plane words and steps
 /// (inlined, the row loop's state pushed them to the stack: 0.9 instructions a frame pixel of
@@ -181,7 +181,7 @@ fn small_run<const WRITE: bool>(
     let [mut zp, mut nu, mut nv, mut dd] = start.planes(set_up);
     let dx = [zplane[1], up[1], vp[1], dp[1]];
     let (bias, shift, max, log2, texels) = (run.bias, run.shift, run.max, run.log2, run.texels);
-    let mut shown = 0u32;
+    let mut failed = 0u32;
     for (d, c) in depth.iter_mut().zip(colour.iter_mut()) {
         // The depth without the general path's clamp to the vertex depths: at a covered pixel
         // of a small triangle the clamp never acts (`SmallSetup::planes`), so this is the
@@ -194,14 +194,15 @@ fn small_run<const WRITE: bool>(
                 *d = z as u16;
             }
             *c = homogeneous_texel(texels, [nu, nv, dd], shift, max, log2);
-            shown += 1;
+        } else {
+            failed += 1;
         }
         zp = zp.wrapping_add(dx[0]);
         nu = nu.wrapping_add(dx[1]);
         nv = nv.wrapping_add(dx[2]);
         dd = dd.wrapping_add(dx[3]);
     }
-    shown
+    failed
 }
 
 /// Draws a small triangle's covered pixels inside `clip` (within `rect`, the rectangle of
@@ -257,13 +258,13 @@ pub(crate) fn draw_small(
         };
         // 0 <= xa, py (inside the clip).
         let start = RunStart::new(set_up, xa as u32, py as u32);
-        let shown = if run.write {
+        let failed = if run.write {
             small_run::<true>(drow, crow, set_up, start, run)
         } else {
             small_run::<false>(drow, crow, set_up, start, run)
         };
-        counts[0] += shown;
-        counts[1] += n as u32 - shown;
+        counts[0] += n as u32 - failed;
+        counts[1] += failed;
     }
     counts
 }
