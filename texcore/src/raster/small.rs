@@ -23,7 +23,7 @@
 //! [`Rasterizer::draw_depth`]: super::Rasterizer::draw_depth
 
 use super::setup::{round_plane_shifted, Reject};
-use super::textured::homogeneous_texel;
+use super::textured::{texel_at, texel_words};
 use super::{CullMode, DepthFunc, Perspective, Rect, ScreenVertex, TriangleOptions};
 use crate::wide::leading_zeros_u32;
 
@@ -101,7 +101,8 @@ pub(crate) struct SmallRun<'a> {
     pub(crate) bias: u32,
     pub(crate) write: bool,
     pub(crate) texels: &'a [u16],
-    pub(crate) shift: u32,
+    /// `f - 8` for the texture's `f` fraction bits ([`texel_words`]).
+    pub(crate) fs: u32,
     pub(crate) max: u32,
     pub(crate) log2: u32,
 }
@@ -177,11 +178,16 @@ fn small_run<const WRITE: bool>(
     start: RunStart,
     run: &SmallRun<'_>,
 ) -> u32 {
-    let [zplane, up, vp, dp] = &set_up.planes;
-    let [mut zp, mut nu, mut nv, mut dd] = start.planes(set_up);
-    let dx = [zplane[1], up[1], vp[1], dp[1]];
-    let (bias, shift, max, log2, texels) = (run.bias, run.shift, run.max, run.log2, run.texels);
+    let [mut zp, nu, nv, dd] = start.planes(set_up);
+    let dz = set_up.planes[0][1];
+    let [mut nu, mut nv, mut dd] = texel_words([nu, nv, dd], run.fs);
+    let [du, dv, ddx] = set_up.steps;
+    let (bias, max, log2, texels) = (run.bias, run.max, run.log2, run.texels);
     let mut failed = 0u32;
+    // A `Texture565` has texels: said here, the texel look-up's mask needs no test per pixel.
+    if texels.is_empty() {
+        return failed;
+    }
     for (d, c) in depth.iter_mut().zip(colour.iter_mut()) {
         // The depth without the general path's clamp to the vertex depths: at a covered pixel
         // of a small triangle the clamp never acts (`SmallSetup::planes`), so this is the
@@ -193,14 +199,14 @@ fn small_run<const WRITE: bool>(
             if WRITE {
                 *d = z as u16;
             }
-            *c = homogeneous_texel(texels, [nu, nv, dd], shift, max, log2);
+            *c = texel_at(texels, [nu, nv, dd], max, log2);
         } else {
             failed += 1;
         }
-        zp = zp.wrapping_add(dx[0]);
-        nu = nu.wrapping_add(dx[1]);
-        nv = nv.wrapping_add(dx[2]);
-        dd = dd.wrapping_add(dx[3]);
+        zp = zp.wrapping_add(dz);
+        nu = nu.wrapping_add(du);
+        nv = nv.wrapping_add(dv);
+        dd = dd.wrapping_add(ddx);
     }
     failed
 }
@@ -293,6 +299,9 @@ pub(crate) struct SmallSetup {
     /// debug assertion in the walk and by `small_path_equals_the_wide_path` and
     /// `small_depth_needs_no_clamp` (against the clamping wide path).
     pub(crate) planes: [[i64; 3]; 4],
+    /// The texel words' steps per pixel ([`texel_words`] of the `N_u`, `N_v`, `D` planes'
+    /// `dx`).
+    pub(crate) steps: [i32; 3],
     /// The least and greatest vertex depth (for the debug assertion of the walk only).
     #[cfg(debug_assertions)]
     pub(crate) zlim: [i32; 2],
@@ -442,14 +451,11 @@ impl Small {
             let (sx, sy) = steps(wj);
             [dot(wj, c0), sx, sy].map(|c| c.wrapping_mul(scale))
         };
+        let [pu, pv, pd] = [plane(0), plane(1), plane(2)];
         Small::Ready(SmallSetup {
             cov,
-            planes: [
-                [zc.wrapping_add(1 << 31), zdx, zdy],
-                plane(0),
-                plane(1),
-                plane(2),
-            ],
+            steps: texel_words([pu[1], pv[1], pd[1]], frac - 8),
+            planes: [[zc.wrapping_add(1 << 31), zdx, zdy], pu, pv, pd],
             #[cfg(debug_assertions)]
             zlim: [
                 z.iter().copied().min().unwrap_or(0),

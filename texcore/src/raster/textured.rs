@@ -11,12 +11,17 @@
 //!   perspective-correctly at **every pixel** by the homogeneous ratio
 //!   `u = N / D = (sum_i E_i q_i u_i) / (sum_i E_i q_i)` of the barycentric edge functions `E_i`
 //!   (no division by the area: it cancels). `N` and `D` are planes with exact integer
-//!   coefficients, stepped exactly in `i64` along a row; each pixel divides their high words on
-//!   the 32-bit hardware divide. `q_i` is `1/w` normalised to 15 bits (the largest in
-//!   `[2^14, 2^15)`; all equal for [`Perspective::Affine`]). With `r = max q_i / min q_i` the
-//!   quotient is within `2 + 2 r` units of `2^-f` texel of the real-arithmetic ratio of the
-//!   quantised vertex data (for the 128-texel atlas, `f = 8`: within 1/8 texel for `r <= 16`).
-//!   The texel read is `(floor(v), floor(u))`, clamped to the texture.
+//!   coefficients (scaled so that `D < 2^48`), evaluated exactly in `i64` at the first pixel of
+//!   each run of a row; their *texel words* `N' = floor(N / 2^(24 + f))`,
+//!   `D' = floor(D / 2^24)` (the quotient `N' / D'` is in texels) and the words of their steps
+//!   are then stepped in 32 bits along the run, and each pixel divides them on the 32-bit
+//!   hardware divide. `q_i` is `1/w` normalised to 15 bits (the largest in `[2^14, 2^15)`; all
+//!   equal for [`Perspective::Affine`]), so `D' >= 2^22 / r` with `r = max q_i / min q_i`. At
+//!   the run's pixel `i` (from 0) each word is within `1 + i` units below its exact value, so
+//!   the quotient is within about `side (1 + i) r 2^-22` texel of the real-arithmetic ratio of
+//!   the quantised vertex data (for the 128-texel atlas: `(1 + i) r 2^-15` texel, 1/64 texel
+//!   for a run of 64 pixels at `r = 8`). The texel read is `(floor(v), floor(u))`, clamped to
+//!   the texture.
 //! - **Fallback**: a triangle with a normalised `q_i` of 0 (ratio past `2^15`), a doubled area
 //!   of `2^32` raw units or more, or edge functions past `i32` (far outside a small target) is
 //!   drawn through [`Rasterizer::draw_depth`] (segments with `Every16`-style perspective, as
@@ -153,22 +158,30 @@ impl Homogeneous {
     }
 }
 
-/// The texel at the quotients `N_u / D`, `N_v / D` of the homogeneous planes' high words
-/// (`hom = [N_u, N_v, D]`; a high word of `D` of 0 reads texel `(0, 0)`), each taken to texels
-/// by `shift` and clamped to `max`, in a texture of `2^log2` texels a row.
+/// The 32-bit *texel words* of the homogeneous planes' values `hom = [N_u, N_v, D]` (scaled as
+/// [`Homogeneous`] scales them: `D < 2^48`, `N < 2^63` at a covered pixel) for a texture of `f`
+/// fraction bits (`8 <= f <= 15`, every [`Texture565`]): `[N_u >> (24 + f), N_v >> (24 + f),
+/// D >> 24]` (floors; `D >> 24 < 2^24`, `N >> (24 + f) < 2^31`), whose quotient `N' / D'` is
+/// the coordinate in texels. Taken of a run's first pixel and of the planes' steps: the run
+/// then steps the words in 32 bits ([`texel_at`]). `fs = f - 8`.
 #[inline(always)]
-pub(crate) fn homogeneous_texel(
-    texels: &[u16],
-    hom: [i64; 3],
-    shift: u32,
-    max: u32,
-    log2: u32,
-) -> u16 {
+pub(crate) fn texel_words(hom: [i64; 3], fs: u32) -> [i32; 3] {
     let [nu, nv, dd] = hom;
-    let den = (dd >> 32) as u32;
-    let u = ((nu >> 32) as u32).checked_div(den).unwrap_or(0) >> shift;
-    let t = ((nv >> 32) as u32).checked_div(den).unwrap_or(0) >> shift;
-    let i = ((t.min(max) << log2) | u.min(max)) as usize;
+    // N >> (24 + f) = (N >> 32) >> (f - 8): the high word and one shift.
+    let n = |v: i64| ((v >> 32) as i32) >> (fs & 31);
+    [n(nu), n(nv), (dd >> 24) as i32]
+}
+
+/// The texel at the texel words `[N_u', N_v', D']` ([`texel_words`], stepped along a run): the
+/// quotients `N' / D'` (a numerator below 0 taken as 0; a divisor of 0 reads texel `(0, 0)`),
+/// each clamped to `max`, in a texture of `2^log2` texels a row.
+#[inline(always)]
+pub(crate) fn texel_at(texels: &[u16], words: [i32; 3], max: u32, log2: u32) -> u16 {
+    let [nu, nv, dd] = words;
+    let den = dd as u32;
+    let u = (nu.max(0) as u32).checked_div(den).unwrap_or(0).min(max);
+    let t = (nv.max(0) as u32).checked_div(den).unwrap_or(0).min(max);
+    let i = ((t << log2) | u) as usize;
     // For a `Texture565` (`max = side - 1`, `log2 = log2(side)`, `len = side^2`),
     // i <= max 2^log2 + max = side^2 - 1 = len - 1, so the mask keeps i as it is, and its bound
     // (`i & (len - 1) < len` for every non-empty slice) replaces a bounds check per pixel.
@@ -233,7 +246,7 @@ impl Rasterizer {
                     bias: depth_bias(opts.depth_func),
                     write: opts.depth_write,
                     texels: tex.texels,
-                    shift: tex.frac(),
+                    fs: tex.frac() - 8,
                     max: u32::from(tex.side()) - 1,
                     log2: tex.log2_side,
                 };
@@ -271,7 +284,8 @@ impl Rasterizer {
         let texels = tex.texels;
         let data = depth.data_mut();
         let counters = &mut self.counters;
-        let [du, dv, ddx] = h.planes.map(|p| p[1]);
+        let fs = f - 8;
+        let [du, dv, ddx] = texel_words(h.planes.map(|p| p[1]), fs);
         super::edge::walk_runs(&pre.coverage(), clip, |py, xa, xb| {
             let off = usize::from(py - rect.y0) * stride + usize::from(xa - rect.x0);
             let n = usize::from(xb - xa);
@@ -282,7 +296,7 @@ impl Rasterizer {
             };
             let (px, pyi) = (i64::from(xa), i64::from(py));
             let mut zp = plane.z.at(px, pyi);
-            let [mut nu, mut nv, mut dd] = h.at(px, pyi);
+            let [mut nu, mut nv, mut dd] = texel_words(h.at(px, pyi), fs);
             let mut shown = 0u32;
             for (d, c) in drow.iter_mut().zip(crow.iter_mut()) {
                 let z = ((zp.wrapping_add(1 << 31) >> 32) as i32).max(zlo).min(zhi) as u16;
@@ -290,7 +304,7 @@ impl Rasterizer {
                     if write {
                         *d = z;
                     }
-                    *c = homogeneous_texel(texels, [nu, nv, dd], f, max, log2);
+                    *c = texel_at(texels, [nu, nv, dd], max, log2);
                     shown += 1;
                 }
                 zp = zp.wrapping_add(dz);
