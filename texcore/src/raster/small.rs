@@ -23,7 +23,7 @@
 //! [`Rasterizer::draw_depth`]: super::Rasterizer::draw_depth
 
 use super::setup::{round_plane_shifted, Reject};
-use super::textured::{texel_at, texel_words};
+use super::textured::{texel_at, texel_words, whole};
 use super::{CullMode, DepthFunc, Perspective, Rect, ScreenVertex, TriangleOptions};
 use crate::wide::leading_zeros_u32;
 
@@ -103,8 +103,6 @@ pub(crate) struct SmallRun<'a> {
     pub(crate) texels: &'a [u16],
     /// `f - 8` for the texture's `f` fraction bits ([`texel_words`]).
     pub(crate) fs: u32,
-    pub(crate) max: u32,
-    pub(crate) log2: u32,
 }
 
 /// The planes of a small triangle at pixel `(px, py)` (both at least 0: zero-extended, each
@@ -171,7 +169,7 @@ impl RunStart {
 /// (4.4 a frame pixel).
 #[cfg_attr(target_arch = "riscv32", inline(never))]
 #[cfg_attr(not(target_arch = "riscv32"), inline(always))]
-fn small_run<const WRITE: bool>(
+fn small_run<const WRITE: bool, const SIDE: usize>(
     depth: &mut [u16],
     colour: &mut [u16],
     set_up: &SmallSetup,
@@ -182,12 +180,12 @@ fn small_run<const WRITE: bool>(
     let dz = set_up.planes[0][1];
     let [mut nu, mut nv, mut dd] = texel_words([nu, nv, dd], run.fs);
     let [du, dv, ddx] = set_up.steps;
-    let (bias, max, log2, texels) = (run.bias, run.max, run.log2, run.texels);
     let mut failed = 0u32;
-    // A `Texture565` has texels: said here, the texel look-up's mask needs no test per pixel.
-    if texels.is_empty() {
+    // A `Texture565`'s texels are whole: the look-ups' index is then below a constant length.
+    let Some(texels) = whole::<SIDE>(run.texels) else {
         return failed;
-    }
+    };
+    let bias = run.bias;
     for (d, c) in depth.iter_mut().zip(colour.iter_mut()) {
         // The depth without the general path's clamp to the vertex depths: at a covered pixel
         // of a small triangle the clamp never acts (`SmallSetup::planes`), so this is the
@@ -199,7 +197,7 @@ fn small_run<const WRITE: bool>(
             if WRITE {
                 *d = z as u16;
             }
-            *c = texel_at(texels, [nu, nv, dd], max, log2);
+            *c = texel_at::<SIDE>(texels, [nu, nv, dd]);
         } else {
             failed += 1;
         }
@@ -216,7 +214,7 @@ fn small_run<const WRITE: bool>(
 /// the general fast path. Out of line, with `i32` edge walkers: a register file of its own.
 /// Returns the pixels shown and the pixels that failed the depth test.
 #[inline(never)]
-pub(crate) fn draw_small(
+pub(crate) fn draw_small<const SIDE: usize>(
     set_up: &SmallSetup,
     clip: Rect,
     rect: Rect,
@@ -265,9 +263,9 @@ pub(crate) fn draw_small(
         // 0 <= xa, py (inside the clip).
         let start = RunStart::new(set_up, xa as u32, py as u32);
         let failed = if run.write {
-            small_run::<true>(drow, crow, set_up, start, run)
+            small_run::<true, SIDE>(drow, crow, set_up, start, run)
         } else {
-            small_run::<false>(drow, crow, set_up, start, run)
+            small_run::<false, SIDE>(drow, crow, set_up, start, run)
         };
         counts[0] += n as u32 - failed;
         counts[1] += failed;

@@ -33,48 +33,46 @@ use super::setup::CoverDepth;
 use super::small::{depth_bias, draw_small, Small, SmallRun};
 use super::{DepthBuffer, Perspective, Rasterizer, ScreenVertex, Segment, TriangleOptions};
 
-/// An RGB565 texture of `side x side` texels (`side` a power of two, 1 to 128), row-major.
-/// Built by [`Texture565::new`].
+/// An RGB565 texture of `SIDE x SIDE` texels (`SIDE` a power of two, 1 to 128), row-major:
+/// the side in the type, so that the texel look-ups of [`Rasterizer::draw_textured`] know the
+/// texture's length, its clamp and its row shift as constants. Built by [`Texture565::new`].
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub struct Texture565<'a> {
+pub struct Texture565<'a, const SIDE: usize> {
+    /// Exactly `SIDE * SIDE` texels.
     texels: &'a [u16],
-    log2_side: u32,
 }
 
-impl<'a> Texture565<'a> {
-    /// The texture of `texels` (`side * side` of them, row-major); `None` unless `side` is a
-    /// power of two from 1 to 128 and `texels.len() == side * side`.
-    pub fn new(texels: &'a [u16], side: u16) -> Option<Texture565<'a>> {
-        if !side.is_power_of_two()
-            || side > 128
-            || texels.len() != usize::from(side) << side.trailing_zeros()
-        {
+impl<'a, const SIDE: usize> Texture565<'a, SIDE> {
+    /// `log2(SIDE)` (for a valid side).
+    const LOG2: u32 = SIDE.trailing_zeros();
+
+    /// The texture of `texels` (`SIDE * SIDE` of them, row-major); `None` unless `SIDE` is a
+    /// power of two from 1 to 128 and `texels.len() == SIDE * SIDE`.
+    pub fn new(texels: &'a [u16]) -> Option<Texture565<'a, SIDE>> {
+        if !SIDE.is_power_of_two() || SIDE > 128 || texels.len() != SIDE * SIDE {
             return None;
         }
-        Some(Texture565 {
-            texels,
-            log2_side: side.trailing_zeros(),
-        })
+        Some(Texture565 { texels })
     }
 
     /// Side in texels.
     pub const fn side(&self) -> u16 {
-        1 << self.log2_side
+        SIDE as u16
     }
 
-    /// Fraction bits of the interpolated coordinates (`15 - log2(side)`).
+    /// Fraction bits of the interpolated coordinates (`15 - log2(SIDE)`, 8 to 15).
     const fn frac(&self) -> u32 {
-        15 - self.log2_side
+        15u32.saturating_sub(Self::LOG2)
     }
 
     /// The texel at raw `Q16.16` coordinates `(u, v)`, nearest, clamped.
     #[inline]
     fn nearest_q16(&self, u: i32, v: i32) -> u16 {
-        let max = (1i32 << self.log2_side) - 1;
+        let max = SIDE as i32 - 1;
         let tu = (u >> 16).max(0).min(max) as usize;
         let tv = (v >> 16).max(0).min(max) as usize;
         self.texels
-            .get((tv << self.log2_side) | tu)
+            .get((tv << Self::LOG2) | tu)
             .copied()
             .unwrap_or(0)
     }
@@ -95,11 +93,11 @@ struct Homogeneous {
 impl Homogeneous {
     /// The planes of a prepared triangle (its edge functions, vertex `1/w`, texture coordinates
     /// and doubled area) for texture `tx`; `None` when the fast path does not apply.
-    fn new(
+    fn new<const SIDE: usize>(
         pre: &CoverDepth,
         v: &[ScreenVertex; 3],
         affine: bool,
-        tx: &Texture565<'_>,
+        tx: &Texture565<'_, SIDE>,
     ) -> Option<Homogeneous> {
         let ((e, narrow), area2) = (pre.edges(), pre.area2());
         let inv_w = v.map(|p| p.inv_w.to_bits());
@@ -172,23 +170,30 @@ pub(crate) fn texel_words(hom: [i64; 3], fs: u32) -> [i32; 3] {
     [n(nu), n(nv), (dd >> 24) as i32]
 }
 
-/// The texel at the texel words `[N_u', N_v', D']` ([`texel_words`], stepped along a run): the
-/// quotients `N' / D'` (a numerator below 0 taken as 0; a divisor of 0 reads texel `(0, 0)`),
-/// each clamped to `max`, in a texture of `2^log2` texels a row.
+/// The texel at the texel words `[N_u', N_v', D']` ([`texel_words`], stepped along a run) in
+/// `texels`, a texture of `SIDE x SIDE` texels: the quotients `N' / D'` (a numerator below 0
+/// taken as 0; a divisor of 0 reads texel `(0, 0)`), each clamped to `SIDE - 1`. `texels` is
+/// taken to its `SIDE * SIDE` texels by the caller, once a run: the index is then below its
+/// length by construction (no bounds check per pixel; texel 0 if `texels` is shorter).
 #[inline(always)]
-pub(crate) fn texel_at(texels: &[u16], words: [i32; 3], max: u32, log2: u32) -> u16 {
+pub(crate) fn texel_at<const SIDE: usize>(texels: &[u16], words: [i32; 3]) -> u16 {
     let [nu, nv, dd] = words;
     let den = dd as u32;
-    let u = (nu.max(0) as u32).checked_div(den).unwrap_or(0).min(max);
-    let t = (nv.max(0) as u32).checked_div(den).unwrap_or(0).min(max);
-    let i = ((t << log2) | u) as usize;
-    // For a `Texture565` (`max = side - 1`, `log2 = log2(side)`, `len = side^2`),
-    // i <= max 2^log2 + max = side^2 - 1 = len - 1, so the mask keeps i as it is, and its bound
-    // (`i & (len - 1) < len` for every non-empty slice) replaces a bounds check per pixel.
-    texels
-        .get(i & texels.len().wrapping_sub(1))
-        .copied()
-        .unwrap_or(0)
+    let max = SIDE as i32 - 1;
+    // Quotients below 2^31 (numerators below 2^31): the clamp of an `i32` to `[0, max]` is
+    // one saturation on the Cortex-M.
+    let q = |n: i32| ((n.max(0) as u32).checked_div(den).unwrap_or(0) as i32).clamp(0, max) as u32;
+    let (u, t) = (q(nu), q(nv));
+    let i = ((t << SIDE.trailing_zeros()) | u) as usize;
+    texels.get(i).copied().unwrap_or(0)
+}
+
+/// `texels` taken to exactly `SIDE * SIDE` texels (the whole texture of a [`Texture565`]):
+/// what [`texel_at`] reads, its length then a constant. `None` if `texels` is shorter (never
+/// for a `Texture565`'s texels).
+#[inline(always)]
+pub(crate) fn whole<const SIDE: usize>(texels: &[u16]) -> Option<&[u16]> {
+    texels.get(..SIDE * SIDE)
 }
 
 impl Rasterizer {
@@ -197,12 +202,12 @@ impl Rasterizer {
     /// vertices' `tex.x`, `tex.y` (raw `Q16.16` texels) interpolated perspective-correctly: see
     /// the module documentation ([`Texture565`]) for the guarantees. Clipped to the clip
     /// rectangle and the depth buffer's rectangle.
-    pub fn draw_textured(
+    pub fn draw_textured<const SIDE: usize>(
         &mut self,
         v: &[ScreenVertex; 3],
         opts: &TriangleOptions,
         depth: &mut DepthBuffer<'_>,
-        tex: &Texture565<'_>,
+        tex: &Texture565<'_, SIDE>,
         colour: &mut [u16],
     ) {
         self.draw_textured_with(v, opts, depth, tex, colour, true);
@@ -210,12 +215,12 @@ impl Rasterizer {
 
     /// [`Rasterizer::draw_textured`], through the small path ([`Small::set_up`]) when `small`
     /// allows it and the triangle is small (the tests draw both ways and compare).
-    fn draw_textured_with(
+    fn draw_textured_with<const SIDE: usize>(
         &mut self,
         v: &[ScreenVertex; 3],
         opts: &TriangleOptions,
         depth: &mut DepthBuffer<'_>,
-        tex: &Texture565<'_>,
+        tex: &Texture565<'_, SIDE>,
         colour: &mut [u16],
         small: bool,
     ) {
@@ -247,10 +252,9 @@ impl Rasterizer {
                     write: opts.depth_write,
                     texels: tex.texels,
                     fs: tex.frac() - 8,
-                    max: u32::from(tex.side()) - 1,
-                    log2: tex.log2_side,
                 };
-                let [shown, failed] = draw_small(s, clip, rect, depth.data_mut(), colour, &run);
+                let [shown, failed] =
+                    draw_small::<SIDE>(s, clip, rect, depth.data_mut(), colour, &run);
                 let c = &mut self.counters;
                 c.pixels = c.pixels.wrapping_add(u64::from(shown));
                 c.depth_failed = c.depth_failed.wrapping_add(u64::from(failed));
@@ -279,9 +283,9 @@ impl Rasterizer {
         let (zlo, zhi) = (plane.zlo as i32, plane.zhi as i32);
         let dz = plane.z.dx;
         let f = tex.frac();
-        let max = u32::from(tex.side()) - 1;
-        let log2 = tex.log2_side;
-        let texels = tex.texels;
+        let Some(texels) = whole::<SIDE>(tex.texels) else {
+            return;
+        };
         let data = depth.data_mut();
         let counters = &mut self.counters;
         let fs = f - 8;
@@ -304,7 +308,7 @@ impl Rasterizer {
                     if write {
                         *d = z;
                     }
-                    *c = texel_at(texels, [nu, nv, dd], max, log2);
+                    *c = texel_at::<SIDE>(texels, [nu, nv, dd]);
                     shown += 1;
                 }
                 zp = zp.wrapping_add(dz);
@@ -321,12 +325,12 @@ impl Rasterizer {
 
     /// [`Rasterizer::draw_textured`] through the general rasterizer (its segments, nearest
     /// look-ups along each).
-    fn draw_textured_general(
+    fn draw_textured_general<const SIDE: usize>(
         &mut self,
         v: &[ScreenVertex; 3],
         opts: &TriangleOptions,
         depth: &mut DepthBuffer<'_>,
-        tex: &Texture565<'_>,
+        tex: &Texture565<'_, SIDE>,
         colour: &mut [u16],
         stride: usize,
     ) {
@@ -375,24 +379,39 @@ mod tests {
     #[test]
     fn texture_constructor_checks_side_and_length() {
         let t = index_texture(16);
-        assert!(Texture565::new(&t, 16).is_some());
-        assert!(Texture565::new(&t, 8).is_none());
-        assert!(Texture565::new(&t[..255], 16).is_none());
+        assert!(Texture565::<16>::new(&t).is_some());
+        assert_eq!(Texture565::<16>::new(&t).map(|t| t.side()), Some(16));
+        assert!(Texture565::<8>::new(&t).is_none());
+        assert!(Texture565::<16>::new(&t[..255]).is_none());
+        assert!(Texture565::<1>::new(&t[..1]).is_some());
+        assert!(Texture565::<0>::new(&[]).is_none());
         let t = index_texture(12);
-        assert!(Texture565::new(&t, 12).is_none());
+        assert!(Texture565::<12>::new(&t).is_none());
         let t = vec![0u16; 256 * 256];
-        assert!(Texture565::new(&t, 256).is_none());
+        assert!(Texture565::<256>::new(&t).is_none());
     }
 
     /// The pixels a triangle covers (depth written) through `draw_depth` and `draw_textured`
     /// are the same, and every textured pixel reads the texel of the real-arithmetic
-    /// perspective-correct coordinates within the stated bound.
+    /// perspective-correct coordinates within the stated bound: the 128-texel atlas's side
+    /// (`f = 8`) and a 16-texel texture (`f = 11`: the texel words' extra shift).
     #[test]
     fn coverage_equals_draw_depth_and_texels_follow_perspective() {
+        coverage_and_texels::<128>();
+        coverage_and_texels::<16>();
+    }
+
+    fn coverage_and_texels<const SIDE: usize>() {
         let (w, h) = (64u16, 48u16);
-        let side = 128u16;
+        let side = SIDE as u16;
         let texels = index_texture(side);
-        let tex = Texture565::new(&texels, side).unwrap();
+        let tex = Texture565::<SIDE>::new(&texels).unwrap();
+        let top = f64::from(side - 1);
+        // The triangles' texel coordinates are given for 128 texels.
+        let vtx = |x: f64, y: f64, z: u16, w: f64, u: f64, v: f64| {
+            let k = f64::from(side) / 128.0;
+            vtx(x, y, z, w, u * k, v * k)
+        };
         let tris = [
             [
                 vtx(3.3, 2.1, 100, 1.0, 1.5, 2.5),
@@ -457,15 +476,18 @@ mod tests {
                     };
                     let (u, v) = (coord(0), coord(1));
                     let (tu, tv) = (f64::from(*c % side), f64::from(*c / side));
-                    // Within 2 + 2r units of 1/256 texel (r <= 4 here): 10/256 texel.
-                    let tol = 10.0 / 256.0;
+                    // Within side (1 + i) r 2^-22 texel of the quantised data's ratio (r <= 4,
+                    // runs below 64 pixels: below 1/128 texel), whose vertex coordinates are
+                    // within 2^-f texel and whose q_i within 2^-14 of the real ones: 6/256
+                    // texel allowed.
+                    let tol = 6.0 / 256.0;
                     assert!(
-                        tu >= (u - tol).floor().max(0.0) && tu <= (u + tol).floor().min(127.0),
-                        "triangle {k} pixel {i}: u {u} texel {tu}"
+                        tu >= (u - tol).floor().max(0.0) && tu <= (u + tol).floor().min(top),
+                        "side {side} triangle {k} pixel {i}: u {u} texel {tu}"
                     );
                     assert!(
-                        tv >= (v - tol).floor().max(0.0) && tv <= (v + tol).floor().min(127.0),
-                        "triangle {k} pixel {i}: v {v} texel {tv}"
+                        tv >= (v - tol).floor().max(0.0) && tv <= (v + tol).floor().min(top),
+                        "side {side} triangle {k} pixel {i}: v {v} texel {tv}"
                     );
                 }
                 assert!(drawn > 20, "triangle {k}: {drawn} pixels");
@@ -479,7 +501,7 @@ mod tests {
     fn large_triangles_take_the_general_path() {
         let (w, h) = (32u16, 16u16);
         let texels = index_texture(128);
-        let tex = Texture565::new(&texels, 128).unwrap();
+        let tex = Texture565::<128>::new(&texels).unwrap();
         let tri = [
             vtx(-9000.0, -9000.0, 5, 1.0, 0.0, 0.0),
             vtx(9000.0, -9000.0, 5, 1.0, 127.0, 0.0),
@@ -527,7 +549,7 @@ mod tests {
     fn small_path_equals_the_wide_path() {
         let (w, h) = (96u16, 40u16);
         let texels = index_texture(128);
-        let tex = Texture565::new(&texels, 128).unwrap();
+        let tex = Texture565::<128>::new(&texels).unwrap();
         let mut st = 0x9e37_79b9_7f4a_7c15u64;
         let mut rnd = |lo: i64, hi: i64| {
             st = st
@@ -602,7 +624,7 @@ mod tests {
     fn small_depth_needs_no_clamp() {
         let (w, h) = (64u16, 32u16);
         let texels = index_texture(128);
-        let tex = Texture565::new(&texels, 128).unwrap();
+        let tex = Texture565::<128>::new(&texels).unwrap();
         let mut st = 0x2545_f491_4f6c_dd1du64;
         let mut rnd = |m: u64| {
             st ^= st << 13;

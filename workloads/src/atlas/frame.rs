@@ -390,7 +390,7 @@ pub fn draw_scene_rows_with<O: FnMut(&[u16])>(
         *s = at;
         at += o.mesh.quad_count();
     }
-    let Some(texture) = Texture565::new(atlas, SIDE) else {
+    let Some(texture) = Texture565::<{ SIDE as usize }>::new(atlas) else {
         return false;
     };
     let Some(half_corners) = HalfCorners::new(&layout) else {
