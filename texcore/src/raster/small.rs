@@ -23,7 +23,7 @@
 //! [`Rasterizer::draw_depth`]: super::Rasterizer::draw_depth
 
 use super::setup::{round_plane_shifted, Reject};
-use super::textured::{texel_at, texel_words, whole};
+use super::textured::{anchored_words, texel_at, whole};
 use super::{CullMode, DepthFunc, Perspective, Rect, ScreenVertex, TriangleOptions};
 use crate::wide::leading_zeros_u32;
 
@@ -101,85 +101,47 @@ pub(crate) struct SmallRun<'a> {
     pub(crate) bias: u32,
     pub(crate) write: bool,
     pub(crate) texels: &'a [u16],
-    /// `f - 8` for the texture's `f` fraction bits ([`texel_words`]).
-    pub(crate) fs: u32,
 }
 
-/// The planes of a small triangle at pixel `(px, py)` (both at least 0: zero-extended, each
-/// product is one 32 x 64-bit multiplication).
+/// The depth plane's value and the texel words of a small triangle at pixel `(px, py)` (both
+/// at least 0: zero-extended, each depth product is one 32 x 64-bit multiplication; the words
+/// from the anchor, [`SmallSetup::words`]).
 #[inline(always)]
-fn planes_at(set_up: &SmallSetup, px: u32, py: u32) -> [i64; 4] {
-    let (px, py) = (i64::from(px), i64::from(py));
-    set_up.planes.map(|p| {
-        p[0].wrapping_add(p[1].wrapping_mul(px))
-            .wrapping_add(p[2].wrapping_mul(py))
-    })
+fn start_at(set_up: &SmallSetup, px: u32, py: u32) -> (i64, [i32; 3]) {
+    let [c, dx, dy] = set_up.zplane;
+    let z = c
+        .wrapping_add(dx.wrapping_mul(i64::from(px)))
+        .wrapping_add(dy.wrapping_mul(i64::from(py)));
+    let (a, b) = (
+        (px as i32).wrapping_sub(set_up.anchor[0]),
+        (py as i32).wrapping_sub(set_up.anchor[1]),
+    );
+    let words = set_up.words.map(|[w, wx, wy]| {
+        w.wrapping_add(wx.wrapping_mul(a))
+            .wrapping_add(wy.wrapping_mul(b))
+    });
+    (z, words)
 }
 
-/// Where a run starts, as [`small_run`] takes it. On rv32imc the pixel, its planes evaluated by
-/// the out-of-line run itself (in its own registers: the row loop then keeps no plane words,
-/// 0.4 instructions a frame pixel of `atlas:marble` cheaper); elsewhere the planes, evaluated
-/// by the row loop once for both of the run's forms (0.4 cheaper on the Cortex-M4F, where the
-/// run is inlined). The same integers either way.
-#[derive(Clone, Copy)]
-struct RunStart {
-    #[cfg(target_arch = "riscv32")]
-    pixel: (u32, u32),
-    #[cfg(not(target_arch = "riscv32"))]
-    planes: [i64; 4],
-}
-
-impl RunStart {
-    #[inline(always)]
-    fn new(set_up: &SmallSetup, px: u32, py: u32) -> RunStart {
-        #[cfg(target_arch = "riscv32")]
-        {
-            let _ = set_up;
-            RunStart { pixel: (px, py) }
-        }
-        #[cfg(not(target_arch = "riscv32"))]
-        {
-            RunStart {
-                planes: planes_at(set_up, px, py),
-            }
-        }
-    }
-
-    #[inline(always)]
-    fn planes(self, set_up: &SmallSetup) -> [i64; 4] {
-        #[cfg(target_arch = "riscv32")]
-        {
-            planes_at(set_up, self.pixel.0, self.pixel.1)
-        }
-        #[cfg(not(target_arch = "riscv32"))]
-        {
-            let _ = set_up;
-            self.planes
-        }
-    }
-}
-
-/// One run of a small triangle set up as `set_up`, from `start` along `depth` and `colour`: the
-/// planes at its first pixel, then stepped; the depth written when `WRITE`. Returns the pixels
-/// that failed the depth test (counted on the rarer branch: most pixels of a frame pass).
+/// One run of a small triangle set up as `set_up`, from pixel `(px, py)` along `depth` and
+/// `colour`: the depth plane and the texel words at its first pixel ([`start_at`]), then
+/// stepped; the depth written when `WRITE`. Returns the pixels that failed the depth test
+/// (counted on the rarer branch: most pixels of a frame pass).
 ///
-/// Out of line on rv32imc: its many registers then hold the run's eight plane words and steps
-/// (inlined, the row loop's state pushed them to the stack: 0.9 instructions a frame pixel of
-/// `atlas:marble` dearer); inlined on the Cortex-M, whose few registers make the call dearer
-/// (4.4 a frame pixel).
-#[cfg_attr(target_arch = "riscv32", inline(never))]
-#[cfg_attr(not(target_arch = "riscv32"), inline(always))]
+/// Out of line, computing its own start: its registers then hold the run's depth words, texel
+/// words and steps (inlined into the row loop on the Cortex-M4F, with the start computed by the
+/// loop, `atlas:marble` measured 2.6 instructions a frame pixel dearer).
+#[inline(never)]
 fn small_run<const WRITE: bool, const SIDE: usize>(
     depth: &mut [u16],
     colour: &mut [u16],
     set_up: &SmallSetup,
-    start: RunStart,
+    (px, py): (u32, u32),
     run: &SmallRun<'_>,
 ) -> u32 {
-    let [mut zp, nu, nv, dd] = start.planes(set_up);
-    let dz = set_up.planes[0][1];
-    let [mut nu, mut nv, mut dd] = texel_words([nu, nv, dd], run.fs);
-    let [du, dv, ddx] = set_up.steps;
+    let (mut zp, [mut nu, mut nv, mut dd]) = start_at(set_up, px, py);
+    let dz = set_up.zplane[1];
+    let [du, dv, ddx] = set_up.words.map(|w| w[1]);
     let mut failed = 0u32;
     // A `Texture565`'s texels are whole: the look-ups' index is then below a constant length.
     let Some(texels) = whole::<SIDE>(run.texels) else {
@@ -261,7 +223,7 @@ pub(crate) fn draw_small<const SIDE: usize>(
             continue;
         };
         // 0 <= xa, py (inside the clip).
-        let start = RunStart::new(set_up, xa as u32, py as u32);
+        let start = (xa as u32, py as u32);
         let failed = if run.write {
             small_run::<true, SIDE>(drow, crow, set_up, start, run)
         } else {
@@ -283,23 +245,25 @@ fn first_centre(v: i32) -> i32 {
 /// The set-up of a small triangle: what [`draw_small`] needs.
 pub(crate) struct SmallSetup {
     pub(crate) cov: SmallCoverage,
-    /// Depth, `N_u`, `N_v`, `D` planes `[c, dx, dy]` (the depth's rounding folded into `c`).
+    /// The depth plane `[c, dx, dy]` (the depth's rounding folded into `c`).
     ///
-    /// The depth plane's high word at a covered pixel lies between the least and the greatest
-    /// vertex depth, so the general path's clamp to them never acts here and the walk leaves
-    /// it out: each coefficient is within 1/2 of its exact value (`round_plane_shifted`) and a
-    /// covered pixel lies within `2^10` pixels of the origin in either axis, so the plane is
-    /// within `2^11` of the exact `2^32 sum_i z_i E_i / area2`. That is a convex combination of
-    /// the `z_i 2^32` (the pixel's centre lies in the closed triangle: every `E_i / area2 >= 0`),
+    /// Its high word at a covered pixel lies between the least and the greatest vertex depth,
+    /// so the general path's clamp to them never acts here and the walk leaves it out: each
+    /// coefficient is within 1/2 of its exact value (`round_plane_shifted`) and a covered
+    /// pixel lies within `2^10` pixels of the origin in either axis, so the plane is within
+    /// `2^11` of the exact `2^32 sum_i z_i E_i / area2`. That is a convex combination of the
+    /// `z_i 2^32` (the pixel's centre lies in the closed triangle: every `E_i / area2 >= 0`),
     /// and with the folded `2^31` the value lies in `[zlo 2^32 + 2^31 - 2^11, zhi 2^32 + 2^31 +
     /// 2^11]`, inside `[zlo 2^32, (zhi + 1) 2^32)`. The plane's words wrap, but its value at a
     /// covered pixel (below `2^49`) fits `i64`, so the wrapping sum is that value. Checked by a
-    /// debug assertion in the walk and by `small_path_equals_the_wide_path` and
-    /// `small_depth_needs_no_clamp` (against the clamping wide path).
-    pub(crate) planes: [[i64; 3]; 4],
-    /// The texel words' steps per pixel ([`texel_words`] of the `N_u`, `N_v`, `D` planes'
-    /// `dx`).
-    pub(crate) steps: [i32; 3],
+    /// debug assertion in the walk and by `small_depth_needs_no_clamp` (against the clamping
+    /// wide path).
+    pub(crate) zplane: [i64; 3],
+    /// The texel words `N_u'`, `N_v'`, `D'` ([`texel_words`]), each `[at the anchor, dx, dy]`
+    /// ([`anchored_words`]: the wide path's integers).
+    pub(crate) words: [[i32; 3]; 3],
+    /// The anchor pixel of the words.
+    pub(crate) anchor: [i32; 2],
     /// The least and greatest vertex depth (for the debug assertion of the walk only).
     #[cfg(debug_assertions)]
     pub(crate) zlim: [i32; 2],
@@ -449,11 +413,13 @@ impl Small {
             let (sx, sy) = steps(wj);
             [dot(wj, c0), sx, sy].map(|c| c.wrapping_mul(scale))
         };
-        let [pu, pv, pd] = [plane(0), plane(1), plane(2)];
+        let min_x = p0[0].min(p1[0]).min(p2[0]);
+        let (words, anchor) = anchored_words([plane(0), plane(1), plane(2)], min_x, cov.py_first);
         Small::Ready(SmallSetup {
             cov,
-            steps: texel_words([pu[1], pv[1], pd[1]], frac - 8),
-            planes: [[zc.wrapping_add(1 << 31), zdx, zdy], pu, pv, pd],
+            zplane: [zc.wrapping_add(1 << 31), zdx, zdy],
+            words,
+            anchor,
             #[cfg(debug_assertions)]
             zlim: [
                 z.iter().copied().min().unwrap_or(0),

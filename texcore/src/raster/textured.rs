@@ -11,17 +11,18 @@
 //!   perspective-correctly at **every pixel** by the homogeneous ratio
 //!   `u = N / D = (sum_i E_i q_i u_i) / (sum_i E_i q_i)` of the barycentric edge functions `E_i`
 //!   (no division by the area: it cancels). `N` and `D` are planes with exact integer
-//!   coefficients (scaled so that `D < 2^48`), evaluated exactly in `i64` at the first pixel of
-//!   each run of a row; their *texel words* `N' = floor(N / 2^(24 + f))`,
-//!   `D' = floor(D / 2^24)` (the quotient `N' / D'` is in texels) and the words of their steps
-//!   are then stepped in 32 bits along the run, and each pixel divides them on the 32-bit
-//!   hardware divide. `q_i` is `1/w` normalised to 15 bits (the largest in `[2^14, 2^15)`; all
-//!   equal for [`Perspective::Affine`]), so `D' >= 2^22 / r` with `r = max q_i / min q_i`. At
-//!   the run's pixel `i` (from 0) each word is within `1 + i` units below its exact value, so
-//!   the quotient is within about `side (1 + i) r 2^-22` texel of the real-arithmetic ratio of
-//!   the quantised vertex data (for the 128-texel atlas: `(1 + i) r 2^-15` texel, 1/64 texel
-//!   for a run of 64 pixels at `r = 8`). The texel read is `(floor(v), floor(u))`, clamped to
-//!   the texture.
+//!   coefficients (scaled so that `D < 2^48`). Their *texel words* `N' = floor(N / 2^32)`,
+//!   `D' = floor(D / 2^24)` (whose quotient is the coordinate in units of `2^(8 - f)` texel)
+//!   are set up once a triangle at an anchor pixel, the top-left corner of its pixel box
+//!   clamped to pixel `(0, 0)`, with the words of the planes' steps; each run of a row starts
+//!   from them and steps them in 32 bits, and each pixel divides them on the 32-bit hardware
+//!   divide. `q_i` is `1/w` normalised to 15 bits (the largest in `[2^14, 2^15)`; all equal for
+//!   [`Perspective::Affine`]), so `D' >= 2^22 / r` with `r = max q_i / min q_i`. At a pixel
+//!   `a` columns right of and `b` rows below the anchor each word is within `1 + a + b` units
+//!   below its exact value, so the quotient is within about `side (1 + a + b) r 2^-22` texel of
+//!   the real-arithmetic ratio of the quantised vertex data (`a + b <= px + py`; for the
+//!   128-texel atlas `(1 + a + b) r 2^-15` texel: 1/64 texel at `a + b = 63`, `r = 8`). The
+//!   texel read is `(floor(v), floor(u))`, clamped to the texture.
 //! - **Fallback**: a triangle with a normalised `q_i` of 0 (ratio past `2^15`), a doubled area
 //!   of `2^32` raw units or more, or edge functions past `i32` (far outside a small target) is
 //!   drawn through [`Rasterizer::draw_depth`] (segments with `Every16`-style perspective, as
@@ -145,29 +146,55 @@ impl Homogeneous {
         }
         Some(Homogeneous { planes })
     }
-
-    /// The three planes' values at pixel `(px, py)` (wrapping).
-    #[inline]
-    fn at(&self, px: i64, py: i64) -> [i64; 3] {
-        self.planes.map(|p| {
-            p[0].wrapping_add(p[1].wrapping_mul(px))
-                .wrapping_add(p[2].wrapping_mul(py))
-        })
-    }
 }
 
 /// The 32-bit *texel words* of the homogeneous planes' values `hom = [N_u, N_v, D]` (scaled as
-/// [`Homogeneous`] scales them: `D < 2^48`, `N < 2^63` at a covered pixel) for a texture of `f`
-/// fraction bits (`8 <= f <= 15`, every [`Texture565`]): `[N_u >> (24 + f), N_v >> (24 + f),
-/// D >> 24]` (floors; `D >> 24 < 2^24`, `N >> (24 + f) < 2^31`), whose quotient `N' / D'` is
-/// the coordinate in texels. Taken of a run's first pixel and of the planes' steps: the run
-/// then steps the words in 32 bits ([`texel_at`]). `fs = f - 8`.
+/// [`Homogeneous`] scales them: `D < 2^48`, `N < 2^63` at a covered pixel): `[N_u >> 32,
+/// N_v >> 32, D >> 24]` (floors; below `2^31` and `2^24`), whose quotient `N' / D'` is the
+/// coordinate in units of `2^(8 - f)` texel. Each word is a function of its value modulo
+/// `2^64` (bits 32.. or 24.. of it, wrapped to 32 bits), so the words of wrapping sums are the
+/// wrapping sums of the words up to their floors' carries ([`anchored_words`]).
 #[inline(always)]
-pub(crate) fn texel_words(hom: [i64; 3], fs: u32) -> [i32; 3] {
+pub(crate) fn texel_words(hom: [i64; 3]) -> [i32; 3] {
     let [nu, nv, dd] = hom;
-    // N >> (24 + f) = (N >> 32) >> (f - 8): the high word and one shift.
-    let n = |v: i64| ((v >> 32) as i32) >> (fs & 31);
-    [n(nu), n(nv), (dd >> 24) as i32]
+    [(nu >> 32) as i32, (nv >> 32) as i32, (dd >> 24) as i32]
+}
+
+/// The texel words of a triangle's homogeneous planes `[N_u, N_v, D]` (each `[c, dx, dy]` at
+/// pixel `(0, 0)`, scaled as [`Homogeneous`]), as `[at the anchor, dx, dy]` each, and the
+/// anchor: the pixel `(max(first_centre(min_x), 0), max(py_first, 0))` (`min_x` the least raw
+/// vertex x, `py_first` the first pixel row whose centre is at or below the top vertex), the
+/// top-left corner of the triangle's pixel box clamped to the pixels of any target. A covered
+/// pixel `(px, py)` then lies `a = px - ax >= 0` and `b = py - ay >= 0` pixels from it, and its
+/// words `w + a wx + b wy` (wrapping `i32`) are each within `1 + a + b` units below the floors
+/// of its exact values (the floors of the anchor's values and of the steps each lose less than
+/// a unit; the sum's true value fits `i32`, so the wrapping sum is it): with `D' >= 2^22 / r`
+/// (`q_i` normalised, `r = max q_i / min q_i`), the quotient is within about
+/// `side (1 + a + b) r 2^-22` texel of the exact ratio (`a + b <= px + py`). The small and the
+/// wide path take the same integers here, so their pixels are the same.
+#[inline(always)]
+pub(crate) fn anchored_words(
+    planes: [[i64; 3]; 3],
+    min_x: i32,
+    py_first: i32,
+) -> ([[i32; 3]; 3], [i32; 2]) {
+    let ax = (min_x.wrapping_add(7) >> 4).max(0);
+    let ay = py_first.max(0);
+    let at = |p: [i64; 3]| {
+        p[0].wrapping_add(p[1].wrapping_mul(i64::from(ax)))
+            .wrapping_add(p[2].wrapping_mul(i64::from(ay)))
+    };
+    let w = texel_words(planes.map(at));
+    let wx = texel_words(planes.map(|p| p[1]));
+    let wy = texel_words(planes.map(|p| p[2]));
+    (
+        [
+            [w[0], wx[0], wy[0]],
+            [w[1], wx[1], wy[1]],
+            [w[2], wx[2], wy[2]],
+        ],
+        [ax, ay],
+    )
 }
 
 /// The texel at the texel words `[N_u', N_v', D']` ([`texel_words`], stepped along a run) in
@@ -180,9 +207,9 @@ pub(crate) fn texel_at<const SIDE: usize>(texels: &[u16], words: [i32; 3]) -> u1
     let [nu, nv, dd] = words;
     let den = dd as u32;
     let max = SIDE as i32 - 1;
-    // Quotients below 2^31 (numerators below 2^31): the clamp of an `i32` to `[0, max]` is
-    // one saturation on the Cortex-M.
-    let q = |n: i32| ((n.max(0) as u32).checked_div(den).unwrap_or(0) as i32).clamp(0, max) as u32;
+    // The quotient is in units of 2^(8 - f) texel: f - 8 = 7 - log2(SIDE) bits to drop.
+    let fs = 7u32.saturating_sub(SIDE.trailing_zeros());
+    let q = |n: i32| ((n.max(0) as u32).checked_div(den).unwrap_or(0) >> fs).min(max as u32);
     let (u, t) = (q(nu), q(nv));
     let i = ((t << SIDE.trailing_zeros()) | u) as usize;
     texels.get(i).copied().unwrap_or(0)
@@ -251,7 +278,6 @@ impl Rasterizer {
                     bias: depth_bias(opts.depth_func),
                     write: opts.depth_write,
                     texels: tex.texels,
-                    fs: tex.frac() - 8,
                 };
                 let [shown, failed] =
                     draw_small::<SIDE>(s, clip, rect, depth.data_mut(), colour, &run);
@@ -282,14 +308,17 @@ impl Rasterizer {
         // carry a panic branch for `zlo > zhi`, which the set-up never gives).
         let (zlo, zhi) = (plane.zlo as i32, plane.zhi as i32);
         let dz = plane.z.dx;
-        let f = tex.frac();
         let Some(texels) = whole::<SIDE>(tex.texels) else {
             return;
         };
         let data = depth.data_mut();
         let counters = &mut self.counters;
-        let fs = f - 8;
-        let [du, dv, ddx] = texel_words(h.planes.map(|p| p[1]), fs);
+        let raw = v.map(|p| [p.x.to_bits(), p.y.to_bits()]);
+        let min_x = raw.iter().map(|p| p[0]).min().unwrap_or(0);
+        let min_y = raw.iter().map(|p| p[1]).min().unwrap_or(0);
+        // The first pixel row at or below the top vertex (`edge::Coverage`'s first row).
+        let (words, [ax, ay]) = anchored_words(h.planes, min_x, (min_y.wrapping_add(7)) >> 4);
+        let [du, dv, ddx] = words.map(|w| w[1]);
         super::edge::walk_runs(&pre.coverage(), clip, |py, xa, xb| {
             let off = usize::from(py - rect.y0) * stride + usize::from(xa - rect.x0);
             let n = usize::from(xb - xa);
@@ -300,7 +329,14 @@ impl Rasterizer {
             };
             let (px, pyi) = (i64::from(xa), i64::from(py));
             let mut zp = plane.z.at(px, pyi);
-            let [mut nu, mut nv, mut dd] = texel_words(h.at(px, pyi), fs);
+            let (a, b) = (
+                i32::from(xa).wrapping_sub(ax),
+                i32::from(py).wrapping_sub(ay),
+            );
+            let [mut nu, mut nv, mut dd] = words.map(|[w, wx, wy]| {
+                w.wrapping_add(wx.wrapping_mul(a))
+                    .wrapping_add(wy.wrapping_mul(b))
+            });
             let mut shown = 0u32;
             for (d, c) in drow.iter_mut().zip(crow.iter_mut()) {
                 let z = ((zp.wrapping_add(1 << 31) >> 32) as i32).max(zlo).min(zhi) as u16;
