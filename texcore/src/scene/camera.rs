@@ -648,10 +648,12 @@ pub fn normalise_inv_w(q: [u64; 3]) -> [u32; 3] {
     let bits = 64 - m.leading_zeros();
     let shift = bits.saturating_sub(31);
     q.map(|v| {
+        // (v >> s) + bit s - 1 of v is ceil(t / 2) for t = v >> (s - 1): one shift (t <= m >>
+        // (s - 1) < 2^32, so the addition cannot overflow).
         let r = if shift == 0 {
             v
         } else {
-            (v >> shift) + ((v >> (shift - 1)) & 1)
+            ((v >> (shift - 1)) + 1) >> 1
         };
         r.min(u32::MAX as u64) as u32
     })
@@ -1165,5 +1167,33 @@ mod tests {
         assert_eq!(normalise_inv_w([0, 0, 0]), [0, 0, 0]);
         let q = normalise_inv_w([(1 << 62) / 3, 12345678901, 1]);
         assert!(q[0] >= 1 << 30 && q[0] <= 1 << 31);
+        // Rounding half up: the shifted value plus the last bit shifted out, for any values
+        // (one shift of the rounded form against the two of the definition).
+        let want = |q: [u64; 3]| {
+            let m = q[0].max(q[1]).max(q[2]);
+            let shift = (64 - m.leading_zeros()).saturating_sub(31);
+            q.map(|v| {
+                let r = if shift == 0 {
+                    v
+                } else {
+                    (v >> shift) + ((v >> (shift - 1)) & 1)
+                };
+                r.min(u64::from(u32::MAX)) as u32
+            })
+        };
+        let mut x = 0x9E37_79B9_7F4A_7C15u64;
+        let mut next = || {
+            x ^= x << 13;
+            x ^= x >> 7;
+            x ^= x << 17;
+            x >> (x % 64)
+        };
+        for _ in 0..100_000 {
+            let q = [next(), next(), next()];
+            assert_eq!(normalise_inv_w(q), want(q), "{q:?}");
+        }
+        for q in [[u64::MAX; 3], [u64::MAX, 1, 0], [(1 << 31) - 1, 1 << 31, 3]] {
+            assert_eq!(normalise_inv_w(q), want(q), "{q:?}");
+        }
     }
 }

@@ -402,6 +402,18 @@ pub fn draw_scene_rows_with<O: FnMut(&[u16])>(
     } else {
         None
     };
+    // Each object's triangle options, once a frame (an object drawn without depth neither
+    // tests nor writes it).
+    let options: [Option<TriangleOptions>; texcore::scene::MAX_OBJECTS] =
+        core::array::from_fn(|i| {
+            let d = scene.object(i)?;
+            let mut opts = d.raster;
+            if !d.depth {
+                opts.depth_func = DepthFunc::Always;
+                opts.depth_write = false;
+            }
+            Some(opts)
+        });
     let mut band = [0u16; DRAW_PIXELS];
     let mut raster = Rasterizer::new(Rect::from_size(w, h));
     let mut cache: Option<(usize, QuadAtlas)> = None;
@@ -414,16 +426,8 @@ pub fn draw_scene_rows_with<O: FnMut(&[u16])>(
         db.clear(u16::MAX);
         fill_u16(&mut band, bg);
         let mut draw = |obj: usize, v: &[ScreenVertex; 3]| {
-            let Some(d) = scene.object(obj) else {
-                return;
-            };
-            if d.depth {
-                raster.draw_textured(v, &d.raster, &mut db, &texture, &mut band);
-            } else {
-                let mut opts = d.raster;
-                opts.depth_func = DepthFunc::Always;
-                opts.depth_write = false;
-                raster.draw_textured(v, &opts, &mut db, &texture, &mut band);
+            if let Some(Some(opts)) = options.get(obj) {
+                raster.draw_textured(v, opts, &mut db, &texture, &mut band);
             }
         };
         if exact {

@@ -41,7 +41,7 @@ use texcore::format::TexPoint;
 use texcore::hash::HashKind;
 use texcore::raster::{
     fill_u16, DepthBuffer, DepthFunc, InvW, Rasterizer, Rect, ScreenCoord, ScreenVertex,
-    Texture565, TriangleSetup,
+    Texture565, TriangleOptions, TriangleSetup,
 };
 use texcore::render::{GroupRows, TriangleSource};
 use texcore::scene::{Object, Scene};
