@@ -23,7 +23,7 @@
 //! [`Rasterizer::draw_depth`]: super::Rasterizer::draw_depth
 
 use super::setup::{round_plane_shifted, Reject};
-use super::textured::{anchored_words, texel_at, whole};
+use super::textured::{anchor, texel_at, whole, words_of};
 use super::{CullMode, DepthFunc, Perspective, Rect, ScreenVertex, TriangleOptions};
 use crate::wide::leading_zeros_u32;
 
@@ -408,13 +408,27 @@ impl Small {
         // shift by `k` and a negation measured 2.4 instructions a frame pixel dearer on the
         // Cortex-M4F, 0.45 cheaper on rv32imc).
         let scale = if area2 < 0 { -(1i64 << k) } else { 1i64 << k };
-        let plane = |j: usize| {
-            let wj = w.get(j).copied().unwrap_or([0; 3]);
-            let (sx, sy) = steps(wj);
-            [dot(wj, c0), sx, sy].map(|c| c.wrapping_mul(scale))
-        };
+        // The texel words at the anchor from the edge functions there (`E_i(A)`: below
+        // 2^29.01 + 2 2^19 2^10 < 2^31 for an anchor within 2^10 pixels of the origin, so each
+        // sum of three products is below 2^62.2), exactly the wide path's `c + dx ax + dy ay` of
+        // the same planes modulo 2^64 (`anchored_words`).
         let min_x = p0[0].min(p1[0]).min(p2[0]);
-        let (words, anchor) = anchored_words([plane(0), plane(1), plane(2)], min_x, cov.py_first);
+        let anchor = anchor(min_x, cov.py_first);
+        let [ax, ay] = anchor;
+        let ea = [0, 1, 2].map(|i| c0[i] + c1[i] * ax + c2[i] * ay);
+        let scaled = |v: i64| v.wrapping_mul(scale);
+        let (at, dx, dy) = {
+            let [wu, wv, wd] = w;
+            let (ux, uy) = steps(wu);
+            let (vx, vy) = steps(wv);
+            let (dxd, dyd) = steps(wd);
+            (
+                [dot(wu, ea), dot(wv, ea), dot(wd, ea)].map(scaled),
+                [ux, vx, dxd].map(scaled),
+                [uy, vy, dyd].map(scaled),
+            )
+        };
+        let words = words_of(at, dx, dy);
         Small::Ready(SmallSetup {
             cov,
             zplane: [zc.wrapping_add(1 << 31), zdx, zdy],

@@ -178,23 +178,31 @@ pub(crate) fn anchored_words(
     min_x: i32,
     py_first: i32,
 ) -> ([[i32; 3]; 3], [i32; 2]) {
-    let ax = (min_x.wrapping_add(7) >> 4).max(0);
-    let ay = py_first.max(0);
+    let [ax, ay] = anchor(min_x, py_first);
     let at = |p: [i64; 3]| {
         p[0].wrapping_add(p[1].wrapping_mul(i64::from(ax)))
             .wrapping_add(p[2].wrapping_mul(i64::from(ay)))
     };
-    let w = texel_words(planes.map(at));
-    let wx = texel_words(planes.map(|p| p[1]));
-    let wy = texel_words(planes.map(|p| p[2]));
-    (
-        [
-            [w[0], wx[0], wy[0]],
-            [w[1], wx[1], wy[1]],
-            [w[2], wx[2], wy[2]],
-        ],
-        [ax, ay],
-    )
+    let words = words_of(planes.map(at), planes.map(|p| p[1]), planes.map(|p| p[2]));
+    (words, [ax, ay])
+}
+
+/// The anchor pixel of [`anchored_words`].
+#[inline(always)]
+pub(crate) fn anchor(min_x: i32, py_first: i32) -> [i32; 2] {
+    [(min_x.wrapping_add(7) >> 4).max(0), py_first.max(0)]
+}
+
+/// The texel words `[at the anchor, dx, dy]` of each plane from the planes' values at the
+/// anchor and their steps ([`anchored_words`]).
+#[inline(always)]
+pub(crate) fn words_of(at: [i64; 3], dx: [i64; 3], dy: [i64; 3]) -> [[i32; 3]; 3] {
+    let (w, wx, wy) = (texel_words(at), texel_words(dx), texel_words(dy));
+    [
+        [w[0], wx[0], wy[0]],
+        [w[1], wx[1], wy[1]],
+        [w[2], wx[2], wy[2]],
+    ]
 }
 
 /// The texel at the texel words `[N_u', N_v', D']` ([`texel_words`], stepped along a run) in
