@@ -585,6 +585,36 @@ mod tests {
         assert!(z.iter().all(|d| *d == u16::MAX));
     }
 
+    /// Draws `tri` through the small path and through the wide fast path (`rects`: the
+    /// rasterizer's target, its clip and the depth buffer's rectangle, whose depths start as
+    /// `z`) and checks that both give the same depths, colours and counters (`n` names the
+    /// triangle); returns the pixels shown.
+    fn both_ways(
+        tri: &[ScreenVertex; 3],
+        opts: &TriangleOptions,
+        tex: &Texture565<'_, 128>,
+        rects: (Rect, Rect, Rect),
+        z: Vec<u16>,
+        n: u32,
+    ) -> u64 {
+        let (target, clip, rect) = rects;
+        let draw = |small: bool| {
+            let mut z = z.clone();
+            let mut colour = vec![u16::MAX; z.len()];
+            let mut r = Rasterizer::new(target);
+            r.set_clip(clip);
+            let mut db = DepthBuffer::new(&mut z, rect).unwrap();
+            r.draw_textured_with(tri, opts, &mut db, tex, &mut colour, small);
+            (z, colour, r.counters())
+        };
+        let (zs, cs, ks) = draw(true);
+        let (zw, cw, kw) = draw(false);
+        assert_eq!(zs, zw, "triangle {n}: depth");
+        assert_eq!(cs, cw, "triangle {n}: colour");
+        assert_eq!(ks, kw, "triangle {n}: counters");
+        ks.pixels
+    }
+
     /// Small triangles (the `i32` set-up and walk) draw exactly the pixels, depths and counters
     /// of the wide fast path: random triangles across a band, every depth function, both
     /// perspective modes, culling, partly clipped, vertices at the small range's edges and just
@@ -638,30 +668,25 @@ mod tests {
                 CullMode::Clockwise,
                 CullMode::CounterClockwise,
             ][n % 3];
+            let z: Vec<u16> = (0..usize::from(w) * usize::from(h))
+                .map(|i| (i as u16).wrapping_mul(977))
+                .collect();
+            let clip = Rect::new(3, 0, w - 5, 64);
             let rect = Rect::new(0, 8, w, 8 + h);
-            let draw = |small: bool| {
-                let mut z: Vec<u16> = (0..usize::from(w) * usize::from(h))
-                    .map(|i| (i as u16).wrapping_mul(977))
-                    .collect();
-                let mut colour = vec![u16::MAX; z.len()];
-                let mut r = Rasterizer::new(Rect::from_size(w, 64));
-                r.set_clip(Rect::new(3, 0, w - 5, 64));
-                let mut db = DepthBuffer::new(&mut z, rect).unwrap();
-                r.draw_textured_with(&tri, &opts, &mut db, &tex, &mut colour, small);
-                (z, colour, r.counters())
-            };
-            let (zs, cs, ks) = draw(true);
-            let (zw, cw, kw) = draw(false);
-            assert_eq!(zs, zw, "triangle {n}: depth");
-            assert_eq!(cs, cw, "triangle {n}: colour");
-            assert_eq!(ks, kw, "triangle {n}: counters");
-            drawn += ks.pixels;
+            drawn += both_ways(
+                &tri,
+                &opts,
+                &tex,
+                (Rect::from_size(w, 64), clip, rect),
+                z,
+                n as u32,
+            );
         }
         assert!(drawn > 20_000, "{drawn} pixels drawn");
     }
 
     /// The small path writes its depths without the wide path's clamp to the vertex depths
-    /// (`SmallSetup::planes`: it never acts at a covered pixel). Steep depth planes at their
+    /// (`SmallSetup::zplane`: it never acts at a covered pixel). Steep depth planes at their
     /// extremes: vertex depths 0 and 65535, slivers and needles one raw unit wide, vertices at
     /// the small range's edges, every pixel written (`Always`), against the clamping wide path.
     #[test]
@@ -707,20 +732,8 @@ mod tests {
             });
             opts.depth_func = DepthFunc::Always;
             let rect = Rect::from_size(w, h);
-            let draw = |small: bool| {
-                let mut z = vec![0x5555u16; usize::from(w) * usize::from(h)];
-                let mut colour = vec![0u16; z.len()];
-                let mut r = Rasterizer::new(rect);
-                let mut db = DepthBuffer::new(&mut z, rect).unwrap();
-                r.draw_textured_with(&tri, &opts, &mut db, &tex, &mut colour, small);
-                (z, colour, r.counters())
-            };
-            let (zs, cs, ks) = draw(true);
-            let (zw, cw, kw) = draw(false);
-            assert_eq!(zs, zw, "triangle {n}: depth");
-            assert_eq!(cs, cw, "triangle {n}: colour");
-            assert_eq!(ks, kw, "triangle {n}: counters");
-            drawn += ks.pixels;
+            let z = vec![0x5555u16; usize::from(w) * usize::from(h)];
+            drawn += both_ways(&tri, &opts, &tex, (rect, rect, rect), z, n);
         }
         assert!(drawn > 50_000, "{drawn} pixels drawn");
     }
