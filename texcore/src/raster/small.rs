@@ -7,9 +7,11 @@
 //!   and the edge walks' quotients fit `i32`; the depth plane is divided by the doubled area
 //!   exactly as `setup::Plane::new` does it (the same rounding, from the same sums); the
 //!   homogeneous planes take 32 x 32-bit products (weights below `2^30`, edge functions below
-//!   `2^30`).
+//!   `2^30`), taken to the texel words at the triangle's anchor (`textured::anchored_words`).
 //! - **Walk** ([`draw_small`], out of line: a register file of its own): `i32` edge walkers,
-//!   then per run the depth test and the texel look-up of the general fast path.
+//!   then per run (out of line too) the depth plane and the texel words at its first pixel,
+//!   stepped, the depth test without a clamp (it never acts, [`SmallSetup::zplane`]) and the
+//!   texel look-up of the general fast path.
 //!
 //! # Guarantees
 //!
@@ -259,8 +261,8 @@ pub(crate) struct SmallSetup {
     /// debug assertion in the walk and by `small_depth_needs_no_clamp` (against the clamping
     /// wide path).
     pub(crate) zplane: [i64; 3],
-    /// The texel words `N_u'`, `N_v'`, `D'` ([`texel_words`]), each `[at the anchor, dx, dy]`
-    /// ([`anchored_words`]: the wide path's integers).
+    /// The texel words `N_u'`, `N_v'`, `D'` (`textured::texel_words`), each `[at the anchor,
+    /// dx, dy]` (`textured::anchored_words`: the wide path's integers).
     pub(crate) words: [[i32; 3]; 3],
     /// The anchor pixel of the words.
     pub(crate) anchor: [i32; 2],
