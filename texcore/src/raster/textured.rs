@@ -737,4 +737,124 @@ mod tests {
         }
         assert!(drawn > 50_000, "{drawn} pixels drawn");
     }
+
+    /// Every texel the fast paths read lies within the stated bound of the quantised vertex
+    /// data's exact ratio (`anchored_words`): the words are within `1 + a + b` units below
+    /// their exact values at a pixel `a` columns and `b` rows from the anchor, so the quotient
+    /// lies in `[(N - d) / D, N / (D - d)]` (exact `N`, `D` in word units, `d = 1 + a + b`).
+    /// Random triangles in and far around a 96 x 64 target (anchors up to 1000 pixels away,
+    /// long rows), `1/w` ratios up to 16, both texture sides' fraction bits.
+    #[test]
+    fn texels_stay_within_the_stated_bound() {
+        texels_within_bound::<128>(0x51A7_E5ED);
+        texels_within_bound::<16>(0xB0_0B1E5);
+    }
+
+    fn texels_within_bound<const SIDE: usize>(seed: u64) {
+        let (w, h) = (96u16, 64u16);
+        let texels = index_texture(SIDE as u16);
+        let tex = Texture565::<SIDE>::new(&texels).unwrap();
+        let f = tex.frac();
+        let fs = f - 8;
+        let mut st = seed;
+        let mut rnd = |m: u64| {
+            st ^= st << 13;
+            st ^= st >> 7;
+            st ^= st << 17;
+            st % m
+        };
+        let mut checked = 0u64;
+        for n in 0..400u32 {
+            // Raw 28.4 vertices: around the target, or (every third triangle) one vertex up to
+            // 1000 pixels away, so the anchor and the rows are far apart.
+            let far = n % 3 == 0;
+            let tri: [ScreenVertex; 3] = core::array::from_fn(|k| {
+                let span = if far && k == 0 { 16_000 } else { 1_700 };
+                let c = |r: u64| r as i32 - span as i32 / 2;
+                let (x, y) = (c(rnd(span)) + 768, c(rnd(span)) + 512);
+                ScreenVertex::from_bits(
+                    x.clamp(-16_383, 16_383),
+                    y.clamp(-16_383, 16_383),
+                    rnd(65_536) as u16,
+                    // 1/w over a ratio of up to 16.
+                    (1u32 << 30) >> rnd(5),
+                    TexPoint::from_bits(
+                        rnd(SIDE as u64 * 65_536) as i32,
+                        rnd(SIDE as u64 * 65_536) as i32,
+                        0,
+                    ),
+                )
+            });
+            let mut opts = TriangleOptions::new(Perspective::Every16);
+            opts.depth_func = DepthFunc::Always;
+            let rect = Rect::from_size(w, h);
+            let mut z = vec![0u16; usize::from(w) * usize::from(h)];
+            let mut colour = vec![u16::MAX; z.len()];
+            let mut r = Rasterizer::new(rect);
+            let mut db = DepthBuffer::new(&mut z, rect).unwrap();
+            r.draw_textured(&tri, &opts, &mut db, &tex, &mut colour);
+            // The quantised data as the set-up takes it: q_i normalised to 15 bits, the
+            // coordinates to f fraction bits, the edge functions at pixel centres.
+            let p = tri.map(|v| [i64::from(v.x.to_bits()), i64::from(v.y.to_bits())]);
+            let qmax = tri.iter().map(|v| v.inv_w.to_bits()).max().unwrap();
+            let bl = 32 - qmax.leading_zeros();
+            let q = tri.map(|v| {
+                let x = v.inv_w.to_bits();
+                i128::from(if bl > 15 {
+                    x >> (bl - 15)
+                } else {
+                    x << (15 - bl)
+                })
+            });
+            let top = (1i32 << 15) - 1;
+            let coord = |t: i32| i128::from((t >> (16 - f)).clamp(0, top));
+            let area2 = (p[1][0] - p[0][0]) * (p[2][1] - p[0][1])
+                - (p[2][0] - p[0][0]) * (p[1][1] - p[0][1]);
+            if area2 == 0 {
+                continue;
+            }
+            let k = 33 - (64 - area2.unsigned_abs().leading_zeros()) as i32;
+            let min_x = p.iter().map(|c| c[0]).min().unwrap() as i32;
+            let min_y = p.iter().map(|c| c[1]).min().unwrap() as i32;
+            let anchor = [((min_x + 7) >> 4).max(0), ((min_y + 7) >> 4).max(0)];
+            for (i, c) in colour.iter().enumerate() {
+                if *c == u16::MAX {
+                    continue;
+                }
+                let (px, py) = ((i % usize::from(w)) as i64, (i / usize::from(w)) as i64);
+                let e = |j: usize, l: usize| {
+                    let (a, b) = (p[j], p[l]);
+                    (a[0] - 8 - 16 * px) * (b[1] - 8 - 16 * py)
+                        - (b[0] - 8 - 16 * px) * (a[1] - 8 - 16 * py)
+                };
+                let ee = [e(1, 2), e(2, 0), e(0, 1)].map(|v| i128::from(v * area2.signum()));
+                let d: i128 = (0..3).map(|j| ee[j] * q[j]).sum();
+                let num = |c: usize| -> i128 {
+                    (0..3)
+                        .map(|j| ee[j] * q[j] * coord(tri[j].tex.to_bits()[c]))
+                        .sum()
+                };
+                // Exact values in word units: N 2^k / 2^32 and D 2^k / 2^24.
+                let scale = 2f64.powi(k);
+                let dw = d as f64 * scale / 2f64.powi(24);
+                let delta = 1.0 + (px - i64::from(anchor[0]) + py - i64::from(anchor[1])) as f64;
+                let max = SIDE as f64 - 1.0;
+                let texel = |c: usize| {
+                    let nw = num(c) as f64 * scale / 2f64.powi(32);
+                    let lo = ((nw - delta) / dw / 2f64.powi(fs as i32)).floor();
+                    let hi = (nw / (dw - delta) / 2f64.powi(fs as i32)).floor();
+                    (lo.clamp(0.0, max), hi.clamp(0.0, max))
+                };
+                let (tu, tv) = (f64::from(*c % SIDE as u16), f64::from(*c / SIDE as u16));
+                let ((ul, uh), (vl, vh)) = (texel(0), texel(1));
+                assert!(
+                    ul <= tu && tu <= uh && vl <= tv && tv <= vh,
+                    "side {SIDE} triangle {n} pixel ({px}, {py}): texel ({tu}, {tv}) outside \
+                     [{ul}, {uh}] x [{vl}, {vh}]"
+                );
+                checked += 1;
+            }
+        }
+        assert!(checked > 30_000, "{checked} pixels checked");
+    }
 }
