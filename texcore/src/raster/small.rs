@@ -417,7 +417,13 @@ impl Small {
         let min_x = p0[0].min(p1[0]).min(p2[0]);
         let anchor = anchor(min_x, cov.py_first);
         let [ax, ay] = anchor;
-        let ea = [0, 1, 2].map(|i| c0[i] + c1[i] * ax + c2[i] * ay);
+        // Constant indices (a closure's index is a bounds check in the size-lean shape).
+        let e_at = |c: i32, dx: i32, dy: i32| c + dx * ax + dy * ay;
+        let ea = [
+            e_at(c0[0], c1[0], c2[0]),
+            e_at(c0[1], c1[1], c2[1]),
+            e_at(c0[2], c1[2], c2[2]),
+        ];
         let scaled = |v: i64| v.wrapping_mul(scale);
         let (at, dx, dy) = {
             let [wu, wv, wd] = w;
