@@ -25,7 +25,7 @@
 //! [`Rasterizer::draw_depth`]: super::Rasterizer::draw_depth
 
 use super::setup::{round_plane_shifted, Reject};
-use super::textured::{anchor, texel_at, whole, words_of};
+use super::textured::{anchor, texel_at, whole, words_at, words_of};
 use super::{CullMode, DepthFunc, Perspective, Rect, ScreenVertex, TriangleOptions};
 use crate::wide::leading_zeros_u32;
 
@@ -114,15 +114,10 @@ fn start_at(set_up: &SmallSetup, px: u32, py: u32) -> (i64, [i32; 3]) {
     let z = c
         .wrapping_add(dx.wrapping_mul(i64::from(px)))
         .wrapping_add(dy.wrapping_mul(i64::from(py)));
-    let (a, b) = (
-        (px as i32).wrapping_sub(set_up.anchor[0]),
-        (py as i32).wrapping_sub(set_up.anchor[1]),
-    );
-    let words = set_up.words.map(|[w, wx, wy]| {
-        w.wrapping_add(wx.wrapping_mul(a))
-            .wrapping_add(wy.wrapping_mul(b))
-    });
-    (z, words)
+    (
+        z,
+        words_at(&set_up.words, set_up.anchor, px as i32, py as i32),
+    )
 }
 
 /// One run of a small triangle set up as `set_up`, from pixel `(px, py)` along `depth` and
@@ -414,8 +409,8 @@ impl Small {
         // 2^29.01 + 2 2^19 2^10 < 2^31 for an anchor within 2^10 pixels of the origin, so each
         // sum of three products is below 2^62.2), exactly the wide path's `c + dx ax + dy ay` of
         // the same planes modulo 2^64 (`anchored_words`).
-        let min_x = p0[0].min(p1[0]).min(p2[0]);
-        let anchor = anchor(min_x, cov.py_first);
+        // The top vertex `cov.top` has the least y.
+        let anchor = anchor(p0[0].min(p1[0]).min(p2[0]), cov.top[1]);
         let [ax, ay] = anchor;
         // Constant indices (a closure's index is a bounds check in the size-lean shape).
         let e_at = |c: i32, dx: i32, dy: i32| c + dx * ax + dy * ay;

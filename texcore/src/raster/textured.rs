@@ -162,9 +162,8 @@ pub(crate) fn texel_words(hom: [i64; 3]) -> [i32; 3] {
 
 /// The texel words of a triangle's homogeneous planes `[N_u, N_v, D]` (each `[c, dx, dy]` at
 /// pixel `(0, 0)`, scaled as [`Homogeneous`]), as `[at the anchor, dx, dy]` each, and the
-/// anchor: the pixel `(max(first_centre(min_x), 0), max(py_first, 0))` (`min_x` the least raw
-/// vertex x, `py_first` the first pixel row whose centre is at or below the top vertex), the
-/// top-left corner of the triangle's pixel box clamped to the pixels of any target. A covered
+/// anchor ([`anchor`]): the top-left corner of the triangle's pixel box clamped to the pixels
+/// of any target. A covered
 /// pixel `(px, py)` then lies `a = px - ax >= 0` and `b = py - ay >= 0` pixels from it, and its
 /// words `w + a wx + b wy` (wrapping `i32`) are each within `1 + a + b` units below the floors
 /// of its exact values (the floors of the anchor's values and of the steps each lose less than
@@ -176,9 +175,9 @@ pub(crate) fn texel_words(hom: [i64; 3]) -> [i32; 3] {
 pub(crate) fn anchored_words(
     planes: [[i64; 3]; 3],
     min_x: i32,
-    py_first: i32,
+    min_y: i32,
 ) -> ([[i32; 3]; 3], [i32; 2]) {
-    let [ax, ay] = anchor(min_x, py_first);
+    let [ax, ay] = anchor(min_x, min_y);
     let at = |p: [i64; 3]| {
         p[0].wrapping_add(p[1].wrapping_mul(i64::from(ax)))
             .wrapping_add(p[2].wrapping_mul(i64::from(ay)))
@@ -187,10 +186,24 @@ pub(crate) fn anchored_words(
     (words, [ax, ay])
 }
 
-/// The anchor pixel of [`anchored_words`].
+/// The anchor pixel of [`anchored_words`] for a triangle whose least raw vertex coordinates
+/// are `min_x`, `min_y`: the first pixel column and row whose centres are at or past them
+/// (`edge::first_centre_at_or_after`), clamped to 0.
 #[inline(always)]
-pub(crate) fn anchor(min_x: i32, py_first: i32) -> [i32; 2] {
-    [(min_x.wrapping_add(7) >> 4).max(0), py_first.max(0)]
+pub(crate) fn anchor(min_x: i32, min_y: i32) -> [i32; 2] {
+    [min_x, min_y].map(|m| (m.wrapping_add(7) >> 4).max(0))
+}
+
+/// The texel words at pixel `(px, py)` from the anchored words `words` ([`anchored_words`]):
+/// `w + a wx + b wy` for the pixel `a` columns and `b` rows from `anchor` (wrapping). The one
+/// place both paths take them, so their pixels are the same.
+#[inline(always)]
+pub(crate) fn words_at(words: &[[i32; 3]; 3], anchor: [i32; 2], px: i32, py: i32) -> [i32; 3] {
+    let (a, b) = (px.wrapping_sub(anchor[0]), py.wrapping_sub(anchor[1]));
+    words.map(|[w, wx, wy]| {
+        w.wrapping_add(wx.wrapping_mul(a))
+            .wrapping_add(wy.wrapping_mul(b))
+    })
 }
 
 /// The texel words `[at the anchor, dx, dy]` of each plane from the planes' values at the
@@ -214,12 +227,13 @@ pub(crate) fn words_of(at: [i64; 3], dx: [i64; 3], dy: [i64; 3]) -> [[i32; 3]; 3
 pub(crate) fn texel_at<const SIDE: usize>(texels: &[u16], words: [i32; 3]) -> u16 {
     let [nu, nv, dd] = words;
     let den = dd as u32;
-    let max = SIDE as i32 - 1;
+    let max = SIDE as u32 - 1;
+    let log2 = Texture565::<SIDE>::LOG2;
     // The quotient is in units of 2^(8 - f) texel: f - 8 = 7 - log2(SIDE) bits to drop.
-    let fs = 7u32.saturating_sub(SIDE.trailing_zeros());
-    let q = |n: i32| ((n.max(0) as u32).checked_div(den).unwrap_or(0) >> fs).min(max as u32);
+    let fs = 7u32.saturating_sub(log2);
+    let q = |n: i32| ((n.max(0) as u32).checked_div(den).unwrap_or(0) >> fs).min(max);
     let (u, t) = (q(nu), q(nv));
-    let i = ((t << SIDE.trailing_zeros()) | u) as usize;
+    let i = ((t << log2) | u) as usize;
     texels.get(i).copied().unwrap_or(0)
 }
 
@@ -324,8 +338,7 @@ impl Rasterizer {
         let raw = v.map(|p| [p.x.to_bits(), p.y.to_bits()]);
         let min_x = raw.iter().map(|p| p[0]).min().unwrap_or(0);
         let min_y = raw.iter().map(|p| p[1]).min().unwrap_or(0);
-        // The first pixel row at or below the top vertex (`edge::Coverage`'s first row).
-        let (words, [ax, ay]) = anchored_words(h.planes, min_x, (min_y.wrapping_add(7)) >> 4);
+        let (words, anchor) = anchored_words(h.planes, min_x, min_y);
         let [du, dv, ddx] = words.map(|w| w[1]);
         super::edge::walk_runs(&pre.coverage(), clip, |py, xa, xb| {
             let off = usize::from(py - rect.y0) * stride + usize::from(xa - rect.x0);
@@ -337,14 +350,7 @@ impl Rasterizer {
             };
             let (px, pyi) = (i64::from(xa), i64::from(py));
             let mut zp = plane.z.at(px, pyi);
-            let (a, b) = (
-                i32::from(xa).wrapping_sub(ax),
-                i32::from(py).wrapping_sub(ay),
-            );
-            let [mut nu, mut nv, mut dd] = words.map(|[w, wx, wy]| {
-                w.wrapping_add(wx.wrapping_mul(a))
-                    .wrapping_add(wy.wrapping_mul(b))
-            });
+            let [mut nu, mut nv, mut dd] = words_at(&words, anchor, i32::from(xa), i32::from(py));
             let mut shown = 0u32;
             for (d, c) in drow.iter_mut().zip(crow.iter_mut()) {
                 let z = ((zp.wrapping_add(1 << 31) >> 32) as i32).max(zlo).min(zhi) as u16;
