@@ -531,7 +531,7 @@ fn marble_lit_scene_bound(target: DeviceTarget) -> u64 {
 /// still frame (320 x 240) drawn from its 128 x 128 device atlas (one scene walk a frame into
 /// the frame list, coverage and depth set-up per 16-row band, the textured-triangle path: atlas
 /// coordinates by the homogeneous ratio at every pixel, nearest look-ups, depth test, checksum).
-/// Measured at 76.3 (Cortex-M4F) and 86.3 (rv32imc) when the bound was set (the goal
+/// Measured at 76.3 (Cortex-M4F) and 86.2 (rv32imc) when the bound was set (the goal
 /// is 60 / 100: met on rv32imc, which is bound at the goal so that it stays met; about 5% of
 /// headroom on the Cortex-M4F; 88.6 / 99.7 before the thirty-sixth round of
 /// `docs/performance.md` (32-bit texel words from an anchor, no depth clamp or bounds check per
