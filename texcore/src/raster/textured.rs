@@ -621,6 +621,17 @@ mod tests {
         ks.pixels
     }
 
+    /// A xorshift generator from `seed`: each call `rnd(m)` its next state modulo `m`.
+    fn below(seed: u64) -> impl FnMut(u64) -> u64 {
+        let mut st = seed;
+        move |m| {
+            st ^= st << 13;
+            st ^= st >> 7;
+            st ^= st << 17;
+            st % m
+        }
+    }
+
     /// Small triangles (the `i32` set-up and walk) draw exactly the pixels, depths and counters
     /// of the wide fast path: random triangles across a band, every depth function, both
     /// perspective modes, culling, partly clipped, vertices at the small range's edges and just
@@ -700,13 +711,7 @@ mod tests {
         let (w, h) = (64u16, 32u16);
         let texels = index_texture(128);
         let tex = Texture565::<128>::new(&texels).unwrap();
-        let mut st = 0x2545_f491_4f6c_dd1du64;
-        let mut rnd = |m: u64| {
-            st ^= st << 13;
-            st ^= st >> 7;
-            st ^= st << 17;
-            st % m
-        };
+        let mut rnd = below(0x2545_f491_4f6c_dd1d);
         let depths = [0u16, 1, 32_768, 65_534, 65_535];
         let mut drawn = 0u64;
         for n in 0..3000u32 {
@@ -762,13 +767,7 @@ mod tests {
         let tex = Texture565::<SIDE>::new(&texels).unwrap();
         let f = tex.frac();
         let fs = f - 8;
-        let mut st = seed;
-        let mut rnd = |m: u64| {
-            st ^= st << 13;
-            st ^= st >> 7;
-            st ^= st << 17;
-            st % m
-        };
+        let mut rnd = below(seed);
         let mut checked = 0u64;
         for n in 0..400u32 {
             // Raw 28.4 vertices: around the target, or (every third triangle) one vertex up to
