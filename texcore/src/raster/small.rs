@@ -122,14 +122,16 @@ fn start_at(set_up: &SmallSetup, px: u32, py: u32) -> (i64, [i32; 3]) {
 
 /// One run of a small triangle set up as `set_up`, from pixel `(px, py)` along `depth` and
 /// `colour`: the depth plane and the texel words at its first pixel ([`start_at`]), then
-/// stepped; the depth written when `WRITE`. Returns the pixels that failed the depth test
+/// stepped. With `LESS_WRITE` the depth test is `Less` and the depth written (the default
+/// options: the test is one comparison with no bias, and the loop keeps one register more);
+/// otherwise `run`'s bias and write apply. Returns the pixels that failed the depth test
 /// (counted on the rarer branch: most pixels of a frame pass).
 ///
 /// Out of line, computing its own start: its registers then hold the run's depth words, texel
 /// words and steps (inlined into the row loop on the Cortex-M4F, with the start computed by the
 /// loop, `atlas:marble` measured 2.6 instructions a frame pixel dearer).
 #[inline(never)]
-fn small_run<const WRITE: bool, const SIDE: usize>(
+fn small_run<const LESS_WRITE: bool, const SIDE: usize>(
     depth: &mut [u16],
     colour: &mut [u16],
     set_up: &SmallSetup,
@@ -144,7 +146,11 @@ fn small_run<const WRITE: bool, const SIDE: usize>(
     let Some(texels) = whole::<SIDE>(run.texels) else {
         return failed;
     };
-    let bias = run.bias;
+    let (bias, write) = if LESS_WRITE {
+        (depth_bias(DepthFunc::Less), true)
+    } else {
+        (run.bias, run.write)
+    };
     for (d, c) in depth.iter_mut().zip(colour.iter_mut()) {
         // The depth without the general path's clamp to the vertex depths: at a covered pixel
         // of a small triangle the clamp never acts (`SmallSetup::planes`), so this is the
@@ -153,7 +159,7 @@ fn small_run<const WRITE: bool, const SIDE: usize>(
         #[cfg(debug_assertions)]
         assert!(set_up.zlim[0] <= z as i32 && z as i32 <= set_up.zlim[1]);
         if z < u32::from(*d) + bias {
-            if WRITE {
+            if write {
                 *d = z as u16;
             }
             *c = texel_at::<SIDE>(texels, [nu, nv, dd]);
@@ -221,7 +227,7 @@ pub(crate) fn draw_small<const SIDE: usize>(
         };
         // 0 <= xa, py (inside the clip).
         let start = (xa as u32, py as u32);
-        let failed = if run.write {
+        let failed = if run.write && run.bias == depth_bias(DepthFunc::Less) {
             small_run::<true, SIDE>(drow, crow, set_up, start, run)
         } else {
             small_run::<false, SIDE>(drow, crow, set_up, start, run)

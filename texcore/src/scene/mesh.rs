@@ -14,7 +14,9 @@
 //! of a sphere or torus equals the first).
 
 use super::math::{sat_i32, sin_cos, Angle, Vec3, ONE};
-use super::teapot::{teapot_quad, teapot_right_edge, MAX_TEAPOT_LEVEL, TEAPOT_PATCH_COUNT};
+use super::teapot::{
+    teapot_quad, teapot_right_edge, TeapotRow, MAX_TEAPOT_LEVEL, TEAPOT_PATCH_COUNT,
+};
 
 /// A procedural mesh in object space (`Q16.16` sizes).
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
@@ -198,8 +200,62 @@ impl Mesh {
     /// computed whole. (The teapot only: the cheap parametric grids would double their code in
     /// flash for little.)
     pub fn quad_after(&self, q: u32, left: [Vec3; 2]) -> Option<[Vec3; 4]> {
-        let mut c = [Vec3::ZERO; 4];
-        self.quad_after_into(q, left, &mut c).then_some(c)
+        if q == 0 || q >= self.quad_count() {
+            return self.quad(q);
+        }
+        let edge = match *self {
+            Mesh::Teapot { level } => {
+                let n = level.clamp(1, MAX_TEAPOT_LEVEL) as u32;
+                let (patch, r) = divrem(q, n * n);
+                let (l, k) = divrem(r, n);
+                if k == 0 {
+                    return self.quad(q);
+                }
+                teapot_right_edge(patch as usize, n, k, l)
+            }
+            _ => return self.quad(q),
+        };
+        Some([left[0], edge[0], edge[1], left[1]])
+    }
+
+    /// [`Mesh::quad`]`(q)` into `out` (`false`, `out` unchanged, past the end) for a walk over
+    /// the quads in increasing order that keeps `cursor` from one quad to the next (a fresh
+    /// [`QuadCursor`] for each mesh; any order is exact, increasing order is fast). A teapot
+    /// quad takes its row's column curves from the cursor ([`TeapotRow`]: computed once a row
+    /// of quads of a patch, taking over the row above's) and its left edge from the quad
+    /// before when that is `q - 1` in the same row: one edge, two combinations, a quad. Every
+    /// other mesh computes its quad whole. Out of line: one copy for every walk.
+    #[inline(never)]
+    pub(crate) fn quad_walked_into(
+        &self,
+        q: u32,
+        cursor: &mut QuadCursor,
+        out: &mut [Vec3; 4],
+    ) -> bool {
+        let Mesh::Teapot { level } = *self else {
+            return self.quad_into(q, out);
+        };
+        if q >= self.quad_count() {
+            return false;
+        }
+        let n = level.clamp(1, MAX_TEAPOT_LEVEL) as u32;
+        let (patch, r) = divrem(q, n * n);
+        let (l, k) = divrem(r, n);
+        if !cursor.row.as_ref().is_some_and(|row| row.is(patch, n, l)) {
+            cursor.row = TeapotRow::new(patch, n, l, cursor.row.as_ref());
+        }
+        let Some(row) = cursor.row.as_ref() else {
+            // Not reached (`n`, `l` and `patch` are in range): the quad computed whole.
+            return self.quad_into(q, out);
+        };
+        let left = match cursor.last {
+            Some((lq, edge)) if k > 0 && lq.wrapping_add(1) == q => edge,
+            _ => row.edge(k),
+        };
+        let right = row.edge(k + 1);
+        *out = [left[0], right[0], right[1], left[1]];
+        cursor.last = Some((q, right));
+        true
     }
 
     /// [`Mesh::quad`] into `out` (`false`, `out` unchanged, past the end): the corners are
@@ -212,29 +268,6 @@ impl Mesh {
             }
             None => false,
         }
-    }
-
-    /// [`Mesh::quad_after`] into `out` (`false`, `out` unchanged, past the end). Out of line:
-    /// one copy for every walk.
-    #[inline(never)]
-    pub(crate) fn quad_after_into(&self, q: u32, left: [Vec3; 2], out: &mut [Vec3; 4]) -> bool {
-        if q == 0 || q >= self.quad_count() {
-            return self.quad_into(q, out);
-        }
-        let edge = match *self {
-            Mesh::Teapot { level } => {
-                let n = level.clamp(1, MAX_TEAPOT_LEVEL) as u32;
-                let (patch, r) = divrem(q, n * n);
-                let (l, k) = divrem(r, n);
-                if k == 0 {
-                    return self.quad_into(q, out);
-                }
-                teapot_right_edge(patch as usize, n, k, l)
-            }
-            _ => return self.quad_into(q, out),
-        };
-        *out = [left[0], edge[0], edge[1], left[1]];
-        true
     }
 
     /// The triangles, in a fixed order.
@@ -259,6 +292,15 @@ impl Mesh {
         }
         [lo, hi]
     }
+}
+
+/// What a walk over a mesh's quads keeps from one quad to the next
+/// ([`Mesh::quad_walked_into`]): the last quad's index and right edge (its corners 1 and 2), and
+/// the teapot row of quads it lies in.
+#[derive(Clone, Copy, Debug, Default)]
+pub(crate) struct QuadCursor {
+    last: Option<(u32, [Vec3; 2])>,
+    row: Option<TeapotRow>,
 }
 
 /// The triangles of a [`Mesh`] (see the module documentation for the order and winding).
@@ -550,7 +592,7 @@ mod tests {
     }
 
     #[test]
-    fn quad_after_is_quad() {
+    fn walked_quads_are_quads() {
         // Every grid kind, the odd sizes too: given its predecessor's right edge, each quad is
         // exactly `quad(q)` (including the first of each row, computed whole).
         let meshes = [
@@ -591,6 +633,22 @@ mod tests {
                 assert_eq!(m.quad_after(q, left), whole, "{m:?} quad {q}");
                 if let Some(c) = whole {
                     left = [c[1], c[2]];
+                }
+            }
+            // A walk keeping its cursor, over every quad, over every third one and every
+            // fifth (rows entered anywhere, quads skipped), and backwards (no row taken over):
+            // every quad as `quad`, `false` past the end.
+            for order in [
+                (0..=m.quad_count()).collect::<Vec<_>>(),
+                (0..=m.quad_count()).step_by(3).collect(),
+                (0..=m.quad_count()).step_by(5).collect(),
+                (0..=m.quad_count()).rev().collect(),
+            ] {
+                let mut cursor = QuadCursor::default();
+                for q in order {
+                    let mut got = [Vec3::new(7, 7, 7); 4];
+                    let found = m.quad_walked_into(q, &mut cursor, &mut got);
+                    assert_eq!(found.then_some(got), m.quad(q), "{m:?} quad {q}");
                 }
             }
         }

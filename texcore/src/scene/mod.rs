@@ -534,8 +534,8 @@ impl Scene {
                 tex,
                 small: o.transform.small(),
             };
-            // The right edge of the last quad generated (`Mesh::quad_after`).
-            let mut last: Option<(u32, [Vec3; 2])> = None;
+            // What the mesh keeps from one quad to the next (`Mesh::quad_walked_into`).
+            let mut cursor = mesh::QuadCursor::default();
             // The corners of the quad being walked, written in place by the mesh.
             let mut corners = [Vec3::ZERO; 4];
             for q in 0..quads {
@@ -543,16 +543,9 @@ impl Scene {
                 if !keep(group) {
                     continue;
                 }
-                let found = match last {
-                    Some((lq, left)) if lq.wrapping_add(1) == q => {
-                        o.mesh.quad_after_into(q, left, &mut corners)
-                    }
-                    _ => o.mesh.quad_into(q, &mut corners),
-                };
-                if !found {
+                if !o.mesh.quad_walked_into(q, &mut cursor, &mut corners) {
                     break;
                 }
-                last = Some((q, [corners[1], corners[2]]));
                 let halves = [[0usize, 1, 2], [0, 2, 3]];
                 let [c0, c1, c2, c3] = corners;
                 let distinct = |a, b, d| a != b && b != d && d != a;

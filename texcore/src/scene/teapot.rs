@@ -476,15 +476,38 @@ fn rows_at(idx: &[u16; 16], bu: &[i64; 4]) -> [[i32; 3]; 4] {
     // Bernstein numerators are at most n^3 <= 2^12.
     let bu = bu.map(|b| b as i32);
     let mut out = [[0i32; 3]; 4];
-    for (row, o) in idx.chunks_exact(4).zip(out.iter_mut()) {
-        for (&pi, &wu) in row.iter().zip(bu.iter()) {
-            let p = TEAPOT_POINTS_Q16
-                .get(pi as usize)
-                .copied()
-                .unwrap_or(Vec3::ZERO);
-            o[0] = o[0].wrapping_add(wu.wrapping_mul(p.x));
-            o[1] = o[1].wrapping_add(wu.wrapping_mul(p.y));
-            o[2] = o[2].wrapping_add(wu.wrapping_mul(p.z));
+    // Masked indices: provably in bounds (no panic path in any code shape).
+    for j in 0..4usize {
+        for i in 0..4usize {
+            add_weighted(&mut out[j & 3], bu[i & 3], idx[(4 * j + i) & 15]);
+        }
+    }
+    out
+}
+
+/// `o += w P` for control point `pi` (wrapping; the callers' bounds make it exact).
+#[inline(always)]
+fn add_weighted(o: &mut [i32; 3], w: i32, pi: u16) {
+    let p = TEAPOT_POINTS_Q16
+        .get(pi as usize)
+        .copied()
+        .unwrap_or(Vec3::ZERO);
+    o[0] = o[0].wrapping_add(w.wrapping_mul(p.x));
+    o[1] = o[1].wrapping_add(w.wrapping_mul(p.y));
+    o[2] = o[2].wrapping_add(w.wrapping_mul(p.z));
+}
+
+/// Exact numerators of the four column curves of patch `idx` at `v = l / n`: `sum_j b_j(l) P_ji`
+/// for each column `i` (the transpose of [`rows_at`], with the same bound: `|value| < 2^30`).
+/// [`combine`] of them with the weights of a step `k` is the point at `(k, l)` bit for bit: its
+/// exact numerator `sum_i b_i(k) sum_j b_j(l) P_ji` is the same integer as that of
+/// `combine(rows_at(b(k)), b(l))`, summed in the other order (no partial sum wraps).
+fn cols_at(idx: &[u16; 16], bv: &[i64; 4]) -> [[i32; 3]; 4] {
+    let bv = bv.map(|b| b as i32);
+    let mut out = [[0i32; 3]; 4];
+    for j in 0..4usize {
+        for i in 0..4usize {
+            add_weighted(&mut out[i & 3], bv[j & 3], idx[(4 * j + i) & 15]);
         }
     }
     out
@@ -639,6 +662,55 @@ pub fn teapot_right_edge(patch: usize, n: u32, k: u32, l: u32) -> [Vec3; 2] {
     ]
 }
 
+/// One row of quads of a patch, `(k, l)` for every `k` at one `l`: the column curves at `l` and
+/// `l + 1` ([`cols_at`]), so that each vertical edge of the row, `[P(k, l), P(k, l + 1)]`, is two
+/// [`combine`]s (a walk along the row computes one edge a quad). Every point is exactly
+/// [`teapot_point`]'s (and [`teapot_quad`]'s): the curves give the same exact numerators.
+#[derive(Clone, Copy, Debug)]
+pub(crate) struct TeapotRow {
+    patch: u32,
+    n: u32,
+    l: u32,
+    cols: [[[i32; 3]; 4]; 2],
+    recip: Recip6,
+}
+
+impl TeapotRow {
+    /// The row `l` of patch `patch` at level `n` (`n` in `1..=MAX_TEAPOT_LEVEL`, `l < n`; `None`
+    /// otherwise or past the last patch). When `prev` is the row `l - 1` of the same patch and
+    /// level, its curves at `l` are taken over (one [`cols_at`] instead of two).
+    pub(crate) fn new(patch: u32, n: u32, l: u32, prev: Option<&TeapotRow>) -> Option<TeapotRow> {
+        let idx = TEAPOT_PATCHES.get(patch as usize)?;
+        if n == 0 || n > MAX_TEAPOT_LEVEL as u32 || l >= n {
+            return None;
+        }
+        let (ni, li) = (i64::from(n), i64::from(l));
+        let at_l = match prev {
+            Some(r) if r.patch == patch && r.n == n && r.l.wrapping_add(1) == l => r.cols[1],
+            _ => cols_at(idx, &bernstein(ni, li)),
+        };
+        Some(TeapotRow {
+            patch,
+            n,
+            l,
+            cols: [at_l, cols_at(idx, &bernstein(ni, li + 1))],
+            recip: recip6(ni),
+        })
+    }
+
+    /// Whether this is the row `l` of patch `patch` at level `n`.
+    pub(crate) fn is(&self, patch: u32, n: u32, l: u32) -> bool {
+        self.patch == patch && self.n == n && self.l == l
+    }
+
+    /// The row's edge at step `k` (`k <= n`): `[P(k, l), P(k, l + 1)]`.
+    pub(crate) fn edge(&self, k: u32) -> [Vec3; 2] {
+        let w = bernstein(i64::from(self.n), i64::from(k.min(self.n)));
+        let [c0, c1] = &self.cols;
+        [combine(c0, &w, self.recip), combine(c1, &w, self.recip)]
+    }
+}
+
 #[cfg(test)]
 #[allow(clippy::needless_range_loop)]
 mod tests {
@@ -745,6 +817,38 @@ mod tests {
                 }
             }
         }
+    }
+
+    /// Every quad of every patch at every level from a walk of [`TeapotRow`]s (each row taking
+    /// over the one before) equals [`teapot_quad`]: the column curves give the same points.
+    #[test]
+    fn rows_of_quads_are_the_quads() {
+        for n in 1..=MAX_TEAPOT_LEVEL as u32 {
+            for patch in 0..TEAPOT_PATCH_COUNT as u32 {
+                let mut row: Option<TeapotRow> = None;
+                for l in 0..n {
+                    let r = TeapotRow::new(patch, n, l, row.as_ref()).unwrap();
+                    assert!(r.is(patch, n, l));
+                    // A row taken over equals a row computed afresh.
+                    let fresh = TeapotRow::new(patch, n, l, None).unwrap();
+                    assert_eq!(r.cols, fresh.cols);
+                    for k in 0..n {
+                        let [a, d] = r.edge(k);
+                        let [b, c] = r.edge(k + 1);
+                        let want = teapot_quad(patch as usize, n, k, l);
+                        assert_eq!([a, b, c, d], want, "patch {patch} n {n} k {k} l {l}");
+                        if k > 0 {
+                            assert_eq!([b, c], teapot_right_edge(patch as usize, n, k, l));
+                        }
+                    }
+                    row = Some(r);
+                }
+            }
+        }
+        assert!(TeapotRow::new(0, 0, 0, None).is_none());
+        assert!(TeapotRow::new(0, 4, 4, None).is_none());
+        assert!(TeapotRow::new(TEAPOT_PATCH_COUNT as u32, 4, 0, None).is_none());
+        assert!(TeapotRow::new(0, MAX_TEAPOT_LEVEL as u32 + 1, 0, None).is_none());
     }
 
     #[test]
