@@ -21,8 +21,10 @@ use super::math::Vec3;
 use crate::raster::ScreenVertex;
 
 /// Cached entries of a [`CornerStore`]: enough for the bottom edge of a row of the built-in
-/// meshes' patches.
-pub(crate) const CACHE_CORNERS: usize = 12;
+/// meshes' patches and, most of the time, the edge a teapot patch shares with the one walked
+/// before it (direct-mapped: with 12 entries the marble frame's walk computed 983 corners, with
+/// 28 835; every entry costs about 96 bytes of the walk's frame).
+pub(crate) const CACHE_CORNERS: usize = 28;
 
 /// Slots of a [`CornerStore`]: the cached ones and four scratch slots (a quad has four
 /// corners, so a free one always exists); a power of two, so a slot number is masked into

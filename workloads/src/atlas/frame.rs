@@ -305,6 +305,44 @@ fn list_triangle(
     true
 }
 
+/// The general way's band `rows` of [`draw_scene_rows_with`]: walks the quads whose bins touch
+/// the band (or that have no bin) again, gives each triangle its quad's atlas positions
+/// (`QuadAtlas`, kept in `cache` from one triangle and band to the next) and hands it to
+/// `draw`. Out of line: its walk's corners are in its own frame, not in the listed draw's.
+#[inline(never)]
+fn walk_band<D: FnMut(usize, &[ScreenVertex; 3])>(
+    scene: &Scene,
+    layout: &UniformLayout,
+    bins: &[GroupRows],
+    starts: &[u32; texcore::scene::MAX_OBJECTS],
+    (y0, y1): (u16, u16),
+    cache: &mut Option<(usize, QuadAtlas)>,
+    draw: &mut D,
+) {
+    let mut keep = |g: usize| bins.get(g).is_none_or(|b| b.touches(y0, y1));
+    scene.for_each_triangle_by_quad(&mut keep, &mut |g, obj, tri| {
+        let Some(o) = scene.objects.get(obj) else {
+            return;
+        };
+        let start = starts.get(obj).copied().unwrap_or(0);
+        if cache.as_ref().is_none_or(|c| c.0 != g) {
+            let q = (g as u32).wrapping_sub(start);
+            *cache = QuadAtlas::new(layout, o, g as u32, q).map(|a| (g, a));
+        }
+        let Some((_, qa)) = cache.as_ref() else {
+            return;
+        };
+        let solid = tri.map(|v| v.tex.to_bits());
+        let k = qa.half_of(&solid);
+        let mut v = *tri;
+        for (vert, s) in v.iter_mut().zip(solid) {
+            let [u, t] = qa.atlas_of(k, s);
+            vert.tex = TexPoint::from_bits(u, t, 0);
+        }
+        draw(obj, &v);
+    });
+}
+
 /// Draws `scene` from `atlas` (laid out by [`scene_layout`]) in bands of [`DRAW_ROWS`] rows,
 /// handing every RGB565 row to `out`, top to bottom: [`draw_scene_rows_with`] with a frame list
 /// of [`FRAME_QUADS`] quads and a band index of [`FRAME_REFS`] entries on the stack.
@@ -464,28 +502,15 @@ pub fn draw_scene_rows_with<O: FnMut(&[u16])>(
                 draw_quad(q);
             }
         } else {
-            let mut keep = |g: usize| bins.get(g).is_none_or(|b| b.touches(y0, y1));
-            scene.for_each_triangle_by_quad(&mut keep, &mut |g, obj, tri| {
-                let Some(o) = scene.objects.get(obj) else {
-                    return;
-                };
-                let start = starts.get(obj).copied().unwrap_or(0);
-                if cache.as_ref().is_none_or(|c| c.0 != g) {
-                    let q = (g as u32).wrapping_sub(start);
-                    cache = QuadAtlas::new(&layout, o, g as u32, q).map(|a| (g, a));
-                }
-                let Some((_, qa)) = cache.as_ref() else {
-                    return;
-                };
-                let solid = tri.map(|v| v.tex.to_bits());
-                let k = qa.half_of(&solid);
-                let mut v = *tri;
-                for (vert, s) in v.iter_mut().zip(solid) {
-                    let [u, t] = qa.atlas_of(k, s);
-                    vert.tex = TexPoint::from_bits(u, t, 0);
-                }
-                draw(obj, &v);
-            });
+            walk_band(
+                scene,
+                &layout,
+                bins,
+                &starts,
+                (y0, y1),
+                &mut cache,
+                &mut draw,
+            );
         }
         for row in band.chunks(wu.max(1)).take(usize::from(y1 - y0)) {
             out(row);
