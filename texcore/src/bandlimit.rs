@@ -459,13 +459,8 @@ mod tests {
                 (1 << 28) / (p as f64).sqrt().floor() as u32
             }
         }
-        let mut r = 0x2545_f491_u32;
-        let mut next = || {
-            r ^= r << 13;
-            r ^= r >> 17;
-            r ^= r << 5;
-            r
-        };
+        let mut rng = crate::test_rng::XorShift32::new(0x2545_f491);
+        let mut next = || rng.next_u32();
         for i in 0..200_000u32 {
             // Every scale: below a cell, around 1 and 16 cells, and huge.
             let (a, b) = (next() >> (next() % 32), next() >> (next() % 32));
@@ -509,13 +504,8 @@ mod tests {
 
     #[test]
     fn every_rule_stays_between_its_floor_and_one() {
-        let mut r = 0x9e37_79b9_u32;
-        let mut next = || {
-            r ^= r << 13;
-            r ^= r >> 17;
-            r ^= r << 5;
-            r
-        };
+        let mut rng = crate::test_rng::XorShift32::new(0x9e37_79b9);
+        let mut next = || rng.next_u32();
         for weight in [FadeWeight::Footprint, FadeWeight::Reach] {
             for floor in [1 << 12, 1 << 13, FADE_FLOOR, 1 << 15, 1 << 16] {
                 let Some(b) = BandLimit::new(weight, floor, FADED_PART) else {
@@ -648,13 +638,8 @@ mod tests {
         // Every variance whose argument `12 var 2^16` lies below 2^32 takes the 32-bit root in
         // the fast shape: the same as the digit-by-digit root, at the boundary and around it.
         let edge = u64::from(u32::MAX) / (12 << 16);
-        let mut x = 0x2545_F491_4F6C_DD1Du64;
-        let random = core::iter::from_fn(move || {
-            x ^= x << 13;
-            x ^= x >> 7;
-            x ^= x << 17;
-            Some(x >> (x & 63))
-        });
+        let mut rng = crate::test_rng::XorShift64::new(0x2545_F491_4F6C_DD1D);
+        let random = core::iter::from_fn(move || Some(rng.spread()));
         for v in (0..5000)
             .chain(edge - 3..edge + 4)
             .chain(random.take(20_000))

@@ -72,6 +72,8 @@ pub mod scene;
 pub mod sink;
 pub mod span;
 pub mod table;
+#[cfg(test)]
+mod test_rng;
 pub mod texture;
 pub mod transform;
 mod wide;

@@ -510,13 +510,8 @@ mod tests {
 
     #[test]
     fn a_row_is_its_pixels_one_by_one() {
-        let mut x = 0x2545_F491u32;
-        let pixels: [u16; 37] = core::array::from_fn(|_| {
-            x ^= x << 13;
-            x ^= x >> 17;
-            x ^= x << 5;
-            x as u16
-        });
+        let mut rng = crate::test_rng::XorShift32::new(0x2545_F491);
+        let pixels: [u16; 37] = core::array::from_fn(|_| rng.next_u32() as u16);
         // Every length, odd and even, from every resumed state.
         for n in 0..=pixels.len() {
             for start in [0x811C_9DC5, 0, 0xDEAD_BEEF] {

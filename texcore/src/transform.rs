@@ -466,13 +466,8 @@ mod tests {
 
     /// A small xorshift from `seed`: each call a value in `(-limit, limit)`.
     fn xorshift(seed: u64) -> impl FnMut(i64) -> i32 {
-        let mut x = seed;
-        move |limit: i64| {
-            x ^= x << 13;
-            x ^= x >> 7;
-            x ^= x << 17;
-            ((x as i64) % limit) as i32
-        }
+        let mut rng = crate::test_rng::XorShift64::new(seed);
+        move |limit: i64| ((rng.next_u64() as i64) % limit) as i32
     }
 
     /// `other * self` with every product in i128 (the reference for both paths of `then`).

@@ -590,6 +590,7 @@ mod tests {
     }
 
     #[test]
+    #[cfg(feature = "csat")]
     fn bake_writes_each_owned_texel_once() {
         use crate::hash::HashKind;
         let tex =

@@ -400,14 +400,11 @@ fn chunked_rows_equal_whole_spans() {
 #[test]
 fn f32_set_up_conversion_rounds_to_nearest() {
     // Against f64's round (ties away from zero), which is exact for every f32.
-    let mut x = 0x9E37_79B9u32;
+    let mut rng = crate::test_rng::XorShift32::new(0x9E37_79B9);
     let mut values = std::vec![0.5f32, -0.5, 1.5, -2.5, 0.49999997, 8388609.0, -8388609.0];
     values.extend([1.0e30, -1.0e30, f32::MAX, f32::MIN, f32::INFINITY, 3.0e9]);
     for _ in 0..20_000 {
-        x ^= x << 13;
-        x ^= x >> 17;
-        x ^= x << 5;
-        let v = f32::from_bits(x);
+        let v = f32::from_bits(rng.next_u32());
         if v.is_finite() {
             values.push(v);
         }

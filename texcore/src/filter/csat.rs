@@ -598,16 +598,7 @@ mod tests {
         Rgba8888::from_array(sum.map(|v| ((2 * v + d) / (2 * d)) as u8))
     }
 
-    fn lcg_table<const N: usize>(seed: u64) -> ColorTable<N> {
-        let mut s = seed;
-        let e = core::array::from_fn(|_| {
-            s = s
-                .wrapping_mul(6364136223846793005)
-                .wrapping_add(1442695040888963407);
-            Rgba8888::from_u32((s >> 32) as u32)
-        });
-        ColorTable::from_entries(e).unwrap()
-    }
+    use crate::test_rng::lcg_table;
 
     fn check_point<const N: usize>(
         t: &ColorTable<N>,

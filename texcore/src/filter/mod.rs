@@ -347,16 +347,7 @@ mod tests {
         Antialias::Csat3,
     ];
 
-    fn lcg_table<const N: usize>(seed: u64) -> ColorTable<N> {
-        let mut s = seed;
-        ColorTable::from_entries(core::array::from_fn(|_| {
-            s = s
-                .wrapping_mul(6364136223846793005)
-                .wrapping_add(1442695040888963407);
-            Rgba8888::from_u32((s >> 32) as u32)
-        }))
-        .unwrap()
-    }
+    use crate::test_rng::lcg_table;
 
     #[test]
     fn memory_report() {

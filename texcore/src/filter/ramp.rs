@@ -562,12 +562,7 @@ mod tests {
     /// A 64-bit linear congruential generator from `seed`: each call its next state.
     fn lcg(seed: u64) -> impl FnMut() -> u64 {
         let mut s = seed;
-        move || {
-            s = s
-                .wrapping_mul(6364136223846793005)
-                .wrapping_add(1442695040888963407);
-            s
-        }
+        move || crate::test_rng::lcg64(&mut s)
     }
 
     fn lcg_table<const N: usize>(seed: u64) -> ColorTable<N> {
@@ -914,11 +909,9 @@ mod tests {
                 }
             }
         }
-        let mut x = 0x9E37_79B9u32;
+        let mut rng = crate::test_rng::XorShift32::new(0x9E37_79B9);
         for _ in 0..200_000 {
-            x ^= x << 13;
-            x ^= x >> 17;
-            x ^= x << 5;
+            let x = rng.next_u32();
             let s = x >> (x % 32);
             assert_eq!(level_of_sq32(s), level_of_sq(u64::from(s)), "s = {s}");
         }

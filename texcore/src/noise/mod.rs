@@ -330,10 +330,7 @@ mod tests {
     }
 
     fn lcg(state: &mut u64) -> u32 {
-        *state = state
-            .wrapping_mul(6364136223846793005)
-            .wrapping_add(1442695040888963407);
-        (*state >> 32) as u32
+        (crate::test_rng::lcg64(state) >> 32) as u32
     }
 
     /// A pseudo-random lattice point (raw 16.16 per axis, the whole i32 range).

@@ -496,13 +496,8 @@ mod tests {
     /// `2^30 - 1`, coordinates to `+-(2^14 - 1)`); a wrong sign or a wrong pair fails.
     #[test]
     fn difference_steps_are_the_edge_sums() {
-        let mut st = 0x9E37_79B9_7F4A_7C15u64;
-        let mut rnd = |m: u64| {
-            st ^= st << 13;
-            st ^= st >> 7;
-            st ^= st << 17;
-            st % m
-        };
+        let mut rng = crate::test_rng::XorShift64::new(0x9E37_79B9_7F4A_7C15);
+        let mut rnd = |m: u64| rng.below(m);
         let lim = SMALL - 1;
         let ends = [-lim, lim, 0, 1, -1];
         for n in 0..200_000u32 {

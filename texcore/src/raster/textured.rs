@@ -623,13 +623,8 @@ mod tests {
 
     /// A xorshift generator from `seed`: each call `rnd(m)` its next state modulo `m`.
     fn below(seed: u64) -> impl FnMut(u64) -> u64 {
-        let mut st = seed;
-        move |m| {
-            st ^= st << 13;
-            st ^= st >> 7;
-            st ^= st << 17;
-            st % m
-        }
+        let mut rng = crate::test_rng::XorShift64::new(seed);
+        move |m| rng.below(m)
     }
 
     /// Small triangles (the `i32` set-up and walk) draw exactly the pixels, depths and counters
@@ -643,10 +638,7 @@ mod tests {
         let tex = Texture565::<128>::new(&texels).unwrap();
         let mut st = 0x9e37_79b9_7f4a_7c15u64;
         let mut rnd = |lo: i64, hi: i64| {
-            st = st
-                .wrapping_mul(6364136223846793005)
-                .wrapping_add(1442695040888963407);
-            lo + ((st >> 33) as i64).rem_euclid(hi - lo)
+            lo + ((crate::test_rng::lcg64(&mut st) >> 33) as i64).rem_euclid(hi - lo)
         };
         let mut drawn = 0u64;
         for n in 0..600 {

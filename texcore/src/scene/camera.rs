@@ -1029,9 +1029,7 @@ mod tests {
     fn mixed_values(seed: u64, shifts: u64) -> impl FnMut() -> i64 {
         let mut st = seed;
         move || {
-            st = st
-                .wrapping_mul(6364136223846793005)
-                .wrapping_add(1442695040888963407);
+            let st = crate::test_rng::lcg64(&mut st);
             let v = (st >> 1) as i64;
             v >> (st % shifts)
         }
@@ -1181,13 +1179,8 @@ mod tests {
                 r.min(u64::from(u32::MAX)) as u32
             })
         };
-        let mut x = 0x9E37_79B9_7F4A_7C15u64;
-        let mut next = || {
-            x ^= x << 13;
-            x ^= x >> 7;
-            x ^= x << 17;
-            x >> (x % 64)
-        };
+        let mut rng = crate::test_rng::XorShift64::new(0x9E37_79B9_7F4A_7C15);
+        let mut next = || rng.spread();
         for _ in 0..100_000 {
             let q = [next(), next(), next()];
             assert_eq!(normalise_inv_w(q), want(q), "{q:?}");

@@ -672,7 +672,7 @@ mod tests {
 
     #[test]
     fn isqrt_fast_paths_are_the_digit_method() {
-        let mut x = 0x9E37_79B9_7F4A_7C15u64;
+        let mut rng = crate::test_rng::XorShift64::new(0x9E37_79B9_7F4A_7C15);
         let mut vals: Vec<u64> = (0..64)
             .flat_map(|b| {
                 let p = 1u64 << b;
@@ -685,10 +685,7 @@ mod tests {
             vals.extend((r + 1).checked_mul(r + 1));
         }
         for _ in 0..20_000 {
-            x ^= x << 13;
-            x ^= x >> 7;
-            x ^= x << 17;
-            vals.push(x >> (x % 64));
+            vals.push(rng.spread());
         }
         vals.push(u64::MAX);
         for v in vals {
@@ -775,13 +772,8 @@ mod tests {
 
     /// A xorshift generator from `seed` (non-zero): every bit pattern, repeatably.
     fn xorshift(seed: u64) -> impl FnMut() -> u64 {
-        let mut x = seed;
-        move || {
-            x ^= x << 13;
-            x ^= x >> 7;
-            x ^= x << 17;
-            x
-        }
+        let mut rng = crate::test_rng::XorShift64::new(seed);
+        move || rng.next_u64()
     }
 
     #[test]

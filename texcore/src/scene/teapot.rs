@@ -722,9 +722,7 @@ mod tests {
     fn combine_is_the_wide_product() {
         let mut st = 99u64;
         let mut rnd = |bits: u32| {
-            st = st
-                .wrapping_mul(6364136223846793005)
-                .wrapping_add(1442695040888963407);
+            let st = crate::test_rng::lcg64(&mut st);
             let v = (st >> 33) as i64 & ((1 << bits) - 1);
             if st & 1 == 0 {
                 v

@@ -218,10 +218,7 @@ fn marble_block_alignment() {
 // Horizon planes and the guard band.
 
 fn lcg(state: &mut u64) -> u32 {
-    *state = state
-        .wrapping_mul(6364136223846793005)
-        .wrapping_add(1442695040888963407);
-    (*state >> 33) as u32
+    (crate::test_rng::lcg64(state) >> 33) as u32
 }
 
 /// A huge ground plane seen from many cameras (low and high, looking up, down and along it, wide

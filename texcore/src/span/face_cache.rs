@@ -324,13 +324,8 @@ mod tests {
 
     #[test]
     fn the_expanded_blend_is_the_blend() {
-        let mut x = 0x1234_5678_9abc_def0u64;
-        let mut next = || {
-            x ^= x << 13;
-            x ^= x >> 7;
-            x ^= x << 17;
-            x
-        };
+        let mut rng = crate::test_rng::XorShift64::new(0x1234_5678_9abc_def0);
+        let mut next = || rng.next_u64();
         for round in 0..20_000 {
             // Corners of the scaled range (below 2^26) and, every fourth round, any i32.
             let w: [i32; 4] = core::array::from_fn(|_| {
@@ -362,11 +357,9 @@ mod tests {
         assert_eq!(FaceKey::share(0, 5, 5), 1);
         assert_eq!(FaceKey::share(64, 7, 7), 32);
         // A power of two, at most n d / total and more than a quarter of it (or 1).
-        let mut x = 0x2545_f491_4f6c_dd1du64;
+        let mut rng = crate::test_rng::XorShift64::new(0x2545_f491_4f6c_dd1d);
         for _ in 0..10_000 {
-            x ^= x << 13;
-            x ^= x >> 7;
-            x ^= x << 17;
+            let x = rng.next_u64();
             let n = 1usize << (x % 12);
             let d = (x >> 8) as u32 >> ((x >> 40) % 31);
             let total = u64::from(d) + ((x >> 20) & 0xFF_FFFF);

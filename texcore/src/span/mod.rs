@@ -1007,12 +1007,7 @@ mod tests {
     #[test]
     fn sparse_quadric_is_the_quadric() {
         let mut st = 99u64;
-        let mut r = || {
-            st = st
-                .wrapping_mul(6364136223846793005)
-                .wrapping_add(1442695040888963407);
-            (st >> 32) as i32
-        };
+        let mut r = || (crate::test_rng::lcg64(&mut st) >> 32) as i32;
         for case in 0..400 {
             let mut c = [QuadricCoeff::ZERO; 10];
             for k in c.iter_mut() {

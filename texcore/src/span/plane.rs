@@ -535,12 +535,7 @@ mod tests {
     use crate::table::TableWrap;
     use crate::transform::Affine3;
 
-    fn xorshift(x: &mut u64) -> u64 {
-        *x ^= *x << 13;
-        *x ^= *x >> 7;
-        *x ^= *x << 17;
-        *x
-    }
+    use crate::test_rng::xorshift64 as xorshift;
 
     /// Models that take every kind of set-up: rotated octaves with a curved quadric (the
     /// general loop), axis-aligned octaves without a quadric (the lane kernel), coarse

@@ -269,13 +269,8 @@ mod tests {
     #[test]
     fn setup_is_its_definition() {
         let coarse = Precision::new(9, 16).unwrap();
-        let mut x = 0x9E37_79B9_7F4A_7C15u64;
-        let mut next = move |bits: u32| {
-            x ^= x << 13;
-            x ^= x >> 7;
-            x ^= x << 17;
-            ((x >> 16) as i32) >> (32 - bits)
-        };
+        let mut rng = crate::test_rng::XorShift64::new(0x9E37_79B9_7F4A_7C15);
+        let mut next = move |bits: u32| ((rng.next_u64() >> 16) as i32) >> (32 - bits);
         for model in [
             super::super::tests::marble(),
             super::super::tests::marble().with_precision(coarse),

@@ -401,13 +401,7 @@ mod tests {
     use crate::noise::gradient::perlin_gradient;
     use crate::noise::Fade;
 
-    /// Xorshift64 from `x`: the tests' pseudo-random numbers.
-    fn xorshift(x: &mut u64) -> u64 {
-        *x ^= *x << 13;
-        *x ^= *x >> 7;
-        *x ^= *x << 17;
-        *x
-    }
+    use crate::test_rng::xorshift64 as xorshift;
 
     /// The exact trilinear value of dot products `d` with weights `w` (units `2^-64`).
     fn exact(d: &[i32; 8], w: [i64; 3]) -> i128 {

@@ -349,13 +349,7 @@ fn gradient_walk(
 mod tests {
     use super::*;
 
-    /// Xorshift64 from `x`: the tests' pseudo-random numbers.
-    fn xorshift(x: &mut u64) -> u64 {
-        *x ^= *x << 13;
-        *x ^= *x >> 7;
-        *x ^= *x << 17;
-        *x
-    }
+    use crate::test_rng::xorshift64 as xorshift;
 
     #[test]
     fn a_cell_packs_into_an_entry() {

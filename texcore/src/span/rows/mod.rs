@@ -1320,13 +1320,8 @@ mod tests {
     #[test]
     #[cfg(not(texcore_lean))]
     fn face_ab_is_the_blend() {
-        let mut x = 0x9E37_79B9_7F4A_7C15u64;
-        let mut next = || {
-            x ^= x << 13;
-            x ^= x >> 7;
-            x ^= x << 17;
-            x
-        };
+        let mut rng = crate::test_rng::XorShift64::new(0x9E37_79B9_7F4A_7C15);
+        let mut next = || rng.next_u64();
         for _ in 0..3000 {
             let k = (next() % 3) as usize;
             let (a, c) = others(k);
