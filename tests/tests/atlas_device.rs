@@ -128,6 +128,7 @@ fn frame_list_draws_what_the_walk_draws() {
                     &mut bins,
                     list,
                     refs,
+                    &mut vec![0u16; atlas::DRAW_PIXELS],
                     |r| px.extend_from_slice(r)
                 ));
                 px

@@ -189,6 +189,7 @@ band_jobs! {
 /// scene renders ([`SCENE_GROUPS`] entries of 4 bytes). With `rgb565-frames` the depth band
 /// holds a band of the RGB565 frames' [`scenes::RGB565_BAND_ROWS`] rows, and the RGBA band,
 /// which only a scene that blends takes, [`scenes::RGBA_BAND_ROWS`].
+#[repr(C)]
 struct Bands {
     rgba: [Rgba8888; RGBA_BAND_PIXELS],
     depth: [u16; DEPTH_PIXELS],
@@ -211,6 +212,40 @@ fn with_bands(f: impl FnOnce(&mut [Rgba8888], &mut [u16], &mut [GroupRows]) -> u
     let bands = unsafe { &mut *core::ptr::addr_of_mut!(BANDS) };
     f(&mut bands.rgba, &mut bands.depth, &mut bands.bins)
 }
+
+/// Runs `f` with the memory of the RGBA band and the depth band as one RGB565 band of
+/// [`ATLAS_BAND_PIXELS`] entries (the atlas draw's colour band: those jobs use neither scene
+/// band, and `Bands` lays the two out one after the other), and the bins.
+#[cfg(feature = "atlas")]
+#[allow(unsafe_code)]
+fn with_atlas_band(f: impl FnOnce(&mut [u16], &mut [GroupRows]) -> u32) -> u32 {
+    let base = core::ptr::addr_of_mut!(BANDS);
+    // SAFETY: as `with_bands`, this is the only live reference into `BANDS`. The first
+    // ATLAS_BAND_PIXELS u16s from `BANDS`' start are exactly the RGBA band and the depth band
+    // (`#[repr(C)]`, checked below), which `bins` does not overlap; `BANDS` is aligned for
+    // `Rgba8888` (4 bytes), so for `u16`, and every bit pattern is a valid `u16`, `u8`
+    // (`Rgba8888`'s fields) and `u16` again for the scene jobs that use the bands later.
+    let (band, bins) = unsafe {
+        (
+            core::slice::from_raw_parts_mut(base.cast::<u16>(), ATLAS_BAND_PIXELS),
+            &mut *core::ptr::addr_of_mut!((*base).bins),
+        )
+    };
+    f(band, bins)
+}
+
+/// The `u16`s of the RGBA band and the depth band together (`with_atlas_band`).
+#[cfg(feature = "atlas")]
+const ATLAS_BAND_PIXELS: usize =
+    (core::mem::size_of::<[Rgba8888; RGBA_BAND_PIXELS]>() + 2 * DEPTH_PIXELS) / 2;
+// The two bands are one run of memory, and it holds the atlas draw's band.
+#[cfg(feature = "atlas")]
+const _: () = {
+    assert!(
+        core::mem::offset_of!(Bands, depth) == core::mem::size_of::<[Rgba8888; RGBA_BAND_PIXELS]>()
+    );
+    assert!(ATLAS_BAND_PIXELS >= crate::atlas::DRAW_PIXELS);
+};
 
 macro_rules! scene_jobs {
     ($($f:ident => $job:ident, $setup:ident;)*) => {$(
@@ -262,7 +297,7 @@ pub fn atlas_draw(_: &mut Ctx) -> u32 {
     if STUBBED {
         return 0;
     }
-    with_bands(|_, _, g| crate::atlas::draw_job(hash(), true, g))
+    with_atlas_band(|band, g| crate::atlas::draw_job(hash(), true, g, band))
 }
 
 /// `atlas:marble/setup`.
@@ -271,7 +306,7 @@ pub fn atlas_draw_setup(_: &mut Ctx) -> u32 {
     if STUBBED {
         return 0;
     }
-    with_bands(|_, _, g| crate::atlas::draw_job(hash(), false, g))
+    with_atlas_band(|band, g| crate::atlas::draw_job(hash(), false, g, band))
 }
 
 /// `scene:marble-lit` (feature `lighting`): the built-in marble scene with a light, whole frame

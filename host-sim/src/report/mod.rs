@@ -378,7 +378,8 @@ fn host_atlas(what: &str, hash: HashKind, work: bool) -> Option<u32> {
         return None;
     }
     let mut bins = vec![texcore::render::GroupRows::EMPTY; scenes::SCENE_GROUPS];
-    Some(atlas::draw_job(hash, work, &mut bins))
+    let mut band = vec![0u16; atlas::DRAW_PIXELS];
+    Some(atlas::draw_job(hash, work, &mut bins, &mut band))
 }
 
 /// The host's checksum of device job `name` (with or without the `/setup` suffix) for a device

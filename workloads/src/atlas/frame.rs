@@ -19,10 +19,27 @@ fn triangle_rows(tri: &[ScreenVertex; 3], h: u16) -> Option<(u16, u16)> {
 /// Draws `scene` from `atlas` (laid out by [`scene_layout`]) in bands of [`DRAW_ROWS`] rows and
 /// returns the frame's checksum (FNV-1a over its RGB565 pixels, row-major, as `ChecksumSink`);
 /// 0 if the scene has no layout or the buffers are too small. See [`draw_scene_rows`].
-#[inline(never)]
 pub fn draw_scene(scene: &Scene, atlas: &AtlasTexels, bins: &mut [GroupRows]) -> u32 {
+    let mut band = [0u16; DRAW_PIXELS];
+    draw_scene_in(scene, atlas, bins, &mut band)
+}
+
+/// [`draw_scene`] into the caller's RGB565 band `band` (at least [`DRAW_PIXELS`] entries; 0
+/// otherwise): the frame list and its index on the stack. (The device passes memory that the
+/// atlas jobs do not otherwise use, so that the band does not take stack.)
+#[inline(never)]
+pub fn draw_scene_in(
+    scene: &Scene,
+    atlas: &AtlasTexels,
+    bins: &mut [GroupRows],
+    band: &mut [u16],
+) -> u32 {
     let mut sink = ChecksumSink::resume(FRAME_START);
-    let drawn = draw_scene_rows(scene, atlas, bins, |row| sink.add_rgb565_row(row));
+    let mut list = [FrameQuad::EMPTY; FRAME_QUADS];
+    let mut refs = [0u16; FRAME_REFS];
+    let drawn = draw_scene_rows_with(scene, atlas, bins, &mut list, &mut refs, band, |row| {
+        sink.add_rgb565_row(row)
+    });
     if drawn {
         sink.checksum()
     } else {
@@ -345,7 +362,8 @@ fn walk_band<D: FnMut(usize, &[ScreenVertex; 3])>(
 
 /// Draws `scene` from `atlas` (laid out by [`scene_layout`]) in bands of [`DRAW_ROWS`] rows,
 /// handing every RGB565 row to `out`, top to bottom: [`draw_scene_rows_with`] with a frame list
-/// of [`FRAME_QUADS`] quads and a band index of [`FRAME_REFS`] entries on the stack.
+/// of [`FRAME_QUADS`] quads, a band index of [`FRAME_REFS`] entries and the RGB565 band on the
+/// stack.
 pub fn draw_scene_rows<O: FnMut(&[u16])>(
     scene: &Scene,
     atlas: &AtlasTexels,
@@ -354,12 +372,14 @@ pub fn draw_scene_rows<O: FnMut(&[u16])>(
 ) -> bool {
     let mut list = [FrameQuad::EMPTY; FRAME_QUADS];
     let mut refs = [0u16; FRAME_REFS];
-    draw_scene_rows_with(scene, atlas, bins, &mut list, &mut refs, out)
+    let mut band = [0u16; DRAW_PIXELS];
+    draw_scene_rows_with(scene, atlas, bins, &mut list, &mut refs, &mut band, out)
 }
 
 /// Draws `scene` from `atlas` (laid out by [`scene_layout`]) in bands of [`DRAW_ROWS`] rows,
-/// handing every RGB565 row to `out`, top to bottom. `false` (and no row) if the scene has no
-/// layout or is wider than [`WIDTH`].
+/// drawn into `band` (the caller's RGB565 band: at least [`DRAW_PIXELS`] entries), handing every
+/// RGB565 row to `out`, top to bottom. `false` (and no row) if the scene has no layout, is wider
+/// than [`WIDTH`] or `band` is too short.
 ///
 /// One walk over the scene lists every drawn quad with its projected corners in `list` (a
 /// *frame list*: the quad's atlas positions come from the layout, so nothing of the walk is
@@ -377,6 +397,7 @@ pub fn draw_scene_rows_with<O: FnMut(&[u16])>(
     bins: &mut [GroupRows],
     list: &mut [FrameQuad],
     refs: &mut [u16],
+    band: &mut [u16],
     mut out: O,
 ) -> bool {
     let Some(layout) = scene_layout(scene) else {
@@ -452,7 +473,9 @@ pub fn draw_scene_rows_with<O: FnMut(&[u16])>(
             }
             Some(opts)
         });
-    let mut band = [0u16; DRAW_PIXELS];
+    let Some(band) = band.get_mut(..wu * usize::from(DRAW_ROWS)) else {
+        return false;
+    };
     let mut raster = Rasterizer::new(Rect::from_size(w, h));
     let mut cache: Option<(usize, QuadAtlas)> = None;
     let mut y0 = 0u16;
@@ -462,10 +485,10 @@ pub fn draw_scene_rows_with<O: FnMut(&[u16])>(
         raster.set_clip(rect);
         db.set_rect(rect);
         db.clear(u16::MAX);
-        fill_u16(&mut band, bg);
+        fill_u16(band, bg);
         let mut draw = |obj: usize, v: &[ScreenVertex; 3]| {
             if let Some(Some(opts)) = options.get(obj) {
-                raster.draw_textured(v, opts, &mut db, &texture, &mut band);
+                raster.draw_textured(v, opts, &mut db, &texture, band);
             }
         };
         if exact {

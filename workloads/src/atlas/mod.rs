@@ -15,12 +15,13 @@
 //! renderer does).
 //!
 //! Memory: the atlas is caller-owned frame memory like the band buffers (32 KB for 128 x 128
-//! RGB565, on the job's stack), not texture-unit state; the RGB565 band and its depth band
-//! ([`DRAW_PIXELS`] x 2 bytes each, taller bands than the procedural renderer's: a triangle is
-//! set up once per band it touches), the frame list ([`FRAME_QUADS`] entries, 23.7 KB) and its
-//! band index ([`FRAME_REFS`] entries, 1.6 KB) are on the stack too, the quad bins are the
-//! suite's. On the Cortex-M4F the draw job peaks at about 102 KB of the 109 KB stack (the scene
-//! walk's corner store included): bands of 24 rows with the list would not fit.
+//! RGB565, on the job's stack), not texture-unit state. The RGB565 band ([`DRAW_PIXELS`] x 2
+//! bytes, taller bands than the procedural renderer's: a triangle is set up once per band it
+//! touches) is the caller's: on the device the suite's static RGBA and depth bands, which the
+//! atlas jobs do not otherwise use, hold it (exactly their 15 KB). Its depth band, the frame list
+//! ([`FRAME_QUADS`] entries, 23.7 KB) and its band index ([`FRAME_REFS`] entries, 1.6 KB) are on
+//! the stack, the quad bins are the suite's. On the Cortex-M4F the draw job peaks at about
+//! 96 KB of the 109 KB stack (the scene walk's corner store included).
 //!
 //! Atlas coordinates of a screen vertex: the scene's walk hands over screen triangles whose
 //! vertices carry solid coordinates. A vertex of an unclipped triangle carries exactly the solid
@@ -55,8 +56,10 @@ pub const SIDE: u16 = 128;
 pub const TEXELS: usize = SIDE as usize * SIDE as usize;
 /// Gutter of the device layout: 0, the paper's atlas for nearest look-ups.
 pub const GUTTER: u8 = 0;
-/// Rows of a band of the atlas draw.
-pub const DRAW_ROWS: u16 = 16;
+/// Rows of a band of the atlas draw (a triangle is set up once per band it touches: 24-row
+/// bands drew the marble frame in 70.1 instructions a pixel on the Cortex-M4F where 16-row
+/// bands took 71.6).
+pub const DRAW_ROWS: u16 = 24;
 /// Pixels of a band of the atlas draw (and entries of its depth band): the widest scene's.
 pub const DRAW_PIXELS: usize = WIDTH as usize * DRAW_ROWS as usize;
 /// The built-in scene the atlas jobs draw.
@@ -71,7 +74,8 @@ mod layout;
 
 pub use bake::{atlas_checksum, bake_scene, owned_texels, scene_layout};
 pub use frame::{
-    draw_scene, draw_scene_rows, draw_scene_rows_with, FrameQuad, FRAME_QUADS, FRAME_REFS,
+    draw_scene, draw_scene_in, draw_scene_rows, draw_scene_rows_with, FrameQuad, FRAME_QUADS,
+    FRAME_REFS,
 };
 pub use layout::UniformLayout;
 use layout::*;
@@ -93,10 +97,10 @@ pub fn bake_job(hash: HashKind, work: bool) -> u32 {
 }
 
 /// `atlas:<SCENE>` (with `work`) and its set-up: the scene's frame, textures and atlas baked;
-/// with `work` the frame drawn from the atlas, returning the frame's checksum (the set-up
-/// returns the texels baked).
+/// with `work` the frame drawn from the atlas into the RGB565 band `band` ([`draw_scene_in`]),
+/// returning the frame's checksum (the set-up returns the texels baked).
 #[inline(never)]
-pub fn draw_job(hash: HashKind, work: bool, bins: &mut [GroupRows]) -> u32 {
+pub fn draw_job(hash: HashKind, work: bool, bins: &mut [GroupRows], band: &mut [u16]) -> u32 {
     let Some(scene) = builtin_frame(SCENE) else {
         return 0;
     };
@@ -107,7 +111,7 @@ pub fn draw_job(hash: HashKind, work: bool, bins: &mut [GroupRows]) -> u32 {
     if !work {
         return n;
     }
-    draw_scene(&scene, atlas, bins)
+    draw_scene_in(&scene, atlas, bins, band)
 }
 
 #[cfg(test)]
