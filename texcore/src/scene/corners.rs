@@ -12,7 +12,7 @@
 //!   same object (the positions are forgotten per object), and the camera vertex, outcodes and
 //!   projection of a corner are functions of its position and the object alone: a hit gives
 //!   exactly what recomputing would.
-//! - **Bounded.** [`CACHE_CORNERS`] positions and four scratch slots in the walk's frame,
+//! - **Bounded.** `S - 4` cached positions and four scratch slots in the walk's frame,
 //!   direct-mapped by a hash of the position: a miss (an empty slot, another position) only
 //!   costs the computation it would have cost anyway. No allocation, no panic path.
 
@@ -20,17 +20,16 @@ use super::camera::CamVertex;
 use super::math::Vec3;
 use crate::raster::ScreenVertex;
 
-/// Cached entries of a [`CornerStore`]: enough for the bottom edge of a row of the built-in
-/// meshes' patches and, most of the time, the edge a teapot patch shares with the one walked
-/// before it (direct-mapped: with 12 entries the marble frame's walk computed 983 corners, with
-/// 28 835; every entry costs about 96 bytes of the walk's frame).
-pub(crate) const CACHE_CORNERS: usize = 28;
+/// Slots of the store of a walk that runs once per band (the renderer's): 28 cached corners,
+/// enough for the bottom edge of a row of the built-in meshes' patches and, often, the edge a
+/// teapot patch shares with the one walked before it. Every slot costs about 96 bytes of the
+/// walk's frame, in every band.
+pub(crate) const BAND_WALK_SLOTS: usize = 32;
 
-/// Slots of a [`CornerStore`]: the cached ones and four scratch slots (a quad has four
-/// corners, so a free one always exists); a power of two, so a slot number is masked into
-/// range.
-const SLOTS: usize = CACHE_CORNERS + 4;
-const _: () = assert!(SLOTS.is_power_of_two());
+/// Slots of the store of a walk that runs once a frame (`Scene::for_each_screen_triangle_with_corners`,
+/// the atlas draw's frame list): 60 cached corners. The marble frame's walk computes 983 corners
+/// with 12 cached, 835 with 28 and 709 with 60.
+pub(crate) const FRAME_WALK_SLOTS: usize = 64;
 
 /// A corner's projection ([`super::View::project`]) without its texture coordinates, which the
 /// camera vertex holds: 24 bytes, so that it moves through registers rather than a `memcpy`
@@ -81,38 +80,63 @@ pub(crate) struct WalkedCorner {
     pub(crate) projected: Option<Projected>,
 }
 
+impl WalkedCorner {
+    /// An empty slot (every field zero: a store's slots start as one fill of zeros).
+    const EMPTY: WalkedCorner = WalkedCorner {
+        cam: CamVertex {
+            p: [0; 3],
+            tex: [0; 3],
+        },
+        oc: (0, 0),
+        projected: None,
+    };
+}
+
 /// The walk's corners, in place: the current quad's corners are slot numbers, and the
 /// [`CACHE_CORNERS`] cached slots are direct-mapped by a hash of the position, so a corner
 /// computed once is found again by its position while its slot is not reused (see the module
 /// documentation). Nothing is copied in or out.
+///
+/// `S` slots: `S - 4` cached ones and four scratch slots (a quad has four corners, so a free one
+/// always exists); a power of two, so a slot number is masked into range.
 #[derive(Clone, Copy, Debug)]
-pub(crate) struct CornerStore {
-    /// The position each cached slot holds (`None`: empty; scratch slots are never found).
-    pos: [Option<Vec3>; CACHE_CORNERS],
-    corner: [WalkedCorner; SLOTS],
+pub(crate) struct CornerStore<const S: usize> {
+    /// The position each cached slot holds (`None`: empty; scratch slots, the last four, are
+    /// never found).
+    pos: [Option<Vec3>; S],
+    corner: [WalkedCorner; S],
 }
 
-impl CornerStore {
-    /// An empty store.
-    pub(crate) fn new() -> CornerStore {
+impl<const S: usize> CornerStore<S> {
+    /// The cached slots (checked at compile time: `S` a power of two above 4).
+    const CACHE: usize = {
+        assert!(S.is_power_of_two() && S > 4);
+        S - 4
+    };
+
+    /// An empty store. Inlined, from constant empty slots (all zero): the caller's store is
+    /// filled in place (from `Default` slots, or out of line, the store was built beside it
+    /// and copied: a second store's worth of the walk's stack).
+    #[inline(always)]
+    pub(crate) fn new() -> CornerStore<S> {
         CornerStore {
-            pos: [None; CACHE_CORNERS],
-            corner: [WalkedCorner::default(); SLOTS],
+            pos: [None; S],
+            corner: [WalkedCorner::EMPTY; S],
         }
     }
 
     /// Forgets every cached position (a new object: another transform).
     pub(crate) fn clear(&mut self) {
-        self.pos = [None; CACHE_CORNERS];
+        self.pos = [None; S];
     }
 
     /// The cached slot of position `p`: a multiplicative hash of its coordinates scaled to
-    /// `0..CACHE_CORNERS` by its top bits (one multiplication, no division).
+    /// `0..S - 4` by its top bits (one multiplication, no division).
     #[inline(always)]
     fn slot(p: &Vec3) -> usize {
         let (x, y, z) = (p.x as u32, p.y as u32, p.z as u32);
         let h = (x ^ y.rotate_left(11) ^ z.rotate_left(22)).wrapping_mul(0x9E37_79B1);
-        ((u64::from(h) * CACHE_CORNERS as u64) >> 32) as usize
+        ((u64::from(h) * Self::CACHE as u64) >> 32) as usize
     }
 
     /// The slot holding the corner walked at position `p`, if it is still cached.
@@ -137,28 +161,32 @@ impl CornerStore {
             }
             return i;
         }
-        (CACHE_CORNERS..SLOTS)
+        (Self::CACHE..S)
             .find(|j| !busy.contains(j))
-            .unwrap_or(CACHE_CORNERS)
+            .unwrap_or(Self::CACHE)
     }
 
     /// The corner in slot `i` (a slot of [`CornerStore::find`] or [`CornerStore::claim`]).
     #[inline]
     pub(crate) fn get(&self, i: usize) -> &WalkedCorner {
-        // `i & (SLOTS - 1)`: in bounds, no panic path.
-        &self.corner[i & (SLOTS - 1)]
+        // `i & (S - 1)`: in bounds, no panic path.
+        &self.corner[i & (S - 1)]
     }
 
     /// The corner in slot `i`, to fill or to add its projection.
     #[inline]
     pub(crate) fn get_mut(&mut self, i: usize) -> &mut WalkedCorner {
-        &mut self.corner[i & (SLOTS - 1)]
+        &mut self.corner[i & (S - 1)]
     }
 }
 
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    type Store = CornerStore<BAND_WALK_SLOTS>;
+    const CACHE_CORNERS: usize = BAND_WALK_SLOTS - 4;
+    const SLOTS: usize = BAND_WALK_SLOTS;
 
     fn corner(k: i64) -> WalkedCorner {
         WalkedCorner {
@@ -201,7 +229,7 @@ mod tests {
 
     #[test]
     fn finds_only_the_same_position() {
-        let mut c = CornerStore::new();
+        let mut c = Store::new();
         let p = Vec3::new(65536, -7, 1 << 20);
         assert_eq!(c.find(&p), None);
         let i = c.claim(p, &FREE);
@@ -212,7 +240,7 @@ mod tests {
         let mut others = 0;
         for x in -2000..2000 {
             let q = Vec3::new(x, -7, 1 << 20);
-            if q != p && CornerStore::slot(&q) == CornerStore::slot(&p) {
+            if q != p && Store::slot(&q) == Store::slot(&p) {
                 others += 1;
                 assert_eq!(c.find(&q), None, "{q:?}");
             }
@@ -224,9 +252,9 @@ mod tests {
 
     #[test]
     fn busy_slots_are_never_claimed() {
-        let mut c = CornerStore::new();
+        let mut c = Store::new();
         let p = Vec3::new(3, 4, 5);
-        let home = CornerStore::slot(&p);
+        let home = Store::slot(&p);
         // Its own slot busy: a scratch slot, none of the busy ones, and not found later.
         for busy in [
             [home, usize::MAX, usize::MAX, usize::MAX],
@@ -249,7 +277,7 @@ mod tests {
         // The bottom edge of a row of a 4 x 4 patch (5 corners) and of an 8-quad row: the
         // slots spread them (a few may collide, never more than half).
         for n in [5, 9] {
-            let mut c = CornerStore::new();
+            let mut c = Store::new();
             let row: std::vec::Vec<Vec3> = (0..n)
                 .map(|i| Vec3::new(i * 9000, 4321, -i * 777))
                 .collect();

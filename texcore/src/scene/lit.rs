@@ -55,7 +55,7 @@ impl Scene {
             lighting: &self.lighting,
             eye: self.camera.eye,
         };
-        self.walk_quads(keep, f, &corner, true)
+        self.walk_quads::<K, _, _, { super::corners::BAND_WALK_SLOTS }>(keep, f, &corner, true)
     }
 }
 

@@ -430,7 +430,7 @@ impl Scene {
         K: FnMut(usize) -> bool,
         F: FnMut(usize, usize, &[ScreenVertex; 3]),
     {
-        self.walk_quads(
+        self.walk_quads::<K, _, _, { corners::BAND_WALK_SLOTS }>(
             keep,
             &mut |g, o, t, _: &dyn Fn() -> [(); 3]| f(g, o, t),
             &(),
@@ -451,7 +451,7 @@ impl Scene {
         K: FnMut(usize) -> bool,
         F: FnMut(usize, usize, &[ScreenVertex; 3], Option<[u8; 3]>),
     {
-        self.walk_with_corners(keep, f, true)
+        self.walk_with_corners::<K, F, { corners::BAND_WALK_SLOTS }>(keep, f, true)
     }
 
     /// [`Scene::for_each_triangle_with_corners`] without the vertices' texture coordinates
@@ -467,15 +467,20 @@ impl Scene {
         K: FnMut(usize) -> bool,
         F: FnMut(usize, usize, &[ScreenVertex; 3], Option<[u8; 3]>),
     {
-        self.walk_with_corners(keep, f, false)
+        self.walk_with_corners::<K, F, { corners::FRAME_WALK_SLOTS }>(keep, f, false)
     }
 
-    fn walk_with_corners<K, F>(&self, keep: &mut K, f: &mut F, tex: bool) -> SceneCounters
+    fn walk_with_corners<K, F, const S: usize>(
+        &self,
+        keep: &mut K,
+        f: &mut F,
+        tex: bool,
+    ) -> SceneCounters
     where
         K: FnMut(usize) -> bool,
         F: FnMut(usize, usize, &[ScreenVertex; 3], Option<[u8; 3]>),
     {
-        self.walk_quads(
+        self.walk_quads::<K, _, _, S>(
             keep,
             &mut |g, o, t, corners: &dyn Fn() -> [Option<u8>; 3]| {
                 let c = match corners() {
@@ -495,7 +500,13 @@ impl Scene {
     /// triangle whose values are not asked for costs nothing (nor does anything for `()`). A
     /// triangle cut by clipping gets the mean of its input corners' values. Without `tex`, every
     /// vertex's texture coordinates are zero (nothing else changes).
-    fn walk_quads<K, F, L>(&self, keep: &mut K, f: &mut F, corner: &L, tex: bool) -> SceneCounters
+    fn walk_quads<K, F, L, const S: usize>(
+        &self,
+        keep: &mut K,
+        f: &mut F,
+        corner: &L,
+        tex: bool,
+    ) -> SceneCounters
     where
         K: FnMut(usize) -> bool,
         F: FnMut(usize, usize, &[ScreenVertex; 3], &dyn Fn() -> [L::Value; 3]),
@@ -504,7 +515,7 @@ impl Scene {
         let mut c = SceneCounters::default();
         let view = self.camera.view();
         let mut first_group = 0usize;
-        let mut store = corners::CornerStore::new();
+        let mut store = corners::CornerStore::<S>::new();
         for (index, o) in self.objects.iter().enumerate() {
             c.objects = c.objects.wrapping_add(1);
             let quads = o.mesh.quad_count();
@@ -639,8 +650,8 @@ impl Scene {
 /// slot none of the quad's other corners holds, filled by [`walk_corner`]. Out of line: one
 /// copy for every walk.
 #[inline(never)]
-fn store_quad(
-    store: &mut corners::CornerStore,
+fn store_quad<const S: usize>(
+    store: &mut corners::CornerStore<S>,
     view: &View,
     o: &Object,
     c: &[Vec3; 4],

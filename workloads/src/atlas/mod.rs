@@ -21,7 +21,7 @@
 //! atlas jobs do not otherwise use, hold it (exactly their 15 KB). Its depth band, the frame list
 //! ([`FRAME_QUADS`] entries, 23.7 KB) and its band index ([`FRAME_REFS`] entries, 1.6 KB) are on
 //! the stack, the quad bins are the suite's. On the Cortex-M4F the draw job peaks at about
-//! 96 KB of the 109 KB stack (the scene walk's corner store included).
+//! 99 KB of the 109 KB stack (the scene walk's corner store included).
 //!
 //! Atlas coordinates of a screen vertex: the scene's walk hands over screen triangles whose
 //! vertices carry solid coordinates. A vertex of an unclipped triangle carries exactly the solid
