@@ -93,7 +93,7 @@ impl WalkedCorner {
 }
 
 /// The walk's corners, in place: the current quad's corners are slot numbers, and the
-/// [`CACHE_CORNERS`] cached slots are direct-mapped by a hash of the position, so a corner
+/// `S - 4` cached slots are direct-mapped by a hash of the position, so a corner
 /// computed once is found again by its position while its slot is not reused (see the module
 /// documentation). Nothing is copied in or out.
 ///

@@ -470,44 +470,31 @@ const _: () = {
     assert!(n * n * n <= 1 << (30 - POINT_BOUND_BITS));
 };
 
-/// Exact numerators of the four row curves of patch `idx` at `u = k / n`: `sum_i b_i(k) P_ji`
-/// for each row `j` (`|value| < n^3 2^18 <= 2^30`, so 32-bit products and sums are exact).
-fn rows_at(idx: &[u16; 16], bu: &[i64; 4]) -> [[i32; 3]; 4] {
-    // Bernstein numerators are at most n^3 <= 2^12.
-    let bu = bu.map(|b| b as i32);
+/// Exact numerators of the four curves of patch `idx` along one parameter, for the Bernstein
+/// numerators `w` of one of its steps (at most `n^3 <= 2^12`, summing to `n^3`): without
+/// `COLUMNS` the row curves at `u = k / n`, `sum_i b_i(k) P_ji` for each row `j`; with
+/// `COLUMNS` the column curves at `v = l / n`, `sum_j b_j(l) P_ji` for each column `i`. Either
+/// is below `n^3 2^18 <= 2^30` in magnitude, so 32-bit products and sums are exact. [`combine`]
+/// of the column curves with the weights of a step `k` is the point at `(k, l)` bit for bit: its
+/// exact numerator `sum_i b_i(k) sum_j b_j(l) P_ji` is the same integer as that of the row
+/// curves at `k` combined with the weights of `l`, summed in the other order (no partial sum
+/// wraps).
+fn curves_at<const COLUMNS: bool>(idx: &[u16; 16], w: &[i64; 4]) -> [[i32; 3]; 4] {
+    let w = w.map(|b| b as i32);
     let mut out = [[0i32; 3]; 4];
     // Masked indices: provably in bounds (no panic path in any code shape).
     for j in 0..4usize {
         for i in 0..4usize {
-            add_weighted(&mut out[j & 3], bu[i & 3], idx[(4 * j + i) & 15]);
-        }
-    }
-    out
-}
-
-/// `o += w P` for control point `pi` (wrapping; the callers' bounds make it exact).
-#[inline(always)]
-fn add_weighted(o: &mut [i32; 3], w: i32, pi: u16) {
-    let p = TEAPOT_POINTS_Q16
-        .get(pi as usize)
-        .copied()
-        .unwrap_or(Vec3::ZERO);
-    o[0] = o[0].wrapping_add(w.wrapping_mul(p.x));
-    o[1] = o[1].wrapping_add(w.wrapping_mul(p.y));
-    o[2] = o[2].wrapping_add(w.wrapping_mul(p.z));
-}
-
-/// Exact numerators of the four column curves of patch `idx` at `v = l / n`: `sum_j b_j(l) P_ji`
-/// for each column `i` (the transpose of [`rows_at`], with the same bound: `|value| < 2^30`).
-/// [`combine`] of them with the weights of a step `k` is the point at `(k, l)` bit for bit: its
-/// exact numerator `sum_i b_i(k) sum_j b_j(l) P_ji` is the same integer as that of
-/// `combine(rows_at(b(k)), b(l))`, summed in the other order (no partial sum wraps).
-fn cols_at(idx: &[u16; 16], bv: &[i64; 4]) -> [[i32; 3]; 4] {
-    let bv = bv.map(|b| b as i32);
-    let mut out = [[0i32; 3]; 4];
-    for j in 0..4usize {
-        for i in 0..4usize {
-            add_weighted(&mut out[i & 3], bv[j & 3], idx[(4 * j + i) & 15]);
+            // Control point `P_ji` (row `j`, column `i`) into its row's or its column's curve.
+            let (o, wk) = if COLUMNS { (i, j) } else { (j, i) };
+            let (o, wk) = (&mut out[o & 3], w[wk & 3]);
+            let p = TEAPOT_POINTS_Q16
+                .get(idx[(4 * j + i) & 15] as usize)
+                .copied()
+                .unwrap_or(Vec3::ZERO);
+            o[0] = o[0].wrapping_add(wk.wrapping_mul(p.x));
+            o[1] = o[1].wrapping_add(wk.wrapping_mul(p.y));
+            o[2] = o[2].wrapping_add(wk.wrapping_mul(p.z));
         }
     }
     out
@@ -583,7 +570,11 @@ pub fn teapot_point(patch: usize, n: u32, k: u32, l: u32) -> Vec3 {
     let n = n.clamp(1, MAX_TEAPOT_LEVEL as u32);
     let (k, l) = (k.min(n) as i64, l.min(n) as i64);
     let n = n as i64;
-    combine(&rows_at(idx, &bernstein(n, k)), &bernstein(n, l), recip6(n))
+    combine(
+        &curves_at::<false>(idx, &bernstein(n, k)),
+        &bernstein(n, l),
+        recip6(n),
+    )
 }
 
 /// Where quad `(k, l)` of patch `patch` at level `n` lies: the patch's control points, the
@@ -612,9 +603,9 @@ impl QuadAt {
         })
     }
 
-    /// The patch's row curves at parameter step `k` ([`rows_at`]).
+    /// The patch's row curves at parameter step `k` ([`curves_at`]).
     fn rows(&self, k: i64) -> [[i32; 3]; 4] {
-        rows_at(self.idx, &bernstein(self.n, k))
+        curves_at::<false>(self.idx, &bernstein(self.n, k))
     }
 
     /// The Bernstein weights of parameter step `l` ([`bernstein`]).
@@ -663,7 +654,7 @@ pub fn teapot_right_edge(patch: usize, n: u32, k: u32, l: u32) -> [Vec3; 2] {
 }
 
 /// One row of quads of a patch, `(k, l)` for every `k` at one `l`: the column curves at `l` and
-/// `l + 1` ([`cols_at`]), so that each vertical edge of the row, `[P(k, l), P(k, l + 1)]`, is two
+/// `l + 1` ([`curves_at`]), so that each vertical edge of the row, `[P(k, l), P(k, l + 1)]`, is two
 /// [`combine`]s (a walk along the row computes one edge a quad). Every point is exactly
 /// [`teapot_point`]'s (and [`teapot_quad`]'s): the curves give the same exact numerators.
 #[derive(Clone, Copy, Debug)]
@@ -678,7 +669,7 @@ pub(crate) struct TeapotRow {
 impl TeapotRow {
     /// The row `l` of patch `patch` at level `n` (`n` in `1..=MAX_TEAPOT_LEVEL`, `l < n`; `None`
     /// otherwise or past the last patch). When `prev` is the row `l - 1` of the same patch and
-    /// level, its curves at `l` are taken over (one [`cols_at`] instead of two).
+    /// level, its curves at `l` are taken over (one [`curves_at`] instead of two).
     pub(crate) fn new(patch: u32, n: u32, l: u32, prev: Option<&TeapotRow>) -> Option<TeapotRow> {
         let idx = TEAPOT_PATCHES.get(patch as usize)?;
         if n == 0 || n > MAX_TEAPOT_LEVEL as u32 || l >= n {
@@ -687,13 +678,13 @@ impl TeapotRow {
         let (ni, li) = (i64::from(n), i64::from(l));
         let at_l = match prev {
             Some(r) if r.patch == patch && r.n == n && r.l.wrapping_add(1) == l => r.cols[1],
-            _ => cols_at(idx, &bernstein(ni, li)),
+            _ => curves_at::<true>(idx, &bernstein(ni, li)),
         };
         Some(TeapotRow {
             patch,
             n,
             l,
-            cols: [at_l, cols_at(idx, &bernstein(ni, li + 1))],
+            cols: [at_l, curves_at::<true>(idx, &bernstein(ni, li + 1))],
             recip: recip6(ni),
         })
     }

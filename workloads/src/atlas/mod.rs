@@ -57,7 +57,7 @@ pub const TEXELS: usize = SIDE as usize * SIDE as usize;
 /// Gutter of the device layout: 0, the paper's atlas for nearest look-ups.
 pub const GUTTER: u8 = 0;
 /// Rows of a band of the atlas draw (a triangle is set up once per band it touches: 24-row
-/// bands drew the marble frame in 70.1 instructions a pixel on the Cortex-M4F where 16-row
+/// bands drew the marble frame in 70.7 instructions a pixel on the Cortex-M4F where 16-row
 /// bands took 71.6).
 pub const DRAW_ROWS: u16 = 24;
 /// Pixels of a band of the atlas draw (and entries of its depth band): the widest scene's.
