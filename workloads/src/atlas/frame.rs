@@ -3,6 +3,24 @@
 
 use super::*;
 
+/// Sets every pixel of `band` to `v`: the pixels before and after the band's 4-byte-aligned
+/// middle one at a time, the middle as words of two pixels each (`[v, v]` in memory order:
+/// the same pixels as `fill_u16`, in about a third of its stores on the Cortex-M4F, whose
+/// compiler cannot pair the stores of a slice of unknown alignment).
+pub(super) fn fill_rgb565(band: &mut [u16], v: u16) {
+    let (head, words, tail) = bytemuck::pod_align_to_mut::<u16, u32>(band);
+    head.fill(v);
+    tail.fill(v);
+    let w: u32 = bytemuck::cast([v, v]);
+    let mut chunks = words.chunks_exact_mut(8);
+    for c in &mut chunks {
+        if let Ok(c) = <&mut [u32; 8]>::try_from(c) {
+            *c = [w; 8];
+        }
+    }
+    chunks.into_remainder().fill(w);
+}
+
 /// The rows a screen triangle can cover in an image `h` rows high (a superset).
 fn triangle_rows(tri: &[ScreenVertex; 3], h: u16) -> Option<(u16, u16)> {
     let ys = tri.map(|v| v.y.to_bits());
@@ -485,7 +503,7 @@ pub fn draw_scene_rows_with<O: FnMut(&[u16])>(
         raster.set_clip(rect);
         db.set_rect(rect);
         db.clear(u16::MAX);
-        fill_u16(band, bg);
+        fill_rgb565(band, bg);
         let mut draw = |obj: usize, v: &[ScreenVertex; 3]| {
             if let Some(Some(opts)) = options.get(obj) {
                 raster.draw_textured(v, opts, &mut db, &texture, band);

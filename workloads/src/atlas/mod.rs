@@ -41,7 +41,7 @@ use texcore::color::Rgba8888;
 use texcore::format::TexPoint;
 use texcore::hash::HashKind;
 use texcore::raster::{
-    fill_u16, DepthBuffer, DepthFunc, InvW, Rasterizer, Rect, ScreenCoord, ScreenVertex,
+    DepthBuffer, DepthFunc, InvW, Rasterizer, Rect, ScreenCoord, ScreenVertex,
     Texture565, TriangleOptions, TriangleSetup,
 };
 use texcore::render::{GroupRows, TriangleSource};

@@ -89,3 +89,21 @@ fn band_index_is_the_scan() {
     }
     assert!(BandIndex::new(&[], MAX_BANDS + 1, &mut []).is_none());
 }
+
+/// The band fill sets exactly the pixels `fill_u16` sets, at every alignment and length of the
+/// band (odd starts leave a head pixel, odd ends a tail pixel, short bands no word at all).
+#[test]
+fn band_fill_is_the_pixel_fill() {
+    let mut a = [0x1234u16; 80];
+    let mut b = [0x1234u16; 80];
+    for start in 0..4 {
+        for len in 0..70 {
+            a.fill(0x1234);
+            b.fill(0x1234);
+            let v = 0xA55A ^ (start as u16 * 7 + len as u16);
+            fill_rgb565(&mut a[start..start + len], v);
+            texcore::raster::fill_u16(&mut b[start..start + len], v);
+            assert_eq!(a, b, "start {start} len {len}");
+        }
+    }
+}
