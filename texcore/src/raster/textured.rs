@@ -231,10 +231,16 @@ pub(crate) fn texel_at<const SIDE: usize>(texels: &[u16], words: [i32; 3]) -> u1
     let log2 = Texture565::<SIDE>::LOG2;
     // The quotient is in units of 2^(8 - f) texel: f - 8 = 7 - log2(SIDE) bits to drop.
     let fs = 7u32.saturating_sub(log2);
-    let q = |n: i32| ((n.max(0) as u32).checked_div(den).unwrap_or(0) >> fs).min(max);
+    let q = |n: i32| (n.max(0) as u32).checked_div(den).unwrap_or(0) >> fs;
     let (u, t) = (q(nu), q(nv));
-    let i = ((t << log2) | u) as usize;
-    texels.get(i).copied().unwrap_or(0)
+    // Both inside the texture (the common case: one test of the two, `SIDE` a power of two),
+    // or each clamped to its last texel: the same index either way.
+    let i = if (u | t) >> log2 == 0 {
+        (t << log2) | u
+    } else {
+        (t.min(max) << log2) | u.min(max)
+    };
+    texels.get(i as usize).copied().unwrap_or(0)
 }
 
 /// `texels` taken to exactly `SIDE * SIDE` texels (the whole texture of a [`Texture565`]):
@@ -625,6 +631,54 @@ mod tests {
     fn below(seed: u64) -> impl FnMut(u64) -> u64 {
         let mut rng = crate::test_rng::XorShift64::new(seed);
         move |m| rng.below(m)
+    }
+
+    /// The texel look-up against its definition (each quotient clamped to the last texel on
+    /// its own): words inside the texture, past it in one or both coordinates, negative
+    /// numerators and a zero divisor, for sides 128 and 16.
+    #[test]
+    fn texel_at_clamps_each_coordinate() {
+        fn check<const SIDE: usize>(seed: u64) {
+            let texels: std::vec::Vec<u16> = (0..SIDE * SIDE).map(|i| i as u16 ^ 0x5A5A).collect();
+            let log2 = Texture565::<SIDE>::LOG2;
+            let fs = 7u32.saturating_sub(log2);
+            let want = |[nu, nv, dd]: [i32; 3]| {
+                let q = |n: i32| {
+                    let q = (n.max(0) as u32).checked_div(dd as u32).unwrap_or(0) >> fs;
+                    q.min(SIDE as u32 - 1)
+                };
+                texels[((q(nv) << log2) | q(nu)) as usize]
+            };
+            let mut rnd = below(seed);
+            let (mut inside, mut clamped) = (0u32, 0u32);
+            for n in 0..40_000u32 {
+                let dd = match n % 8 {
+                    0 => 0,
+                    1 => 1,
+                    _ => 1 + rnd(1 << 24) as i32,
+                };
+                // Quotients from 0 to about 4 sides (in units of 2^(8 - f) texel), now and
+                // then a negative numerator or one far past the texture.
+                let num = |r: &mut dyn FnMut(u64) -> u64| match r(10) {
+                    0 => -(r(1 << 30) as i32),
+                    1 => r(1 << 31) as i32,
+                    _ => (r(4 * 128 << fs) as i64 * i64::from(dd.max(1))).min(i64::from(i32::MAX))
+                        as i32,
+                };
+                let words = [num(&mut rnd), num(&mut rnd), dd];
+                let got = texel_at::<SIDE>(&texels, words);
+                assert_eq!(got, want(words), "{words:?}");
+                let q = |n: i32| (n.max(0) as u32).checked_div(dd as u32).unwrap_or(0) >> fs;
+                if q(words[0]).max(q(words[1])) < SIDE as u32 {
+                    inside += 1;
+                } else {
+                    clamped += 1;
+                }
+            }
+            assert!(inside > 5_000 && clamped > 5_000, "{inside} {clamped}");
+        }
+        check::<128>(0x1234_5678_9ABC_DEF1);
+        check::<16>(0x0F1E_2D3C_4B5A_6978);
     }
 
     /// Small triangles (the `i32` set-up and walk) draw exactly the pixels, depths and counters

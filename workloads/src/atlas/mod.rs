@@ -41,8 +41,8 @@ use texcore::color::Rgba8888;
 use texcore::format::TexPoint;
 use texcore::hash::HashKind;
 use texcore::raster::{
-    DepthBuffer, DepthFunc, InvW, Rasterizer, Rect, ScreenCoord, ScreenVertex,
-    Texture565, TriangleOptions, TriangleSetup,
+    DepthBuffer, DepthFunc, InvW, Rasterizer, Rect, ScreenCoord, ScreenVertex, Texture565,
+    TriangleOptions, TriangleSetup,
 };
 use texcore::render::{GroupRows, TriangleSource};
 use texcore::scene::{Object, Scene};
