@@ -659,12 +659,13 @@ mod tests {
                 };
                 // Quotients from 0 to about 4 sides (in units of 2^(8 - f) texel), now and
                 // then a negative numerator or one far past the texture.
-                let num = |r: &mut dyn FnMut(u64) -> u64| match r(10) {
-                    0 => -(r(1 << 30) as i32),
-                    1 => r(1 << 31) as i32,
-                    _ => (r(4 * 128 << fs) as i64 * i64::from(dd.max(1))).min(i64::from(i32::MAX))
-                        as i32,
-                };
+                let num =
+                    |r: &mut dyn FnMut(u64) -> u64| match r(10) {
+                        0 => -(r(1 << 30) as i32),
+                        1 => r(1 << 31) as i32,
+                        _ => (r((4 * 128) << fs) as i64 * i64::from(dd.max(1)))
+                            .min(i64::from(i32::MAX)) as i32,
+                    };
                 let words = [num(&mut rnd), num(&mut rnd), dd];
                 let got = texel_at::<SIDE>(&texels, words);
                 assert_eq!(got, want(words), "{words:?}");

@@ -646,16 +646,24 @@ pub fn assemble(p: [(ScreenVertex, u64); 3]) -> [ScreenVertex; 3] {
 pub fn normalise_inv_w(q: [u64; 3]) -> [u32; 3] {
     let m = q[0].max(q[1]).max(q[2]);
     let bits = 64 - m.leading_zeros();
-    let shift = bits.saturating_sub(31);
+    if bits <= 31 {
+        // No shift: every value is below 2^31.
+        return q.map(|v| v as u32);
+    }
+    // The shift s = bits - 31 >= 1: (v >> s) + bit s - 1 of v is ceil(t / 2) for t = v >> (s -
+    // 1), and t <= m >> (bits - 32) < 2^32 fits a word. t from the value's two words, with
+    // the shift `s - 1` (0 to 32) the same for all three (the 64-bit shift by a variable
+    // amount is a long sequence on 32-bit targets).
+    let s1 = bits - 32;
     q.map(|v| {
-        // (v >> s) + bit s - 1 of v is ceil(t / 2) for t = v >> (s - 1): one shift (t <= m >>
-        // (s - 1) < 2^32, so the addition cannot overflow).
-        let r = if shift == 0 {
-            v
+        let (hi, lo) = ((v >> 32) as u32, v as u32);
+        let t = if s1 >= 32 {
+            hi
         } else {
-            ((v >> (shift - 1)) + 1) >> 1
+            // `hi << (32 - s1)` as two shifts (no shift by 32 when s1 = 0, where hi = 0).
+            (lo >> s1) | ((hi << 1) << (31 - s1))
         };
-        r.min(u32::MAX as u64) as u32
+        (t >> 1) + (t & 1)
     })
 }
 
@@ -1184,6 +1192,17 @@ mod tests {
         for _ in 0..100_000 {
             let q = [next(), next(), next()];
             assert_eq!(normalise_inv_w(q), want(q), "{q:?}");
+        }
+        // The largest value at every bit length, the others random below it.
+        for bits in 0..=64u32 {
+            for _ in 0..200 {
+                let top = if bits == 0 { 0 } else { u64::MAX >> (64 - bits) };
+                let m = top & !(next() & (top >> 1));
+                let below = |r: u64| if m == 0 { 0 } else { r % (m + (m < u64::MAX) as u64) };
+                let mut q = [m, below(next()), below(next())];
+                q.rotate_left((next() % 3) as usize);
+                assert_eq!(normalise_inv_w(q), want(q), "{q:?}");
+            }
         }
         for q in [[u64::MAX; 3], [u64::MAX, 1, 0], [(1 << 31) - 1, 1 << 31, 3]] {
             assert_eq!(normalise_inv_w(q), want(q), "{q:?}");
