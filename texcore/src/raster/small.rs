@@ -325,27 +325,6 @@ impl Small {
                 ];
             }
         }
-        // The vertices sorted by y exactly as `edge::Coverage::new`.
-        let (mut a, mut b, mut c) = (p0, p1, p2);
-        if b[1] < a[1] {
-            core::mem::swap(&mut a, &mut b);
-        }
-        if c[1] < b[1] {
-            core::mem::swap(&mut b, &mut c);
-        }
-        if b[1] < a[1] {
-            core::mem::swap(&mut a, &mut b);
-        }
-        let cross = (b[0] - a[0]) * (c[1] - a[1]) - (b[1] - a[1]) * (c[0] - a[0]);
-        let cov = SmallCoverage {
-            top: a,
-            mid: b,
-            bot: c,
-            mid_right: cross > 0,
-            py_first: first_centre(a[1]),
-            py_mid: first_centre(b[1]),
-            py_end: first_centre(c[1]),
-        };
         // Depth: the plane of z_i << 32 is round((sum_i z_i E_i) 2^32 / area2) per coefficient
         // (sums below 2^47.6, exact in i64), as `setup::Plane::new` rounds it.
         let z = v.map(|p| i32::from(p.z));
@@ -415,8 +394,7 @@ impl Small {
         // 2^29.01 + 2 2^19 2^10 < 2^31 for an anchor within 2^10 pixels of the origin, so each
         // sum of three products is below 2^62.2), exactly the wide path's `c + dx ax + dy ay` of
         // the same planes modulo 2^64 (`anchored_words`).
-        // The top vertex `cov.top` has the least y.
-        let anchor = anchor(p0[0].min(p1[0]).min(p2[0]), cov.top[1]);
+        let anchor = anchor(p0[0].min(p1[0]).min(p2[0]), p0[1].min(p1[1]).min(p2[1]));
         let [ax, ay] = anchor;
         // Constant indices (a closure's index is a bounds check in the size-lean shape).
         let e_at = |c: i32, dx: i32, dy: i32| c + dx * ax + dy * ay;
@@ -438,8 +416,31 @@ impl Small {
             )
         };
         let words = words_of(at, dx, dy);
-        // The depth plane's divisions last (measured: fewer values live across them).
+        // The depth plane's divisions and the coverage last, in this order (measured on the
+        // Cortex-M4F: fewer values live across the divisions and the planes' products).
         let [zc, zdx, zdy] = round_plane_shifted(zsums, area2);
+        // The vertices sorted by y exactly as `edge::Coverage::new` (the anchor took the least
+        // y, `cov.top`'s, itself).
+        let (mut a, mut b, mut c) = (p0, p1, p2);
+        if b[1] < a[1] {
+            core::mem::swap(&mut a, &mut b);
+        }
+        if c[1] < b[1] {
+            core::mem::swap(&mut b, &mut c);
+        }
+        if b[1] < a[1] {
+            core::mem::swap(&mut a, &mut b);
+        }
+        let cross = (b[0] - a[0]) * (c[1] - a[1]) - (b[1] - a[1]) * (c[0] - a[0]);
+        let cov = SmallCoverage {
+            top: a,
+            mid: b,
+            bot: c,
+            mid_right: cross > 0,
+            py_first: first_centre(a[1]),
+            py_mid: first_centre(b[1]),
+            py_end: first_centre(c[1]),
+        };
         Small::Ready(SmallSetup {
             cov,
             zplane: [zc.wrapping_add(1 << 31), zdx, zdy],
