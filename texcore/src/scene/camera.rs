@@ -1196,9 +1196,13 @@ mod tests {
         // The largest value at every bit length, the others random below it.
         for bits in 0..=64u32 {
             for _ in 0..200 {
-                let top = if bits == 0 { 0 } else { u64::MAX >> (64 - bits) };
+                let top = if bits == 0 {
+                    0
+                } else {
+                    u64::MAX >> (64 - bits)
+                };
                 let m = top & !(next() & (top >> 1));
-                let below = |r: u64| if m == 0 { 0 } else { r % (m + (m < u64::MAX) as u64) };
+                let below = |r: u64| r % m.saturating_add(1);
                 let mut q = [m, below(next()), below(next())];
                 q.rotate_left((next() % 3) as usize);
                 assert_eq!(normalise_inv_w(q), want(q), "{q:?}");
