@@ -8,7 +8,7 @@
 //! perspective-correctly at every pixel, the nearest atlas texel written into the band).
 //!
 //! The frame is walked once: the scene's walk projects every quad, and the quads drawn are kept
-//! in a *frame list* ([`FrameQuad`]: projected corners, 46 bytes a quad) from which every band
+//! in a *frame list* ([`FrameQuad`]: projected corners, 48 bytes a quad) from which every band
 //! draws the quads that touch it (found through a band index, `BandIndex`), so no band walks
 //! the scene, generates a mesh quad or projects a corner again (a frame the list cannot hold
 //! exactly takes the general way: every band walks the quads its bins name, as the procedural
@@ -19,9 +19,9 @@
 //! bytes, taller bands than the procedural renderer's: a triangle is set up once per band it
 //! touches) is the caller's: on the device the suite's static RGBA and depth bands, which the
 //! atlas jobs do not otherwise use, hold it (exactly their 15 KB). Its depth band, the frame list
-//! ([`FRAME_QUADS`] entries, 23.7 KB) and its band index ([`FRAME_REFS`] entries, 1.6 KB) are on
+//! ([`FRAME_QUADS`] entries, 24.8 KB) and its band index ([`FRAME_REFS`] entries, 1.6 KB) are on
 //! the stack, the quad bins are the suite's. On the Cortex-M4F the draw job peaks at about
-//! 99 KB of the 109 KB stack (the scene walk's corner store included).
+//! 102 KB of the 109 KB stack (the scene walk's corner store included).
 //!
 //! Atlas coordinates of a screen vertex: the scene's walk hands over screen triangles whose
 //! vertices carry solid coordinates. A vertex of an unclipped triangle carries exactly the solid
