@@ -53,21 +53,29 @@ pub(crate) struct Coverage {
     pub(crate) py_end: i64,
 }
 
+/// The vertices `p` (raw `[x, y]`) sorted by `y`, ties kept in their order: the top, middle
+/// and bottom vertex of a coverage (the small path's `i32` one too, so both walk the same
+/// edges).
+#[inline(always)]
+pub(crate) fn sorted_by_y<T: PartialOrd + Copy>(p: [[T; 2]; 3]) -> [[T; 2]; 3] {
+    let [mut a, mut b, mut c] = p;
+    if b[1] < a[1] {
+        core::mem::swap(&mut a, &mut b);
+    }
+    if c[1] < b[1] {
+        core::mem::swap(&mut b, &mut c);
+    }
+    if b[1] < a[1] {
+        core::mem::swap(&mut a, &mut b);
+    }
+    [a, b, c]
+}
+
 impl Coverage {
     /// Sorts the vertices (given as raw `[x, y]`) by `y`. The caller guarantees a non-zero area
     /// and the guard band.
     pub(crate) fn new(p: [[i64; 2]; 3]) -> Coverage {
-        let [mut a, mut b, mut c] = p;
-        if b[1] < a[1] {
-            core::mem::swap(&mut a, &mut b);
-        }
-        if c[1] < b[1] {
-            core::mem::swap(&mut b, &mut c);
-        }
-        if b[1] < a[1] {
-            core::mem::swap(&mut a, &mut b);
-        }
-        let (top, mid, bot) = (a, b, c);
+        let [top, mid, bot] = sorted_by_y(p);
         // Guard band: |coordinate differences| < 2^31, so the cross product is exact in i64.
         let cross = (mid[0] - top[0]) * (bot[1] - top[1]) - (mid[1] - top[1]) * (bot[0] - top[0]);
         Coverage {

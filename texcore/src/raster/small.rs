@@ -24,6 +24,7 @@
 //! [`Rasterizer::draw_textured`]: super::Rasterizer::draw_textured
 //! [`Rasterizer::draw_depth`]: super::Rasterizer::draw_depth
 
+use super::edge::sorted_by_y;
 use super::setup::{round_plane_shifted, Reject};
 use super::textured::{anchor, texel_at, whole, words_at, words_of};
 use super::{CullMode, DepthFunc, Perspective, Rect, ScreenVertex, TriangleOptions};
@@ -419,18 +420,9 @@ impl Small {
         // The depth plane's divisions and the coverage last, in this order (measured on the
         // Cortex-M4F: fewer values live across the divisions and the planes' products).
         let [zc, zdx, zdy] = round_plane_shifted(zsums, area2);
-        // The vertices sorted by y exactly as `edge::Coverage::new` (the anchor took the least
-        // y, `cov.top`'s, itself).
-        let (mut a, mut b, mut c) = (p0, p1, p2);
-        if b[1] < a[1] {
-            core::mem::swap(&mut a, &mut b);
-        }
-        if c[1] < b[1] {
-            core::mem::swap(&mut b, &mut c);
-        }
-        if b[1] < a[1] {
-            core::mem::swap(&mut a, &mut b);
-        }
+        // The vertices sorted by y as `edge::Coverage::new` sorts them (the anchor took the
+        // least y, `cov.top`'s, itself).
+        let [a, b, c] = sorted_by_y(p);
         let cross = (b[0] - a[0]) * (c[1] - a[1]) - (b[1] - a[1]) * (c[0] - a[0]);
         let cov = SmallCoverage {
             top: a,
