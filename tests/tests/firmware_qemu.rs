@@ -536,11 +536,8 @@ fn marble_lit_scene_bound(target: DeviceTarget) -> u64 {
 /// headroom on the Cortex-M4F; 69.4 / 77.8 before the thirty-eighth round of
 /// `docs/performance.md` (band fills a word at a time, one range test for both texel
 /// coordinates, `1/w` normalised from words, the small set-up's order, 4-byte frame list
-/// entries), 76.3 / 86.2 before the
-/// thirty-seventh round of
-/// `docs/performance.md` (teapot quads from column curves, larger corner caches, 24-row
-/// bands), 88.6 / 99.7
-/// before the thirty-sixth round of
+/// entries), 76.3 / 86.2 before the thirty-seventh round (teapot quads from column curves,
+/// larger corner caches, 24-row bands), 88.6 / 99.7 before the thirty-sixth round of
 /// `docs/performance.md` (32-bit texel words from an anchor, no depth clamp or bounds check per
 /// pixel), 94.2 / 112.1 before the twenty-third and twenty-fourth rounds of
 /// `docs/performance.md`, 94.8 / 114.1 before the frame checksum took two pixels a turn,

@@ -12,6 +12,8 @@ pub(super) fn fill_rgb565(band: &mut [u16], v: u16) {
     head.fill(v);
     tail.fill(v);
     let w: u32 = bytemuck::cast([v, v]);
+    // Eight words a turn, as `fill_u16` takes eight pixels: a plain `fill` of the words
+    // measured 0.4 instructions a frame pixel dearer (`atlas:marble`, Cortex-M4F).
     let mut chunks = words.chunks_exact_mut(8);
     for c in &mut chunks {
         if let Ok(c) = <&mut [u32; 8]>::try_from(c) {
