@@ -29,61 +29,77 @@ use super::setup::{round_plane_shifted, Reject};
 use super::textured::{anchor, texel_at, whole, words_at, words_of};
 use super::{CullMode, DepthFunc, Perspective, Rect, ScreenVertex, TriangleOptions};
 use crate::wide::leading_zeros_u32;
+use core::num::NonZeroU32;
 
 /// Raw coordinates of a *small* triangle lie in `(-SMALL, SMALL)` (1024 pixels either side of
 /// the origin): its edge walk fits `i32` (see [`EdgeWalker32::new`]).
 const SMALL: i32 = 1 << 14;
 
-/// An edge walker in `i32` words: exactly `edge::EdgeWalker` for a small triangle.
+/// Pixels added to an edge walker's column before its division ([`EdgeWalker32`]): every
+/// column it takes lies in `(-BIAS, BIAS)`.
+const BIAS: i32 = 2048;
+
+/// An edge walker in 32-bit words: exactly `edge::EdgeWalker`'s columns for a small triangle,
+/// clamped the way [`draw_small`] clamps them.
+///
+/// `edge::EdgeWalker` keeps the column `x = floor(N / m)` of the numerator `N` as a quotient and
+/// a remainder, and steps both. Here the walker keeps `N + BIAS m` itself (one word, stepped by
+/// `16 dx` a row) and divides it by `m` when a row asks for the column: one unsigned division
+/// instead of the remainder's test and correction, and three words instead of five (the two
+/// walkers and the runs' loop then fit the register file better).
+///
+/// Exactness: at every row the walk asks about (the edge's rows, and one step past them),
+/// the column lies within a pixel of the edge's vertices' columns, which lie in
+/// `(-2^10, 2^10)`: `N + BIAS m` is then in `[(BIAS - 2^10 - 2) m, (BIAS + 2^10 + 1) m)`,
+/// positive and below `2^31` (`m = 16 dy < 2^19`), so the wrapping sums hold its exact value
+/// and the unsigned quotient is `floor(N / m) + BIAS`.
 #[derive(Clone, Copy)]
 struct EdgeWalker32 {
-    x: i32,
-    r: i32,
-    m: i32,
-    step_q: i32,
-    step_r: i32,
+    /// `N + BIAS m` (see above).
+    n: u32,
+    m: NonZeroU32,
+    /// `16 dx`, the numerator's step a row (wrapping).
+    step: u32,
 }
 
 impl EdgeWalker32 {
     /// The edge `a -> b` at row `py` (`a.y <= 16 py + 8 < b.y` when `a.y < b.y`), as
-    /// `edge::EdgeWalker::new`. Coordinates in `(-2^14, 2^14)` and `0 <= cy - a.y < dy < 2^15`
-    /// bound `(a.x - 8) dy` below `2^29 + 2^18`, `(cy - a.y) dx` below `2^30` and `m - 1` below
-    /// `2^19`: the numerator fits `i32`, and `16 dx` too.
+    /// `edge::EdgeWalker::new`: `N = (a.x - 8) dy + (cy - a.y) dx + m - 1` for `m = 16 dy`, or
+    /// the column `floor(a.x / 16)` (`N = a.x`, `m = 16`, no step) for an edge with `dy <= 0`.
+    /// The products and sums wrap; their true sum plus `BIAS m` is positive and below `2^31`
+    /// (see the type), so the wrapping word is that value.
     #[inline(always)]
     fn new(a: [i32; 2], b: [i32; 2], py: i32) -> EdgeWalker32 {
-        let (dx, dy) = (b[0] - a[0], b[1] - a[1]);
-        if dy <= 0 {
-            return EdgeWalker32 {
-                x: a[0].div_euclid(16),
-                r: 0,
-                m: 1,
-                step_q: 0,
-                step_r: 0,
-            };
-        }
-        let m = 16 * dy;
-        let cy = py * 16 + 8;
-        let n = (a[0] - 8) * dy + (cy - a[1]) * dx + (m - 1);
-        // m > 0 (checked forms: no panic path where the compiler cannot see it).
-        let q = |v: i32| v.checked_div_euclid(m).unwrap_or(0);
-        let r = |v: i32| v.checked_rem_euclid(m).unwrap_or(0);
+        let (dx, dy) = (b[0].wrapping_sub(a[0]), b[1].wrapping_sub(a[1]));
+        let (n, m, step) = if dy <= 0 {
+            (a[0], 16, 0)
+        } else {
+            let m = dy.wrapping_mul(16);
+            let cy = py.wrapping_mul(16).wrapping_add(8);
+            let n = (a[0] - 8)
+                .wrapping_mul(dy)
+                .wrapping_add((cy - a[1]).wrapping_mul(dx))
+                .wrapping_add(m - 1);
+            (n, m, dx.wrapping_mul(16))
+        };
         EdgeWalker32 {
-            x: q(n),
-            r: r(n),
-            m,
-            step_q: q(16 * dx),
-            step_r: r(16 * dx),
+            n: n.wrapping_add(BIAS.wrapping_mul(m)) as u32,
+            // m >= 16 (no panic path: the minimum is never taken).
+            m: NonZeroU32::new(m as u32).unwrap_or(NonZeroU32::MIN),
+            step: step as u32,
         }
     }
 
+    /// The column at the current row: `floor(N / m)`.
+    #[inline(always)]
+    fn x(&self) -> i32 {
+        (self.n / self.m) as i32 - BIAS
+    }
+
+    /// On to the next row.
     #[inline(always)]
     fn advance(&mut self) {
-        self.x = self.x.wrapping_add(self.step_q);
-        self.r += self.step_r;
-        if self.r >= self.m {
-            self.r -= self.m;
-            self.x = self.x.wrapping_add(1);
-        }
+        self.n = self.n.wrapping_add(self.step);
     }
 }
 
@@ -208,9 +224,9 @@ pub(crate) fn draw_small<const SIDE: usize>(
             short = EdgeWalker32::new(cov.mid, cov.bot, py);
         }
         let (l, r) = if cov.mid_right {
-            (long.x, short.x)
+            (long.x(), short.x())
         } else {
-            (short.x, long.x)
+            (short.x(), long.x())
         };
         let xa = l.max(cx0);
         let xb = r.min(cx1);
@@ -475,6 +491,45 @@ pub(crate) const fn depth_bias(func: DepthFunc) -> u32 {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// The walker's column at every row of an edge is `floor(N / m)` of `edge::EdgeWalker`'s
+    /// numerator (in `i64`): random edges, and edges whose ends are at the small range's
+    /// corners (the longest, steepest and flattest), stepped from their first row to their
+    /// last; and `floor(a.x / 16)` for a horizontal edge.
+    #[test]
+    fn edge_walker_columns_are_the_quotients() {
+        let mut rng = crate::test_rng::XorShift64::new(0x0DDB_1A5E_5BAD_5EED);
+        let lim = SMALL - 1;
+        let ends = [-lim, lim, 0, -1, 1, 8, -8];
+        let mut rows = 0u64;
+        for n in 0..4000u32 {
+            let (a, b) = if n < 7u32.pow(4) {
+                let c = |i: u32| ends[(n / 7u32.pow(i) % 7) as usize];
+                ([c(0), c(1)], [c(2), c(3)])
+            } else {
+                let mut c = || rng.below(2 * lim as u64 + 1) as i32 - lim;
+                ([c(), c()], [c(), c()])
+            };
+            let (a, b) = if a[1] <= b[1] { (a, b) } else { (b, a) };
+            let (dx, dy) = (i64::from(b[0] - a[0]), i64::from(b[1] - a[1]));
+            if dy == 0 {
+                let w = EdgeWalker32::new(a, b, 0);
+                assert_eq!(w.x(), a[0].div_euclid(16), "{a:?} {b:?}");
+                continue;
+            }
+            let (first, end) = (first_centre(a[1]), first_centre(b[1]));
+            let mut w = EdgeWalker32::new(a, b, first);
+            for py in first..end {
+                let cy = i64::from(py) * 16 + 8;
+                let m = 16 * dy;
+                let num = i64::from(a[0] - 8) * dy + (cy - i64::from(a[1])) * dx + m - 1;
+                assert_eq!(i64::from(w.x()), num.div_euclid(m), "{a:?} {b:?} row {py}");
+                w.advance();
+                rows += 1;
+            }
+        }
+        assert!(rows > 1_000_000, "{rows} rows");
+    }
 
     /// The three-term sums `sum_i a_i dE_i/dx`, `sum_i a_i dE_i/dy` of the edge functions.
     fn edge_sums(a: [i32; 3], p: &[[i32; 2]; 3]) -> (i64, i64) {
