@@ -124,17 +124,14 @@ pub(crate) struct SmallRun<'a> {
 
 /// The depth plane's value and the texel words of a small triangle at pixel `(px, py)` (both
 /// at least 0: zero-extended, each depth product is one 32 x 64-bit multiplication; the words
-/// from the anchor, [`SmallSetup::words`]).
+/// from pixel `(0, 0)`, [`SmallSetup::words`]).
 #[inline(always)]
 fn start_at(set_up: &SmallSetup, px: u32, py: u32) -> (i64, [i32; 3]) {
     let [c, dx, dy] = set_up.zplane;
     let z = c
         .wrapping_add(dx.wrapping_mul(i64::from(px)))
         .wrapping_add(dy.wrapping_mul(i64::from(py)));
-    (
-        z,
-        words_at(&set_up.words, set_up.anchor, px as i32, py as i32),
-    )
+    (z, words_at(&set_up.words, [0, 0], px as i32, py as i32))
 }
 
 /// One run of a small triangle set up as `set_up`, from pixel `(px, py)` along `depth` and
@@ -213,25 +210,32 @@ pub(crate) fn draw_small<const SIDE: usize>(
     }
     let stride = usize::from(rect.width());
     let (cx0, cx1) = (i32::from(clip.x0), i32::from(clip.x1));
-    let mut long = EdgeWalker32::new(cov.top, cov.bot, y0);
-    let mut short = if y0 < cov.py_mid {
+    let long = EdgeWalker32::new(cov.top, cov.bot, y0);
+    let short = if y0 < cov.py_mid {
         EdgeWalker32::new(cov.top, cov.mid, y0)
     } else {
         EdgeWalker32::new(cov.mid, cov.bot, y0)
     };
+    // The walkers as the left and right edges, the short one replaced at the middle row.
+    let (mut left, mut right) = if cov.mid_right {
+        (long, short)
+    } else {
+        (short, long)
+    };
     for py in y0..y1 {
         if py == cov.py_mid && py != y0 {
-            short = EdgeWalker32::new(cov.mid, cov.bot, py);
+            let lower = EdgeWalker32::new(cov.mid, cov.bot, py);
+            if cov.mid_right {
+                right = lower;
+            } else {
+                left = lower;
+            }
         }
-        let (l, r) = if cov.mid_right {
-            (long.x(), short.x())
-        } else {
-            (short.x(), long.x())
-        };
+        let (l, r) = (left.x(), right.x());
         let xa = l.max(cx0);
         let xb = r.min(cx1);
-        long.advance();
-        short.advance();
+        left.advance();
+        right.advance();
         if xa >= xb {
             continue;
         }
@@ -279,11 +283,11 @@ pub(crate) struct SmallSetup {
     /// debug assertion in the walk and by `small_depth_needs_no_clamp` (against the clamping
     /// wide path).
     pub(crate) zplane: [i64; 3],
-    /// The texel words `N_u'`, `N_v'`, `D'` (`textured::texel_words`), each `[at the anchor,
-    /// dx, dy]` (`textured::anchored_words`: the wide path's integers).
+    /// The texel words `N_u'`, `N_v'`, `D'` (`textured::texel_words`), each `[at pixel (0, 0),
+    /// dx, dy]`: the wide path's words at the anchor (`textured::anchored_words`) taken back
+    /// to the origin modulo `2^32`, so that every pixel's words are the wide path's
+    /// ([`words_at`] wraps) and a run needs no anchor.
     pub(crate) words: [[i32; 3]; 3],
-    /// The anchor pixel of the words.
-    pub(crate) anchor: [i32; 2],
     /// The least and greatest vertex depth (for the debug assertion of the walk only).
     #[cfg(debug_assertions)]
     pub(crate) zlim: [i32; 2],
@@ -432,10 +436,18 @@ impl Small {
                 [uy, vy, dyd].map(scaled),
             )
         };
-        let words = words_of(at, dx, dy);
+        // Taken back from the anchor to pixel (0, 0), wrapping: the same words at every pixel.
+        let words = words_of(at, dx, dy).map(|[w, wx, wy]| {
+            [
+                w.wrapping_sub(wx.wrapping_mul(ax))
+                    .wrapping_sub(wy.wrapping_mul(ay)),
+                wx,
+                wy,
+            ]
+        });
         // The depth plane's divisions and the coverage last, in this order (measured on the
         // Cortex-M4F: fewer values live across the divisions and the planes' products).
-        let [zc, zdx, zdy] = round_plane_shifted(zsums, area2);
+        let [zc, zdx, zdy] = depth_plane(zsums, area2);
         // The vertices sorted by y as `edge::Coverage::new` sorts them (the anchor took the
         // least y, `cov.top`'s, itself).
         let [a, b, c] = sorted_by_y(p);
@@ -453,7 +465,6 @@ impl Small {
             cov,
             zplane: [zc.wrapping_add(1 << 31), zdx, zdy],
             words,
-            anchor,
             #[cfg(debug_assertions)]
             zlim: [
                 z.iter().copied().min().unwrap_or(0),
@@ -461,6 +472,46 @@ impl Small {
             ],
         })
     }
+}
+
+/// The depth plane `round_plane_shifted(sums, area2)` of a small triangle (`|sums_i| < 2^48`,
+/// `area2 != 0`): for `|area2| < 2^16` (every triangle under 128 pixels) by long division in
+/// 16-bit digits on the 32-bit hardware divide, four digits a coefficient; otherwise
+/// [`round_plane_shifted`] itself.
+///
+/// The same integers: with `a = |area2|` and `v` the sum times the area's sign, the coefficient
+/// is `floor((v 2^32 + floor(a / 2)) / a)` (round half up: `setup::AreaDivisor::div_round`),
+/// and for a negative numerator `m`, `floor(m / a) = !floor(!m / a)`. `!m`'s high part is
+/// `!v < 2^48` and its low word `!floor(a / 2)`. Each digit step divides `r 2^16 + digit` with
+/// `r < a <= 2^16`, below `2^32`; the first divides the top 32 of the 48 high bits. The
+/// quotient is assembled modulo `2^64`, as the wide path's `as i64` takes it.
+#[inline(always)]
+fn depth_plane(sums: [i64; 3], area2: i32) -> [i64; 3] {
+    let a = area2.unsigned_abs();
+    let Some(d) = NonZeroU32::new(a).filter(|_| a < 1 << 16) else {
+        return round_plane_shifted(sums, area2);
+    };
+    let half = a >> 1;
+    sums.map(|v| {
+        let v = if area2 < 0 { v.wrapping_neg() } else { v };
+        let mask = v >> 63;
+        let hi = (v ^ mask) as u64;
+        let lo = half ^ mask as u32;
+        let step = |r: u32, digit: u32| {
+            let cur = (r << 16) | digit;
+            (cur / d, cur % d)
+        };
+        let top = (hi >> 16) as u32;
+        let (q3, r) = (top / d, top % d);
+        let (q2, r) = step(r, (hi & 0xFFFF) as u32);
+        let (q1, r) = step(r, lo >> 16);
+        let (q0, _) = step(r, lo & 0xFFFF);
+        let q = (u64::from(q3) << 48)
+            .wrapping_add(u64::from(q2) << 32)
+            .wrapping_add(u64::from(q1) << 16)
+            .wrapping_add(u64::from(q0));
+        (q as i64) ^ mask
+    })
 }
 
 /// `(sum_i a_i dE_i/dx, sum_i a_i dE_i/dy)` for the edge functions of the raw vertices `p`
@@ -529,6 +580,77 @@ mod tests {
             }
         }
         assert!(rows > 1_000_000, "{rows} rows");
+    }
+
+    /// `x` with `c x = 1` modulo `m` (`c` and `m` coprime; 0 for `m = 1`).
+    fn inverse_mod(c: i64, m: i64) -> i64 {
+        let (mut r0, mut r1, mut x0, mut x1) = (m, c.rem_euclid(m), 0i64, 1i64);
+        while r1 != 0 {
+            let q = r0 / r1;
+            (r0, r1) = (r1, r0 - q * r1);
+            (x0, x1) = (x1, x0 - q * x1);
+        }
+        x0.rem_euclid(m)
+    }
+
+    /// The small depth plane is `round_plane_shifted`'s: random sums below `2^48` and areas
+    /// of either sign, both sides of `2^16` (the digit division and the fall-back), the ends
+    /// of both ranges, and numerators on and beside a rounding step (`v 2^32 + floor(a / 2)`
+    /// a multiple of `a`, give or take one), where a wrong half or a wrong sign's floor shows.
+    #[test]
+    fn depth_plane_is_round_plane_shifted() {
+        let mut rng = crate::test_rng::XorShift64::new(0x5EED_DEC0_DE0F_A11D);
+        let vlim = (1i64 << 48) - 1;
+        let vends = [0, 1, -1, vlim, -vlim, 1 << 32, -(1 << 32), (1 << 32) - 1];
+        let aends = [
+            1i32,
+            -1,
+            2,
+            -2,
+            3,
+            0xFFFF,
+            -0xFFFF,
+            0x1_0000,
+            -0x1_0000,
+            0x7FFF_FFFF,
+        ];
+        let mut ties = 0u32;
+        for n in 0..400_000u32 {
+            let a = match n % 4 {
+                0 => aends[(n / 4) as usize % aends.len()],
+                1 => 1 + rng.below(0xFFFF) as i32,
+                2 => -(1 + rng.below(0xFFFF) as i32),
+                _ => rng.below(1 << 32) as u32 as i32,
+            };
+            if a == 0 {
+                continue;
+            }
+            let mut v = [0i64; 3];
+            for (k, x) in v.iter_mut().enumerate() {
+                *x = match (n / 3 + k as u32) % 4 {
+                    0 => vends[rng.below(vends.len() as u64) as usize],
+                    1 => rng.below(2 * vlim as u64 + 1) as i64 - vlim,
+                    2 => rng.below(1 << 20) as i64 - (1 << 19),
+                    _ => {
+                        // On a rounding step: `v 2^32 + floor(a / 2)` within one of a multiple
+                        // of an odd `a` (through the inverse of `2^32` modulo `a`).
+                        let m = i64::from(a.unsigned_abs() | 1).min(0xFFFF);
+                        let inv = inverse_mod((1i64 << 32) % m, m);
+                        let t = (m - m / 2 + rng.below(3) as i64 - 1).rem_euclid(m);
+                        let k = rng.below(1 << 20) as i64 - (1 << 19);
+                        ties += 1;
+                        let v = (t * inv).rem_euclid(m) + k * m;
+                        if a < 0 {
+                            -v
+                        } else {
+                            v
+                        }
+                    }
+                };
+            }
+            assert_eq!(depth_plane(v, a), round_plane_shifted(v, a), "{v:?} / {a}");
+        }
+        assert!(ties > 50_000, "{ties}");
     }
 
     /// The three-term sums `sum_i a_i dE_i/dx`, `sum_i a_i dE_i/dy` of the edge functions.
