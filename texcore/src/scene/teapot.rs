@@ -519,7 +519,22 @@ fn combine(rows: &[[i32; 3]; 4], bv: &[i64; 4], recip: Recip6) -> Vec3 {
     // one 64-bit addition and shift, no 128-bit product (|a| + 2^30 < 2^63).
     let s = recip.shift;
     if s != 0 {
-        let f = |a: i64| sat_i32((a + (1 << (s - 1))) >> s);
+        // 0 < s < 32 (asserted with `RECIP6`): masked, the compiler knows the shift of each
+        // 64-bit sum stays within a word (three instructions, no test of `s >= 32`).
+        let s = s & 31;
+        let half = i64::from(1u32 << (s - 1));
+        let f = |a: i64| {
+            let v = (a + half) >> s;
+            // `sat_i32(v)`: the low word when it is the value, else the bound on its side.
+            let lo = v as i32;
+            if i64::from(lo) == v {
+                lo
+            } else if v < 0 {
+                i32::MIN
+            } else {
+                i32::MAX
+            }
+        };
         return Vec3::new(f(acc[0]), f(acc[1]), f(acc[2]));
     }
     let r = recip.recip;
@@ -553,6 +568,15 @@ const RECIP6: [Recip6; MAX_TEAPOT_LEVEL as usize + 1] = {
         n += 1;
     }
     t
+};
+
+// `combine`'s shifts stay within a word.
+const _: () = {
+    let mut n = 0;
+    while n < RECIP6.len() {
+        assert!(RECIP6[n].shift < 32);
+        n += 1;
+    }
 };
 
 /// [`Recip6`] of a clamped level `n` (`1..=MAX_TEAPOT_LEVEL`; zero outside).
