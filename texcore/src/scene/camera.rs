@@ -351,9 +351,15 @@ impl View {
         ];
         // Unit rows (|r| <= 2^16) times |d| <= 2^32: every sum fits i64. When every difference
         // fits i32 (any point within about 32 000 units of the eye), the same products are
-        // 32 x 32 -> 64-bit ones.
-        if d.iter().all(|&c| c == c as i32 as i64) {
-            let d = d.map(|c| c as i32);
+        // 32 x 32 -> 64-bit ones. (The differences taken as checked `i32` subtractions: tested
+        // on the `i64` differences, the compiler sees both branches compute the same sums and
+        // keeps only the 64-bit one.)
+        if let (Some(dx), Some(dy), Some(dz)) = (
+            p.x.checked_sub(self.eye.x),
+            p.y.checked_sub(self.eye.y),
+            p.z.checked_sub(self.eye.z),
+        ) {
+            let d = [dx, dy, dz];
             return self.rows.map(|r| {
                 let acc = i64::from(r.x) * i64::from(d[0])
                     + i64::from(r.y) * i64::from(d[1])
@@ -813,6 +819,43 @@ mod tests {
         assert!(c.view().is_some());
         c.near = 0;
         assert!(c.view().is_none());
+    }
+
+    /// `to_camera` is its `i64` definition (`round_shift(r . (p - eye), 16)` per row) for points
+    /// near the eye (the 32-bit products) and far from it, past `i32` differences (the 64-bit
+    /// ones), at random and at the ends of the coordinates' range.
+    #[test]
+    fn to_camera_is_the_wide_dot_products() {
+        let mut rng = crate::test_rng::XorShift64::new(0xCA3E_2A00_0D07_5EED);
+        let ends = [i32::MIN, i32::MAX, 0, -1, 1, 1 << 30, -(1 << 30)];
+        let mut far = 0u32;
+        for n in 0..4000u32 {
+            let mut c = |k: u32| match (n + k) % 3 {
+                0 => ends[rng.below(ends.len() as u64) as usize],
+                1 => rng.below(1 << 32) as u32 as i32,
+                _ => rng.below(1 << 24) as i32 - (1 << 23),
+            };
+            let eye = Vec3::new(c(0), c(1), c(2));
+            let target = Vec3::new(c(3), c(4), c(5));
+            let Some(view) = persp(eye, target).view() else {
+                continue;
+            };
+            for _ in 0..8 {
+                let p = Vec3::new(c(6), c(7), c(8));
+                let d = [
+                    i64::from(p.x) - i64::from(eye.x),
+                    i64::from(p.y) - i64::from(eye.y),
+                    i64::from(p.z) - i64::from(eye.z),
+                ];
+                far += u32::from(d.iter().any(|&v| i32::try_from(v).is_err()));
+                let want = view.rows.map(|r| {
+                    let acc = i64::from(r.x) * d[0] + i64::from(r.y) * d[1] + i64::from(r.z) * d[2];
+                    round_shift(acc, 16)
+                });
+                assert_eq!(view.to_camera(p), want, "{p:?} from {eye:?}");
+            }
+        }
+        assert!(far > 1000, "{far}");
     }
 
     /// World points project where an f64 pinhole model puts them.
