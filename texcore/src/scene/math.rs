@@ -35,15 +35,17 @@ pub const fn units(x: i32) -> i32 {
     sat_i32((x as i64) << 16)
 }
 
-/// Saturates an `i64` to `i32`.
+/// Saturates an `i64` to `i32`: its low word when that is the value (one comparison of the
+/// high word with the low word's sign on a 32-bit core), else the bound on its side.
 #[inline]
 pub const fn sat_i32(v: i64) -> i32 {
-    if v > i32::MAX as i64 {
-        i32::MAX
-    } else if v < i32::MIN as i64 {
+    let lo = v as i32;
+    if lo as i64 == v {
+        lo
+    } else if v < 0 {
         i32::MIN
     } else {
-        v as i32
+        i32::MAX
     }
 }
 
@@ -600,6 +602,63 @@ mod tests {
 
     fn q30(v: i32) -> f64 {
         v as f64 / (1u64 << 30) as f64
+    }
+
+    /// `sat_i64` is the clamp to `i64`'s range (the values as `sat_i32_is_the_clamp`).
+    #[test]
+    fn sat_i64_is_the_clamp() {
+        let clamp = |v: i128| v.clamp(i128::from(i64::MIN), i128::from(i64::MAX)) as i64;
+        let mut vals: Vec<i128> = Vec::new();
+        for e in [
+            i128::from(i64::MIN),
+            i128::from(i64::MAX),
+            i128::MIN,
+            i128::MAX,
+            0,
+        ] {
+            vals.extend((-3..=3).map(|d| e.saturating_add(d)));
+        }
+        for k in 0..127 {
+            vals.extend([
+                1i128 << k,
+                -(1i128 << k),
+                (1i128 << k) - 1,
+                1 - (1i128 << k),
+            ]);
+        }
+        let mut rng = crate::test_rng::XorShift64::new(0x5A7_164);
+        vals.extend((0..10_000).map(|_| {
+            (i128::from(rng.below(u64::MAX)) << 64 | i128::from(rng.below(u64::MAX)))
+                >> (rng.below(100) as u32)
+        }));
+        for v in vals {
+            assert_eq!(sat_i64(v), clamp(v), "{v}");
+        }
+    }
+
+    /// `sat_i32` is the clamp to `i32`'s range: around both ends, at the ends of `i64`, at
+    /// every power of two of either sign and at random.
+    #[test]
+    fn sat_i32_is_the_clamp() {
+        let clamp = |v: i64| v.clamp(i64::from(i32::MIN), i64::from(i32::MAX)) as i32;
+        let mut vals: Vec<i64> = Vec::new();
+        for e in [
+            i64::from(i32::MIN),
+            i64::from(i32::MAX),
+            i64::MIN,
+            i64::MAX,
+            0,
+        ] {
+            vals.extend((-3..=3).map(|d| e.saturating_add(d)));
+        }
+        for k in 0..63 {
+            vals.extend([1i64 << k, -(1i64 << k), (1i64 << k) - 1, 1 - (1i64 << k)]);
+        }
+        let mut rng = crate::test_rng::XorShift64::new(0x5A7_132);
+        vals.extend((0..10_000).map(|_| rng.below(u64::MAX) as i64));
+        for v in vals {
+            assert_eq!(sat_i32(v), clamp(v), "{v}");
+        }
     }
 
     #[test]
