@@ -39,8 +39,7 @@ const SMALL: i32 = 1 << 14;
 /// column it takes lies in `(-BIAS, BIAS)`.
 const BIAS: i32 = 2048;
 
-/// An edge walker in 32-bit words: exactly `edge::EdgeWalker`'s columns for a small triangle,
-/// clamped the way [`draw_small`] clamps them.
+/// An edge walker in 32-bit words: exactly `edge::EdgeWalker`'s columns for a small triangle.
 ///
 /// `edge::EdgeWalker` keeps the column `x = floor(N / m)` of the numerator `N` as a quotient and
 /// a remainder, and steps both. Here the walker keeps `N + BIAS m` itself (one word, stepped by
@@ -48,9 +47,9 @@ const BIAS: i32 = 2048;
 /// instead of the remainder's test and correction, and three words instead of five (the two
 /// walkers and the runs' loop then fit the register file better).
 ///
-/// Exactness: at every row the walk asks about (the edge's rows, and one step past them),
-/// the column lies within a pixel of the edge's vertices' columns, which lie in
-/// `(-2^10, 2^10)`: `N + BIAS m` is then in `[(BIAS - 2^10 - 2) m, (BIAS + 2^10 + 1) m)`,
+/// Exactness: at every row [`draw_small`] reads (rows whose centres lie within the edge's
+/// vertical extent), the column lies within a pixel of the edge's vertices' columns, which lie
+/// in `(-2^10, 2^10)`: `N + BIAS m` is then in `[(BIAS - 2^10 - 2) m, (BIAS + 2^10 + 1) m)`,
 /// positive and below `2^31` (`m = 16 dy < 2^19`), so the wrapping sums hold its exact value
 /// and the unsigned quotient is `floor(N / m) + BIAS`.
 #[derive(Clone, Copy)]
