@@ -523,18 +523,7 @@ fn combine(rows: &[[i32; 3]; 4], bv: &[i64; 4], recip: Recip6) -> Vec3 {
         // 64-bit sum stays within a word (three instructions, no test of `s >= 32`).
         let s = s & 31;
         let half = i64::from(1u32 << (s - 1));
-        let f = |a: i64| {
-            let v = (a + half) >> s;
-            // `sat_i32(v)`: the low word when it is the value, else the bound on its side.
-            let lo = v as i32;
-            if i64::from(lo) == v {
-                lo
-            } else if v < 0 {
-                i32::MIN
-            } else {
-                i32::MAX
-            }
-        };
+        let f = |a: i64| sat_i32((a + half) >> s);
         return Vec3::new(f(acc[0]), f(acc[1]), f(acc[2]));
     }
     let r = recip.recip;
