@@ -25,7 +25,8 @@
 //!
 //! Guarantees: integer only, `const fn` construction (a ramp can live in flash), total for every
 //! `TableCoord` and level (indices wrapped or clamped). Memory: `4 N` RGB565 samples, `8 N` bytes
-//! (levels `>= 3` packed back to back in the fourth row, `N - 4` samples used).
+//! (levels `>= 3` packed back to back in the fourth row, `N - 4` samples used), and a level
+//! table of 272 bytes (a threshold and a place for each bit length of a squared width).
 
 use crate::color::{Rgb565, Rgba8888};
 use crate::format::{FilterWidth, TableCoord};
@@ -37,10 +38,14 @@ pub struct Ramp565<const N: usize> {
     /// Levels 0, 1 and 2 (one sample an entry), then levels `3..=L` back to back (level `l` at
     /// offset `N - (N >> (l - 3))`, `N >> (l - 2)` samples).
     rows: [[Rgb565; N]; 4],
-    /// For each half bit length `h` of the squared L2 width's root ([`level_of_sq`], `0..=17`;
-    /// the table is 32 long so that `h & 31` needs no bounds check), the place of level
-    /// `min(L, max(0, h + L - 16))`: `(row N + offset) << 5 | shift`.
-    by_half_bits: [u32; 32],
+    /// The level look-up of a 32-bit squared L2 norm `s` by its leading zeros `c` (`0..=32`):
+    /// entry `c` holds the threshold below which `s` of bit length `b = 32 - c` has a floor
+    /// root of one bit length less ([`level_of_sq32`]; 0 where none: odd `b`, `b = 0`) and the
+    /// place of the level of half bit length `h = b >> 1`; the level of `s` below the threshold
+    /// is entry `c + 1`'s (half bit length `(b - 1) >> 1 = h - 1` for even `b`). A place is
+    /// `(row N + offset) << 5 | shift` of level `min(L, max(0, h + L - 16))`. Entry 33 only
+    /// completes the pairs (entry 32's threshold is 0).
+    by_clz: [[u32; 2]; 34],
     /// The wrap the samples were filtered with (the look-up wraps or clamps entries the same way).
     wrap: TableWrap,
 }
@@ -269,18 +274,25 @@ impl<const N: usize> Ramp565<N> {
             }
             l += 1;
         }
-        let mut by_half_bits = [0u32; 32];
-        let mut h = 0;
-        while h < 32 {
-            let l = (h + top).saturating_sub(16);
+        let mut by_clz = [[0u32; 2]; 34];
+        let mut c = 0;
+        while c < 34 {
+            // Bit length b = 32 - c (entry 33: b = 0 as well, never read as a threshold).
+            let b = 32u32.saturating_sub(c);
+            let threshold = if c <= 32 {
+                BELOW_BY_BITS[b as usize] as u32
+            } else {
+                0
+            };
+            let l = ((b >> 1) + top).saturating_sub(16);
             let l = if l > top { top } else { l };
             let (row, offset, shift) = place(N, l);
-            by_half_bits[h as usize] = (((row * N + offset) as u32) << 5) | shift;
-            h += 1;
+            by_clz[c as usize] = [threshold, (((row * N + offset) as u32) << 5) | shift];
+            c += 1;
         }
         Ramp565 {
             rows,
-            by_half_bits,
+            by_clz,
             wrap,
         }
     }
@@ -496,12 +508,25 @@ impl<const N: usize> Ramp565<N> {
         self.sample_sq::<CLAMP>(f, norm2(a, b, e2))
     }
 
+    /// The place (`(row N + offset) << 5 | shift`) of the level of the squared norm `s`: level
+    /// `min(L, max(0, h + L - 16))` of half bit length `h = level_of_sq32(s)`, from one
+    /// threshold and one place read (`by_clz`).
+    #[cfg_attr(not(texcore_lean), inline(always))]
+    fn place_of_sq(&self, s: u32) -> u32 {
+        let c = (s.leading_zeros() as usize).min(32);
+        let [threshold, above] = self.by_clz[c];
+        if s < threshold {
+            self.by_clz[c + 1][1]
+        } else {
+            above
+        }
+    }
+
     /// The colour of value `f` (wrap `CLAMP`) at the level of the squared norm `s` (saturated
     /// at `u32::MAX`, [`norm2`]): one read.
     #[cfg_attr(not(texcore_lean), inline(always))]
     fn sample_sq<const CLAMP: bool>(&self, f: crate::format::TexValue, s: u32) -> Rgb565 {
-        // h <= 16 (a 32-bit norm).
-        let p = self.by_half_bits[(level_of_sq32(s) & 31) as usize];
+        let p = self.place_of_sq(s);
         let n_log2 = Self::MAX_LEVEL;
         let k = if CLAMP {
             // Entry min(floor(clamp(f, 0, 1) N), N - 1).
@@ -588,6 +613,37 @@ mod tests {
             }
         }
         sum.map(|s| s / (hi2 - lo2) as f64)
+    }
+
+    /// The level table's place of every bit length's edges and of random squares is that of
+    /// `level_of_sq32` through `place`.
+    #[test]
+    fn level_places_are_level_of_sq32() {
+        fn check<const N: usize>(r: &Ramp565<N>, s: u32) {
+            let top = Ramp565::<N>::MAX_LEVEL;
+            let l = (level_of_sq32(s) + top).saturating_sub(16).min(top);
+            let (row, offset, shift) = place(N, l);
+            let want = (((row * N + offset) as u32) << 5) | shift;
+            assert_eq!(r.place_of_sq(s), want, "N = {N}, s = {s}");
+        }
+        let small = Ramp565::new(&lcg_table::<64>(5), TableWrap::Mod);
+        let large = Ramp565::new(&lcg_table::<256>(6), TableWrap::Clamp);
+        let mut edges = std::vec![0, 1, u32::MAX];
+        for b in 1..=32u32 {
+            let p = 1u64 << (b - 1);
+            let t = BELOW_BY_BITS[b as usize];
+            for v in [p, p + 1, p - 1, t, t + 1, t.saturating_sub(1)] {
+                if let Ok(v) = u32::try_from(v) {
+                    edges.push(v);
+                }
+            }
+        }
+        let mut next = lcg(11);
+        edges.extend((0..20_000).map(|_| (next() >> (32 + next() % 32)) as u32));
+        for &s in &edges {
+            check(&small, s);
+            check(&large, s);
+        }
     }
 
     #[test]
