@@ -290,11 +290,7 @@ impl<const N: usize> Ramp565<N> {
             by_clz[c as usize] = [threshold, (((row * N + offset) as u32) << 5) | shift];
             c += 1;
         }
-        Ramp565 {
-            rows,
-            by_clz,
-            wrap,
-        }
+        Ramp565 { rows, by_clz, wrap }
     }
 
     /// The wrap the ramp was built for.

@@ -270,7 +270,7 @@ impl FaceKey {
 #[cfg(not(texcore_lean))]
 #[allow(clippy::too_many_arguments)]
 #[inline(never)]
-fn fill(
+pub(super) fn fill(
     key: [u32; 4],
     k: usize,
     hash: HashKind,
@@ -285,26 +285,21 @@ fn fill(
     FaceEntry { key, a, b }
 }
 
-/// The blend `Phi` of face `b` of `cell` for a term moving along `k` (fractions `frac` on the
-/// other axes; hash, amplitude and precision as `axis::face_bits` takes them, `key` made from
-/// the same), through `cache` (`None` when the cache is empty: the caller blends the face
-/// itself).
+/// The blend `Phi` of the face at coordinate `face` along the moving axis (`cell[k] + b` of a
+/// term's cell, face `b`) under `key` (made for the term's other coordinates, fractions, hash,
+/// amplitude and precision), through `cache`: the cached entry when its key matches, else the
+/// entry `miss(key)` makes ([`fill`] of the same face: then stored), and `None` when the
+/// cache is empty (the caller blends the face itself). The miss is a closure so that a hit
+/// reads nothing of the term's cell.
 #[cfg(not(texcore_lean))]
-#[allow(clippy::too_many_arguments)]
 #[inline(always)]
 pub(super) fn cached_phi(
     cache: &mut [FaceEntry],
     key: &FaceKey,
-    k: usize,
-    hash: HashKind,
-    cell: [u16; 3],
-    b: usize,
-    amp: i32,
-    fv: u32,
-    vb: u32,
+    face: u16,
+    miss: impl FnOnce([u32; 4]) -> FaceEntry,
 ) -> Option<i64> {
-    let k = k.min(2);
-    let fk = u32::from(cell[k].wrapping_add(b as u16));
+    let fk = u32::from(face);
     let w0 = key.w0 | fk;
     let i = key.base.wrapping_add(fk as usize & key.mask) & cache.len().wrapping_sub(1);
     let e = cache.get_mut(i)?;
@@ -312,7 +307,7 @@ pub(super) fn cached_phi(
     // Word by word (an array comparison is a library call on the devices).
     let differ = (e.key[0] ^ w0) | (e.key[1] ^ w1) | (e.key[2] ^ w2) | (e.key[3] ^ w3);
     if differ != 0 {
-        *e = fill([w0, w1, w2, w3], k, hash, cell, b, amp, fv, vb);
+        *e = miss([w0, w1, w2, w3]);
     }
     Some(e.a.wrapping_add(e.b.wrapping_mul(i64::from(key.fa))))
 }
@@ -389,23 +384,17 @@ mod tests {
             16,
             16,
         );
-        let v = cached_phi(
-            &mut c.entries,
-            &key,
-            0,
-            HashKind::Integer,
-            [3, 4, 5],
-            1,
-            1 << 16,
-            16,
-            16,
-        );
+        let v = cached_phi(&mut c.entries, &key, 4, |w| {
+            fill(w, 0, HashKind::Integer, [3, 4, 5], 1, 1 << 16, 16, 16)
+        });
         assert!(v.is_some());
         assert!(c.entries.iter().any(|e| e.key[0] >> 31 == 1));
         c.clear();
         assert!(c.entries.iter().all(|e| *e == FaceEntry::EMPTY));
         assert_eq!(
-            cached_phi(&mut [], &key, 0, HashKind::Integer, [0; 3], 0, 1, 16, 16),
+            cached_phi(&mut [], &key, 0, |_| unreachable!(
+                "an empty cache fills nothing"
+            )),
             None
         );
     }

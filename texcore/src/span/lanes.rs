@@ -35,7 +35,7 @@
 //! whole row), while any other span is set up from scratch. Nothing is carried past a span
 //! that was not walked to its end.
 
-use super::face_cache::{cached_phi, FaceEntry, FaceKey, Faces};
+use super::face_cache::{cached_phi, fill, FaceEntry, FaceKey, Faces};
 use super::*;
 
 /// One term of the lane kernel.
@@ -164,7 +164,9 @@ fn lane_phi(
     if faces.is_empty() {
         return face_phi(k, hash, cell, frac, b, amp, fv, vb);
     }
-    match cached_phi(faces, key, k, hash, cell, b, amp, fv, vb) {
+    let face = cell[k.min(2)].wrapping_add(b as u16);
+    let miss = |w| fill(w, k, hash, cell, b, amp, fv, vb);
+    match cached_phi(faces, key, face, miss) {
         Some(phi) => phi,
         None => face_phi(k, hash, cell, frac, b, amp, fv, vb),
     }
@@ -201,11 +203,20 @@ impl ValueLane {
         key: FaceKey::NONE,
     };
 
-    /// The blend of face `b` of the current cell (through `faces` when it has entries).
+    /// The blend of face `b` of the current cell, whose coordinate along the moving axis is
+    /// `cell` (through `faces` when it has entries: a hit reads only the key and the entry).
     #[inline(always)]
-    fn blend(&self, b: usize, fv: u32, vb: u32, faces: &mut [FaceEntry]) -> i64 {
-        let (k, h, c, f, a) = (self.k, self.hash, self.cell, self.frac, self.amp);
-        lane_phi(faces, &self.key, k, h, c, f, b, a, fv, vb)
+    fn blend(&self, cell: u16, b: usize, fv: u32, vb: u32, faces: &mut [FaceEntry]) -> i64 {
+        let (k, h, a) = (self.k, self.hash, self.amp);
+        if faces.is_empty() {
+            return face_phi(k, h, self.cell, self.frac, b, a, fv, vb);
+        }
+        let face = cell.wrapping_add(b as u16);
+        let miss = |w| fill(w, k, h, self.cell, b, a, fv, vb);
+        match cached_phi(faces, &self.key, face, miss) {
+            Some(phi) => phi,
+            None => face_phi(k, h, self.cell, self.frac, b, a, fv, vb),
+        }
     }
 
     /// [`ValueLane::event`] out of line: for the events of one-lane spans and of carried lanes
@@ -231,9 +242,12 @@ impl ValueLane {
             *f = fk;
         }
         self.phi = match step {
-            1 => [self.phi[1], self.blend(1, fv, vb, faces)],
-            0xFFFF => [self.blend(0, fv, vb, faces), self.phi[0]],
-            _ => [self.blend(0, fv, vb, faces), self.blend(1, fv, vb, faces)],
+            1 => [self.phi[1], self.blend(cell, 1, fv, vb, faces)],
+            0xFFFF => [self.blend(cell, 0, fv, vb, faces), self.phi[0]],
+            _ => [
+                self.blend(cell, 0, fv, vb, faces),
+                self.blend(cell, 1, fv, vb, faces),
+            ],
         };
         (self.v, self.s) = value_and_step(self.phi, fk, self.d);
         self.left = pixels_in_cell_axis(fk, self.d);
@@ -268,17 +282,17 @@ fn walk_acc<const ADD: bool>(acc: &mut [i64], v: &mut i64, s: i64) {
 
 /// `run` pixels of the first lane from `(v, s)` into the accumulators `acc`, each with the folded
 /// affine quadric `qf = [Q, dQ]` added (`Q` the quadric shifted left by the value shift, stepped
-/// with it; see [`fold_quadric`]). Out of line: the walk's other roles keep their registers.
-#[inline(never)]
+/// with it; see [`fold_quadric`]). The sum of two affine sequences is one: the run stores
+/// `y = v + Q` stepped by `s + dQ` (a store a pixel, as [`Role::First`]), then moves `Q` on by
+/// `run dQ` and takes `v` back as `y - Q`, every step wrapping modulo 2^64 as the two walks'
+/// (the same accumulators, `v` and `Q`).
+#[inline(always)]
 fn walk_acc_folded(acc: &mut [i64], v: &mut i64, s: i64, qf: &mut [i64; 2]) {
-    let mut x = *v;
-    let [mut q, dq] = *qf;
-    for a in acc.iter_mut() {
-        *a = x.wrapping_add(q);
-        x = x.wrapping_add(s);
-        q = q.wrapping_add(dq);
-    }
-    *v = x;
+    let [q, dq] = *qf;
+    let mut y = v.wrapping_add(q);
+    walk_acc::<false>(acc, &mut y, s.wrapping_add(dq));
+    let q = q.wrapping_add(dq.wrapping_mul(acc.len() as i64));
+    *v = y.wrapping_sub(q);
     qf[0] = q;
 }
 
@@ -535,7 +549,8 @@ fn walk_lanes(
 ) -> (u32, u64) {
     let nl = lanes.len();
     let fvs = fv & 31;
-    let mut events = 0u64;
+    // At most a lane's pixels times the lanes (`len < 2^16`): a word.
+    let mut events = 0u32;
     let clear = sink.clears();
     // The affine quadric folded into the first lane's accumulators where a bound allows it
     // (`fold_quadric`): the last lane then writes as without a quadric.
@@ -582,7 +597,7 @@ fn walk_lanes(
         sink.advance(n);
         i += n as u32;
     }
-    (i, events)
+    (i, u64::from(events))
 }
 
 impl<'m, const T: usize> EvalCore<'m, T> {
@@ -939,6 +954,28 @@ pub(super) mod tests {
 
     /// With no cache, or one with fewer lane slots than the span has lanes, nothing is carried:
     /// every piece is set up on its own.
+    /// The folded first lane's run is the two walks it replaces: the lane `v + i s` and the
+    /// quadric `Q + i dQ` added pixel by pixel, and both moved on by the run, modulo 2^64.
+    #[test]
+    fn folded_walk_is_the_two_walks() {
+        let mut rng = crate::test_rng::XorShift64::new(0x5eed_f01d);
+        for round in 0..2_000 {
+            let mut r = || rng.next_u64() as i64;
+            let (v0, s, q0, dq) = (r(), r(), r(), r());
+            let n = round % 70;
+            let mut acc = vec![0i64; n];
+            let (mut v, mut qf) = (v0, [q0, dq]);
+            walk_acc_folded(&mut acc, &mut v, s, &mut qf);
+            let (mut x, mut q) = (v0, q0);
+            for (i, &a) in acc.iter().enumerate() {
+                assert_eq!(a, x.wrapping_add(q), "round {round}, pixel {i}");
+                x = x.wrapping_add(s);
+                q = q.wrapping_add(dq);
+            }
+            assert_eq!((v, qf), (x, [q, dq]), "round {round}");
+        }
+    }
+
     #[test]
     fn lanes_past_the_slots_are_not_carried() {
         let m = model(6, 0, 0.5, HashKind::Integer, TableWrap::Mod);
