@@ -82,18 +82,6 @@ const fn magnitude48(g: i64) -> u32 {
     }
 }
 
-/// [`magnitude48`] of a difference of 16 fraction bits (the magnitude of the difference
-/// shifted to 48 fraction bits).
-#[cfg_attr(not(texcore_lean), inline(always))]
-const fn magnitude16(d: i32) -> u32 {
-    let a = d.unsigned_abs();
-    if a > 0xFFFF {
-        0xFFFF
-    } else {
-        a
-    }
-}
-
 /// The squared L2 norm of magnitudes `a`, `b` (at most `2^16 - 1`) and the square `e2` of the
 /// spread's, saturated at `u32::MAX`: below `2^32` it is the exact sum, and at or above it both
 /// the sum and `u32::MAX` have half bit length 16 or more (level `L`).
@@ -103,18 +91,18 @@ const fn norm2(a: u32, b: u32, e2: u32) -> u32 {
 }
 
 /// The squared L2 norm of the differences `dx`, `dy` (16 fraction bits) and the spread's square
-/// `e2`, saturated at `u32::MAX` ([`norm2`] of their magnitudes): below 2^32 without saturation
-/// when both differences lie in `[-2^15, 2^15)` (squares at most 2^30) and the spread is below
-/// 2^15 (`SMALL_E`: `e2 < 2^30`), otherwise from the saturated magnitudes. The same sum either
-/// way.
+/// `e2` (`e2 <= (2^16 - 1)^2`), saturated at `u32::MAX`: the exact sum (below 2^63 in `u64`,
+/// two products and two additions, no branch) where it is below 2^32. It has the level of
+/// [`norm2`] of the differences' magnitudes capped at `2^16 - 1` (as [`magnitude48`] caps a
+/// gradient's, the width the other ramp paths take): where no magnitude is capped and
+/// the sum is below 2^32 the two are the same number; otherwise both are at least
+/// `(2^16 - 1)^2`, above the last threshold (`46341^2`), so both have half bit length 16
+/// ([`level_of_sq32`], level `L`).
 #[cfg_attr(not(texcore_lean), inline(always))]
-fn norm_sq<const SMALL_E: bool>(dx: i32, dy: i32, e2: u32) -> u32 {
-    let bias = |d: i32| (d as u32).wrapping_add(1 << 15);
-    if SMALL_E && (bias(dx) | bias(dy)) >> 16 == 0 {
-        (dx * dx + dy * dy) as u32 + e2
-    } else {
-        norm2(magnitude16(dx), magnitude16(dy), e2)
-    }
+fn norm_sq(dx: i32, dy: i32, e2: u32) -> u32 {
+    let sq = |d: i32| i64::from(d).wrapping_mul(i64::from(d)) as u64;
+    let s = sq(dx) + sq(dy) + u64::from(e2);
+    u32::try_from(s).unwrap_or(u32::MAX)
 }
 
 /// The level of a filter width: `round(log2 w)` in entries (`w` raw `U16F16`), ties at
@@ -386,19 +374,14 @@ impl<const N: usize> Ramp565<N> {
             return;
         };
         let e = magnitude48(extra48);
-        let e2 = e * e;
-        match (self.wrap, e2 < 1 << 30) {
-            (TableWrap::Mod, true) => {
-                self.differences_into::<false, true, D, P>(f, above, e2, dst, put)
-            }
+        match (self.wrap, e == 0) {
+            (TableWrap::Mod, true) => self.differences_into::<false, D, P>(f, above, 0, dst, put),
             (TableWrap::Mod, false) => {
-                self.differences_into::<false, false, D, P>(f, above, e2, dst, put)
+                self.differences_into::<false, D, P>(f, above, e * e, dst, put)
             }
-            (TableWrap::Clamp, true) => {
-                self.differences_into::<true, true, D, P>(f, above, e2, dst, put)
-            }
+            (TableWrap::Clamp, true) => self.differences_into::<true, D, P>(f, above, 0, dst, put),
             (TableWrap::Clamp, false) => {
-                self.differences_into::<true, false, D, P>(f, above, e2, dst, put)
+                self.differences_into::<true, D, P>(f, above, e * e, dst, put)
             }
         }
     }
@@ -406,7 +389,7 @@ impl<const N: usize> Ramp565<N> {
     /// The loop of [`Ramp565::shade_differences_l2_into`]: `above` and `dst` of one length
     /// `n <= f.len()`.
     #[inline(always)]
-    fn differences_into<const CLAMP: bool, const SMALL_E: bool, D, P: Fn(Rgb565) -> D>(
+    fn differences_into<const CLAMP: bool, D, P: Fn(Rgb565) -> D>(
         &self,
         f: &[crate::format::TexValue],
         above: &[crate::format::TexValue],
@@ -420,28 +403,19 @@ impl<const N: usize> Ramp565<N> {
         // Pixels with a right neighbour in `f`, then (when `f` ends with the destination) the
         // last with its left neighbour's difference.
         let inner = dst.len().min(f.len().saturating_sub(1));
-        let (Some(v0), Some(v1), Some(up), Some(head)) = (
-            f.get(..inner),
-            f.get(1..inner + 1),
-            above.get(..inner),
-            dst.get_mut(..inner),
-        ) else {
+        let (Some(up), Some(head)) = (above.get(..inner), dst.get_mut(..inner)) else {
             return;
         };
-        // One index over four slices of one length: one counter, no bounds checks.
+        // The destination, the pairs of neighbours and the row above zipped: no bounds checks.
         let mut dx = 0;
-        for i in 0..head.len() {
-            let (Some(&v), Some(&r), Some(&u), Some(o)) =
-                (v0.get(i), v1.get(i), up.get(i), head.get_mut(i))
-            else {
-                break;
-            };
+        for ((o, w), &u) in head.iter_mut().zip(f.windows(2)).zip(up) {
+            let [v, r] = [w[0], w[1]];
             dx = d(r, v);
-            *o = put(self.sample_sq::<CLAMP>(v, norm_sq::<SMALL_E>(dx, d(v, u), e2)));
+            *o = put(self.sample_sq::<CLAMP>(v, norm_sq(dx, d(v, u), e2)));
         }
         if let (Some(o), Some(&v), Some(&u)) = (dst.get_mut(inner), f.get(inner), above.get(inner))
         {
-            *o = put(self.sample_sq::<CLAMP>(v, norm_sq::<SMALL_E>(dx, d(v, u), e2)));
+            *o = put(self.sample_sq::<CLAMP>(v, norm_sq(dx, d(v, u), e2)));
         }
     }
 
@@ -452,31 +426,13 @@ impl<const N: usize> Ramp565<N> {
         f: &[crate::format::TexValue],
         above: &[crate::format::TexValue],
         e2: u32,
-        emit: F,
-    ) {
-        // A spread below 2^15 (`e2 < 2^30`, the usual case: none) lets the squared norm skip
-        // its saturation while both differences are small.
-        if e2 < 1 << 30 {
-            self.differences_with::<CLAMP, true, F>(f, above, e2, emit);
-        } else {
-            self.differences_with::<CLAMP, false, F>(f, above, e2, emit);
-        }
-    }
-
-    /// [`Ramp565::shade_differences`] with the spread's square below 2^30 when `SMALL_E`.
-    #[cfg_attr(not(texcore_lean), inline(always))]
-    fn differences_with<const CLAMP: bool, const SMALL_E: bool, F: FnMut(Rgb565)>(
-        &self,
-        f: &[crate::format::TexValue],
-        above: &[crate::format::TexValue],
-        e2: u32,
         mut emit: F,
     ) {
         let n = f.len().min(above.len());
         let (Some(f), Some(above)) = (f.get(..n), above.get(..n)) else {
             return;
         };
-        let norm = |dx: i32, dy: i32| norm_sq::<SMALL_E>(dx, dy, e2);
+        let norm = |dx: i32, dy: i32| norm_sq(dx, dy, e2);
         let d = |a: crate::format::TexValue, b: crate::format::TexValue| {
             a.to_bits().wrapping_sub(b.to_bits())
         };
@@ -639,6 +595,60 @@ mod tests {
         for &s in &edges {
             check(&small, s);
             check(&large, s);
+        }
+    }
+
+    /// [`magnitude48`] of a difference of 16 fraction bits (the magnitude of the difference
+    /// shifted to 48 fraction bits).
+    fn magnitude16(d: i32) -> u32 {
+        d.unsigned_abs().min(0xFFFF)
+    }
+
+    /// The branch-free squared norm of differences has the level of `norm2` of the capped
+    /// magnitudes (the width the gradient paths take), and is that very number below the caps.
+    #[test]
+    fn difference_norm_has_the_level_of_the_capped_magnitudes() {
+        let mut next = lcg(23);
+        let edges = [
+            0,
+            1,
+            -1,
+            0x7FFF,
+            -0x8000,
+            0x8000,
+            0xB504,
+            0xB505,
+            0xFFFF,
+            -0xFFFF,
+            0x1_0000,
+            -0x1_0000,
+            i32::MAX,
+            i32::MIN,
+        ];
+        let mut cases = std::vec::Vec::new();
+        for &a in &edges {
+            for &b in &edges {
+                for e in [0u32, 1, 0x7FFF, 0xB505, 0xFFFF] {
+                    cases.push((a, b, e));
+                }
+            }
+        }
+        for _ in 0..50_000 {
+            let mut value = || {
+                let x = next();
+                (x >> 32) as i32 >> (x % 32)
+            };
+            let (a, b) = (value(), value());
+            let x = next();
+            cases.push((a, b, ((x >> 48) as u32) >> (x % 17)));
+        }
+        for (a, b, e) in cases {
+            let capped = norm2(magnitude16(a), magnitude16(b), e * e);
+            let s = norm_sq(a, b, e * e);
+            assert_eq!(level_of_sq32(s), level_of_sq32(capped), "{a} {b} {e}");
+            if a.unsigned_abs() <= 0xFFFF && b.unsigned_abs() <= 0xFFFF && capped < u32::MAX {
+                assert_eq!(s, capped, "{a} {b} {e}");
+            }
         }
     }
 
