@@ -203,6 +203,50 @@ impl ValueLane {
         key: FaceKey::NONE,
     };
 
+    /// Becomes the fresh lane of a term set up as `ts` (`hash`), moving along `k`, with the
+    /// face cache's share `base .. base + share` (`faces`: empty for none). Out of line: one
+    /// copy, with registers of its own, that writes the lane in place.
+    #[allow(clippy::too_many_arguments)]
+    #[inline(never)]
+    fn start(
+        &mut self,
+        k: usize,
+        ts: &TermSetup,
+        hash: HashKind,
+        base: usize,
+        share: usize,
+        fv: u32,
+        vb: u32,
+        faces: &mut [FaceEntry],
+    ) {
+        let k = k.min(2);
+        let (cell, frac) = split(ts.u0);
+        let d = ts.du[k];
+        let amp = ts.amp;
+        let key = FaceKey::new(base, share, k, hash, cell, frac, amp, fv, vb);
+        let phi = [
+            lane_phi(faces, &key, k, hash, cell, frac, 0, amp, fv, vb),
+            lane_phi(faces, &key, k, hash, cell, frac, 1, amp, fv, vb),
+        ];
+        let (v, s) = value_and_step(phi, frac[k], d);
+        *self = ValueLane {
+            left: pixels_in_cell_axis(frac[k], d),
+            v,
+            s,
+            k,
+            u0: ts.u0[k],
+            d,
+            at: ts.u0,
+            du: ts.du,
+            cell,
+            frac,
+            phi,
+            hash,
+            amp,
+            key,
+        };
+    }
+
     /// The blend of face `b` of the current cell, whose coordinate along the moving axis is
     /// `cell` (through `faces` when it has entries: a hit reads only the key and the entry).
     #[inline(always)]
@@ -576,28 +620,73 @@ fn walk_lanes(
                 (false, true) => Role::Last,
                 (false, false) => Role::Add,
             };
-            let mut j = 0usize;
-            loop {
-                let run = (n - j).min(t.left as usize);
-                if let Some(o) = out.get_mut(j..j + run) {
-                    let a = acc.get_mut(j..j + run).unwrap_or_default();
-                    walk(clear, role, quad, a, o, fvs, &mut t.v, t.s, &mut q, &mut qf);
+            let ev = (i, len, fv, vb);
+            // The accumulating roles and the usual last one each with a loop of its own (the
+            // role known in it); the others through the dispatch of `walk`.
+            match (role, quad, clear) {
+                (Role::FirstFolded, _, _) => lane_runs(t, out, acc, ev, faces, &mut events, {
+                    let qf = &mut qf;
+                    move |a, _, v, s| walk_acc_folded(a, v, s, qf)
+                }),
+                (Role::First, _, _) => {
+                    lane_runs(t, out, acc, ev, faces, &mut events, |a, _, v, s| {
+                        walk_acc::<false>(a, v, s)
+                    })
                 }
-                j += run;
-                t.left -= run as u32;
-                if t.left == 0 && i + (j as u32) < len {
-                    t.event(i + j as u32, fv, vb, faces);
-                    events += 1;
+                (Role::Add, _, _) => {
+                    lane_runs(t, out, acc, ev, faces, &mut events, |a, _, v, s| {
+                        walk_acc::<true>(a, v, s)
+                    })
                 }
-                if j >= n {
-                    break;
+                (Role::Last, 0, false) => {
+                    lane_runs(t, out, acc, ev, faces, &mut events, |a, o, v, s| {
+                        walk_out::<true, false, true, true>(o, a, fvs, v, s, &mut [0; 3])
+                    })
                 }
+                _ => lane_runs(t, out, acc, ev, faces, &mut events, |a, o, v, s| {
+                    walk(clear, role, quad, a, o, fvs, v, s, &mut q, &mut qf)
+                }),
             }
         }
         sink.advance(n);
         i += n as u32;
     }
     (i, u64::from(events))
+}
+
+/// One lane's runs over a chunk of `out.len()` pixels starting at span pixel `i` of `len`
+/// (`ev = (i, len, fv, vb)`): `w` walks each run of the lane's cell (the accumulators, the
+/// samples, `v` and `s`), and the lane's cell events between runs go through `faces`, counted
+/// in `events`.
+#[inline(always)]
+fn lane_runs(
+    t: &mut ValueLane,
+    out: &mut [TexValue],
+    acc: &mut [i64],
+    ev: (u32, u32, u32, u32),
+    faces: &mut [FaceEntry],
+    events: &mut u32,
+    mut w: impl FnMut(&mut [i64], &mut [TexValue], &mut i64, i64),
+) {
+    let (i, len, fv, vb) = ev;
+    let n = out.len();
+    let mut j = 0usize;
+    loop {
+        let run = (n - j).min(t.left as usize);
+        if let Some(o) = out.get_mut(j..j + run) {
+            let a = acc.get_mut(j..j + run).unwrap_or_default();
+            w(a, o, &mut t.v, t.s);
+        }
+        j += run;
+        t.left -= run as u32;
+        if t.left == 0 && i + (j as u32) < len {
+            t.event(i + j as u32, fv, vb, faces);
+            *events += 1;
+        }
+        if j >= n {
+            break;
+        }
+    }
 }
 
 impl<'m, const T: usize> EvalCore<'m, T> {
@@ -678,41 +767,19 @@ impl<'m, const T: usize> EvalCore<'m, T> {
                     continue;
                 };
                 let k = k.min(2);
-                let (cell, frac) = split(ts.u0);
-                let d = ts.du[k];
-                let (hash, amp) = (term.basis.hash, ts.amp);
-                let share = FaceKey::share(faces.len(), d.unsigned_abs(), steps);
-                let key = FaceKey::new(base, share, k, hash, cell, frac, amp, fv, vb);
-                base = base.wrapping_add(share);
-                let phi = [
-                    lane_phi(faces, &key, k, hash, cell, frac, 0, amp, fv, vb),
-                    lane_phi(faces, &key, k, hash, cell, frac, 1, amp, fv, vb),
-                ];
-                let (v, s) = value_and_step(phi, frac[k], d);
-                let lane = ValueLane {
-                    left: pixels_in_cell_axis(frac[k], d),
-                    v,
-                    s,
-                    k,
-                    u0: ts.u0[k],
-                    d,
-                    at: ts.u0,
-                    du: ts.du,
-                    cell,
-                    frac,
-                    phi,
-                    hash,
-                    amp,
-                    key,
-                };
-                if carrying {
-                    if let Some(slot) = slots.get_mut(li) {
-                        *slot = lane;
-                    }
+                let share = FaceKey::share(faces.len(), ts.du[k].unsigned_abs(), steps);
+                let hash = term.basis.hash;
+                let slot = if carrying {
+                    slots.get_mut(li)
                 } else {
                     // At most T terms: never full.
-                    let _ = local.push(lane);
+                    let _ = local.push(ValueLane::IDLE);
+                    local.last_mut()
+                };
+                if let Some(slot) = slot {
+                    slot.start(k, ts, hash, base, share, fv, vb, faces);
                 }
+                base = base.wrapping_add(share);
                 li += 1;
                 setups += 1;
             }
