@@ -32,9 +32,9 @@
 #[cfg(not(texcore_lean))]
 use super::axis::{face_bits, others};
 #[cfg(not(texcore_lean))]
-use super::lanes::{Carried, ValueLane};
+use super::lanes::VALUE_RUN;
 #[cfg(not(texcore_lean))]
-use super::SAMPLE_CHUNK;
+use super::lanes::{Carried, ValueLane};
 #[cfg(not(texcore_lean))]
 use crate::hash::HashKind;
 
@@ -58,7 +58,8 @@ impl FaceEntry {
 /// documentation): `N` entries of 32 bytes, `N` a power of two (checked at compile time), the
 /// lanes of the last span of up to `L` terms (128 bytes a lane; see
 /// [`SpanEvaluator::eval_values_cached`](crate::span::SpanEvaluator::eval_values_cached)) and the
-/// lane kernel's accumulators for a short span (128 bytes, so that no span clears its own).
+/// lane kernel's accumulators (a run of [`VALUE_RUN`] pixels, 512 bytes, so that no span clears
+/// its own).
 ///
 /// Give one to [`SpanEvaluator::eval_values_cached`](crate::span::SpanEvaluator::eval_values_cached) for the rows of a plane: from the second
 /// row on, every face the rows share is read back instead of hashed and blended again, and a
@@ -74,9 +75,9 @@ pub struct FaceCache<const N: usize, const L: usize = 4> {
     lanes: [ValueLane; L],
     #[cfg(not(texcore_lean))]
     carried: Carried,
-    /// The lane kernel's accumulators for a short span (written before they are read).
+    /// The lane kernel's accumulators for a run of a span (written before they are read).
     #[cfg(not(texcore_lean))]
-    acc: [i64; SAMPLE_CHUNK],
+    acc: [i64; VALUE_RUN],
 }
 
 /// The parts of a face cache as the kernels take them (`entries` empty and no lanes: no
@@ -127,7 +128,7 @@ impl<const N: usize, const L: usize> FaceCache<N, L> {
             #[cfg(not(texcore_lean))]
             carried: Carried::NONE,
             #[cfg(not(texcore_lean))]
-            acc: [0; SAMPLE_CHUNK],
+            acc: [0; VALUE_RUN],
         }
     }
 

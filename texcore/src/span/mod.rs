@@ -560,22 +560,25 @@ impl<'m, const T: usize> EvalCore<'m, T> {
             // Accumulators only for several lanes, no longer than the span needs (each array
             // is cleared only on its own branch).
             let lanes = strategies.iter().filter(|s| **s != Strategy::Off).count();
-            // A short span's accumulators from the face cache when it has them (no array
-            // cleared a span: the first lane writes them before any is read).
+            // The accumulators from the face cache when it has them (no array cleared a span:
+            // the first lane writes them before any is read; a span longer than them is
+            // walked in runs as long).
+            // Taken for the span and handed back after it, for the next span of the rows.
             let cached = core::mem::take(&mut faces.acc);
             let mut go = |acc: &mut [i64]| {
                 let mut values = lanes::LaneOut::Values(lanes::ValuesOut::new(out, acc));
-                self.run_lanes::<true>(len, setup, strategies, &mut values, faces);
+                self.run_lanes::<true>(len, setup, strategies, &mut values, &mut *faces);
             };
             if lanes <= 1 {
                 go(&mut []);
-            } else if usize::from(len) <= cached.len() {
-                go(cached);
+            } else if !cached.is_empty() {
+                go(&mut *cached);
             } else if len <= SAMPLE_CHUNK as u16 {
                 go(&mut [0i64; SAMPLE_CHUNK]);
             } else {
                 go(&mut [0i64; lanes::VALUE_RUN]);
             }
+            faces.acc = cached;
         } else if merged && self.axial_direct_takes(setup, strategies) {
             let mut values = lanes::LaneOut::Values(lanes::ValuesOut::new(out, &mut []));
             self.run_axial_direct(len, setup, strategies, &mut values);

@@ -18,22 +18,27 @@ pub(super) fn quadric_mask(m: &[[i32; 4]; 4]) -> u16 {
 /// `Q v` for a homogeneous vector of 32-bit components (as i64), visiting only the entries in
 /// `mask` (the nonzero ones, [`quadric_mask`]); exact.
 pub(super) fn mat_vec(m: &[[i32; 4]; 4], mask: u16, v: &[i64; 4]) -> [i128; 4] {
-    let mut out = [0i128; 4];
+    // Four sums, not an array filled in place: a zeroed array is cleared by a library call on
+    // the Cortex-M.
+    let mut out = (0i128, 0i128, 0i128, 0i128);
     let mut bits = mask;
     while bits != 0 {
         let k = bits.trailing_zeros() as usize;
         bits &= bits - 1;
         let (r, c) = (k >> 2, k & 3);
-        if let (Some(o), Some(&q), Some(&x)) = (
-            out.get_mut(r),
-            m.get(r).and_then(|row| row.get(c)),
-            v.get(c),
-        ) {
+        if let (Some(&q), Some(&x)) = (m.get(r).and_then(|row| row.get(c)), v.get(c)) {
             // |q| < 2^31 and |x| <= 2^31 (span coordinates are raw i32): exact in i64.
-            *o = o.wrapping_add(i128::from(i64::from(q).wrapping_mul(x)));
+            let p = i128::from(i64::from(q).wrapping_mul(x));
+            let o = match r {
+                0 => &mut out.0,
+                1 => &mut out.1,
+                2 => &mut out.2,
+                _ => &mut out.3,
+            };
+            *o = o.wrapping_add(p);
         }
     }
-    out
+    [out.0, out.1, out.2, out.3]
 }
 
 /// `v . w` in wrapping i128, skipping zero products. Out of line in the fast shape on the
