@@ -590,7 +590,7 @@ fn walk_lanes(
     vb: u32,
     sink: &mut LaneOut<'_, '_, '_>,
     faces: &mut [FaceEntry],
-) -> (u32, u64) {
+) -> (u32, u32) {
     let nl = lanes.len();
     let fvs = fv & 31;
     // At most a lane's pixels times the lanes (`len < 2^16`): a word.
@@ -651,7 +651,7 @@ fn walk_lanes(
         sink.advance(n);
         i += n as u32;
     }
-    (i, u64::from(events))
+    (i, events)
 }
 
 /// One lane's runs over a chunk of `out.len()` pixels starting at span pixel `i` of `len`
@@ -729,7 +729,8 @@ impl<'m, const T: usize> EvalCore<'m, T> {
             (Some(sl), Some(c)) => (sl, Some(c)),
             _ => (&mut [][..], None),
         };
-        let mut setups = 0u64;
+        // At most the lanes' pixels and starts (`len < 2^16`, `T` lanes): a word.
+        let mut setups = 0u32;
         let resumed = carried
             .as_deref()
             .is_some_and(|c| c.resumes(slots, m, strategies, setup, fv, vb));
@@ -868,7 +869,7 @@ impl<'m, const T: usize> EvalCore<'m, T> {
 
         let px = u64::from(len);
         let st = &mut self.stats;
-        st.cell_setups += setups;
+        st.cell_setups += u64::from(setups);
         st.noise_evaluations += px * nl as u64;
         st.fd_pixels += px;
         #[cfg(test)]
