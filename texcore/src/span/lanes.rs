@@ -184,6 +184,24 @@ fn value_and_step(phi: [i64; 2], fk: u32, d: i32) -> (i64, i64) {
     )
 }
 
+/// Pushes [`ValueLane::fresh`] onto `lanes` (the lanes of a span that are not carried; at most
+/// `T` terms: never full). Out of line, as [`ValueLane::start`].
+#[allow(clippy::too_many_arguments)]
+#[inline(never)]
+fn push_fresh<const T: usize>(
+    lanes: &mut heapless::Vec<ValueLane, T>,
+    k: usize,
+    ts: &TermSetup,
+    hash: HashKind,
+    base: usize,
+    share: usize,
+    fv: u32,
+    vb: u32,
+    faces: &mut [FaceEntry],
+) {
+    let _ = lanes.push(ValueLane::fresh(k, ts, hash, base, share, fv, vb, faces));
+}
+
 impl ValueLane {
     /// A slot that holds no lane.
     pub(super) const IDLE: ValueLane = ValueLane {
@@ -203,13 +221,11 @@ impl ValueLane {
         key: FaceKey::NONE,
     };
 
-    /// Becomes the fresh lane of a term set up as `ts` (`hash`), moving along `k`, with the
-    /// face cache's share `base .. base + share` (`faces`: empty for none). Out of line: one
-    /// copy, with registers of its own, that writes the lane in place.
+    /// The fresh lane of a term set up as `ts` (`hash`), moving along `k`, with the face
+    /// cache's share `base .. base + share` (`faces`: empty for none).
     #[allow(clippy::too_many_arguments)]
-    #[inline(never)]
-    fn start(
-        &mut self,
+    #[inline(always)]
+    fn fresh(
         k: usize,
         ts: &TermSetup,
         hash: HashKind,
@@ -218,7 +234,7 @@ impl ValueLane {
         fv: u32,
         vb: u32,
         faces: &mut [FaceEntry],
-    ) {
+    ) -> ValueLane {
         let k = k.min(2);
         let (cell, frac) = split(ts.u0);
         let d = ts.du[k];
@@ -229,7 +245,7 @@ impl ValueLane {
             lane_phi(faces, &key, k, hash, cell, frac, 1, amp, fv, vb),
         ];
         let (v, s) = value_and_step(phi, frac[k], d);
-        *self = ValueLane {
+        ValueLane {
             left: pixels_in_cell_axis(frac[k], d),
             v,
             s,
@@ -244,7 +260,25 @@ impl ValueLane {
             hash,
             amp,
             key,
-        };
+        }
+    }
+
+    /// Becomes [`ValueLane::fresh`] (a carried lane's slot). Out of line: one copy, with
+    /// registers of its own, that writes the lane in place.
+    #[allow(clippy::too_many_arguments)]
+    #[inline(never)]
+    fn start(
+        &mut self,
+        k: usize,
+        ts: &TermSetup,
+        hash: HashKind,
+        base: usize,
+        share: usize,
+        fv: u32,
+        vb: u32,
+        faces: &mut [FaceEntry],
+    ) {
+        *self = ValueLane::fresh(k, ts, hash, base, share, fv, vb, faces);
     }
 
     /// The blend of face `b` of the current cell, whose coordinate along the moving axis is
@@ -770,15 +804,12 @@ impl<'m, const T: usize> EvalCore<'m, T> {
                 let k = k.min(2);
                 let share = FaceKey::share(faces.len(), ts.du[k].unsigned_abs(), steps);
                 let hash = term.basis.hash;
-                let slot = if carrying {
-                    slots.get_mut(li)
+                if carrying {
+                    if let Some(slot) = slots.get_mut(li) {
+                        slot.start(k, ts, hash, base, share, fv, vb, faces);
+                    }
                 } else {
-                    // At most T terms: never full.
-                    let _ = local.push(ValueLane::IDLE);
-                    local.last_mut()
-                };
-                if let Some(slot) = slot {
-                    slot.start(k, ts, hash, base, share, fv, vb, faces);
+                    push_fresh(&mut local, k, ts, hash, base, share, fv, vb, faces);
                 }
                 base = base.wrapping_add(share);
                 li += 1;
