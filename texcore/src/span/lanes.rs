@@ -1051,8 +1051,6 @@ pub(super) mod tests {
         }
     }
 
-    /// With no cache, or one with fewer lane slots than the span has lanes, nothing is carried:
-    /// every piece is set up on its own.
     /// The folded first lane's run is the two walks it replaces: the lane `v + i s` and the
     /// quadric `Q + i dQ` added pixel by pixel, and both moved on by the run, modulo 2^64.
     #[test]
@@ -1075,6 +1073,30 @@ pub(super) mod tests {
         }
     }
 
+    /// A face cache's accumulators serve every span of the rows, not only the first: they are
+    /// back in the cache after each span (short, long and past their length), and the values
+    /// are those without a cache.
+    #[test]
+    fn face_cache_accumulators_serve_every_span() {
+        let m = model(4, 0, 0.5, HashKind::Integer, TableWrap::Mod);
+        let mut cache = FaceCache::<64, 8>::new();
+        let mut faces = cache.parts();
+        for (row, len) in [(0, 10u16), (1, 64), (2, 150), (3, 7), (4, 65)] {
+            let s0 = [123_456, 40_000 + 3_000 * row, -77_777];
+            let span = piece(s0, [5_000, 0, 0], 0, len);
+            let mut with = vec![TexValue::ZERO; usize::from(len)];
+            let mut without = with.clone();
+            let mut ev = SpanEvaluator::new(&m, opts(EvalMode::Fd));
+            ev.values_through(&span, &mut with, &mut faces);
+            assert!(ev.core.axial_spans > 0, "row {row}: the lane kernel took the span");
+            assert_eq!(faces.acc.len(), VALUE_RUN, "row {row}: the accumulators are back");
+            SpanEvaluator::new(&m, opts(EvalMode::Fd)).eval_values(&span, &mut without);
+            assert_eq!(with, without, "row {row}");
+        }
+    }
+
+    /// With no cache, or one with fewer lane slots than the span has lanes, nothing is carried:
+    /// every piece is set up on its own.
     #[test]
     fn lanes_past_the_slots_are_not_carried() {
         let m = model(6, 0, 0.5, HashKind::Integer, TableWrap::Mod);

@@ -562,8 +562,7 @@ impl<'m, const T: usize> EvalCore<'m, T> {
             let lanes = strategies.iter().filter(|s| **s != Strategy::Off).count();
             // The accumulators from the face cache when it has them (no array cleared a span:
             // the first lane writes them before any is read; a span longer than them is
-            // walked in runs as long).
-            // Taken for the span and handed back after it, for the next span of the rows.
+            // walked in runs as long), taken for the span and handed back after it.
             let cached = core::mem::take(&mut faces.acc);
             let mut go = |acc: &mut [i64]| {
                 let mut values = lanes::LaneOut::Values(lanes::ValuesOut::new(out, acc));
