@@ -1088,8 +1088,15 @@ pub(super) mod tests {
             let mut without = with.clone();
             let mut ev = SpanEvaluator::new(&m, opts(EvalMode::Fd));
             ev.values_through(&span, &mut with, &mut faces);
-            assert!(ev.core.axial_spans > 0, "row {row}: the lane kernel took the span");
-            assert_eq!(faces.acc.len(), VALUE_RUN, "row {row}: the accumulators are back");
+            assert!(
+                ev.core.axial_spans > 0,
+                "row {row}: the lane kernel took the span"
+            );
+            assert_eq!(
+                faces.acc.len(),
+                VALUE_RUN,
+                "row {row}: the accumulators are back"
+            );
             SpanEvaluator::new(&m, opts(EvalMode::Fd)).eval_values(&span, &mut without);
             assert_eq!(with, without, "row {row}");
         }
