@@ -16,10 +16,34 @@ pub(super) fn quadric_mask(m: &[[i32; 4]; 4]) -> u16 {
 }
 
 /// `Q v` for a homogeneous vector of 32-bit components (as i64), visiting only the entries in
-/// `mask` (the nonzero ones, [`quadric_mask`]); exact.
+/// `mask` (the nonzero ones, [`quadric_mask`]); exact. The size-lean shape sums into the
+/// array (smaller code).
+#[cfg(texcore_lean)]
 pub(super) fn mat_vec(m: &[[i32; 4]; 4], mask: u16, v: &[i64; 4]) -> [i128; 4] {
-    // Four sums, not an array filled in place: a zeroed array is cleared by a library call on
-    // the Cortex-M.
+    let mut out = [0i128; 4];
+    let mut bits = mask;
+    while bits != 0 {
+        let k = bits.trailing_zeros() as usize;
+        bits &= bits - 1;
+        let (r, c) = (k >> 2, k & 3);
+        if let (Some(o), Some(&q), Some(&x)) = (
+            out.get_mut(r),
+            m.get(r).and_then(|row| row.get(c)),
+            v.get(c),
+        ) {
+            // |q| < 2^31 and |x| <= 2^31 (span coordinates are raw i32): exact in i64.
+            *o = o.wrapping_add(i128::from(i64::from(q).wrapping_mul(x)));
+        }
+    }
+    out
+}
+
+/// `Q v` for a homogeneous vector of 32-bit components (as i64), visiting only the entries in
+/// `mask` (the nonzero ones, [`quadric_mask`]); exact. The fast shape sums into four scalars
+/// (the size-lean shape's sums): an array filled in place is cleared first by a library call
+/// on the Cortex-M.
+#[cfg(not(texcore_lean))]
+pub(super) fn mat_vec(m: &[[i32; 4]; 4], mask: u16, v: &[i64; 4]) -> [i128; 4] {
     let mut out = (0i128, 0i128, 0i128, 0i128);
     let mut bits = mask;
     while bits != 0 {
