@@ -58,8 +58,7 @@ impl FaceEntry {
 /// documentation): `N` entries of 32 bytes, `N` a power of two (checked at compile time), the
 /// lanes of the last span of up to `L` terms (128 bytes a lane; see
 /// [`SpanEvaluator::eval_values_cached`](crate::span::SpanEvaluator::eval_values_cached)) and the
-/// lane kernel's accumulators (a run of [`VALUE_RUN`] pixels, 512 bytes, so that no span clears
-/// its own).
+/// lane kernel's accumulators (a run of 64 pixels, 512 bytes, so that no span clears its own).
 ///
 /// Give one to [`SpanEvaluator::eval_values_cached`](crate::span::SpanEvaluator::eval_values_cached) for the rows of a plane: from the second
 /// row on, every face the rows share is read back instead of hashed and blended again, and a
