@@ -455,13 +455,15 @@ pub(super) fn walk_out<const ADD: bool, const CLEAR: bool, const NOQ: bool, cons
     *q = [qq, dq, ddq];
 }
 
-/// One lane's `run` pixels in its role (`quad`: zero quadric, affine, curved; `clear`: the last
-/// lane zeroes the accumulators it reads).
+/// `run` pixels of a lane that writes the samples: the only lane (`last` false) or the last of
+/// several (`last`: plus the accumulators; `clear`: zeroing them as it reads them), `quad` the
+/// quadric's kind (zero, affine, curved). The accumulating roles have their own run loops in
+/// [`walk_lanes`].
 #[allow(clippy::too_many_arguments)]
 #[inline(always)]
-fn walk(
+fn walk_samples(
     clear: bool,
-    role: Role,
+    last: bool,
     quad: u8,
     acc: &mut [i64],
     out: &mut [TexValue],
@@ -469,21 +471,17 @@ fn walk(
     v: &mut i64,
     s: i64,
     q: &mut [i64; 3],
-    qf: &mut [i64; 2],
 ) {
-    match (role, quad) {
-        (Role::FirstFolded, _) => walk_acc_folded(acc, v, s, qf),
-        (Role::First, _) => walk_acc::<false>(acc, v, s),
-        (Role::Add, _) => walk_acc::<true>(acc, v, s),
-        (Role::Only, 0) => walk_out::<false, false, true, true>(out, acc, fvs, v, s, q),
-        (Role::Only, 1) => walk_out::<false, false, false, true>(out, acc, fvs, v, s, q),
-        (Role::Only, _) => walk_out::<false, false, false, false>(out, acc, fvs, v, s, q),
-        (Role::Last, 0) if clear => walk_out::<true, true, true, true>(out, acc, fvs, v, s, q),
-        (Role::Last, 1) if clear => walk_out::<true, true, false, true>(out, acc, fvs, v, s, q),
-        (Role::Last, _) if clear => walk_out::<true, true, false, false>(out, acc, fvs, v, s, q),
-        (Role::Last, 0) => walk_out::<true, false, true, true>(out, acc, fvs, v, s, q),
-        (Role::Last, 1) => walk_out::<true, false, false, true>(out, acc, fvs, v, s, q),
-        (Role::Last, _) => walk_out::<true, false, false, false>(out, acc, fvs, v, s, q),
+    match (last, quad) {
+        (false, 0) => walk_out::<false, false, true, true>(out, acc, fvs, v, s, q),
+        (false, 1) => walk_out::<false, false, false, true>(out, acc, fvs, v, s, q),
+        (false, _) => walk_out::<false, false, false, false>(out, acc, fvs, v, s, q),
+        (true, 0) if clear => walk_out::<true, true, true, true>(out, acc, fvs, v, s, q),
+        (true, 1) if clear => walk_out::<true, true, false, true>(out, acc, fvs, v, s, q),
+        (true, _) if clear => walk_out::<true, true, false, false>(out, acc, fvs, v, s, q),
+        (true, 0) => walk_out::<true, false, true, true>(out, acc, fvs, v, s, q),
+        (true, 1) => walk_out::<true, false, false, true>(out, acc, fvs, v, s, q),
+        (true, _) => walk_out::<true, false, false, false>(out, acc, fvs, v, s, q),
     }
 }
 
@@ -656,7 +654,7 @@ fn walk_lanes(
             };
             let ev = (i, len, fv, vb);
             // The accumulating roles and the usual last one each with a loop of its own (the
-            // role known in it); the others through the dispatch of `walk`.
+            // role known in it); the other writing ones through the dispatch of `walk_samples`.
             match (role, quad, clear) {
                 (Role::FirstFolded, _, _) => lane_runs(t, out, acc, ev, faces, &mut events, {
                     let qf = &mut qf;
@@ -677,9 +675,12 @@ fn walk_lanes(
                         walk_out::<true, false, true, true>(o, a, fvs, v, s, &mut [0; 3])
                     })
                 }
-                _ => lane_runs(t, out, acc, ev, faces, &mut events, |a, o, v, s| {
-                    walk(clear, role, quad, a, o, fvs, v, s, &mut q, &mut qf)
-                }),
+                _ => {
+                    let last = role == Role::Last;
+                    lane_runs(t, out, acc, ev, faces, &mut events, |a, o, v, s| {
+                        walk_samples(clear, last, quad, a, o, fvs, v, s, &mut q)
+                    })
+                }
             }
         }
         sink.advance(n);
